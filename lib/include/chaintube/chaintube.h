@@ -1,0 +1,11 @@
+// ChainTube — umbrella header of the core library.
+#pragma once
+
+#include "chaintube/hose.h"
+#include "chaintube/material.h"
+#include "chaintube/metrics.h"
+#include "chaintube/profile.h"
+#include "chaintube/route.h"
+#include "chaintube/scene.h"
+#include "chaintube/surface.h"
+#include "chaintube/types.h"

@@ -1,0 +1,190 @@
+// ChainTube — one hose: its axis, constraints, attachments and the deformation solver.
+#pragma once
+
+#include "chaintube/material.h"
+#include "chaintube/profile.h"
+#include "chaintube/types.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace chaintube {
+
+/// What an update did. Always look at status.
+enum class Status {
+    Ok,           ///< The request was met exactly; every constraint holds (1e-9 relative).
+    Clamped,      ///< A grab target was out of reach: the point moved along the straight line
+                  ///< from where it was towards the target and stopped at the last reachable
+                  ///< position (to 1e-6 of the move). Every constraint holds.
+    Infeasible,   ///< Fixed segments contradict each other (e.g. two attachments farther apart
+                  ///< than the hose between them can stretch): every fixed point is where its
+                  ///< frame put it, the free points are placed deterministically in between,
+                  ///< and the residual violation is reported.
+    InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
+                  ///< hose is unchanged.
+};
+
+const char* toString(Status status);
+
+struct UpdateResult
+{
+    Status status = Status::Ok;
+    /// Largest length violation beyond the stretch band, relative to the rest length (0 = none).
+    double lengthViolation = 0.0;
+    /// Largest bend violation beyond the joint's deflection limit (radians, 0 = none).
+    double angleViolation = 0.0;
+    /// Distance (metres) between the requested grab target and where the point ended up.
+    double grabError = 0.0;
+    /// Number of axis points whose position changed.
+    int movedPoints = 0;
+    bool ok() const { return status == Status::Ok; }
+};
+
+/// Parameters that make a hose.
+struct HoseSpec
+{
+    double outerDiameter = 0.02;  ///< metres, > 0
+    Material material;
+    /// Number of axis segments (points − 1), 1 … 1,000,000. If 0, segmentLength is used.
+    int segmentCount = 0;
+    /// Target axis segment length (metres) used when segmentCount is 0.
+    double segmentLength = 0.02;
+    /// Cross-section; when empty (vertexCount() == 0) a 16-sided circle of outerDiameter/2.
+    Profile profile;
+
+    /// Throws InvalidArgument naming the field if a value is outside its range.
+    void validate() const;
+};
+
+/// A hose: a chain of axis points p0 … pn with per-segment rest lengths, a stretch band and a
+/// per-joint deflection limit, plus attachments (runs of points fixed to frames).
+///
+/// Positions are in world metres. Internally they are stored relative to a local origin
+/// (the first axis point at construction) so that a hose 1e5 m from the world origin keeps
+/// full precision in its constraints.
+///
+/// Degenerate cases the paper does not cover, decided here:
+///  * Zero-length direction (a point dragged exactly onto its neighbour): the neighbour keeps
+///    the direction it had before the move; if that is also undefined, the incoming segment's
+///    direction; the resulting segment takes its minimum length.
+///  * Fold-back (a bend request of exactly 180°): the bend plane is taken from the point's
+///    previous position; if that is also degenerate, from a fixed perpendicular of the
+///    incoming direction. Deterministic.
+///  * Infeasible requests: see Status::Clamped and Status::Infeasible.
+///  * A hose whose current shape violates its constraints (e.g. a route with corners sharper
+///    than the bend limit, or after tightening the material) stays as it is until a point is
+///    moved; settle() re-imposes the constraints.
+class Hose
+{
+public:
+    /// A straight hose of the given length (metres > 0) starting at start and running along
+    /// direction (non-zero). Throws InvalidArgument.
+    static Hose straight(const Vec3& start, const Vec3& direction, double length,
+                         const HoseSpec& spec);
+
+    /// A hose laid along a route (≥ 2 points, consecutive points distinct). Interior corners
+    /// are rounded with the material's minimum bend radius (for a DeflectionAngle limit, the
+    /// radius the angle gives at the segment length), limited by the available leg lengths;
+    /// the axis is then sampled at equal arc length. Rest lengths are the sampled chords, so
+    /// the hose starts relaxed. Throws InvalidArgument.
+    static Hose alongRoute(const std::vector<Vec3>& route, const HoseSpec& spec);
+
+    /// A hose through exactly these axis points (≥ 2, consecutive points distinct); their
+    /// distances become the rest lengths. Throws InvalidArgument.
+    static Hose fromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec);
+
+    // --- geometry -------------------------------------------------------------------------
+    int pointCount() const { return static_cast<int>(m_local.size()); }
+    int segmentCount() const { return pointCount() - 1; }
+    /// World position of axis point i (0 ≤ i < pointCount()).
+    Vec3 point(int i) const { return m_origin + m_local[static_cast<size_t>(i)]; }
+    std::vector<Vec3> points() const;
+    /// Local origin; localPoints()[i] + origin() is point(i).
+    const Vec3& origin() const { return m_origin; }
+    const std::vector<Vec3>& localPoints() const { return m_local; }
+
+    double restLength(int segment) const { return m_restLength[static_cast<size_t>(segment)]; }
+    double minLength(int segment) const { return m_minLength[static_cast<size_t>(segment)]; }
+    double maxLength(int segment) const { return m_maxLength[static_cast<size_t>(segment)]; }
+    /// Total rest length of the axis (metres).
+    double restLengthTotal() const;
+    /// Current length of the axis polyline (metres).
+    double currentLength() const;
+    /// Deflection limit at interior point j (1 ≤ j ≤ n−1), radians; π means unlimited.
+    double deflectionLimit(int joint) const;
+
+    const HoseSpec& spec() const { return m_spec; }
+    const Material& material() const { return m_spec.material; }
+    const Profile& profile() const { return m_spec.profile; }
+    double outerRadius() const { return 0.5 * m_spec.outerDiameter; }
+
+    /// Change material / profile / diameter (the axis keeps its rest lengths). Limits are
+    /// recomputed; call settle() to re-impose them on the current shape. Throws InvalidArgument.
+    void setMaterial(const Material& material);
+    void setProfile(const Profile& profile);
+    void setOuterDiameter(double metres);
+
+    // --- interaction ----------------------------------------------------------------------
+    /// Move free axis point `index` to `target` (world) and let the rest of the hose follow
+    /// (the paper's outward propagation, O(n)). Fixed points never move. See Status.
+    UpdateResult grab(int index, const Vec3& target);
+
+    /// Fix the run of points first … last (inclusive, 0 ≤ first ≤ last < pointCount(), not
+    /// overlapping another attachment) rigidly to `frame` at their current positions.
+    /// Returns the attachment id (stable until detached). Throws InvalidArgument.
+    int attach(int first, int last, const Frame& frame);
+    /// Move an attachment's frame; its points move rigidly and the rest of the hose follows in
+    /// the same update. An unknown id or a non-finite frame gives Status::InvalidInput.
+    UpdateResult moveAttachment(int id, const Frame& frame);
+    /// Move several attachments at once (one update); ids and frames have equal size.
+    UpdateResult moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames);
+    /// Remove an attachment; its points become free. Unknown id: returns false.
+    bool detach(int id);
+
+    struct Attachment
+    {
+        int id = 0;
+        int first = 0;
+        int last = 0;
+        Frame frame;
+        std::vector<Vec3> localPoints; ///< positions of first…last in the frame
+    };
+    const std::vector<Attachment>& attachments() const { return m_attachments; }
+    bool isFixed(int index) const;
+
+    /// Re-impose all constraints on the current shape (after a material change or on a shape
+    /// built from raw points): propagates from the fixed points (or from point 0 if none).
+    UpdateResult settle();
+
+    /// Incremented whenever an axis point, the profile or the diameter changes; renderers and
+    /// the scene use it to skip hoses whose inputs did not change.
+    std::uint64_t revision() const { return m_revision; }
+
+    /// Largest violation of the length band (relative) and of the deflection limits (rad).
+    UpdateResult measureViolation() const;
+
+private:
+    Hose() = default;
+    void initialiseFromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec);
+    void recomputeLimits();
+
+    friend class Solver;
+    HoseSpec m_spec;
+    Vec3 m_origin = Vec3::Zero();
+    std::vector<Vec3> m_local;
+    std::vector<double> m_restLength;
+    std::vector<double> m_minLength;
+    std::vector<double> m_maxLength;
+    std::vector<double> m_cosLimit; ///< per point (0 and n unused = -1)
+    std::vector<double> m_sinLimit;
+    std::vector<double> m_cosHalfLimit;
+    std::vector<double> m_sinHalfLimit;
+    std::vector<unsigned char> m_fixed;
+    std::vector<Attachment> m_attachments;
+    std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs
+    int m_nextAttachmentId = 1;
+    bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
+    std::uint64_t m_revision = 1;
+};
+
+} // namespace chaintube

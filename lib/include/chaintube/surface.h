@@ -1,0 +1,111 @@
+// ChainTube — the hose surface: one ring per axis point on the bisector plane, twist-corrected.
+#pragma once
+
+#include "chaintube/hose.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace chaintube {
+
+/// Orientation of one ring. tangent is the normal of the ring plane (the bisector plane of the
+/// two adjacent segments, pointing along the hose); alignment is the paper's alignment vector
+/// (the ring's surface origin, u = 0), binormal = tangent × alignment. The three form a
+/// right-handed orthonormal basis, so a ring vertex with profile coordinates (x, y) is at
+/// center + x·alignment + y·binormal. As a rotation: columns (alignment, binormal, tangent).
+struct RingFrame
+{
+    Vec3 center;
+    Vec3 tangent;
+    Vec3 alignment;
+    Vec3 binormal;
+    Quat rotation() const;
+};
+
+/// Where the first ring's twist comes from: the first ring's tangent and alignment in the
+/// previous frame. A zero alignment means "none yet".
+struct TwistSeed
+{
+    Vec3 tangent = Vec3::Zero();
+    Vec3 alignment = Vec3::Zero();
+};
+
+/// Computes ring frames (centres in the hose's local coordinates, see Hose::localPoints()).
+///
+/// Ring plane (paper eq. 1): the bisector plane of the adjacent segments, i.e. its normal is
+/// normalize(d_{i−1} + d_i) for unit segment directions d; end rings are perpendicular to their
+/// segment. Where the bisector is undefined (a fold-back of 180°, |d_{i−1} + d_i| < 1e-9) the
+/// normal is the previous ring's normal made perpendicular to d_i; if that also vanishes, the
+/// previous ring's alignment vector.
+///
+/// Twist correction (the paper's alignment vectors): each ring's alignment is the previous
+/// ring's carried by the rotation-minimising double-reflection method (Wang et al. 2008),
+/// which stays defined on straight runs where the paper's cross product n_p vanishes. The first
+/// ring's alignment is carried from the previous frame (`seed`, updated in place) by the
+/// smallest rotation taking the old first tangent to the new one, so rings do not pop between
+/// frames; if the first tangent reversed exactly, the old alignment is projected instead. With
+/// no seed yet: world +Y projected onto the first ring plane, or +X if the hose starts along Y.
+void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames);
+
+/// Static part of a hose's triangle mesh: depends only on the point count and profile.
+///
+/// Vertex order: ring i (0 ≤ i < rings) has profile.vertexCount() vertices (the last one is
+/// the UV seam, at the same place as the first); then the start cap (profile.vertexCount() − 1
+/// vertices) and the end cap (same count). Triangles are counter-clockwise seen from outside.
+struct SurfaceTopology
+{
+    int ringCount = 0;
+    int ringVertexCount = 0; ///< per ring, including the seam vertex
+    int capVertexCount = 0;  ///< per cap
+    int vertexCount = 0;
+    std::vector<std::uint32_t> indices;
+    /// u around the profile (0 … 1 by arc length), v along the axis in metres of rest length.
+    std::vector<float> uvs; ///< 2 per vertex
+    /// Which ring (= axis point = joint) each vertex belongs to.
+    std::vector<std::uint32_t> vertexRing;
+
+    static SurfaceTopology build(const Hose& hose);
+};
+
+/// The evolving surface of one hose: ring frames in double, vertex buffers in float.
+///
+/// update() recomputes frames and vertices only when the hose's revision changed since the
+/// last call (a hose whose inputs did not change costs one integer compare).
+class HoseSurface
+{
+public:
+    explicit HoseSurface(const Hose& hose);
+
+    /// Returns true if anything was recomputed.
+    bool update(const Hose& hose);
+    /// Force recomputation on the next update() (e.g. after the profile changed).
+    void invalidate() { m_seenRevision = 0; }
+
+    const SurfaceTopology& topology() const { return m_topology; }
+    const std::vector<RingFrame>& frames() const { return m_frames; }
+    /// Float positions, 3 per vertex, in metres relative to hose.origin() (add the origin back
+    /// in double, e.g. in the model matrix, for hoses far from the world origin).
+    const std::vector<float>& positions() const { return m_positions; }
+    /// Unit normals, 3 per vertex (rigidly attached to the ring, like the positions).
+    const std::vector<float>& normals() const { return m_normals; }
+    const TwistSeed& twistSeed() const { return m_seed; }
+    void setTwistSeed(const TwistSeed& seed) { m_seed = seed; }
+
+private:
+    void rebuildTopology(const Hose& hose);
+    void writeVertices(const Hose& hose);
+
+    SurfaceTopology m_topology;
+    std::vector<RingFrame> m_frames;
+    std::vector<float> m_positions;
+    std::vector<float> m_normals;
+    /// Profile coordinates and normals in float (x, y pairs), for the vertex kernel.
+    std::vector<float> m_profilePoints, m_profileNormals;
+    TwistSeed m_seed;
+    std::uint64_t m_seenRevision = 0;
+    int m_profileVertexCount = 0;
+    int m_pointCount = 0;
+    Profile m_profile;
+};
+
+} // namespace chaintube

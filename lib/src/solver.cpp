@@ -1,0 +1,401 @@
+// The ChainTube axis solver: the paper's outward propagation (phase 1) and, only when a
+// propagation runs into a fixed point, alternating sweeps between the pinned points (phase 2)
+// with a clamp of infeasible grabs.
+#include "chaintube/hose.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace chaintube {
+
+namespace {
+constexpr double kLengthTolerance = 1e-12;   // relative, when deciding whether to correct
+constexpr double kAngleTolerance = 1e-12;    // radians, when deciding whether to correct
+constexpr double kConvergedLength = 1e-10;   // relative, phase 2 success
+constexpr double kConvergedAngle = 1e-10;    // radians, phase 2 success
+constexpr double kCosFastMargin = 1e-6;      // beyond this the cosine test alone decides
+constexpr int kMaxSweeps = 400;
+constexpr int kStallWindow = 24; // give up when a window of sweeps gains less than half
+constexpr int kBisectionSteps = 20;
+
+Vec3 anyPerpendicular(const Vec3& u)
+{
+    const Vec3 a = u.cwiseAbs();
+    Vec3 axis = Vec3::UnitX();
+    if (a.y() <= a.x() && a.y() <= a.z()) axis = Vec3::UnitY();
+    else if (a.z() <= a.x() && a.z() <= a.y()) axis = Vec3::UnitZ();
+    return u.cross(axis).normalized();
+}
+
+} // namespace
+
+class Solver
+{
+public:
+    explicit Solver(Hose& hose) : h(hose), p(hose.m_local) {}
+
+    /// Place p[i] relative to its already-final anchor p[a] (a = i ± 1). `incoming` is the unit
+    /// direction of the segment arriving at the anchor along the sweep (null: no angle check,
+    /// the anchor is an end or its other neighbour is not settled). `anchorOld` is where the
+    /// anchor was before this update, for the degenerate fallbacks. Returns whether p[i] moved;
+    /// `direction` receives the unit direction anchor → p[i].
+    bool place(int i, int a, const Vec3* incoming, const Vec3& anchorOld, Vec3& direction)
+    {
+        const size_t seg = static_cast<size_t>(std::min(i, a));
+        const double lmin = h.m_minLength[seg], lmax = h.m_maxLength[seg];
+        Vec3& point = p[static_cast<size_t>(i)];
+        const Vec3& anchor = p[static_cast<size_t>(a)];
+        Vec3 d = point - anchor;
+        double length2 = d.squaredNorm();
+        bool moved = false;
+        double length = 0.0;
+        Vec3 v;
+        if (!(length2 > 1e-24 * lmin * lmin)) {
+            // Dragged onto its neighbour: keep the direction the segment had before the move.
+            Vec3 before = point - anchorOld;
+            if (!(before.squaredNorm() > 1e-24 * lmin * lmin))
+                before = incoming ? *incoming : Vec3::UnitX();
+            v = before.normalized();
+            moved = true;
+        } else {
+            length = std::sqrt(length2);
+            v = d / length;
+        }
+        if (incoming) {
+            const size_t joint = static_cast<size_t>(a);
+            const double cosLimit = h.m_cosLimit[joint], sinLimit = h.m_sinLimit[joint];
+            const double c = incoming->dot(v);
+            bool violated = c < cosLimit - kCosFastMargin;
+            if (!violated && c < cosLimit + kCosFastMargin) {
+                // Near the limit the cosine is too flat to decide: compare sin(φ − θ).
+                const double s = incoming->cross(v).norm();
+                violated = s * cosLimit - c * sinLimit > kAngleTolerance;
+            }
+            if (violated) {
+                Vec3 w = v - c * *incoming;
+                double wn = w.norm();
+                if (!(wn > 1e-12)) {
+                    // Fold-back: take the bend plane from where the point was.
+                    w = (point - anchorOld) - (point - anchorOld).dot(*incoming) * *incoming;
+                    wn = w.norm();
+                    if (!(wn > 1e-12 * lmin)) {
+                        w = anyPerpendicular(*incoming);
+                        wn = 1.0;
+                    }
+                }
+                v = cosLimit * *incoming + sinLimit * (w / wn);
+                moved = true;
+            }
+        }
+        double target = length;
+        if (length < lmin * (1.0 - kLengthTolerance)) {
+            target = lmin;
+            moved = true;
+        } else if (length > lmax * (1.0 + kLengthTolerance)) {
+            target = lmax;
+            moved = true;
+        }
+        if (moved) point = anchor + target * v;
+        direction = v;
+        return moved;
+    }
+
+    bool pinned(int i) const { return h.m_fixed[static_cast<size_t>(i)] != 0 || i == grabbed; }
+
+    /// Sweep from point `start` towards `step` (±1) until an end, a pinned point, or two
+    /// consecutive unmoved points. `incoming` is the unit direction arriving at start − step.
+    void sweep(int start, int step, Vec3 incoming, bool haveIncoming, bool anchorMoved, Vec3 anchorOld)
+    {
+        const int n = h.pointCount();
+        for (int i = start; i >= 0 && i < n; i += step) {
+            if (pinned(i)) {
+                hitPin = true;
+                return;
+            }
+            const Vec3 before = p[static_cast<size_t>(i)];
+            Vec3 direction;
+            const bool moved = place(i, i - step, haveIncoming ? &incoming : nullptr, anchorOld, direction);
+            if (moved) ++movedPoints;
+            if (!moved && !anchorMoved) return;
+            incoming = direction;
+            haveIncoming = true;
+            anchorMoved = moved;
+            anchorOld = before;
+        }
+    }
+
+    /// The paper's update after the run first … last was placed (grab: first = last = k).
+    /// `old` holds the run's positions before the move (for fallbacks).
+    void propagateFromRun(int first, int last, const Vec3& oldFirst, const Vec3& oldLast)
+    {
+        const int n = h.pointCount();
+        const int left = first - 1, right = last + 1;
+        const bool leftFree = left >= 0 && !pinned(left);
+        const bool rightFree = right < n && !pinned(right);
+        // Direction arriving at `first` when sweeping left: from last (or the pinned right
+        // neighbour) to first.
+        auto unitFrom = [&](int from, int to) {
+            return Vec3((p[static_cast<size_t>(to)] - p[static_cast<size_t>(from)]).normalized());
+        };
+        const bool leftHasIncoming = first < last || (right < n && !rightFree);
+        const bool rightHasIncoming = first < last || (left >= 0 && !leftFree);
+        Vec3 leftDirection, rightDirection;
+        Vec3 leftBefore = leftFree ? p[static_cast<size_t>(left)] : Vec3::Zero();
+        Vec3 rightBefore = rightFree ? p[static_cast<size_t>(right)] : Vec3::Zero();
+
+        if (leftFree && rightFree && first == last) {
+            // A single pinned point with two free neighbours (a grab): fix both lengths, then
+            // split any excess bend at the point symmetrically between the neighbours.
+            place(left, first, nullptr, oldFirst, leftDirection);
+            place(right, first, nullptr, oldFirst, rightDirection);
+            balanceJoint(first, leftDirection, rightDirection, leftBefore, rightBefore);
+            ++movedPoints;
+            sweep(left - 1, -1, leftDirection, true, true, leftBefore);
+            sweep(right + 1, +1, rightDirection, true, true, rightBefore);
+            return;
+        }
+        if (leftFree) {
+            const Vec3 incoming = leftHasIncoming ? unitFrom(first + 1, first) : Vec3::Zero();
+            sweep(left, -1, incoming, leftHasIncoming, true, oldFirst);
+        } else if (left >= 0) {
+            hitPin = true;
+        }
+        if (rightFree) {
+            const Vec3 incoming = rightHasIncoming ? unitFrom(last - 1, last) : Vec3::Zero();
+            sweep(right, +1, incoming, rightHasIncoming, true, oldLast);
+        } else if (right < n) {
+            hitPin = true;
+        }
+    }
+
+    /// Bend at point k between k−1 and k+1 above its limit: rotate both neighbours about p[k]
+    /// in their common plane, each by half the excess (paper Fig. 8).
+    void balanceJoint(int k, Vec3& leftDirection, Vec3& rightDirection, const Vec3& leftBefore,
+                      const Vec3& rightBefore)
+    {
+        const size_t j = static_cast<size_t>(k);
+        const Vec3 in = -leftDirection; // direction of the segment arriving at k
+        const Vec3 out = rightDirection;
+        const double c = in.dot(out);
+        const double cosLimit = h.m_cosLimit[j];
+        bool violated = c < cosLimit - kCosFastMargin;
+        if (!violated && c < cosLimit + kCosFastMargin)
+            violated = in.cross(out).norm() * cosLimit - c * h.m_sinLimit[j] > kAngleTolerance;
+        if (!violated) return;
+        Vec3 mean = in + out;
+        if (!(mean.norm() > 1e-12)) {
+            // Full fold at k: use the old chord between the neighbours as the mean direction.
+            mean = rightBefore - leftBefore;
+            if (!(mean.norm() > 1e-12 * h.m_minLength[j])) mean = anyPerpendicular(out);
+        }
+        mean.normalize();
+        Vec3 across = out - out.dot(mean) * mean;
+        if (!(across.norm() > 1e-12)) across = anyPerpendicular(mean);
+        across.normalize();
+        const double ch = h.m_cosHalfLimit[j], sh = h.m_sinHalfLimit[j];
+        rightDirection = ch * mean + sh * across;
+        leftDirection = -(ch * mean - sh * across);
+        const double leftLength = (p[j - 1] - p[j]).norm();
+        const double rightLength = (p[j + 1] - p[j]).norm();
+        p[j - 1] = p[j] + leftLength * leftDirection;
+        p[j + 1] = p[j] + rightLength * rightDirection;
+    }
+
+    /// Phase 2: alternate forward and backward sweeps over the whole axis, skipping pinned
+    /// points, until every constraint holds or kMaxSweeps is reached. Returns convergence.
+    bool relax()
+    {
+        const int n = h.pointCount();
+        std::vector<double> history;
+        for (int iteration = 0; iteration < kMaxSweeps; ++iteration) {
+            for (int pass = 0; pass < 2; ++pass) {
+                const int step = pass == 0 ? +1 : -1;
+                const int begin = pass == 0 ? 1 : n - 2;
+                for (int i = begin; i >= 0 && i < n; i += step) {
+                    if (pinned(i)) continue;
+                    const int a = i - step;
+                    const int before = a - step;
+                    Vec3 incoming;
+                    const bool haveIncoming = before >= 0 && before < n;
+                    if (haveIncoming)
+                        incoming = (p[static_cast<size_t>(a)] - p[static_cast<size_t>(before)]).normalized();
+                    Vec3 direction;
+                    place(i, a, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(a)], direction);
+                }
+            }
+            const UpdateResult v = h.measureViolation();
+            if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedAngle) return true;
+            history.push_back(v.lengthViolation + v.angleViolation);
+            if (history.size() > kStallWindow &&
+                history.back() > 0.5 * history[history.size() - 1 - kStallWindow])
+                return false; // stalled: the request is (numerically) out of reach
+        }
+        return false;
+    }
+
+    bool solveAfterPlacement(const std::vector<std::pair<int, int>>& runs,
+                             const std::vector<std::pair<Vec3, Vec3>>& oldEnds)
+    {
+        for (size_t r = 0; r < runs.size(); ++r)
+            propagateFromRun(runs[r].first, runs[r].second, oldEnds[r].first, oldEnds[r].second);
+        // Phase 1 alone guarantees every constraint when it met no pinned point and the hose
+        // was valid before: the fast path stops here without measuring.
+        if (!hitPin && !h.m_dirtyViolation) return true;
+        measured = true;
+        const UpdateResult v = h.measureViolation();
+        if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedAngle) return true;
+        return relax();
+    }
+
+    Hose& h;
+    std::vector<Vec3>& p;
+    int grabbed = -1;
+    bool hitPin = false;
+    bool measured = false;
+    int movedPoints = 0;
+};
+
+UpdateResult Hose::measureViolation() const
+{
+    UpdateResult result;
+    const size_t n = m_local.size();
+    for (size_t s = 0; s + 1 < n; ++s) {
+        const double length = (m_local[s + 1] - m_local[s]).norm();
+        const double excess = std::max(length - m_maxLength[s], m_minLength[s] - length);
+        result.lengthViolation = std::max(result.lengthViolation, excess / m_restLength[s]);
+    }
+    for (size_t j = 1; j + 1 < n; ++j) {
+        const Vec3 in = m_local[j] - m_local[j - 1], out = m_local[j + 1] - m_local[j];
+        const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
+        const double limit = std::atan2(m_sinLimit[j], m_cosLimit[j]);
+        result.angleViolation = std::max(result.angleViolation, turn - limit);
+    }
+    result.status = (result.lengthViolation > 1e-9 || result.angleViolation > 1e-9) ? Status::Infeasible
+                                                                                    : Status::Ok;
+    return result;
+}
+
+UpdateResult Hose::grab(int index, const Vec3& target)
+{
+    UpdateResult result;
+    if (index < 0 || index >= pointCount() || !target.allFinite() || m_fixed[static_cast<size_t>(index)]) {
+        result.status = Status::InvalidInput;
+        return result;
+    }
+    const Vec3 localTarget = target - m_origin;
+    const size_t k = static_cast<size_t>(index);
+    const Vec3 start = m_local[k];
+    const bool mayHitPins = !m_attachments.empty() || m_dirtyViolation;
+    if (mayHitPins) m_scratch = m_local;
+
+    bool measured = false;
+    auto attempt = [&](const Vec3& where, int& moved) {
+        Solver solver(*this);
+        solver.grabbed = index;
+        const Vec3 old = m_local[k];
+        m_local[k] = where;
+        const bool converged = solver.solveAfterPlacement({{index, index}}, {{old, old}});
+        moved = solver.movedPoints;
+        measured = solver.measured;
+        return converged;
+    };
+
+    int moved = 0;
+    Status status = Status::Ok;
+    if (!attempt(localTarget, moved)) {
+        m_local = m_scratch;
+        int movedAtStart = 0;
+        if (!attempt(start, movedAtStart)) {
+            // The hose was already infeasible before this grab: keep the full request.
+            m_local = m_scratch;
+            attempt(localTarget, moved);
+            status = Status::Infeasible;
+        } else {
+            // Largest reachable fraction of the move, by bisection (deterministic, bounded).
+            double good = 0.0, bad = 1.0;
+            for (int step = 0; step < kBisectionSteps; ++step) {
+                const double mid = 0.5 * (good + bad);
+                m_local = m_scratch;
+                if (attempt(start + mid * (localTarget - start), moved)) good = mid;
+                else bad = mid;
+            }
+            m_local = m_scratch;
+            attempt(start + good * (localTarget - start), moved);
+            status = Status::Clamped;
+        }
+    }
+    if (measured || status != Status::Ok) {
+        const UpdateResult violation = measureViolation();
+        result.lengthViolation = violation.lengthViolation;
+        result.angleViolation = violation.angleViolation;
+        m_dirtyViolation = violation.status != Status::Ok;
+        if (status == Status::Ok) status = violation.status;
+    }
+    result.status = status;
+    result.grabError = (m_local[k] - localTarget).norm();
+    result.movedPoints = moved;
+    ++m_revision;
+    return result;
+}
+
+UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames)
+{
+    UpdateResult result;
+    std::vector<Attachment*> targets;
+    bool valid = ids.size() == frames.size();
+    for (size_t i = 0; valid && i < ids.size(); ++i) {
+        auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
+                               [&](const Attachment& a) { return a.id == ids[i]; });
+        valid = it != m_attachments.end() && isFiniteFrame(frames[i]);
+        if (valid) targets.push_back(&*it);
+    }
+    if (!valid) {
+        result.status = Status::InvalidInput;
+        return result;
+    }
+    std::vector<std::pair<int, int>> runs;
+    std::vector<std::pair<Vec3, Vec3>> oldEnds;
+    for (size_t i = 0; i < targets.size(); ++i) {
+        Attachment& a = *targets[i];
+        a.frame = frames[i];
+        oldEnds.emplace_back(m_local[static_cast<size_t>(a.first)], m_local[static_cast<size_t>(a.last)]);
+        for (int j = a.first; j <= a.last; ++j)
+            m_local[static_cast<size_t>(j)] = a.frame.apply(a.localPoints[static_cast<size_t>(j - a.first)]) - m_origin;
+        runs.emplace_back(a.first, a.last);
+    }
+    Solver solver(*this);
+    const bool converged = solver.solveAfterPlacement(runs, oldEnds);
+    result = measureViolation();
+    if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
+    m_dirtyViolation = result.status != Status::Ok;
+    result.movedPoints = solver.movedPoints;
+    ++m_revision;
+    return result;
+}
+
+UpdateResult Hose::settle()
+{
+    Solver solver(*this);
+    std::vector<std::pair<int, int>> runs;
+    std::vector<std::pair<Vec3, Vec3>> oldEnds;
+    for (const Attachment& a : m_attachments) {
+        runs.emplace_back(a.first, a.last);
+        oldEnds.emplace_back(m_local[static_cast<size_t>(a.first)], m_local[static_cast<size_t>(a.last)]);
+    }
+    if (runs.empty()) {
+        // Nothing fixed: hold point 0 and let the rest follow.
+        solver.grabbed = 0;
+        runs.emplace_back(0, 0);
+        oldEnds.emplace_back(m_local[0], m_local[0]);
+    }
+    m_dirtyViolation = true; // force the global check
+    const bool converged = solver.solveAfterPlacement(runs, oldEnds);
+    UpdateResult result = measureViolation();
+    if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
+    m_dirtyViolation = result.status != Status::Ok;
+    result.movedPoints = solver.movedPoints;
+    ++m_revision;
+    return result;
+}
+
+} // namespace chaintube

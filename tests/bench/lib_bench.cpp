@@ -1,0 +1,95 @@
+// Google Benchmark programs for the core library. Figures go into the README, never into tests.
+//   ./build/tests/bench/chaintube_bench --benchmark_min_time=0.2
+#include <chaintube/chaintube.h>
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using namespace chaintube;
+
+namespace {
+HoseSpec benchSpec(int segments)
+{
+    HoseSpec spec;
+    spec.outerDiameter = 0.016;
+    spec.segmentCount = segments;
+    spec.material.expansionCoefficient = 0.1;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.08);
+    return spec;
+}
+
+// One drag of the middle point far enough that the whole hose follows (worst case: the
+// propagation runs to both ends).
+void BM_DragWholeHose(benchmark::State& state)
+{
+    const int points = static_cast<int>(state.range(0));
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 0.01 * points, benchSpec(points - 1));
+    const int middle = points / 2;
+    int step = 0;
+    for (auto _ : state) {
+        const double phase = 0.1 * step++;
+        const Vec3 target(0.005 * points + 0.5 * std::sin(phase), 0.5 * std::cos(phase), 0.3 * std::sin(0.7 * phase));
+        benchmark::DoNotOptimize(hose.grab(middle, target));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_DragWholeHose)->Arg(10)->Arg(100)->Arg(1000)->Arg(10000);
+
+// A small interactive drag (1 mm per frame): propagation stops where constraints hold.
+void BM_DragSmallStep(benchmark::State& state)
+{
+    const int points = static_cast<int>(state.range(0));
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 0.01 * points, benchSpec(points - 1));
+    const int middle = points / 2;
+    int step = 0;
+    for (auto _ : state) {
+        const double phase = 0.01 * step++;
+        const Vec3 target = hose.point(middle) + 0.001 * Vec3(std::sin(phase), std::cos(phase), 0.0);
+        benchmark::DoNotOptimize(hose.grab(middle, target));
+    }
+}
+BENCHMARK(BM_DragSmallStep)->Arg(1000);
+
+// The paper's target scene: 50 hoses × 100 points × 16-sided rings, every hose moving each
+// frame (axis + ring frames + positions + normals).
+void BM_Frame50Hoses(benchmark::State& state)
+{
+    const int sides = static_cast<int>(state.range(0));
+    Scene scene;
+    for (int i = 0; i < 50; ++i) {
+        HoseSpec spec = benchSpec(99);
+        spec.profile = Profile::circle(0.008, sides);
+        scene.addHose(Hose::straight(Vec3(0.0, 0.0, 0.05 * i), Vec3::UnitX(), 1.0, spec));
+    }
+    const int moving = static_cast<int>(state.range(1));
+    int frame = 0;
+    for (auto _ : state) {
+        ++frame;
+        for (int i = 0; i < moving; ++i) {
+            const double phase = 0.05 * frame + 0.3 * i;
+            scene.hose(i).grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i));
+        }
+        benchmark::DoNotOptimize(scene.updateSurfaces());
+    }
+    size_t bytes = 0;
+    for (int i = 0; i < 50; ++i) bytes += 4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
+    state.counters["vertex_MB"] = static_cast<double>(bytes) * moving / 50 / 1e6;
+}
+BENCHMARK(BM_Frame50Hoses)->Args({16, 50})->Args({16, 5})->Args({16, 1})->Unit(benchmark::kMicrosecond);
+
+// The physical bound of a frame: writing its vertex bytes once (about 1.9 MB).
+void BM_MemsetFrameBytes(benchmark::State& state)
+{
+    std::vector<char> buffer(static_cast<size_t>(state.range(0)));
+    for (auto _ : state) {
+        std::memset(buffer.data(), static_cast<int>(state.iterations() & 0xff), buffer.size());
+        benchmark::ClobberMemory();
+    }
+}
+BENCHMARK(BM_MemsetFrameBytes)->Arg(50 * 100 * 17 * 24)->Unit(benchmark::kMicrosecond);
+} // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,63 @@
+// Helpers shared by the lib tests: constraint checks written independently of the solver.
+#pragma once
+
+#include <chaintube/chaintube.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace chaintube::test {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = kPi / 180.0;
+
+inline HoseSpec paperSpec(int segments = 12, double expansion = 0.2, double deflectionDegrees = 40)
+{
+    HoseSpec spec;
+    spec.outerDiameter = 0.02;
+    spec.segmentCount = segments;
+    spec.material.expansionCoefficient = expansion;
+    spec.material.bendLimit = BendLimit::deflectionAngle(deflectionDegrees * kDegree);
+    return spec;
+}
+
+/// Largest relative length excess and largest angle excess (radians), measured from scratch.
+struct Violation
+{
+    double length = 0.0;
+    double angle = 0.0;
+};
+
+inline Violation violation(const Hose& hose)
+{
+    Violation v;
+    const std::vector<Vec3> p = hose.points();
+    for (int s = 0; s + 1 < hose.pointCount(); ++s) {
+        const double l = (p[s + 1] - p[s]).norm();
+        v.length = std::max(v.length, std::max(l - hose.maxLength(s), hose.minLength(s) - l) / hose.restLength(s));
+    }
+    for (int j = 1; j + 1 < hose.pointCount(); ++j) {
+        const Vec3 a = p[j] - p[j - 1], b = p[j + 1] - p[j];
+        const double turn = std::atan2(a.cross(b).norm(), a.dot(b));
+        v.angle = std::max(v.angle, turn - hose.deflectionLimit(j));
+    }
+    return v;
+}
+
+#define EXPECT_CONSTRAINTS_HOLD(hose, tolerance)                                                    \
+    do {                                                                                           \
+        const ::chaintube::test::Violation v_ = ::chaintube::test::violation(hose);                \
+        EXPECT_LE(v_.length, tolerance) << "length band violated";                                 \
+        EXPECT_LE(v_.angle, tolerance) << "deflection limit violated";                             \
+    } while (0)
+
+inline bool allFinite(const Hose& hose)
+{
+    for (const Vec3& p : hose.points())
+        if (!p.allFinite()) return false;
+    return true;
+}
+
+} // namespace chaintube::test
