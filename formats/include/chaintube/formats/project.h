@@ -1,0 +1,230 @@
+// ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
+//
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.0":
+//
+//   { "format": "chaintube-project", "version": "1.0", "name": "…",
+//     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
+//                            "chordalTolerance", "angularTolerance" } } ],
+//     "materialPresets": [ { "name", "description", "expansionCoefficient",
+//                            "bendLimit": { "minBendRadius" | "deflectionAngle" } } ],
+//     "hoses":           [ { "id", "name", "route": [[x,y,z]…], "material": "<preset>" | {…},
+//                            "profile": { "shape", …params }, "outerDiameter",
+//                            "segmentCount" | "segmentLength", "colour": [r,g,b,a],
+//                            "roughness", "attachments": [ { "scene", "node",
+//                            "offset": { "translation": [x,y,z], "rotation": [x,y,z,w] },
+//                            "points": [first, last] } ] } ],
+//     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
+//
+// All lengths are metres, angles radians, positions world coordinates (+Y up).
+#pragma once
+
+#include "chaintube/formats/atomic_file.h"
+#include "chaintube/formats/errors.h"
+#include "chaintube/formats/paths.h"
+#include "chaintube/formats/scene.h"
+#include "chaintube/material.h"
+#include "chaintube/profile.h"
+#include "chaintube/types.h"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace chaintube::formats {
+
+/// The newest format version this code reads and the one it writes.
+constexpr int kProjectFormatMajor = 1;
+constexpr int kProjectFormatMinor = 0;
+/// File extension of project files.
+constexpr const char* kProjectExtension = ".ctproj";
+
+/// How a scene file is imported (maps to ImportOptions).
+struct SceneImportSettings
+{
+    std::optional<double> metresPerUnit; ///< unset: detected from the file (see SourceUnits)
+    std::optional<UpAxis> upAxis;        ///< unset: detected
+    double chordalTolerance = 1e-4;      ///< metres > 0 (STEP tessellation)
+    double angularTolerance = 0.5;       ///< radians in (0, π] (STEP tessellation)
+    bool operator==(const SceneImportSettings& o) const
+    {
+        return metresPerUnit == o.metresPerUnit && upAxis == o.upAxis &&
+               chordalTolerance == o.chordalTolerance && angularTolerance == o.angularTolerance;
+    }
+};
+
+/// A CAD scene the hoses are laid in.
+struct SceneReference
+{
+    std::string id;   ///< unique within the project; attachments refer to it
+    std::string path; ///< as written: relative, absolute or "root:rest" (see paths.h)
+    SceneImportSettings import;
+    bool operator==(const SceneReference& o) const
+    {
+        return id == o.id && path == o.path && import == o.import;
+    }
+};
+
+/// A named material with datasheet-like values.
+struct MaterialPreset
+{
+    std::string name; ///< unique within the project, e.g. "PVC hose"
+    std::string description;
+    Material material;
+    bool operator==(const MaterialPreset& o) const
+    {
+        return name == o.name && description == o.description && material == o.material;
+    }
+};
+
+/// The four presets new projects start with: "PVC hose", "rubber hose", "braided steel hose",
+/// "cable bundle" (expansion and minimum bend radius typical of datasheets for ~20 mm hoses).
+std::vector<MaterialPreset> standardMaterialPresets();
+
+/// Name of a project material preset.
+struct PresetName
+{
+    std::string name;
+    bool operator==(const PresetName& o) const { return name == o.name; }
+};
+/// A hose's material: a preset of the project, or inline values.
+using MaterialChoice = std::variant<PresetName, Material>;
+
+/// Cross-section of a hose. Only the fields of `shape` are meaningful (and compared, written):
+/// Circle {sides} with radius outerDiameter/2; Ellipse {semiAxisX, semiAxisY, sides};
+/// Rectangle {width, height}; RoundedRectangle {width, height, cornerRadius, cornerSegments};
+/// Polygon {points, smoothAngle}. Ranges as in chaintube::Profile.
+struct ProfileSpec
+{
+    Profile::Shape shape = Profile::Shape::Circle;
+    int sides = 16;
+    double semiAxisX = 0.01, semiAxisY = 0.01;
+    double width = 0.02, height = 0.01;
+    double cornerRadius = 0.002;
+    int cornerSegments = 4;
+    std::vector<Vec2> points;
+    double smoothAngle = 0.0;
+    bool operator==(const ProfileSpec& o) const;
+    bool operator!=(const ProfileSpec& o) const { return !(*this == o); }
+};
+
+/// A run of axis points fixed to a scene node.
+struct HoseAttachment
+{
+    std::string scene; ///< SceneReference::id
+    std::string node;  ///< SceneNode::path, e.g. "/ROOT/node_1/node_1_11/Piston_123-844_0_Parts_1"
+    /// Frame of the attachment in the node's (rigid) world frame: attach frame =
+    /// scene.worldFrame(node) * offset. Rotation is stored as written (unit within 1e-6).
+    Frame offset;
+    int firstPoint = 0; ///< inclusive axis-point range, 0 ≤ first ≤ last
+    int lastPoint = 0;
+    bool operator==(const HoseAttachment& o) const;
+};
+
+/// Colour, linear RGBA in [0, 1].
+struct Rgba
+{
+    double r = 0.2, g = 0.2, b = 0.2, a = 1.0;
+    bool operator==(const Rgba& o) const { return r == o.r && g == o.g && b == o.b && a == o.a; }
+};
+
+/// One hose as the author laid it out.
+struct HoseDefinition
+{
+    std::string id;   ///< unique within the project
+    std::string name; ///< for people; may repeat
+    std::vector<Vec3> route; ///< world metres, ≥ 2 points, consecutive points distinct
+    MaterialChoice material = PresetName{"PVC hose"};
+    ProfileSpec profile;
+    double outerDiameter = 0.02; ///< metres > 0
+    /// Axis resolution: segmentCount (1 … 1,000,000) if > 0, else segmentLength (metres > 0).
+    int segmentCount = 12;
+    double segmentLength = 0.02;
+    Rgba colour;
+    double roughness = 0.5; ///< [0, 1], PBR
+    std::vector<HoseAttachment> attachments;
+    bool operator==(const HoseDefinition& o) const;
+    bool operator!=(const HoseDefinition& o) const { return !(*this == o); }
+};
+
+struct ExportSettings
+{
+    std::string format = "glb"; ///< "glb" or "gltf"
+    std::string path;           ///< project path of the output ("" = next to the project)
+    bool includeScene = true;   ///< export the CAD scene with the hoses
+    bool operator==(const ExportSettings& o) const
+    {
+        return format == o.format && path == o.path && includeScene == o.includeScene;
+    }
+};
+
+/// The in-memory project. save → load reproduces it exactly (operator==).
+struct Project
+{
+    std::string name;
+    std::vector<SceneReference> scenes;
+    std::vector<MaterialPreset> materialPresets;
+    std::vector<HoseDefinition> hoses;
+    ExportSettings exportSettings;
+
+    /// An empty project with standardMaterialPresets().
+    static Project withStandardPresets(std::string name);
+
+    const MaterialPreset* findPreset(std::string_view presetName) const;
+    const SceneReference* findScene(std::string_view sceneId) const;
+    /// The hose's material, its preset looked up. Throws InvalidArgument for an unknown preset.
+    Material materialOf(const HoseDefinition& hose) const;
+
+    bool operator==(const Project& o) const;
+    bool operator!=(const Project& o) const { return !(*this == o); }
+};
+
+struct ProjectLoadOptions
+{
+    /// Named roots for "root:path" scene paths. Paths naming a root that is not in the map are
+    /// accepted at load (checked only syntactically) and fail in resolveScenePath().
+    NamedRoots roots;
+};
+
+/// What loading found besides the project.
+struct ProjectLoadReport
+{
+    std::string fileVersion;  ///< as written, e.g. "0.9"
+    bool migrated = false;    ///< an older layout was converted to the current one
+    /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
+    std::vector<std::string> ignoredKeys;
+};
+
+/// Reads and validates a project file. Every problem throws ProjectFormatError naming the file,
+/// the JSON pointer and what was expected: malformed JSON (with line/column), wrong types,
+/// NaN/Inf or out-of-range numbers, unknown keys, duplicate ids, unknown presets or scene ids,
+/// overlapping attachment ranges, paths that escape the project folder (see paths.h), and a
+/// major version newer than kProjectFormatMajor. Version 0.9 files are migrated. Throws
+/// FileError if the file cannot be read.
+Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions& options = {},
+                    ProjectLoadReport* report = nullptr);
+
+/// Same as loadProject() on text already in memory; `file` is used for messages and its folder
+/// for resolving relative paths.
+Project parseProject(std::string_view text, const std::filesystem::path& file,
+                     const ProjectLoadOptions& options = {}, ProjectLoadReport* report = nullptr);
+
+/// The canonical text of a project: fixed key order, 2-space indentation, shortest round-trip
+/// numbers, '\n' line ends, final newline. loadProject → serialiseProject gives back a
+/// canonical file byte for byte.
+std::string serialiseProject(const Project& project);
+
+/// Writes the canonical text atomically (see writeFileAtomically). The project is validated
+/// first (as loadProject would, relative to the target's folder); an invalid project throws
+/// ProjectFormatError and nothing is written. Paths are written as they are, not rebased.
+void saveProject(const Project& project, const std::filesystem::path& file,
+                 const ProjectLoadOptions& validation = {}, const AtomicWriteOptions& write = {});
+
+/// Absolute path of a project's scene file. Throws PathError (escaping path, unknown root).
+std::filesystem::path resolveScenePath(const SceneReference& scene,
+                                       const std::filesystem::path& projectFile,
+                                       const NamedRoots& roots);
+
+} // namespace chaintube::formats

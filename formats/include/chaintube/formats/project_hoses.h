@@ -1,0 +1,38 @@
+// ChainTube formats — turning a project's hose definitions into chaintube::Hose objects.
+#pragma once
+
+#include "chaintube/formats/project.h"
+#include "chaintube/formats/scene_import.h"
+#include "chaintube/hose.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace chaintube::formats {
+
+/// Imported scenes by SceneReference::id.
+using ImportedScenes = std::map<std::string, ImportedScene>;
+
+/// Imports every scene of the project (paths resolved with resolveScenePath(), import
+/// settings applied). Throws PathError, FileError, Cancelled as importScene() does.
+ImportedScenes importProjectScenes(const Project& project,
+                                   const std::filesystem::path& projectFile,
+                                   const NamedRoots& roots,
+                                   const std::function<bool(double)>& progress = {});
+
+/// The HoseSpec of a hose definition (material preset resolved, profile built).
+/// Throws InvalidArgument (unknown preset, out-of-range profile).
+HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose);
+
+/// Builds hose `hose` of the project: Hose::alongRoute(route, spec), then every attachment
+/// fixed with Hose::attach(first, last, frame) where frame = scene node's rigid world frame ·
+/// offset (ImportedScene::worldFrame). The points keep their route positions (world metres).
+/// Throws InvalidArgument for an unknown scene id or node path, or a point range outside the
+/// built hose.
+Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes);
+
+/// buildHose() for every hose, in project order.
+std::vector<Hose> buildHoses(const Project& project, const ImportedScenes& scenes);
+
+} // namespace chaintube::formats

@@ -1,0 +1,105 @@
+#include "chaintube/formats/project.h"
+
+#include <cmath>
+#include <utility>
+
+namespace chaintube::formats {
+
+std::vector<MaterialPreset> standardMaterialPresets()
+{
+    // Typical datasheet values for hoses of ~20 mm outer diameter: the minimum bend radius is
+    // the centreline radius a manufacturer allows; expansion is how far the model may stretch
+    // a segment (a visual tolerance, not a physical strain).
+    return {
+        {"PVC hose", "Clear PVC suction/delivery hose with textile braid, 19 mm ID",
+         Material{0.05, BendLimit{BendLimit::Kind::MinBendRadius, 0.10}}},
+        {"rubber hose", "EPDM coolant/air hose, 20 mm ID",
+         Material{0.08, BendLimit{BendLimit::Kind::MinBendRadius, 0.12}}},
+        {"braided steel hose", "PTFE hose with stainless-steel overbraid, -12 (19 mm)",
+         Material{0.01, BendLimit{BendLimit::Kind::MinBendRadius, 0.165}}},
+        {"cable bundle", "Wire harness bundle in corrugated sleeve, 20 mm",
+         Material{0.02, BendLimit{BendLimit::Kind::MinBendRadius, 0.08}}},
+    };
+}
+
+bool ProfileSpec::operator==(const ProfileSpec& o) const
+{
+    if (shape != o.shape) return false;
+    switch (shape) {
+    case Profile::Shape::Circle: return sides == o.sides;
+    case Profile::Shape::Ellipse:
+        return semiAxisX == o.semiAxisX && semiAxisY == o.semiAxisY && sides == o.sides;
+    case Profile::Shape::Rectangle: return width == o.width && height == o.height;
+    case Profile::Shape::RoundedRectangle:
+        return width == o.width && height == o.height && cornerRadius == o.cornerRadius &&
+               cornerSegments == o.cornerSegments;
+    case Profile::Shape::Polygon: return points == o.points && smoothAngle == o.smoothAngle;
+    }
+    return false;
+}
+
+bool HoseAttachment::operator==(const HoseAttachment& o) const
+{
+    return scene == o.scene && node == o.node &&
+           offset.translation == o.offset.translation &&
+           offset.rotation.coeffs() == o.offset.rotation.coeffs() &&
+           firstPoint == o.firstPoint && lastPoint == o.lastPoint;
+}
+
+bool HoseDefinition::operator==(const HoseDefinition& o) const
+{
+    const bool sameResolution = segmentCount == o.segmentCount &&
+                                (segmentCount > 0 || segmentLength == o.segmentLength);
+    return id == o.id && name == o.name && route == o.route && material == o.material &&
+           profile == o.profile && outerDiameter == o.outerDiameter && sameResolution &&
+           colour == o.colour && roughness == o.roughness && attachments == o.attachments;
+}
+
+Project Project::withStandardPresets(std::string name)
+{
+    Project project;
+    project.name = std::move(name);
+    project.materialPresets = standardMaterialPresets();
+    return project;
+}
+
+const MaterialPreset* Project::findPreset(std::string_view presetName) const
+{
+    for (const MaterialPreset& preset : materialPresets)
+        if (preset.name == presetName) return &preset;
+    return nullptr;
+}
+
+const SceneReference* Project::findScene(std::string_view sceneId) const
+{
+    for (const SceneReference& scene : scenes)
+        if (scene.id == sceneId) return &scene;
+    return nullptr;
+}
+
+Material Project::materialOf(const HoseDefinition& hose) const
+{
+    if (const auto* inlineMaterial = std::get_if<Material>(&hose.material)) return *inlineMaterial;
+    const std::string& presetName = std::get<PresetName>(hose.material).name;
+    const MaterialPreset* preset = findPreset(presetName);
+    if (!preset)
+        throw InvalidArgument("hose '" + hose.id + "': unknown material preset '" + presetName +
+                              "'");
+    return preset->material;
+}
+
+bool Project::operator==(const Project& o) const
+{
+    return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
+           hoses == o.hoses && exportSettings == o.exportSettings;
+}
+
+std::filesystem::path resolveScenePath(const SceneReference& scene,
+                                       const std::filesystem::path& projectFile,
+                                       const NamedRoots& roots)
+{
+    return resolveProjectPath(scene.path, std::filesystem::absolute(projectFile).parent_path(),
+                              roots);
+}
+
+} // namespace chaintube::formats

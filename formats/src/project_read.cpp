@@ -1,0 +1,543 @@
+// Reading *.ctproj: a hand-written validator over nlohmann::json that reports the file, the
+// JSON pointer and what was expected (no C++ JSON Schema library exists in Debian 12).
+#include "chaintube/formats/project.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace chaintube::formats {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string describe(const json& value)
+{
+    switch (value.type()) {
+    case json::value_t::null: return "null";
+    case json::value_t::boolean: return value.get<bool>() ? "true" : "false";
+    case json::value_t::string: return value.dump();
+    case json::value_t::array: return "an array";
+    case json::value_t::object: return "an object";
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned:
+    case json::value_t::number_float: return value.dump();
+    default: return "an unsupported value";
+    }
+}
+
+std::string escapePointerToken(const std::string& token)
+{
+    std::string escaped;
+    for (char c : token) {
+        if (c == '~') escaped += "~0";
+        else if (c == '/') escaped += "~1";
+        else escaped += c;
+    }
+    return escaped;
+}
+
+/// Where we are in the document; every accessor checks the type and range and throws
+/// ProjectFormatError with this pointer.
+class Cursor
+{
+public:
+    Cursor(const json& value, std::string pointer, const fs::path& file, bool ignoreUnknown,
+           std::vector<std::string>* ignored)
+        : m_value(value), m_pointer(std::move(pointer)), m_file(file),
+          m_ignoreUnknown(ignoreUnknown), m_ignored(ignored)
+    {
+    }
+
+    [[noreturn]] void fail(const std::string& expected) const
+    {
+        throw ProjectFormatError(m_file, m_pointer, expected);
+    }
+    const std::string& pointer() const { return m_pointer; }
+    const json& raw() const { return m_value; }
+
+    /// Object with exactly these keys allowed (some required, checked by key()).
+    const Cursor& object(std::initializer_list<const char*> allowed) const
+    {
+        if (!m_value.is_object()) fail("expected an object, got " + describe(m_value));
+        for (const auto& [key, unused] : m_value.items()) {
+            bool known = false;
+            for (const char* name : allowed) known = known || key == name;
+            if (known) continue;
+            if (m_ignoreUnknown) {
+                if (m_ignored) m_ignored->push_back(m_pointer + "/" + escapePointerToken(key));
+                continue;
+            }
+            std::string list;
+            for (const char* name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
+            Cursor(m_value.at(key), m_pointer + "/" + escapePointerToken(key), m_file, false,
+                   nullptr)
+                .fail("unknown key \"" + key + "\" (expected one of: " + list + ")");
+        }
+        return *this;
+    }
+    bool has(const char* key) const { return m_value.is_object() && m_value.contains(key); }
+    Cursor key(const char* name) const
+    {
+        if (!m_value.contains(name)) fail(std::string("missing required key \"") + name + "\"");
+        return child(m_value.at(name), escapePointerToken(name));
+    }
+    std::optional<Cursor> optionalKey(const char* name) const
+    {
+        if (!m_value.contains(name)) return std::nullopt;
+        return child(m_value.at(name), escapePointerToken(name));
+    }
+    size_t arraySize(size_t minimum = 0, size_t maximum = SIZE_MAX) const
+    {
+        if (!m_value.is_array()) fail("expected an array, got " + describe(m_value));
+        if (m_value.size() < minimum || m_value.size() > maximum) {
+            std::string range = maximum == SIZE_MAX ? "at least " + std::to_string(minimum)
+                                : minimum == maximum
+                                    ? "exactly " + std::to_string(minimum)
+                                    : std::to_string(minimum) + " to " + std::to_string(maximum);
+            fail("expected an array of " + range + " elements, got " +
+                 std::to_string(m_value.size()));
+        }
+        return m_value.size();
+    }
+    Cursor operator[](size_t index) const
+    {
+        return child(m_value.at(index), std::to_string(index));
+    }
+
+    std::string string(bool allowEmpty = false) const
+    {
+        if (!m_value.is_string()) fail("expected a string, got " + describe(m_value));
+        std::string text = m_value.get<std::string>();
+        if (!allowEmpty && text.empty()) fail("expected a non-empty string");
+        return text;
+    }
+    bool boolean() const
+    {
+        if (!m_value.is_boolean()) fail("expected true or false, got " + describe(m_value));
+        return m_value.get<bool>();
+    }
+    /// A finite number in the interval; bounds written like "[0, 1)".
+    double number(double low, bool lowInclusive, double high, bool highInclusive) const
+    {
+        const std::string range = std::string(lowInclusive ? "[" : "(") + formatBound(low) +
+                                  ", " + formatBound(high) + (highInclusive ? "]" : ")");
+        if (!m_value.is_number())
+            fail("expected a number in " + range + ", got " + describe(m_value));
+        const double value = m_value.get<double>();
+        const bool aboveLow = lowInclusive ? value >= low : value > low;
+        const bool belowHigh = highInclusive ? value <= high : value < high;
+        if (!std::isfinite(value) || !aboveLow || !belowHigh)
+            fail("expected a number in " + range + ", got " + describe(m_value));
+        return value;
+    }
+    double anyFinite() const
+    {
+        return number(-HUGE_VAL, false, HUGE_VAL, false);
+    }
+    int integer(int low, int high) const
+    {
+        const std::string range = "[" + std::to_string(low) + ", " + std::to_string(high) + "]";
+        if (!m_value.is_number_integer())
+            fail("expected an integer in " + range + ", got " + describe(m_value));
+        const auto value = m_value.get<long long>();
+        if (value < low || value > high)
+            fail("expected an integer in " + range + ", got " + describe(m_value));
+        return static_cast<int>(value);
+    }
+
+private:
+    static std::string formatBound(double bound)
+    {
+        if (bound == HUGE_VAL) return "inf";
+        if (bound == -HUGE_VAL) return "-inf";
+        if (bound == kPi) return "pi";
+        return json(bound).dump();
+    }
+    Cursor child(const json& value, const std::string& token) const
+    {
+        return Cursor(value, m_pointer + "/" + token, m_file, m_ignoreUnknown, m_ignored);
+    }
+
+    const json& m_value;
+    std::string m_pointer;
+    const fs::path& m_file;
+    bool m_ignoreUnknown;
+    std::vector<std::string>* m_ignored;
+};
+
+Vec3 readVec3(const Cursor& cursor)
+{
+    cursor.arraySize(3, 3);
+    return {cursor[0].anyFinite(), cursor[1].anyFinite(), cursor[2].anyFinite()};
+}
+
+Material readMaterialValues(const Cursor& cursor, std::initializer_list<const char*> keys)
+{
+    cursor.object(keys);
+    Material material;
+    material.expansionCoefficient = cursor.key("expansionCoefficient").number(0, true, 1, false);
+    const Cursor limit = cursor.key("bendLimit");
+    limit.object({"minBendRadius", "deflectionAngle"});
+    const bool radius = limit.has("minBendRadius");
+    const bool angle = limit.has("deflectionAngle");
+    if (radius == angle) limit.fail("expected exactly one of \"minBendRadius\" (metres) or "
+                                    "\"deflectionAngle\" (radians)");
+    if (radius) {
+        material.bendLimit = {BendLimit::Kind::MinBendRadius,
+                              limit.key("minBendRadius").number(0, true, HUGE_VAL, false)};
+    } else {
+        material.bendLimit = {BendLimit::Kind::DeflectionAngle,
+                              limit.key("deflectionAngle").number(0, true, kPi, false)};
+    }
+    return material;
+}
+
+ProfileSpec readProfile(const Cursor& cursor)
+{
+    if (!cursor.raw().is_object()) cursor.object({});
+    ProfileSpec profile;
+    const std::string shape = cursor.key("shape").string();
+    if (shape == "circle") {
+        cursor.object({"shape", "sides"});
+        profile.shape = Profile::Shape::Circle;
+        profile.sides = cursor.key("sides").integer(3, 1024);
+    } else if (shape == "ellipse") {
+        cursor.object({"shape", "semiAxisX", "semiAxisY", "sides"});
+        profile.shape = Profile::Shape::Ellipse;
+        profile.semiAxisX = cursor.key("semiAxisX").number(0, false, HUGE_VAL, false);
+        profile.semiAxisY = cursor.key("semiAxisY").number(0, false, HUGE_VAL, false);
+        profile.sides = cursor.key("sides").integer(3, 1024);
+    } else if (shape == "rectangle") {
+        cursor.object({"shape", "width", "height"});
+        profile.shape = Profile::Shape::Rectangle;
+        profile.width = cursor.key("width").number(0, false, HUGE_VAL, false);
+        profile.height = cursor.key("height").number(0, false, HUGE_VAL, false);
+    } else if (shape == "roundedRectangle") {
+        cursor.object({"shape", "width", "height", "cornerRadius", "cornerSegments"});
+        profile.shape = Profile::Shape::RoundedRectangle;
+        profile.width = cursor.key("width").number(0, false, HUGE_VAL, false);
+        profile.height = cursor.key("height").number(0, false, HUGE_VAL, false);
+        const double largest = 0.5 * std::min(profile.width, profile.height);
+        profile.cornerRadius = cursor.key("cornerRadius").number(0, false, largest, true);
+        profile.cornerSegments = cursor.key("cornerSegments").integer(1, 64);
+    } else if (shape == "polygon") {
+        cursor.object({"shape", "points", "smoothAngle"});
+        profile.shape = Profile::Shape::Polygon;
+        const Cursor points = cursor.key("points");
+        const size_t count = points.arraySize(3, 4096);
+        for (size_t i = 0; i < count; ++i) {
+            points[i].arraySize(2, 2);
+            profile.points.push_back({points[i][0].anyFinite(), points[i][1].anyFinite()});
+        }
+        profile.smoothAngle = cursor.key("smoothAngle").number(0, true, kPi, false);
+    } else {
+        cursor.key("shape").fail("expected one of \"circle\", \"ellipse\", \"rectangle\", "
+                                 "\"roundedRectangle\", \"polygon\", got \"" + shape + "\"");
+    }
+    return profile;
+}
+
+Frame readFrame(const Cursor& cursor)
+{
+    cursor.object({"translation", "rotation"});
+    Frame frame;
+    frame.translation = readVec3(cursor.key("translation"));
+    const Cursor rotation = cursor.key("rotation");
+    rotation.arraySize(4, 4);
+    // glTF order: x, y, z, w.
+    frame.rotation = Quat(rotation[3].number(-1, true, 1, true), rotation[0].number(-1, true, 1, true),
+                          rotation[1].number(-1, true, 1, true), rotation[2].number(-1, true, 1, true));
+    const double norm = frame.rotation.norm();
+    if (std::abs(norm - 1.0) > 1e-6)
+        rotation.fail("expected a unit quaternion [x, y, z, w] (length 1 ± 1e-6), got length " +
+                      json(norm).dump());
+    return frame;
+}
+
+/// Version "major.minor" → numbers; anything else fails at /version.
+std::pair<int, int> readVersion(const Cursor& cursor)
+{
+    const std::string text = cursor.string();
+    int major = -1, minor = -1;
+    char dot = 0;
+    std::istringstream stream(text);
+    if (!(stream >> major >> dot >> minor) || dot != '.' || major < 0 || minor < 0 ||
+        stream.peek() != EOF || text.find_first_not_of("0123456789.") != std::string::npos)
+        cursor.fail("expected a version \"<major>.<minor>\" such as \"1.0\", got \"" + text +
+                    "\"");
+    return {major, minor};
+}
+
+/// Version 0.9 (the prototype's layout) differs from 1.0 in two places per hose:
+/// "diameterMm" (millimetres) instead of "outerDiameter" (metres), and "color": "#RRGGBBAA"
+/// instead of "colour": [r, g, b, a]. Rewrites the document to 1.0; returns false if a value
+/// it needs has the wrong type (the 1.0 reader then reports the precise error).
+void migrateFrom0_9(json& document, const fs::path& file)
+{
+    document["version"] = "1.0";
+    if (!document.contains("hoses") || !document["hoses"].is_array()) return;
+    for (size_t i = 0; i < document["hoses"].size(); ++i) {
+        json& hose = document["hoses"][i];
+        if (!hose.is_object()) continue;
+        const std::string pointer = "/hoses/" + std::to_string(i);
+        if (hose.contains("diameterMm")) {
+            if (!hose["diameterMm"].is_number())
+                throw ProjectFormatError(file, pointer + "/diameterMm",
+                                         "expected a number (millimetres), got " +
+                                             describe(hose["diameterMm"]));
+            hose["outerDiameter"] = hose["diameterMm"].get<double>() / 1000.0;
+            hose.erase("diameterMm");
+        }
+        if (hose.contains("color")) {
+            const json& color = hose["color"];
+            std::string text = color.is_string() ? color.get<std::string>() : "";
+            const bool valid = (text.size() == 7 || text.size() == 9) && text[0] == '#' &&
+                               text.find_first_not_of("0123456789abcdefABCDEF", 1) ==
+                                   std::string::npos;
+            if (!valid)
+                throw ProjectFormatError(file, pointer + "/color",
+                                         "expected a colour \"#RRGGBB\" or \"#RRGGBBAA\", got " +
+                                             describe(color));
+            if (text.size() == 7) text += "ff";
+            json rgba = json::array();
+            for (int k = 0; k < 4; ++k)
+                rgba.push_back(std::stoi(text.substr(1 + 2 * size_t(k), 2), nullptr, 16) / 255.0);
+            hose["colour"] = rgba;
+            hose.erase("color");
+        }
+    }
+}
+
+void checkPath(const Cursor& cursor, const std::string& written, const fs::path& projectDirectory,
+               const NamedRoots& roots)
+{
+    try {
+        if (classifyProjectPath(written) == PathKind::NamedRoot) {
+            const std::string rootName = written.substr(0, written.find(':'));
+            if (!roots.count(rootName)) return; // resolved when the scene is opened
+        }
+        resolveProjectPath(written, projectDirectory, roots);
+    } catch (const PathError& error) {
+        cursor.fail(error.what());
+    }
+}
+
+Project readProject(const json& document, const fs::path& file, const ProjectLoadOptions& options,
+                    ProjectLoadReport& report)
+{
+    const fs::path projectDirectory = fs::absolute(file).parent_path();
+    const bool newerMinor = [&] {
+        const Cursor root(document, "", file, false, nullptr);
+        return readVersion(root.key("version")).second > kProjectFormatMinor;
+    }();
+    const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
+    root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "export"});
+
+    Project project;
+    project.name = root.key("name").string(true);
+
+    // --- scenes -------------------------------------------------------------------------------
+    const Cursor scenes = root.key("scenes");
+    for (size_t i = 0, n = scenes.arraySize(); i < n; ++i) {
+        const Cursor entry = scenes[i];
+        entry.object({"id", "path", "import"});
+        SceneReference scene;
+        scene.id = entry.key("id").string();
+        if (project.findScene(scene.id))
+            entry.key("id").fail("expected a unique scene id, \"" + scene.id + "\" is used twice");
+        scene.path = entry.key("path").string();
+        checkPath(entry.key("path"), scene.path, projectDirectory, options.roots);
+        const Cursor import = entry.key("import");
+        import.object({"metresPerUnit", "upAxis", "chordalTolerance", "angularTolerance"});
+        if (auto unit = import.optionalKey("metresPerUnit"))
+            scene.import.metresPerUnit = unit->number(0, false, HUGE_VAL, false);
+        if (auto up = import.optionalKey("upAxis")) {
+            const std::string axis = up->string();
+            if (axis == "+Y") scene.import.upAxis = UpAxis::PositiveY;
+            else if (axis == "+Z") scene.import.upAxis = UpAxis::PositiveZ;
+            else up->fail("expected \"+Y\" or \"+Z\", got \"" + axis + "\"");
+        }
+        scene.import.chordalTolerance =
+            import.key("chordalTolerance").number(0, false, HUGE_VAL, false);
+        scene.import.angularTolerance = import.key("angularTolerance").number(0, false, kPi, true);
+        project.scenes.push_back(std::move(scene));
+    }
+
+    // --- material presets ---------------------------------------------------------------------
+    const Cursor presets = root.key("materialPresets");
+    for (size_t i = 0, n = presets.arraySize(); i < n; ++i) {
+        const Cursor entry = presets[i];
+        MaterialPreset preset;
+        preset.material = readMaterialValues(
+            entry, {"name", "description", "expansionCoefficient", "bendLimit"});
+        preset.name = entry.key("name").string();
+        if (project.findPreset(preset.name))
+            entry.key("name").fail("expected a unique preset name, \"" + preset.name +
+                                   "\" is used twice");
+        preset.description = entry.key("description").string(true);
+        project.materialPresets.push_back(std::move(preset));
+    }
+
+    // --- hoses --------------------------------------------------------------------------------
+    const Cursor hoses = root.key("hoses");
+    std::set<std::string> hoseIds;
+    for (size_t i = 0, n = hoses.arraySize(); i < n; ++i) {
+        const Cursor entry = hoses[i];
+        entry.object({"id", "name", "route", "material", "profile", "outerDiameter",
+                      "segmentCount", "segmentLength", "colour", "roughness", "attachments"});
+        HoseDefinition hose;
+        hose.id = entry.key("id").string();
+        if (!hoseIds.insert(hose.id).second)
+            entry.key("id").fail("expected a unique hose id, \"" + hose.id + "\" is used twice");
+        hose.name = entry.key("name").string(true);
+
+        const Cursor route = entry.key("route");
+        for (size_t p = 0, count = route.arraySize(2); p < count; ++p) {
+            hose.route.push_back(readVec3(route[p]));
+            if (p > 0 && hose.route[p] == hose.route[p - 1])
+                route[p].fail("expected a route point distinct from the previous one");
+        }
+
+        const Cursor material = entry.key("material");
+        if (material.raw().is_string()) {
+            hose.material = PresetName{material.string()};
+            if (!project.findPreset(std::get<PresetName>(hose.material).name))
+                material.fail("expected the name of a material preset of this project, got \"" +
+                              std::get<PresetName>(hose.material).name + "\"");
+        } else if (material.raw().is_object()) {
+            hose.material = readMaterialValues(material, {"expansionCoefficient", "bendLimit"});
+        } else {
+            material.fail("expected a preset name (string) or an object {expansionCoefficient, "
+                          "bendLimit}, got " + describe(material.raw()));
+        }
+
+        hose.profile = readProfile(entry.key("profile"));
+        hose.outerDiameter = entry.key("outerDiameter").number(0, false, HUGE_VAL, false);
+        const bool byCount = entry.has("segmentCount");
+        if (byCount == entry.has("segmentLength"))
+            entry.fail("expected exactly one of \"segmentCount\" or \"segmentLength\"");
+        if (byCount) {
+            hose.segmentCount = entry.key("segmentCount").integer(1, 1000000);
+        } else {
+            hose.segmentCount = 0;
+            hose.segmentLength = entry.key("segmentLength").number(0, false, HUGE_VAL, false);
+        }
+
+        const Cursor colour = entry.key("colour");
+        colour.arraySize(4, 4);
+        hose.colour = {colour[0].number(0, true, 1, true), colour[1].number(0, true, 1, true),
+                       colour[2].number(0, true, 1, true), colour[3].number(0, true, 1, true)};
+        hose.roughness = entry.key("roughness").number(0, true, 1, true);
+
+        const Cursor attachments = entry.key("attachments");
+        const int maxPoint = byCount ? hose.segmentCount : 1000000;
+        for (size_t a = 0, count = attachments.arraySize(); a < count; ++a) {
+            const Cursor item = attachments[a];
+            item.object({"scene", "node", "offset", "points"});
+            HoseAttachment attachment;
+            attachment.scene = item.key("scene").string();
+            if (!project.findScene(attachment.scene))
+                item.key("scene").fail("expected the id of a scene of this project, got \"" +
+                                       attachment.scene + "\"");
+            attachment.node = item.key("node").string();
+            if (attachment.node.front() != '/')
+                item.key("node").fail("expected a node path starting with '/', got \"" +
+                                      attachment.node + "\"");
+            attachment.offset = readFrame(item.key("offset"));
+            const Cursor points = item.key("points");
+            points.arraySize(2, 2);
+            attachment.firstPoint = points[0].integer(0, maxPoint);
+            attachment.lastPoint = points[1].integer(attachment.firstPoint, maxPoint);
+            for (const HoseAttachment& other : hose.attachments)
+                if (attachment.firstPoint <= other.lastPoint &&
+                    other.firstPoint <= attachment.lastPoint)
+                    points.fail("expected a point range not overlapping another attachment's [" +
+                                std::to_string(other.firstPoint) + ", " +
+                                std::to_string(other.lastPoint) + "]");
+            hose.attachments.push_back(std::move(attachment));
+        }
+        project.hoses.push_back(std::move(hose));
+    }
+
+    // --- export -------------------------------------------------------------------------------
+    const Cursor exportSettings = root.key("export");
+    exportSettings.object({"format", "path", "includeScene"});
+    project.exportSettings.format = exportSettings.key("format").string();
+    if (project.exportSettings.format != "glb" && project.exportSettings.format != "gltf")
+        exportSettings.key("format").fail("expected \"glb\" or \"gltf\", got \"" +
+                                          project.exportSettings.format + "\"");
+    project.exportSettings.path = exportSettings.key("path").string(true);
+    if (!project.exportSettings.path.empty())
+        checkPath(exportSettings.key("path"), project.exportSettings.path, projectDirectory,
+                  options.roots);
+    project.exportSettings.includeScene = exportSettings.key("includeScene").boolean();
+    return project;
+}
+
+} // namespace
+
+Project parseProject(std::string_view text, const fs::path& file,
+                     const ProjectLoadOptions& options, ProjectLoadReport* report)
+{
+    json document;
+    try {
+        document = json::parse(text.begin(), text.end());
+    } catch (const json::parse_error& error) {
+        // nlohmann reports "[json.exception.parse_error.101] parse error at line 3, column 5:
+        // syntax error …": keep the part after the exception id.
+        std::string message = error.what();
+        const size_t bracket = message.find("] ");
+        if (bracket != std::string::npos) message = message.substr(bracket + 2);
+        throw ProjectFormatError(file, "", "not valid JSON: " + message);
+    }
+    ProjectLoadReport localReport;
+    ProjectLoadReport& out = report ? *report : localReport;
+    out = {};
+
+    const Cursor root(document, "", file, false, nullptr);
+    if (!document.is_object()) root.fail("expected a JSON object, got " + describe(document));
+    const std::string format = root.key("format").string(true);
+    if (format != "chaintube-project")
+        root.key("format").fail("expected \"chaintube-project\", got \"" + format + "\"");
+    const auto [major, minor] = readVersion(root.key("version"));
+    out.fileVersion = root.key("version").string();
+    if (major > kProjectFormatMajor)
+        root.key("version").fail(
+            "this file was written in project format " + out.fileVersion +
+            ", newer than this ChainTube understands (up to " +
+            std::to_string(kProjectFormatMajor) + ".x); update ChainTube to open it");
+    if (major == 0) {
+        if (minor != 9)
+            root.key("version").fail("expected version 0.9 or 1.x; version " + out.fileVersion +
+                                     " is not supported");
+        migrateFrom0_9(document, file);
+        out.migrated = true;
+    }
+    return readProject(document, file, options, out);
+}
+
+Project loadProject(const fs::path& file, const ProjectLoadOptions& options,
+                    ProjectLoadReport* report)
+{
+    std::error_code error;
+    if (!fs::exists(file, error)) throw FileError(file, "no such file");
+    if (fs::is_directory(file, error)) throw FileError(file, "is a directory, not a project file");
+    std::ifstream stream(file, std::ios::binary);
+    if (!stream) throw FileError(file, "cannot be opened for reading");
+    std::ostringstream contents;
+    contents << stream.rdbuf();
+    if (stream.bad()) throw FileError(file, "reading failed");
+    const std::string text = contents.str();
+    if (text.empty()) throw FileError(file, "file is empty");
+    return parseProject(text, file, options, report);
+}
+
+} // namespace chaintube::formats

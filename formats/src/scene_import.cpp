@@ -1,0 +1,206 @@
+#include "chaintube/formats/scene_import.h"
+
+#include "import_internal.h"
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <system_error>
+#include <utility>
+
+namespace chaintube::formats {
+
+namespace {
+
+std::string lowerCaseExtension(const std::filesystem::path& file)
+{
+    std::string extension = file.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return extension;
+}
+
+bool isStep(const std::string& extension)
+{
+    return extension == ".stp" || extension == ".step";
+}
+
+/// Missing, not a regular file, unreadable, empty: the reasons we can give before any parser.
+void checkReadableFile(const std::filesystem::path& file)
+{
+    std::error_code error;
+    const auto status = std::filesystem::status(file, error);
+    if (!std::filesystem::exists(status)) throw FileError(file, "no such file");
+    if (std::filesystem::is_directory(status))
+        throw FileError(file, "is a directory, not a scene file");
+    if (!std::filesystem::is_regular_file(status)) throw FileError(file, "not a regular file");
+    std::ifstream stream(file, std::ios::binary);
+    if (!stream) throw FileError(file, "cannot be opened for reading (permission denied?)");
+    const auto size = std::filesystem::file_size(file, error);
+    if (!error && size == 0) throw FileError(file, "file is empty");
+}
+
+/// Rotation taking +Z up to +Y up (−90° about X): (x, y, z) → (x, z, −y).
+Mat4 zUpToYUp()
+{
+    Mat4 m = Mat4::Identity();
+    m.block<3, 3>(0, 0) << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+    return m;
+}
+
+/// The name of a node's first mesh; when readers split one mesh into parts named "base-0",
+/// "base-1", … (assimp does for multi-primitive glTF meshes), "base".
+std::string meshBaseName(const ImportedScene& scene, const SceneNode& node)
+{
+    const std::string& first = scene.meshes[static_cast<size_t>(node.meshes.front())].name;
+    const size_t dash = first.find_last_of('-');
+    if (dash == std::string::npos || dash == 0 || dash + 1 == first.size()) return first;
+    const std::string base = first.substr(0, dash);
+    for (size_t k = 0; k < node.meshes.size(); ++k) {
+        const std::string& name = scene.meshes[static_cast<size_t>(node.meshes[k])].name;
+        if (name != base + "-" + std::to_string(k)) return first;
+    }
+    return base;
+}
+
+} // namespace
+
+const std::vector<std::string>& supportedSceneExtensions()
+{
+    static const std::vector<std::string> extensions = {
+        ".gltf", ".glb", ".obj", ".stl", ".ply", ".fbx", ".dae", ".3ds", ".ifc", ".3mf",
+        ".x3d",  ".off", ".amf", ".stp", ".step"};
+    return extensions;
+}
+
+bool isSupportedSceneFile(const std::filesystem::path& file)
+{
+    const std::string extension = lowerCaseExtension(file);
+    for (const std::string& supported : supportedSceneExtensions())
+        if (supported == extension) return true;
+    return false;
+}
+
+ImportedScene importScene(const std::filesystem::path& file, const ImportOptions& options)
+{
+    if (options.metresPerUnit && !(std::isfinite(*options.metresPerUnit) &&
+                                   *options.metresPerUnit > 0.0))
+        throw InvalidArgument("ImportOptions::metresPerUnit: expected a finite number > 0");
+    if (!(std::isfinite(options.chordalTolerance) && options.chordalTolerance > 0.0))
+        throw InvalidArgument("ImportOptions::chordalTolerance: expected metres > 0");
+    if (!(std::isfinite(options.angularTolerance) && options.angularTolerance > 0.0))
+        throw InvalidArgument("ImportOptions::angularTolerance: expected radians > 0");
+
+    const std::string extension = lowerCaseExtension(file);
+    if (!isSupportedSceneFile(file)) {
+        std::string list;
+        for (const std::string& supported : supportedSceneExtensions())
+            list += (list.empty() ? "" : " ") + supported;
+        throw FileError(file, "unsupported scene format '" + extension +
+                                  "' (supported: " + list + ")");
+    }
+    checkReadableFile(file);
+
+    // The parser gets 85 % of the bar, our conversion the rest.
+    detail::ProgressStage parsing(options, file, 0.0, 0.85);
+    parsing.report(0.0);
+    detail::ReaderResult read = isStep(extension)
+                                    ? detail::importStep(file, options, parsing)
+                                    : detail::importWithAssimp(file, extension, options, parsing);
+    detail::ProgressStage converting(options, file, 0.85, 1.0);
+    ImportedScene scene = detail::finaliseScene(std::move(read), file, options);
+    converting.report(1.0);
+    return scene;
+}
+
+namespace detail {
+
+ImportedScene finaliseScene(ReaderResult&& result, const std::filesystem::path& file,
+                            const ImportOptions& options)
+{
+    ImportedScene scene = std::move(result.scene);
+    scene.file = file;
+    if (scene.nodes.empty()) throw FileError(scene.file, "the file contains no scene nodes");
+
+    // --- units and up axis ------------------------------------------------------------------
+    SourceUnits& units = scene.sourceUnits;
+    if (options.metresPerUnit) {
+        units.metresPerUnit = *options.metresPerUnit;
+        units.unitName = std::to_string(*options.metresPerUnit) + " m";
+        units.unitSource = UnitSource::UserOverride;
+    }
+    if (options.upAxis) {
+        units.upAxis = *options.upAxis;
+        units.upAxisSource = UnitSource::UserOverride;
+    }
+    const double scale = options.metresPerUnit
+                             ? *options.metresPerUnit * result.sourceUnitsPerReaderUnit
+                             : result.metresPerReaderUnit;
+    if (scale != 1.0) {
+        // Scaling every translation and vertex is the same as S·M·S⁻¹ per node and S·v per
+        // vertex: world positions scale, rotations and node scales are unchanged.
+        for (SceneNode& node : scene.nodes) node.localTransform.block<3, 1>(0, 3) *= scale;
+        for (SceneMesh& mesh : scene.meshes)
+            for (float& coordinate : mesh.positions)
+                coordinate = static_cast<float>(coordinate * scale);
+    }
+    if (units.upAxis == UpAxis::PositiveZ)
+        scene.nodes[0].localTransform = zUpToYUp() * scene.nodes[0].localTransform;
+
+    // --- names and paths ----------------------------------------------------------------------
+    // Parents come before children, so one pass in node order sees each parent's path first.
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        SceneNode& node = scene.nodes[i];
+        if (node.parent >= static_cast<int>(i))
+            throw FileError(scene.file, "internal error: node order (parent after child)");
+        if (node.name.empty() && !node.meshes.empty() &&
+            !scene.meshes[static_cast<size_t>(node.meshes.front())].name.empty()) {
+            node.name = meshBaseName(scene, node);
+            node.generatedName = true;
+        } else if (node.name.empty()) {
+            std::string generated = "node";
+            std::vector<int> indices;
+            for (int child = static_cast<int>(i), parent = node.parent; parent >= 0;
+                 child = parent, parent = scene.nodes[static_cast<size_t>(parent)].parent) {
+                const auto& siblings = scene.nodes[static_cast<size_t>(parent)].children;
+                indices.push_back(static_cast<int>(
+                    std::find(siblings.begin(), siblings.end(), child) - siblings.begin()));
+            }
+            for (auto it = indices.rbegin(); it != indices.rend(); ++it)
+                generated += "_" + std::to_string(*it);
+            node.name = generated;
+            node.generatedName = true;
+        }
+    }
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        SceneNode& node = scene.nodes[i];
+        if (node.parent < 0) {
+            std::string segment = node.name;
+            std::replace(segment.begin(), segment.end(), '/', '_');
+            node.path = "/" + segment;
+        }
+        std::map<std::string, int> used;
+        for (int childIndex : node.children) {
+            SceneNode& child = scene.nodes[static_cast<size_t>(childIndex)];
+            std::string segment = child.name;
+            std::replace(segment.begin(), segment.end(), '/', '_');
+            const int occurrence = ++used[segment];
+            if (occurrence > 1) {
+                // Make sure "a#2" is not also a real sibling name.
+                std::string candidate;
+                int n = occurrence;
+                do {
+                    candidate = segment + "#" + std::to_string(n++);
+                } while (used.count(candidate));
+                used[candidate] = 1;
+                segment = candidate;
+            }
+            child.path = node.path + "/" + segment;
+        }
+    }
+    return scene;
+}
+
+} // namespace detail
+
+} // namespace chaintube::formats
