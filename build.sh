@@ -18,6 +18,7 @@ debian_packages=(
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-ocaf-dev
   libocct-visualization-dev
   xvfb xauth libgl1-mesa-dri
+  python3 python3-jsonschema
 )
 
 install_missing_packages() {

@@ -159,6 +159,8 @@ private:
         if (bound == HUGE_VAL) return "inf";
         if (bound == -HUGE_VAL) return "-inf";
         if (bound == kPi) return "pi";
+        if (bound == std::floor(bound) && std::abs(bound) < 1e15)
+            return std::to_string(static_cast<long long>(bound));
         return json(bound).dump();
     }
     Cursor child(const json& value, const std::string& token) const
@@ -490,7 +492,7 @@ Project parseProject(std::string_view text, const fs::path& file,
     json document;
     try {
         document = json::parse(text.begin(), text.end());
-    } catch (const json::parse_error& error) {
+    } catch (const json::exception& error) { // parse_error, or out_of_range for 1e400
         // nlohmann reports "[json.exception.parse_error.101] parse error at line 3, column 5:
         // syntax error …": keep the part after the exception id.
         std::string message = error.what();

@@ -172,6 +172,7 @@ void Hose::recomputeLimits()
     m_sinLimit.assign(points, 0.0);
     m_cosHalfLimit.assign(points, 0.0);
     m_sinHalfLimit.assign(points, 1.0);
+    m_chordLimit2.assign(points, 4.0 + 1e-9);
     for (size_t j = 1; j + 1 < points; ++j) {
         const double mean = 0.5 * (m_restLength[j - 1] + m_restLength[j]);
         const double limit = jointDeflectionLimit(m_spec.material.bendLimit, mean);
@@ -179,6 +180,9 @@ void Hose::recomputeLimits()
         m_sinLimit[j] = std::sin(limit);
         m_cosHalfLimit[j] = std::cos(0.5 * limit);
         m_sinHalfLimit[j] = std::sin(0.5 * limit);
+        // Squared chord between unit directions turning by the limit, 4 sin²(θ/2), plus
+        // 1e-12 rad of tolerance (d chord² / dθ = 2 sin θ ≤ 2θ).
+        m_chordLimit2[j] = 4.0 * m_sinHalfLimit[j] * m_sinHalfLimit[j] + 2e-12 * limit + 1e-24;
     }
 }
 

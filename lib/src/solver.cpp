@@ -10,11 +10,8 @@ namespace chaintube {
 
 namespace {
 constexpr double kLengthTolerance = 1e-12;   // relative, when deciding whether to correct
-constexpr double kAngleTolerance = 1e-12;    // radians, when deciding whether to correct
 constexpr double kConvergedLength = 1e-10;   // relative, phase 2 success
-constexpr double kConvergedAngle = 1e-10;    // radians, phase 2 success
-constexpr double kCosFastMargin = 1e-6;      // beyond this the cosine test alone decides
-constexpr int kMaxSweeps = 400;
+constexpr int kMaxSweeps = 200;
 constexpr int kStallWindow = 24; // give up when a window of sweeps gains less than half
 constexpr int kBisectionSteps = 20;
 
@@ -59,19 +56,15 @@ public:
             moved = true;
         } else {
             length = std::sqrt(length2);
-            v = d / length;
+            v = d * (1.0 / length);
         }
         if (incoming) {
             const size_t joint = static_cast<size_t>(a);
             const double cosLimit = h.m_cosLimit[joint], sinLimit = h.m_sinLimit[joint];
-            const double c = incoming->dot(v);
-            bool violated = c < cosLimit - kCosFastMargin;
-            if (!violated && c < cosLimit + kCosFastMargin) {
-                // Near the limit the cosine is too flat to decide: compare sin(φ − θ).
-                const double s = incoming->cross(v).norm();
-                violated = s * cosLimit - c * sinLimit > kAngleTolerance;
-            }
-            if (violated) {
+            // |v − u|² = 4 sin²(φ/2) keeps full precision for small turns, where the cosine
+            // is too flat to decide; the limit carries its tolerance (see recomputeLimits).
+            if ((v - *incoming).squaredNorm() > h.m_chordLimit2[joint]) {
+                const double c = incoming->dot(v);
                 Vec3 w = v - c * *incoming;
                 double wn = w.norm();
                 if (!(wn > 1e-12)) {
@@ -83,7 +76,7 @@ public:
                         wn = 1.0;
                     }
                 }
-                v = cosLimit * *incoming + sinLimit * (w / wn);
+                v = cosLimit * *incoming + (sinLimit / wn) * w;
                 moved = true;
             }
         }
@@ -102,26 +95,55 @@ public:
 
     bool pinned(int i) const { return h.m_fixed[static_cast<size_t>(i)] != 0 || i == grabbed; }
 
-    /// Sweep from point `start` towards `step` (±1) until an end, a pinned point, or two
-    /// consecutive unmoved points. `incoming` is the unit direction arriving at start − step.
-    void sweep(int start, int step, Vec3 incoming, bool haveIncoming, bool anchorMoved, Vec3 anchorOld)
+    /// One outward sweep of the paper's propagation: from point `next` towards `step` (±1)
+    /// until an end, a pinned point, or two consecutive unmoved points.
+    struct Sweep
     {
-        const int n = h.pointCount();
-        for (int i = start; i >= 0 && i < n; i += step) {
-            if (pinned(i)) {
-                hitPin = true;
-                return;
-            }
-            const Vec3 before = p[static_cast<size_t>(i)];
-            Vec3 direction;
-            const bool moved = place(i, i - step, haveIncoming ? &incoming : nullptr, anchorOld, direction);
-            if (moved) ++movedPoints;
-            if (!moved && !anchorMoved) return;
-            incoming = direction;
-            haveIncoming = true;
-            anchorMoved = moved;
-            anchorOld = before;
+        int next = 0;
+        int step = 1;
+        Vec3 incoming = Vec3::Zero(); ///< unit direction arriving at the anchor next − step
+        bool haveIncoming = false;
+        bool anchorMoved = true;
+        Vec3 anchorOld = Vec3::Zero();
+        bool active = true;
+    };
+
+    void advance(Sweep& s)
+    {
+        const int i = s.next;
+        if (i < 0 || i >= h.pointCount()) {
+            s.active = false;
+            return;
         }
+        if (pinned(i)) {
+            hitPin = true;
+            s.active = false;
+            return;
+        }
+        const Vec3 before = p[static_cast<size_t>(i)];
+        Vec3 direction;
+        const bool moved = place(i, i - s.step, s.haveIncoming ? &s.incoming : nullptr, s.anchorOld, direction);
+        movedPoints += moved;
+        if (!moved && !s.anchorMoved) {
+            s.active = false;
+            return;
+        }
+        s.incoming = direction;
+        s.haveIncoming = true;
+        s.anchorMoved = moved;
+        s.anchorOld = before;
+        s.next = i + s.step;
+    }
+
+    /// Runs two independent sweeps interleaved: their dependency chains overlap in the CPU.
+    void run(Sweep left, Sweep right)
+    {
+        while (left.active && right.active) {
+            advance(left);
+            advance(right);
+        }
+        while (left.active) advance(left);
+        while (right.active) advance(right);
     }
 
     /// The paper's update after the run first … last was placed (grab: first = last = k).
@@ -150,22 +172,17 @@ public:
             place(right, first, nullptr, oldFirst, rightDirection);
             balanceJoint(first, leftDirection, rightDirection, leftBefore, rightBefore);
             ++movedPoints;
-            sweep(left - 1, -1, leftDirection, true, true, leftBefore);
-            sweep(right + 1, +1, rightDirection, true, true, rightBefore);
+            run(Sweep{left - 1, -1, leftDirection, true, true, leftBefore, true},
+                Sweep{right + 1, +1, rightDirection, true, true, rightBefore, true});
             return;
         }
-        if (leftFree) {
-            const Vec3 incoming = leftHasIncoming ? unitFrom(first + 1, first) : Vec3::Zero();
-            sweep(left, -1, incoming, leftHasIncoming, true, oldFirst);
-        } else if (left >= 0) {
-            hitPin = true;
-        }
-        if (rightFree) {
-            const Vec3 incoming = rightHasIncoming ? unitFrom(last - 1, last) : Vec3::Zero();
-            sweep(right, +1, incoming, rightHasIncoming, true, oldLast);
-        } else if (right < n) {
-            hitPin = true;
-        }
+        Sweep leftSweep{left, -1, Vec3::Zero(), leftHasIncoming, true, oldFirst, leftFree};
+        Sweep rightSweep{right, +1, Vec3::Zero(), rightHasIncoming, true, oldLast, rightFree};
+        if (leftFree && leftHasIncoming) leftSweep.incoming = unitFrom(first + 1, first);
+        if (rightFree && rightHasIncoming) rightSweep.incoming = unitFrom(last - 1, last);
+        if (!leftFree && left >= 0) hitPin = true;
+        if (!rightFree && right < n) hitPin = true;
+        run(leftSweep, rightSweep);
     }
 
     /// Bend at point k between k−1 and k+1 above its limit: rotate both neighbours about p[k]
@@ -176,12 +193,7 @@ public:
         const size_t j = static_cast<size_t>(k);
         const Vec3 in = -leftDirection; // direction of the segment arriving at k
         const Vec3 out = rightDirection;
-        const double c = in.dot(out);
-        const double cosLimit = h.m_cosLimit[j];
-        bool violated = c < cosLimit - kCosFastMargin;
-        if (!violated && c < cosLimit + kCosFastMargin)
-            violated = in.cross(out).norm() * cosLimit - c * h.m_sinLimit[j] > kAngleTolerance;
-        if (!violated) return;
+        if ((out - in).squaredNorm() <= h.m_chordLimit2[j]) return;
         Vec3 mean = in + out;
         if (!(mean.norm() > 1e-12)) {
             // Full fold at k: use the old chord between the neighbours as the mean direction.
@@ -201,11 +213,43 @@ public:
         p[j + 1] = p[j] + rightLength * rightDirection;
     }
 
+    /// Largest violation near the boundaries of pinned runs: after a backward sweep these are
+    /// the only places a constraint can still be violated (every free point was placed against
+    /// its neighbour). Length excess is relative, turn excess in radians.
+    double boundaryViolation(const std::vector<int>& boundaries) const
+    {
+        const int n = h.pointCount();
+        double worst = 0.0;
+        for (int b : boundaries) {
+            for (int s = std::max(0, b - 2); s <= std::min(n - 2, b + 1); ++s) {
+                const size_t k = static_cast<size_t>(s);
+                const double length = (p[k + 1] - p[k]).norm();
+                worst = std::max(worst, std::max(length - h.m_maxLength[k], h.m_minLength[k] - length) /
+                                            h.m_restLength[k]);
+            }
+            for (int j = std::max(1, b - 2); j <= std::min(n - 2, b + 2); ++j) {
+                const size_t k = static_cast<size_t>(j);
+                const Vec3 in = p[k] - p[k - 1], out = p[k + 1] - p[k];
+                const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
+                worst = std::max(worst, turn - std::atan2(h.m_sinLimit[k], h.m_cosLimit[k]));
+            }
+        }
+        return worst;
+    }
+
     /// Phase 2: alternate forward and backward sweeps over the whole axis, skipping pinned
-    /// points, until every constraint holds or kMaxSweeps is reached. Returns convergence.
+    /// points, until every constraint holds, kMaxSweeps is reached, or progress stalls.
     bool relax()
     {
         const int n = h.pointCount();
+        std::vector<int> boundaries;
+        for (int i = 0; i < n; ++i) {
+            if (!pinned(i)) continue;
+            const bool freeBefore = i > 0 && !pinned(i - 1);
+            const bool freeAfter = i + 1 < n && !pinned(i + 1);
+            if (freeBefore || freeAfter || i == grabbed || (i > 0 && runOf(i - 1) != runOf(i)))
+                boundaries.push_back(i);
+        }
         std::vector<double> history;
         for (int iteration = 0; iteration < kMaxSweeps; ++iteration) {
             for (int pass = 0; pass < 2; ++pass) {
@@ -223,14 +267,22 @@ public:
                     place(i, a, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(a)], direction);
                 }
             }
-            const UpdateResult v = h.measureViolation();
-            if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedAngle) return true;
-            history.push_back(v.lengthViolation + v.angleViolation);
+            const double violation = boundaryViolation(boundaries);
+            if (violation <= kConvergedLength) return true;
+            history.push_back(violation);
             if (history.size() > kStallWindow &&
                 history.back() > 0.5 * history[history.size() - 1 - kStallWindow])
                 return false; // stalled: the request is (numerically) out of reach
         }
         return false;
+    }
+
+    /// Attachment id owning point i (0 for the grabbed point or a free point).
+    int runOf(int i) const
+    {
+        for (const Hose::Attachment& a : h.m_attachments)
+            if (i >= a.first && i <= a.last) return a.id;
+        return 0;
     }
 
     bool solveAfterPlacement(const std::vector<std::pair<int, int>>& runs,
@@ -243,7 +295,7 @@ public:
         if (!hitPin && !h.m_dirtyViolation) return true;
         measured = true;
         const UpdateResult v = h.measureViolation();
-        if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedAngle) return true;
+        if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedLength) return true;
         return relax();
     }
 

@@ -1,5 +1,6 @@
 #include "chaintube/surface.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace chaintube {
@@ -29,20 +30,23 @@ void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
     const std::vector<Vec3>& p = hose.localPoints();
     const size_t n = p.size();
     frames.resize(n);
-    for (size_t i = 0; i < n; ++i) frames[i].center = p[i];
 
-    // Ring plane normals.
+    // Ring plane normals: bisectors of the unit segment directions.
     Vec3 previousDirection = (p[1] - p[0]).normalized();
+    frames[0].center = p[0];
     frames[0].tangent = previousDirection;
     for (size_t i = 1; i < n; ++i) {
+        frames[i].center = p[i];
         if (i + 1 == n) {
             frames[i].tangent = previousDirection;
             break;
         }
-        const Vec3 direction = (p[i + 1] - p[i]).normalized();
-        Vec3 bisector = previousDirection + direction;
-        if (bisector.norm() > 1e-9) {
-            frames[i].tangent = bisector.normalized();
+        const Vec3 segment = p[i + 1] - p[i];
+        const Vec3 direction = segment * (1.0 / std::sqrt(segment.squaredNorm()));
+        const Vec3 bisector = previousDirection + direction;
+        const double length2 = bisector.squaredNorm();
+        if (length2 > 1e-18) {
+            frames[i].tangent = bisector * (1.0 / std::sqrt(length2));
         } else {
             Vec3 t = perpendicularPart(frames[i - 1].tangent, direction);
             if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitY(), direction);
@@ -67,30 +71,49 @@ void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
         a0 = perpendicularPart(carried, t0);
         a0 = a0.norm() > 1e-9 ? Vec3(a0.normalized()) : defaultAlignment(t0);
     }
-    frames[0].alignment = a0;
-    frames[0].binormal = t0.cross(a0);
     seed.tangent = t0;
     seed.alignment = a0;
 
-    // Rotation-minimising transport along the axis (double reflection).
+    // Twist correction. Fast path, the paper's own: project the previous alignment onto this
+    // ring plane. Projection is linear, so the chain runs unnormalised (short dependency) and
+    // is normalised afterwards. Where consecutive ring planes turn by nearly 90° the
+    // projection degenerates; there the rotation-minimising double reflection takes over.
+    Vec3 u = a0;
+    double u2 = 1.0;
+    frames[0].alignment = a0;
     for (size_t i = 1; i < n; ++i) {
-        const RingFrame& before = frames[i - 1];
-        RingFrame& ring = frames[i];
-        const Vec3 v1 = ring.center - before.center;
-        const double b1 = v1.squaredNorm();
-        Vec3 alignment = before.alignment;
-        Vec3 tangentL = before.tangent;
-        if (b1 > 0.0) {
-            alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
-            tangentL -= (2.0 / b1) * v1.dot(tangentL) * v1;
+        const Vec3& t = frames[i].tangent;
+        const double along = u.dot(t);
+        const double remaining = u2 - along * along;
+        if (remaining > 1e-4 * u2) {
+            u -= along * t;
+            u2 = remaining;
+            if (u2 < 1e-200) { // rescale long chains of strong bends
+                u *= 1.0 / std::sqrt(u2);
+                u2 = 1.0;
+            }
+        } else {
+            const RingFrame& before = frames[i - 1];
+            const Vec3 v1 = frames[i].center - before.center;
+            const double b1 = v1.squaredNorm();
+            Vec3 alignment = u * (1.0 / std::sqrt(u2));
+            Vec3 tangentL = before.tangent;
+            if (b1 > 0.0) {
+                alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
+                tangentL -= (2.0 / b1) * v1.dot(tangentL) * v1;
+            }
+            const Vec3 v2 = t - tangentL;
+            const double b2 = v2.squaredNorm();
+            if (b2 > 1e-30) alignment -= (2.0 / b2) * v2.dot(alignment) * v2;
+            alignment = perpendicularPart(alignment, t);
+            u = alignment.norm() > 1e-9 ? Vec3(alignment.normalized()) : defaultAlignment(t);
+            u2 = 1.0;
         }
-        const Vec3 v2 = ring.tangent - tangentL;
-        const double b2 = v2.squaredNorm();
-        if (b2 > 1e-30) alignment -= (2.0 / b2) * v2.dot(alignment) * v2;
-        alignment = perpendicularPart(alignment, ring.tangent);
-        const double length = alignment.norm();
-        ring.alignment = length > 1e-9 ? Vec3(alignment / length)
-                                        : defaultAlignment(ring.tangent);
+        frames[i].alignment = u;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        RingFrame& ring = frames[i];
+        ring.alignment *= 1.0 / std::sqrt(ring.alignment.squaredNorm());
         ring.binormal = ring.tangent.cross(ring.alignment);
     }
 }
@@ -152,16 +175,22 @@ void HoseSurface::rebuildTopology(const Hose& hose)
     m_profile = hose.profile();
     m_pointCount = hose.pointCount();
     const Profile& profile = hose.profile();
-    m_profilePoints.clear();
-    m_profileNormals.clear();
-    for (int j = 0; j < profile.vertexCount(); ++j) {
-        m_profilePoints.push_back(static_cast<float>(profile.points()[static_cast<size_t>(j)].x()));
-        m_profilePoints.push_back(static_cast<float>(profile.points()[static_cast<size_t>(j)].y()));
-        m_profileNormals.push_back(static_cast<float>(profile.normals()[static_cast<size_t>(j)].x()));
-        m_profileNormals.push_back(static_cast<float>(profile.normals()[static_cast<size_t>(j)].y()));
+    const size_t ringFloats = 3 * static_cast<size_t>(profile.vertexCount());
+    const size_t padded = (ringFloats + 7) / 8 * 8;
+    m_expandedX.assign(padded, 0.0f);
+    m_expandedY.assign(padded, 0.0f);
+    m_expandedNormalX.assign(padded, 0.0f);
+    m_expandedNormalY.assign(padded, 0.0f);
+    for (size_t k = 0; k < ringFloats; ++k) {
+        const size_t j = k / 3;
+        m_expandedX[k] = static_cast<float>(profile.points()[j].x());
+        m_expandedY[k] = static_cast<float>(profile.points()[j].y());
+        m_expandedNormalX[k] = static_cast<float>(profile.normals()[j].x());
+        m_expandedNormalY[k] = static_cast<float>(profile.normals()[j].y());
     }
-    m_positions.assign(3 * static_cast<size_t>(m_topology.vertexCount), 0.0f);
-    m_normals.assign(3 * static_cast<size_t>(m_topology.vertexCount), 0.0f);
+    const size_t floats = 3 * static_cast<size_t>(m_topology.vertexCount) + 8;
+    m_positions.assign(floats, 0.0f);
+    m_normals.assign(floats, 0.0f);
 }
 
 bool HoseSurface::update(const Hose& hose)
@@ -176,33 +205,101 @@ bool HoseSurface::update(const Hose& hose)
     return true;
 }
 
-void HoseSurface::writeVertices(const Hose& hose)
+namespace {
+struct RingKernelInput
 {
-    const int rv = m_topology.ringVertexCount;
-    const float* px = m_profilePoints.data();
-    const float* nx = m_profileNormals.data();
-    float* pos = m_positions.data();
-    float* nrm = m_normals.data();
-    for (const RingFrame& ring : m_frames) {
-        const float cx = static_cast<float>(ring.center.x()), cy = static_cast<float>(ring.center.y()),
-                    cz = static_cast<float>(ring.center.z());
-        const float ax = static_cast<float>(ring.alignment.x()), ay = static_cast<float>(ring.alignment.y()),
-                    az = static_cast<float>(ring.alignment.z());
-        const float bx = static_cast<float>(ring.binormal.x()), by = static_cast<float>(ring.binormal.y()),
-                    bz = static_cast<float>(ring.binormal.z());
-        for (int j = 0; j < rv; ++j) {
-            const float x = px[2 * j], y = px[2 * j + 1];
-            const float u = nx[2 * j], v = nx[2 * j + 1];
-            pos[0] = cx + ax * x + bx * y;
-            pos[1] = cy + ay * x + by * y;
-            pos[2] = cz + az * x + bz * y;
-            nrm[0] = ax * u + bx * v;
-            nrm[1] = ay * u + by * v;
-            nrm[2] = az * u + bz * v;
-            pos += 3;
-            nrm += 3;
+    const RingFrame* frames;
+    size_t ringCount;
+    size_t ringFloats; // 3 × vertices per ring
+    const float* x;
+    const float* y;
+    const float* nx;
+    const float* ny;
+    float* positions;
+    float* normals;
+};
+
+void writeRingsScalar(const RingKernelInput& in)
+{
+    for (size_t i = 0; i < in.ringCount; ++i) {
+        const RingFrame& ring = in.frames[i];
+        float c[3], a[3], b[3];
+        for (int k = 0; k < 3; ++k) {
+            c[k] = static_cast<float>(ring.center[k]);
+            a[k] = static_cast<float>(ring.alignment[k]);
+            b[k] = static_cast<float>(ring.binormal[k]);
+        }
+        float* pos = in.positions + i * in.ringFloats;
+        float* nrm = in.normals + i * in.ringFloats;
+        for (size_t k = 0; k < in.ringFloats; ++k) {
+            const size_t axis = k % 3;
+            pos[k] = c[axis] + a[axis] * in.x[k] + b[axis] * in.y[k];
+            nrm[k] = a[axis] * in.nx[k] + b[axis] * in.ny[k];
         }
     }
+}
+} // namespace
+
+#if defined(__x86_64__) && defined(__GNUC__)
+} // namespace chaintube
+#include <immintrin.h>
+namespace chaintube {
+namespace {
+// Eight floats at a time in the xyz-interleaved layout: the ring's centre and axes are
+// permuted into the three phases of the xyz pattern (period 24 floats = 8 vertices).
+__attribute__((target("avx2,fma"))) void writeRingsAvx2(const RingKernelInput& in)
+{
+    const __m256i phase0 = _mm256_setr_epi32(0, 1, 2, 0, 1, 2, 0, 1);
+    const __m256i phase1 = _mm256_setr_epi32(2, 0, 1, 2, 0, 1, 2, 0);
+    const __m256i phase2 = _mm256_setr_epi32(1, 2, 0, 1, 2, 0, 1, 2);
+    const size_t blocks = (in.ringFloats + 7) / 8;
+    for (size_t i = 0; i < in.ringCount; ++i) {
+        const RingFrame& ring = in.frames[i];
+        const __m256 c = _mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_setr_pd(
+            ring.center.x(), ring.center.y(), ring.center.z(), 0.0)));
+        const __m256 a = _mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_setr_pd(
+            ring.alignment.x(), ring.alignment.y(), ring.alignment.z(), 0.0)));
+        const __m256 b = _mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_setr_pd(
+            ring.binormal.x(), ring.binormal.y(), ring.binormal.z(), 0.0)));
+        const __m256 cp[3] = {_mm256_permutevar8x32_ps(c, phase0), _mm256_permutevar8x32_ps(c, phase1),
+                              _mm256_permutevar8x32_ps(c, phase2)};
+        const __m256 ap[3] = {_mm256_permutevar8x32_ps(a, phase0), _mm256_permutevar8x32_ps(a, phase1),
+                              _mm256_permutevar8x32_ps(a, phase2)};
+        const __m256 bp[3] = {_mm256_permutevar8x32_ps(b, phase0), _mm256_permutevar8x32_ps(b, phase1),
+                              _mm256_permutevar8x32_ps(b, phase2)};
+        float* pos = in.positions + i * in.ringFloats;
+        float* nrm = in.normals + i * in.ringFloats;
+        for (size_t m = 0; m < blocks; ++m) {
+            const size_t phase = m % 3;
+            const __m256 x = _mm256_loadu_ps(in.x + 8 * m), y = _mm256_loadu_ps(in.y + 8 * m);
+            const __m256 nx = _mm256_loadu_ps(in.nx + 8 * m), ny = _mm256_loadu_ps(in.ny + 8 * m);
+            _mm256_storeu_ps(pos + 8 * m, _mm256_fmadd_ps(bp[phase], y, _mm256_fmadd_ps(ap[phase], x, cp[phase])));
+            _mm256_storeu_ps(nrm + 8 * m, _mm256_fmadd_ps(bp[phase], ny, _mm256_mul_ps(ap[phase], nx)));
+        }
+    }
+}
+
+bool cpuHasAvx2()
+{
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return has;
+}
+} // namespace
+#endif
+
+void HoseSurface::writeVertices(const Hose& hose)
+{
+    RingKernelInput in{m_frames.data(),      m_frames.size(),        3 * static_cast<size_t>(m_topology.ringVertexCount),
+                       m_expandedX.data(),   m_expandedY.data(),     m_expandedNormalX.data(),
+                       m_expandedNormalY.data(), m_positions.data(), m_normals.data()};
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpuHasAvx2()) writeRingsAvx2(in);
+    else writeRingsScalar(in);
+#else
+    writeRingsScalar(in);
+#endif
+    float* pos = m_positions.data() + m_frames.size() * in.ringFloats;
+    float* nrm = m_normals.data() + m_frames.size() * in.ringFloats;
     const std::vector<Vec2>& corners = hose.profile().corners();
     for (int side = 0; side < 2; ++side) {
         const RingFrame& ring = side == 0 ? m_frames.front() : m_frames.back();
@@ -217,6 +314,9 @@ void HoseSurface::writeVertices(const Hose& hose)
             nrm += 3;
         }
     }
+    // Clear the slack so the buffers' contents never depend on the kernel used.
+    std::fill(m_positions.begin() + static_cast<long>(3 * vertexCount()), m_positions.end(), 0.0f);
+    std::fill(m_normals.begin() + static_cast<long>(3 * vertexCount()), m_normals.end(), 0.0f);
 }
 
 } // namespace chaintube

@@ -86,8 +86,8 @@ TEST(Surface, VerticesAreOnTheRingsAndTrianglesFaceOutwards)
     EXPECT_EQ(t.ringVertexCount, 17);
     EXPECT_EQ(t.vertexCount, 11 * 17 + 2 * 16);
     EXPECT_EQ(t.indices.size(), 3u * (10 * 16 * 2 + 2 * 14));
-    const auto& pos = surface.positions();
-    const auto& nrm = surface.normals();
+    const FloatSpan pos = surface.positions();
+    const FloatSpan nrm = surface.normals();
     for (int v = 0; v < 11 * 17; ++v) {
         const Vec3 p(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
         EXPECT_NEAR(std::hypot(p.x(), p.y()), 0.01, 1e-7);

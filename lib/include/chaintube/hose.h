@@ -179,6 +179,7 @@ private:
     std::vector<double> m_sinLimit;
     std::vector<double> m_cosHalfLimit;
     std::vector<double> m_sinHalfLimit;
+    std::vector<double> m_chordLimit2; ///< 4 sin²(θ/2) + tolerance, the solver's turn test
     std::vector<unsigned char> m_fixed;
     std::vector<Attachment> m_attachments;
     std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs

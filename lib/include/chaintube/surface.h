@@ -67,6 +67,24 @@ struct SurfaceTopology
     static SurfaceTopology build(const Hose& hose);
 };
 
+/// A read-only view of a float buffer.
+class FloatSpan
+{
+public:
+    FloatSpan() = default;
+    FloatSpan(const float* data, size_t size) : m_data(data), m_size(size) {}
+    const float* data() const { return m_data; }
+    size_t size() const { return m_size; }
+    float operator[](size_t i) const { return m_data[i]; }
+    const float* begin() const { return m_data; }
+    const float* end() const { return m_data + m_size; }
+    std::vector<float> toVector() const { return {begin(), end()}; }
+
+private:
+    const float* m_data = nullptr;
+    size_t m_size = 0;
+};
+
 /// The evolving surface of one hose: ring frames in double, vertex buffers in float.
 ///
 /// update() recomputes frames and vertices only when the hose's revision changed since the
@@ -85,9 +103,10 @@ public:
     const std::vector<RingFrame>& frames() const { return m_frames; }
     /// Float positions, 3 per vertex, in metres relative to hose.origin() (add the origin back
     /// in double, e.g. in the model matrix, for hoses far from the world origin).
-    const std::vector<float>& positions() const { return m_positions; }
+    FloatSpan positions() const { return {m_positions.data(), 3 * vertexCount()}; }
     /// Unit normals, 3 per vertex (rigidly attached to the ring, like the positions).
-    const std::vector<float>& normals() const { return m_normals; }
+    FloatSpan normals() const { return {m_normals.data(), 3 * vertexCount()}; }
+    size_t vertexCount() const { return static_cast<size_t>(m_topology.vertexCount); }
     const TwistSeed& twistSeed() const { return m_seed; }
     void setTwistSeed(const TwistSeed& seed) { m_seed = seed; }
 
@@ -97,10 +116,13 @@ private:
 
     SurfaceTopology m_topology;
     std::vector<RingFrame> m_frames;
+    // Vertex buffers carry a few floats of slack at the end: the vectorised ring kernel writes
+    // whole 8-float blocks and lets the next ring (or cap) overwrite the excess.
     std::vector<float> m_positions;
     std::vector<float> m_normals;
-    /// Profile coordinates and normals in float (x, y pairs), for the vertex kernel.
-    std::vector<float> m_profilePoints, m_profileNormals;
+    /// Profile x, y, normal x, normal y, each expanded to the xyz-interleaved layout of one
+    /// ring (value of vertex k/3 at float k) and padded to a multiple of 8 floats.
+    std::vector<float> m_expandedX, m_expandedY, m_expandedNormalX, m_expandedNormalY;
     TwistSeed m_seed;
     std::uint64_t m_seenRevision = 0;
     int m_profileVertexCount = 0;
