@@ -5,8 +5,8 @@
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace chaintube::formats {
@@ -27,9 +27,8 @@ public:
     TemporaryFile(const fs::path& target) : m_path(target)
     {
         // Same folder as the target, so the final rename never crosses file systems.
-        std::string pattern = (target.parent_path() / ("." + target.filename().string() +
-                                                       ".tmp-XXXXXX"))
-                                  .string();
+        std::string pattern =
+            (target.parent_path() / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
         m_descriptor = ::mkstemp(pattern.data());
         if (m_descriptor < 0)
             throw FileError(target, systemReason("cannot create a temporary file next to it"));

@@ -8,12 +8,16 @@ Profile profileOf(const HoseDefinition& hose)
 {
     const ProfileSpec& p = hose.profile;
     switch (p.shape) {
-    case Profile::Shape::Circle: return Profile::circle(0.5 * hose.outerDiameter, p.sides);
-    case Profile::Shape::Ellipse: return Profile::ellipse(p.semiAxisX, p.semiAxisY, p.sides);
-    case Profile::Shape::Rectangle: return Profile::rectangle(p.width, p.height);
+    case Profile::Shape::Circle:
+        return Profile::circle(0.5 * hose.outerDiameter, p.sides);
+    case Profile::Shape::Ellipse:
+        return Profile::ellipse(p.semiAxisX, p.semiAxisY, p.sides);
+    case Profile::Shape::Rectangle:
+        return Profile::rectangle(p.width, p.height);
     case Profile::Shape::RoundedRectangle:
         return Profile::roundedRectangle(p.width, p.height, p.cornerRadius, p.cornerSegments);
-    case Profile::Shape::Polygon: return Profile::polygon(p.points, p.smoothAngle);
+    case Profile::Shape::Polygon:
+        return Profile::polygon(p.points, p.smoothAngle);
     }
     throw InvalidArgument("hose '" + hose.id + "': unknown profile shape");
 }

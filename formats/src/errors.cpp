@@ -11,8 +11,8 @@ FileError::FileError(std::filesystem::path file, std::string reason)
 
 ProjectFormatError::ProjectFormatError(std::filesystem::path file, std::string jsonPointer,
                                        std::string expected)
-    : FileError(std::move(file), (jsonPointer.empty() ? std::string() : jsonPointer + ": ") +
-                                     expected),
+    : FileError(std::move(file),
+                (jsonPointer.empty() ? std::string() : jsonPointer + ": ") + expected),
       m_pointer(std::move(jsonPointer)), m_expected(std::move(expected))
 {
 }

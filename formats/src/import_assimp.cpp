@@ -6,7 +6,6 @@
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -54,11 +53,20 @@ bool metadataNumber(const aiMetadata* metadata, const char* key, double& value)
         if (std::strcmp(metadata->mKeys[i].C_Str(), key) != 0) continue;
         const aiMetadataEntry& entry = metadata->mValues[i];
         switch (entry.mType) {
-        case AI_INT32: value = *static_cast<const int32_t*>(entry.mData); return true;
-        case AI_UINT64: value = static_cast<double>(*static_cast<const uint64_t*>(entry.mData)); return true;
-        case AI_FLOAT: value = *static_cast<const float*>(entry.mData); return true;
-        case AI_DOUBLE: value = *static_cast<const double*>(entry.mData); return true;
-        default: return false;
+        case AI_INT32:
+            value = *static_cast<const int32_t*>(entry.mData);
+            return true;
+        case AI_UINT64:
+            value = static_cast<double>(*static_cast<const uint64_t*>(entry.mData));
+            return true;
+        case AI_FLOAT:
+            value = *static_cast<const float*>(entry.mData);
+            return true;
+        case AI_DOUBLE:
+            value = *static_cast<const double*>(entry.mData);
+            return true;
+        default:
+            return false;
         }
     }
     return false;
@@ -80,7 +88,8 @@ std::string formatName(const std::string& extension)
     if (extension == ".gltf" || extension == ".glb") return "glTF";
     if (extension == ".dae") return "COLLADA";
     std::string name = extension.substr(1);
-    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    for (char& c : name)
+        c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     return name;
 }
 
@@ -121,7 +130,8 @@ ReaderResult importWithAssimp(const std::filesystem::path& file, const std::stri
     // COLLADA: the node's name attribute (what the author typed), not its XML id.
     importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_USE_COLLADA_NAMES, true);
     // Keep lines/points out of the triangle meshes.
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     auto* forwarder = new ProgressForwarder(progress); // owned by the importer
     importer.SetProgressHandler(forwarder);
 
@@ -148,7 +158,8 @@ ReaderResult importWithAssimp(const std::filesystem::path& file, const std::stri
 
     // FBX: UnitScaleFactor is centimetres per file unit; UpAxis 0/1/2 = X/Y/Z.
     double unitScaleFactor = 0.0;
-    if (extension == ".fbx" && metadataNumber(source->mMetaData, "UnitScaleFactor", unitScaleFactor) &&
+    if (extension == ".fbx" &&
+        metadataNumber(source->mMetaData, "UnitScaleFactor", unitScaleFactor) &&
         std::isfinite(unitScaleFactor) && unitScaleFactor > 0.0) {
         scene.sourceUnits.metresPerUnit = unitScaleFactor * 0.01;
         scene.sourceUnits.unitName =
@@ -163,7 +174,8 @@ ReaderResult importWithAssimp(const std::filesystem::path& file, const std::stri
 
     // --- meshes -------------------------------------------------------------------------------
     std::size_t totalFaces = 0;
-    for (unsigned m = 0; m < source->mNumMeshes; ++m) totalFaces += source->mMeshes[m]->mNumFaces;
+    for (unsigned m = 0; m < source->mNumMeshes; ++m)
+        totalFaces += source->mMeshes[m]->mNumFaces;
     std::size_t facesDone = 0;
     std::vector<int> meshMap(source->mNumMeshes, -1); // assimp mesh → our mesh (−1: dropped)
     for (unsigned m = 0; m < source->mNumMeshes; ++m) {
@@ -225,7 +237,8 @@ ReaderResult importWithAssimp(const std::filesystem::path& file, const std::stri
         scene.nodes.push_back(std::move(node));
         if (parent >= 0) scene.nodes[static_cast<size_t>(parent)].children.push_back(index);
         // Push in reverse so children are visited (and numbered) in file order.
-        for (unsigned c = in->mNumChildren; c-- > 0;) stack.push_back({in->mChildren[c], index});
+        for (unsigned c = in->mNumChildren; c-- > 0;)
+            stack.push_back({in->mChildren[c], index});
     }
     result.metresPerReaderUnit = scene.sourceUnits.metresPerUnit;
     progress.report(1.0);

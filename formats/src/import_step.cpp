@@ -24,10 +24,9 @@
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
-#include <gp_Trsf.hxx>
-
 #include <cctype>
 #include <cmath>
+#include <gp_Trsf.hxx>
 #include <map>
 
 namespace chaintube::formats::detail {
@@ -75,13 +74,15 @@ Mat4 toMat4(const gp_Trsf& transform)
 /// Metres per unit for the unit names OCCT reports from a file's SI_UNIT / CONVERSION_BASED_UNIT.
 double metresForUnitName(std::string name)
 {
-    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : name)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     static const std::map<std::string, double> known = {
-        {"mm", 0.001},        {"millimetre", 0.001}, {"millimeter", 0.001}, {"cm", 0.01},
-        {"centimetre", 0.01}, {"centimeter", 0.01},  {"m", 1.0},            {"metre", 1.0},
-        {"meter", 1.0},       {"km", 1000.0},        {"inch", 0.0254},      {"in", 0.0254},
-        {"ft", 0.3048},       {"foot", 0.3048},      {"mile", 1609.344},    {"micron", 1e-6},
-        {"um", 1e-6}};
+        {"mm", 0.001},    {"millimetre", 0.001}, {"millimeter", 0.001},
+        {"cm", 0.01},     {"centimetre", 0.01},  {"centimeter", 0.01},
+        {"m", 1.0},       {"metre", 1.0},        {"meter", 1.0},
+        {"km", 1000.0},   {"inch", 0.0254},      {"in", 0.0254},
+        {"ft", 0.3048},   {"foot", 0.3048},      {"mile", 1609.344},
+        {"micron", 1e-6}, {"um", 1e-6}};
     const auto found = known.find(name);
     return found == known.end() ? 0.0 : found->second;
 }
@@ -89,8 +90,9 @@ double metresForUnitName(std::string name)
 class StepSceneBuilder
 {
 public:
-    StepSceneBuilder(ImportedScene& scene, Handle(XCAFDoc_ShapeTool) shapes, double linearDeflection,
-                     double angularDeflection, ProgressStage& progress, int partCount)
+    StepSceneBuilder(ImportedScene& scene, Handle(XCAFDoc_ShapeTool) shapes,
+                     double linearDeflection, double angularDeflection, ProgressStage& progress,
+                     int partCount)
         : m_scene(scene), m_shapes(shapes), m_linearDeflection(linearDeflection),
           m_angularDeflection(angularDeflection), m_progress(progress), m_partCount(partCount)
     {
@@ -169,7 +171,8 @@ private:
                 const Eigen::Vector3d& pa = points[static_cast<size_t>(a - 1)];
                 const Eigen::Vector3d area = (points[static_cast<size_t>(b - 1)] - pa)
                                                  .cross(points[static_cast<size_t>(c - 1)] - pa);
-                for (Standard_Integer v : {a, b, c}) normals[static_cast<size_t>(v - 1)] += area;
+                for (Standard_Integer v : {a, b, c})
+                    normals[static_cast<size_t>(v - 1)] += area;
                 for (Standard_Integer v : {a, b, c})
                     mesh.indices.push_back(base + static_cast<std::uint32_t>(v - 1));
             }

@@ -70,7 +70,8 @@ fs::path resolveProjectPath(std::string_view written, const fs::path& projectDir
 {
     const std::string text(written);
     switch (classifyProjectPath(written)) {
-    case PathKind::Absolute: return canonicalOrThrow(fs::path(text), written);
+    case PathKind::Absolute:
+        return canonicalOrThrow(fs::path(text), written);
     case PathKind::Relative: {
         const fs::path base = fs::absolute(projectDirectory);
         const fs::path resolved = canonicalOrThrow(base / text, written);
@@ -87,9 +88,10 @@ fs::path resolveProjectPath(std::string_view written, const fs::path& projectDir
         const auto root = roots.find(rootName);
         if (root == roots.end()) {
             std::string known;
-            for (const auto& [name, folder] : roots) known += (known.empty() ? "" : ", ") + name;
-            throw PathError(text, "unknown named root '" + rootName + "' (known: " +
-                                      (known.empty() ? "none" : known) + ")");
+            for (const auto& [name, folder] : roots)
+                known += (known.empty() ? "" : ", ") + name;
+            throw PathError(text, "unknown named root '" + rootName +
+                                      "' (known: " + (known.empty() ? "none" : known) + ")");
         }
         if (rest.empty() || fs::path(rest).is_absolute())
             throw PathError(text, "expected a relative path after '" + rootName + ":'");

@@ -26,30 +26,32 @@ bool ProfileSpec::operator==(const ProfileSpec& o) const
 {
     if (shape != o.shape) return false;
     switch (shape) {
-    case Profile::Shape::Circle: return sides == o.sides;
+    case Profile::Shape::Circle:
+        return sides == o.sides;
     case Profile::Shape::Ellipse:
         return semiAxisX == o.semiAxisX && semiAxisY == o.semiAxisY && sides == o.sides;
-    case Profile::Shape::Rectangle: return width == o.width && height == o.height;
+    case Profile::Shape::Rectangle:
+        return width == o.width && height == o.height;
     case Profile::Shape::RoundedRectangle:
         return width == o.width && height == o.height && cornerRadius == o.cornerRadius &&
                cornerSegments == o.cornerSegments;
-    case Profile::Shape::Polygon: return points == o.points && smoothAngle == o.smoothAngle;
+    case Profile::Shape::Polygon:
+        return points == o.points && smoothAngle == o.smoothAngle;
     }
     return false;
 }
 
 bool HoseAttachment::operator==(const HoseAttachment& o) const
 {
-    return scene == o.scene && node == o.node &&
-           offset.translation == o.offset.translation &&
-           offset.rotation.coeffs() == o.offset.rotation.coeffs() &&
-           firstPoint == o.firstPoint && lastPoint == o.lastPoint;
+    return scene == o.scene && node == o.node && offset.translation == o.offset.translation &&
+           offset.rotation.coeffs() == o.offset.rotation.coeffs() && firstPoint == o.firstPoint &&
+           lastPoint == o.lastPoint;
 }
 
 bool HoseDefinition::operator==(const HoseDefinition& o) const
 {
-    const bool sameResolution = segmentCount == o.segmentCount &&
-                                (segmentCount > 0 || segmentLength == o.segmentLength);
+    const bool sameResolution =
+        segmentCount == o.segmentCount && (segmentCount > 0 || segmentLength == o.segmentLength);
     return id == o.id && name == o.name && route == o.route && material == o.material &&
            profile == o.profile && outerDiameter == o.outerDiameter && sameResolution &&
            colour == o.colour && roughness == o.roughness && attachments == o.attachments;

@@ -2,10 +2,9 @@
 // JSON pointer and what was expected (no C++ JSON Schema library exists in Debian 12).
 #include "chaintube/formats/project.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -21,15 +20,22 @@ constexpr double kPi = 3.14159265358979323846;
 std::string describe(const json& value)
 {
     switch (value.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return value.get<bool>() ? "true" : "false";
-    case json::value_t::string: return value.dump();
-    case json::value_t::array: return "an array";
-    case json::value_t::object: return "an object";
+    case json::value_t::null:
+        return "null";
+    case json::value_t::boolean:
+        return value.get<bool>() ? "true" : "false";
+    case json::value_t::string:
+        return value.dump();
+    case json::value_t::array:
+        return "an array";
+    case json::value_t::object:
+        return "an object";
     case json::value_t::number_integer:
     case json::value_t::number_unsigned:
-    case json::value_t::number_float: return value.dump();
-    default: return "an unsupported value";
+    case json::value_t::number_float:
+        return value.dump();
+    default:
+        return "an unsupported value";
     }
 }
 
@@ -37,9 +43,12 @@ std::string escapePointerToken(const std::string& token)
 {
     std::string escaped;
     for (char c : token) {
-        if (c == '~') escaped += "~0";
-        else if (c == '/') escaped += "~1";
-        else escaped += c;
+        if (c == '~')
+            escaped += "~0";
+        else if (c == '/')
+            escaped += "~1";
+        else
+            escaped += c;
     }
     return escaped;
 }
@@ -69,14 +78,16 @@ public:
         if (!m_value.is_object()) fail("expected an object, got " + describe(m_value));
         for (const auto& [key, unused] : m_value.items()) {
             bool known = false;
-            for (const char* name : allowed) known = known || key == name;
+            for (const char* name : allowed)
+                known = known || key == name;
             if (known) continue;
             if (m_ignoreUnknown) {
                 if (m_ignored) m_ignored->push_back(m_pointer + "/" + escapePointerToken(key));
                 continue;
             }
             std::string list;
-            for (const char* name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
+            for (const char* name : allowed)
+                list += (list.empty() ? "" : ", ") + std::string(name);
             Cursor(m_value.at(key), m_pointer + "/" + escapePointerToken(key), m_file, false,
                    nullptr)
                 .fail("unknown key \"" + key + "\" (expected one of: " + list + ")");
@@ -127,8 +138,8 @@ public:
     /// A finite number in the interval; bounds written like "[0, 1)".
     double number(double low, bool lowInclusive, double high, bool highInclusive) const
     {
-        const std::string range = std::string(lowInclusive ? "[" : "(") + formatBound(low) +
-                                  ", " + formatBound(high) + (highInclusive ? "]" : ")");
+        const std::string range = std::string(lowInclusive ? "[" : "(") + formatBound(low) + ", " +
+                                  formatBound(high) + (highInclusive ? "]" : ")");
         if (!m_value.is_number())
             fail("expected a number in " + range + ", got " + describe(m_value));
         const double value = m_value.get<double>();
@@ -138,10 +149,7 @@ public:
             fail("expected a number in " + range + ", got " + describe(m_value));
         return value;
     }
-    double anyFinite() const
-    {
-        return number(-HUGE_VAL, false, HUGE_VAL, false);
-    }
+    double anyFinite() const { return number(-HUGE_VAL, false, HUGE_VAL, false); }
     int integer(int low, int high) const
     {
         const std::string range = "[" + std::to_string(low) + ", " + std::to_string(high) + "]";
@@ -190,8 +198,9 @@ Material readMaterialValues(const Cursor& cursor, std::initializer_list<const ch
     limit.object({"minBendRadius", "deflectionAngle"});
     const bool radius = limit.has("minBendRadius");
     const bool angle = limit.has("deflectionAngle");
-    if (radius == angle) limit.fail("expected exactly one of \"minBendRadius\" (metres) or "
-                                    "\"deflectionAngle\" (radians)");
+    if (radius == angle)
+        limit.fail("expected exactly one of \"minBendRadius\" (metres) or "
+                   "\"deflectionAngle\" (radians)");
     if (radius) {
         material.bendLimit = {BendLimit::Kind::MinBendRadius,
                               limit.key("minBendRadius").number(0, true, HUGE_VAL, false)};
@@ -242,7 +251,8 @@ ProfileSpec readProfile(const Cursor& cursor)
         profile.smoothAngle = cursor.key("smoothAngle").number(0, true, kPi, false);
     } else {
         cursor.key("shape").fail("expected one of \"circle\", \"ellipse\", \"rectangle\", "
-                                 "\"roundedRectangle\", \"polygon\", got \"" + shape + "\"");
+                                 "\"roundedRectangle\", \"polygon\", got \"" +
+                                 shape + "\"");
     }
     return profile;
 }
@@ -255,8 +265,9 @@ Frame readFrame(const Cursor& cursor)
     const Cursor rotation = cursor.key("rotation");
     rotation.arraySize(4, 4);
     // glTF order: x, y, z, w.
-    frame.rotation = Quat(rotation[3].number(-1, true, 1, true), rotation[0].number(-1, true, 1, true),
-                          rotation[1].number(-1, true, 1, true), rotation[2].number(-1, true, 1, true));
+    frame.rotation =
+        Quat(rotation[3].number(-1, true, 1, true), rotation[0].number(-1, true, 1, true),
+             rotation[1].number(-1, true, 1, true), rotation[2].number(-1, true, 1, true));
     const double norm = frame.rotation.norm();
     if (std::abs(norm - 1.0) > 1e-6)
         rotation.fail("expected a unit quaternion [x, y, z, w] (length 1 ± 1e-6), got length " +
@@ -273,8 +284,7 @@ std::pair<int, int> readVersion(const Cursor& cursor)
     std::istringstream stream(text);
     if (!(stream >> major >> dot >> minor) || dot != '.' || major < 0 || minor < 0 ||
         stream.peek() != EOF || text.find_first_not_of("0123456789.") != std::string::npos)
-        cursor.fail("expected a version \"<major>.<minor>\" such as \"1.0\", got \"" + text +
-                    "\"");
+        cursor.fail("expected a version \"<major>.<minor>\" such as \"1.0\", got \"" + text + "\"");
     return {major, minor};
 }
 
@@ -301,9 +311,9 @@ void migrateFrom0_9(json& document, const fs::path& file)
         if (hose.contains("color")) {
             const json& color = hose["color"];
             std::string text = color.is_string() ? color.get<std::string>() : "";
-            const bool valid = (text.size() == 7 || text.size() == 9) && text[0] == '#' &&
-                               text.find_first_not_of("0123456789abcdefABCDEF", 1) ==
-                                   std::string::npos;
+            const bool valid =
+                (text.size() == 7 || text.size() == 9) && text[0] == '#' &&
+                text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
             if (!valid)
                 throw ProjectFormatError(file, pointer + "/color",
                                          "expected a colour \"#RRGGBB\" or \"#RRGGBBAA\", got " +
@@ -363,9 +373,12 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             scene.import.metresPerUnit = unit->number(0, false, HUGE_VAL, false);
         if (auto up = import.optionalKey("upAxis")) {
             const std::string axis = up->string();
-            if (axis == "+Y") scene.import.upAxis = UpAxis::PositiveY;
-            else if (axis == "+Z") scene.import.upAxis = UpAxis::PositiveZ;
-            else up->fail("expected \"+Y\" or \"+Z\", got \"" + axis + "\"");
+            if (axis == "+Y")
+                scene.import.upAxis = UpAxis::PositiveY;
+            else if (axis == "+Z")
+                scene.import.upAxis = UpAxis::PositiveZ;
+            else
+                up->fail("expected \"+Y\" or \"+Z\", got \"" + axis + "\"");
         }
         scene.import.chordalTolerance =
             import.key("chordalTolerance").number(0, false, HUGE_VAL, false);
@@ -378,8 +391,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     for (size_t i = 0, n = presets.arraySize(); i < n; ++i) {
         const Cursor entry = presets[i];
         MaterialPreset preset;
-        preset.material = readMaterialValues(
-            entry, {"name", "description", "expansionCoefficient", "bendLimit"});
+        preset.material =
+            readMaterialValues(entry, {"name", "description", "expansionCoefficient", "bendLimit"});
         preset.name = entry.key("name").string();
         if (project.findPreset(preset.name))
             entry.key("name").fail("expected a unique preset name, \"" + preset.name +
@@ -393,8 +406,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     std::set<std::string> hoseIds;
     for (size_t i = 0, n = hoses.arraySize(); i < n; ++i) {
         const Cursor entry = hoses[i];
-        entry.object({"id", "name", "route", "material", "profile", "outerDiameter",
-                      "segmentCount", "segmentLength", "colour", "roughness", "attachments"});
+        entry.object({"id", "name", "route", "material", "profile", "outerDiameter", "segmentCount",
+                      "segmentLength", "colour", "roughness", "attachments"});
         HoseDefinition hose;
         hose.id = entry.key("id").string();
         if (!hoseIds.insert(hose.id).second)
@@ -418,7 +431,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             hose.material = readMaterialValues(material, {"expansionCoefficient", "bendLimit"});
         } else {
             material.fail("expected a preset name (string) or an object {expansionCoefficient, "
-                          "bendLimit}, got " + describe(material.raw()));
+                          "bendLimit}, got " +
+                          describe(material.raw()));
         }
 
         hose.profile = readProfile(entry.key("profile"));
@@ -486,8 +500,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
 
 } // namespace
 
-Project parseProject(std::string_view text, const fs::path& file,
-                     const ProjectLoadOptions& options, ProjectLoadReport* report)
+Project parseProject(std::string_view text, const fs::path& file, const ProjectLoadOptions& options,
+                     ProjectLoadReport* report)
 {
     json document;
     try {
@@ -512,10 +526,10 @@ Project parseProject(std::string_view text, const fs::path& file,
     const auto [major, minor] = readVersion(root.key("version"));
     out.fileVersion = root.key("version").string();
     if (major > kProjectFormatMajor)
-        root.key("version").fail(
-            "this file was written in project format " + out.fileVersion +
-            ", newer than this ChainTube understands (up to " +
-            std::to_string(kProjectFormatMajor) + ".x); update ChainTube to open it");
+        root.key("version").fail("this file was written in project format " + out.fileVersion +
+                                 ", newer than this ChainTube understands (up to " +
+                                 std::to_string(kProjectFormatMajor) +
+                                 ".x); update ChainTube to open it");
     if (major == 0) {
         if (minor != 9)
             root.key("version").fail("expected version 0.9 or 1.x; version " + out.fileVersion +

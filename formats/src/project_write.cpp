@@ -56,7 +56,8 @@ ordered profileJson(const ProfileSpec& profile)
     case Profile::Shape::Polygon: {
         out["shape"] = "polygon";
         ordered points = ordered::array();
-        for (const Vec2& p : profile.points) points.push_back(ordered::array({p.x(), p.y()}));
+        for (const Vec2& p : profile.points)
+            points.push_back(ordered::array({p.x(), p.y()}));
         out["points"] = points;
         out["smoothAngle"] = profile.smoothAngle;
         break;
@@ -76,8 +77,10 @@ std::string collapseShortNumericArrays(const std::string& text)
         const char c = text[i];
         if (inString) {
             out += c;
-            if (c == '\\' && i + 1 < text.size()) out += text[++i];
-            else if (c == '"') inString = false;
+            if (c == '\\' && i + 1 < text.size())
+                out += text[++i];
+            else if (c == '"')
+                inString = false;
             continue;
         }
         if (c == '"') {
@@ -112,8 +115,8 @@ std::string serialiseProject(const Project& project)
 {
     ordered document = ordered::object();
     document["format"] = "chaintube-project";
-    document["version"] = std::to_string(kProjectFormatMajor) + "." +
-                          std::to_string(kProjectFormatMinor);
+    document["version"] =
+        std::to_string(kProjectFormatMajor) + "." + std::to_string(kProjectFormatMinor);
     document["name"] = project.name;
 
     ordered scenes = ordered::array();
@@ -138,7 +141,8 @@ std::string serialiseProject(const Project& project)
         entry["name"] = preset.name;
         entry["description"] = preset.description;
         const ordered values = materialValues(preset.material);
-        for (const auto& [key, value] : values.items()) entry[key] = value;
+        for (const auto& [key, value] : values.items())
+            entry[key] = value;
         presets.push_back(entry);
     }
     document["materialPresets"] = presets;
@@ -149,7 +153,8 @@ std::string serialiseProject(const Project& project)
         entry["id"] = hose.id;
         entry["name"] = hose.name;
         ordered route = ordered::array();
-        for (const Vec3& point : hose.route) route.push_back(vec3(point));
+        for (const Vec3& point : hose.route)
+            route.push_back(vec3(point));
         entry["route"] = route;
         if (const auto* preset = std::get_if<PresetName>(&hose.material))
             entry["material"] = preset->name;
@@ -161,7 +166,8 @@ std::string serialiseProject(const Project& project)
             entry["segmentCount"] = hose.segmentCount;
         else
             entry["segmentLength"] = hose.segmentLength;
-        entry["colour"] = ordered::array({hose.colour.r, hose.colour.g, hose.colour.b, hose.colour.a});
+        entry["colour"] =
+            ordered::array({hose.colour.r, hose.colour.g, hose.colour.b, hose.colour.a});
         entry["roughness"] = hose.roughness;
         ordered attachments = ordered::array();
         for (const HoseAttachment& attachment : hose.attachments) {
@@ -196,8 +202,9 @@ void saveProject(const Project& project, const std::filesystem::path& file,
     // Never write what we could not read back: the reader is the validator.
     const Project reread = parseProject(text, file, validation);
     if (reread != project)
-        throw ProjectFormatError(file, "", "internal error: the project does not survive "
-                                           "serialisation unchanged (non-finite value?)");
+        throw ProjectFormatError(file, "",
+                                 "internal error: the project does not survive "
+                                 "serialisation unchanged (non-finite value?)");
     writeFileAtomically(file, text, write);
 }
 

@@ -7,10 +7,14 @@ namespace chaintube::formats {
 const char* toString(UnitSource source)
 {
     switch (source) {
-    case UnitSource::FileHeader: return "stated in the file";
-    case UnitSource::FormatConvention: return "fixed by the format";
-    case UnitSource::Assumed: return "assumed (the format does not say)";
-    case UnitSource::UserOverride: return "set by the user";
+    case UnitSource::FileHeader:
+        return "stated in the file";
+    case UnitSource::FormatConvention:
+        return "fixed by the format";
+    case UnitSource::Assumed:
+        return "assumed (the format does not say)";
+    case UnitSource::UserOverride:
+        return "set by the user";
     }
     return "?";
 }
@@ -52,14 +56,16 @@ std::size_t ImportedScene::instancedTriangleCount() const
 {
     std::size_t count = 0;
     for (const SceneNode& node : nodes)
-        for (int mesh : node.meshes) count += meshes[static_cast<size_t>(mesh)].triangleCount();
+        for (int mesh : node.meshes)
+            count += meshes[static_cast<size_t>(mesh)].triangleCount();
     return count;
 }
 
 std::size_t ImportedScene::meshTriangleCount() const
 {
     std::size_t count = 0;
-    for (const SceneMesh& mesh : meshes) count += mesh.triangleCount();
+    for (const SceneMesh& mesh : meshes)
+        count += mesh.triangleCount();
     return count;
 }
 

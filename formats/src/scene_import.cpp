@@ -16,7 +16,8 @@ namespace {
 std::string lowerCaseExtension(const std::filesystem::path& file)
 {
     std::string extension = file.extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : extension)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return extension;
 }
 
@@ -67,9 +68,9 @@ std::string meshBaseName(const ImportedScene& scene, const SceneNode& node)
 
 const std::vector<std::string>& supportedSceneExtensions()
 {
-    static const std::vector<std::string> extensions = {
-        ".gltf", ".glb", ".obj", ".stl", ".ply", ".fbx", ".dae", ".3ds", ".ifc", ".3mf",
-        ".x3d",  ".off", ".amf", ".stp", ".step"};
+    static const std::vector<std::string> extensions = {".gltf", ".glb", ".obj", ".stl", ".ply",
+                                                        ".fbx",  ".dae", ".3ds", ".ifc", ".3mf",
+                                                        ".x3d",  ".off", ".amf", ".stp", ".step"};
     return extensions;
 }
 
@@ -83,8 +84,8 @@ bool isSupportedSceneFile(const std::filesystem::path& file)
 
 ImportedScene importScene(const std::filesystem::path& file, const ImportOptions& options)
 {
-    if (options.metresPerUnit && !(std::isfinite(*options.metresPerUnit) &&
-                                   *options.metresPerUnit > 0.0))
+    if (options.metresPerUnit &&
+        !(std::isfinite(*options.metresPerUnit) && *options.metresPerUnit > 0.0))
         throw InvalidArgument("ImportOptions::metresPerUnit: expected a finite number > 0");
     if (!(std::isfinite(options.chordalTolerance) && options.chordalTolerance > 0.0))
         throw InvalidArgument("ImportOptions::chordalTolerance: expected metres > 0");
@@ -96,8 +97,8 @@ ImportedScene importScene(const std::filesystem::path& file, const ImportOptions
         std::string list;
         for (const std::string& supported : supportedSceneExtensions())
             list += (list.empty() ? "" : " ") + supported;
-        throw FileError(file, "unsupported scene format '" + extension +
-                                  "' (supported: " + list + ")");
+        throw FileError(file,
+                        "unsupported scene format '" + extension + "' (supported: " + list + ")");
     }
     checkReadableFile(file);
 
@@ -139,7 +140,8 @@ ImportedScene finaliseScene(ReaderResult&& result, const std::filesystem::path& 
     if (scale != 1.0) {
         // Scaling every translation and vertex is the same as S·M·S⁻¹ per node and S·v per
         // vertex: world positions scale, rotations and node scales are unchanged.
-        for (SceneNode& node : scene.nodes) node.localTransform.block<3, 1>(0, 3) *= scale;
+        for (SceneNode& node : scene.nodes)
+            node.localTransform.block<3, 1>(0, 3) *= scale;
         for (SceneMesh& mesh : scene.meshes)
             for (float& coordinate : mesh.positions)
                 coordinate = static_cast<float>(coordinate * scale);

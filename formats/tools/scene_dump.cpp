@@ -29,7 +29,8 @@ int main(int argc, char** argv)
             const auto& node = scene.nodes[i];
             const auto world = scene.worldTransform(static_cast<int>(i));
             size_t triangles = 0;
-            for (int mesh : node.meshes) triangles += scene.meshes[size_t(mesh)].triangleCount();
+            for (int mesh : node.meshes)
+                triangles += scene.meshes[size_t(mesh)].triangleCount();
             std::printf("%s%s  meshes=%zu tris=%zu world=(%.4f %.4f %.4f)\n", node.path.c_str(),
                         node.generatedName ? " [generated]" : "", node.meshes.size(), triangles,
                         world(0, 3), world(1, 3), world(2, 3));

@@ -1,7 +1,6 @@
 // writeFileAtomically(): a failure at any step leaves the previous file intact.
 #include "chaintube/formats/atomic_file.h"
 #include "chaintube/formats/errors.h"
-
 #include "test_files.h"
 
 #include <gtest/gtest.h>
@@ -14,7 +13,8 @@ using testing::TemporaryFolder;
 
 size_t fileCount(const fs::path& folder)
 {
-    return static_cast<size_t>(std::distance(fs::directory_iterator(folder), fs::directory_iterator()));
+    return static_cast<size_t>(
+        std::distance(fs::directory_iterator(folder), fs::directory_iterator()));
 }
 
 TEST(AtomicWrite, ReplacesTheFileContents)

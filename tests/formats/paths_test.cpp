@@ -1,6 +1,5 @@
 // Project paths never leave the project's folder (or a named root) unless written absolute.
 #include "chaintube/formats/paths.h"
-
 #include "test_files.h"
 
 #include <gtest/gtest.h>
@@ -44,8 +43,7 @@ TEST_F(ProjectPaths, DotDotOutOfTheProjectIsRefused)
     try {
         resolveProjectPath("../outside/secret.glb", project(), roots);
     } catch (const PathError& error) {
-        EXPECT_NE(std::string(error.what()).find("leaves the project's folder"),
-                  std::string::npos)
+        EXPECT_NE(std::string(error.what()).find("leaves the project's folder"), std::string::npos)
             << error.what();
     }
 }

@@ -78,8 +78,9 @@ TEST(BuildHoses, UnknownNodeIsAnErrorNamingHoseAndNode)
         buildHoses(project, scenes);
         FAIL();
     } catch (const InvalidArgument& error) {
-        EXPECT_NE(std::string(error.what()).find("hose 'left-feed': scene 'rig' has no node "
-                                                 "'/test-rig/missing'"),
+        EXPECT_NE(std::string(error.what())
+                      .find("hose 'left-feed': scene 'rig' has no node "
+                            "'/test-rig/missing'"),
                   std::string::npos)
             << error.what();
     }

@@ -1,13 +1,10 @@
 // The project document: precise errors, versions, migration, canonical round trips, atomic save.
 #include "chaintube/formats/project.h"
-
 #include "test_files.h"
 
-#include <nlohmann/json.hpp>
-
-#include <gtest/gtest.h>
-
 #include <cmath>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <random>
 
 namespace chaintube::formats {
@@ -112,7 +109,8 @@ TEST(ProjectReader, CrossReferencesAreChecked)
 {
     json document = exampleJson();
     document["hoses"][1]["id"] = "a";
-    EXPECT_NE(loadError(document).find("/hoses/1/id: expected a unique hose id"), std::string::npos);
+    EXPECT_NE(loadError(document).find("/hoses/1/id: expected a unique hose id"),
+              std::string::npos);
 
     document = exampleJson();
     document["hoses"][0]["material"] = "titanium hose";
@@ -174,7 +172,8 @@ TEST(ProjectReader, WrongFormatOrVersionSyntaxIsRefused)
 {
     json document = exampleJson();
     document["format"] = "something-else";
-    EXPECT_NE(loadError(document).find("/format: expected \"chaintube-project\""), std::string::npos);
+    EXPECT_NE(loadError(document).find("/format: expected \"chaintube-project\""),
+              std::string::npos);
     document = exampleJson();
     document["version"] = "1";
     EXPECT_NE(loadError(document).find("/version: expected a version \"<major>.<minor>\""),
@@ -238,14 +237,18 @@ Project randomProject(std::mt19937& random)
     Project project = Project::withStandardPresets("random " + std::to_string(random()));
     const int sceneCount = small(random);
     for (int s = 0; s < sceneCount; ++s) {
-        SceneReference scene{"scene-" + std::to_string(s), "scenes/s" + std::to_string(s) + ".glb", {}};
+        SceneReference scene{
+            "scene-" + std::to_string(s), "scenes/s" + std::to_string(s) + ".glb", {}};
         if (unit(random) < 0.5) scene.import.metresPerUnit = unit(random) + 1e-3;
-        if (unit(random) < 0.5) scene.import.upAxis = unit(random) < 0.5 ? UpAxis::PositiveY : UpAxis::PositiveZ;
+        if (unit(random) < 0.5)
+            scene.import.upAxis = unit(random) < 0.5 ? UpAxis::PositiveY : UpAxis::PositiveZ;
         scene.import.chordalTolerance = 1e-5 + unit(random) * 1e-3;
         scene.import.angularTolerance = 0.1 + unit(random);
         project.scenes.push_back(scene);
     }
-    project.materialPresets.push_back({"custom ü \"quoted\"", "line\nbreak", Material{unit(random) * 0.99, BendLimit::minBendRadius(unit(random))}});
+    project.materialPresets.push_back(
+        {"custom ü \"quoted\"", "line\nbreak",
+         Material{unit(random) * 0.99, BendLimit::minBendRadius(unit(random))}});
     const int hoseCount = small(random) * 3;
     for (int h = 0; h < hoseCount; ++h) {
         HoseDefinition hose;
@@ -257,29 +260,61 @@ Project randomProject(std::mt19937& random)
         if (unit(random) < 0.5)
             hose.material = PresetName{project.materialPresets[size_t(small(random))].name};
         else
-            hose.material = Material{unit(random) * 0.99, unit(random) < 0.5
-                                                               ? BendLimit::deflectionAngle(unit(random) * 3)
-                                                               : BendLimit::minBendRadius(unit(random))};
+            hose.material =
+                Material{unit(random) * 0.99, unit(random) < 0.5
+                                                  ? BendLimit::deflectionAngle(unit(random) * 3)
+                                                  : BendLimit::minBendRadius(unit(random))};
         switch (small(random)) {
-        case 0: hose.profile.shape = Profile::Shape::Circle; hose.profile.sides = 3 + small(random) * 7; break;
-        case 1: hose.profile.shape = Profile::Shape::Ellipse; hose.profile.semiAxisX = 0.01 + unit(random); hose.profile.semiAxisY = 0.01 + unit(random); hose.profile.sides = 8; break;
-        case 2: hose.profile.shape = Profile::Shape::Rectangle; hose.profile.width = 0.01 + unit(random); hose.profile.height = 0.01 + unit(random); break;
-        case 3: hose.profile.shape = Profile::Shape::RoundedRectangle; hose.profile.width = 0.02; hose.profile.height = 0.01; hose.profile.cornerRadius = 0.0049 * unit(random) + 1e-4; hose.profile.cornerSegments = 1 + small(random); break;
-        default: hose.profile.shape = Profile::Shape::Polygon; hose.profile.points = {Vec2(0, 0), Vec2(unit(random) + 0.1, 0), Vec2(0, unit(random) + 0.1)}; hose.profile.smoothAngle = unit(random); break;
+        case 0:
+            hose.profile.shape = Profile::Shape::Circle;
+            hose.profile.sides = 3 + small(random) * 7;
+            break;
+        case 1:
+            hose.profile.shape = Profile::Shape::Ellipse;
+            hose.profile.semiAxisX = 0.01 + unit(random);
+            hose.profile.semiAxisY = 0.01 + unit(random);
+            hose.profile.sides = 8;
+            break;
+        case 2:
+            hose.profile.shape = Profile::Shape::Rectangle;
+            hose.profile.width = 0.01 + unit(random);
+            hose.profile.height = 0.01 + unit(random);
+            break;
+        case 3:
+            hose.profile.shape = Profile::Shape::RoundedRectangle;
+            hose.profile.width = 0.02;
+            hose.profile.height = 0.01;
+            hose.profile.cornerRadius = 0.0049 * unit(random) + 1e-4;
+            hose.profile.cornerSegments = 1 + small(random);
+            break;
+        default:
+            hose.profile.shape = Profile::Shape::Polygon;
+            hose.profile.points = {Vec2(0, 0), Vec2(unit(random) + 0.1, 0),
+                                   Vec2(0, unit(random) + 0.1)};
+            hose.profile.smoothAngle = unit(random);
+            break;
         }
         hose.outerDiameter = 1e-3 + unit(random) * 0.1;
-        if (unit(random) < 0.5) hose.segmentCount = 1 + small(random) * 10;
-        else { hose.segmentCount = 0; hose.segmentLength = 1e-3 + unit(random) * 0.1; }
+        if (unit(random) < 0.5)
+            hose.segmentCount = 1 + small(random) * 10;
+        else {
+            hose.segmentCount = 0;
+            hose.segmentLength = 1e-3 + unit(random) * 0.1;
+        }
         hose.colour = {unit(random), unit(random), unit(random), unit(random)};
         hose.roughness = unit(random);
         if (!project.scenes.empty() && hose.segmentCount >= 2) {
-            const Quat rotation = Quat(Eigen::AngleAxisd(unit(random) * 6, Vec3(unit(random), unit(random), 1).normalized()));
-            hose.attachments.push_back({project.scenes[0].id, "/root/part " + std::to_string(h), Frame{rotation, Vec3(coordinate(random), 0, 1e-7)}, 0, 1});
-            hose.attachments.push_back({project.scenes.back().id, "/root/other", Frame::identity(), hose.segmentCount, hose.segmentCount});
+            const Quat rotation = Quat(Eigen::AngleAxisd(
+                unit(random) * 6, Vec3(unit(random), unit(random), 1).normalized()));
+            hose.attachments.push_back({project.scenes[0].id, "/root/part " + std::to_string(h),
+                                        Frame{rotation, Vec3(coordinate(random), 0, 1e-7)}, 0, 1});
+            hose.attachments.push_back({project.scenes.back().id, "/root/other", Frame::identity(),
+                                        hose.segmentCount, hose.segmentCount});
         }
         project.hoses.push_back(hose);
     }
-    project.exportSettings = {unit(random) < 0.5 ? "glb" : "gltf", unit(random) < 0.5 ? "" : "out/x.glb", unit(random) < 0.5};
+    project.exportSettings = {unit(random) < 0.5 ? "glb" : "gltf",
+                              unit(random) < 0.5 ? "" : "out/x.glb", unit(random) < 0.5};
     return project;
 }
 
@@ -294,7 +329,8 @@ TEST(ProjectRoundTrip, SaveThenLoadReproducesRandomProjectsExactly)
         ASSERT_EQ(loaded, original) << "project " << i << ":\n" << serialiseProject(original);
         // …and the canonical text is a fixed point.
         saveProject(loaded, folder / "again.ctproj");
-        ASSERT_EQ(testing::readText(folder / "again.ctproj"), testing::readText(folder / "r.ctproj"));
+        ASSERT_EQ(testing::readText(folder / "again.ctproj"),
+                  testing::readText(folder / "r.ctproj"));
     }
 }
 

@@ -1,7 +1,6 @@
 // Every committed sample loads, is canonical (load → save is byte for byte the same), and
 // survives save → load unchanged.
 #include "chaintube/formats/project.h"
-
 #include "test_files.h"
 
 #include <gtest/gtest.h>
@@ -32,8 +31,8 @@ std::vector<fs::path> sampleFiles()
 
 TEST(Samples, TheDocumentedSamplesExist)
 {
-    for (const char* name : {"single-hose.ctproj", "engine.ctproj", "engine-50-hoses.ctproj",
-                             "test-rig.ctproj"})
+    for (const char* name :
+         {"single-hose.ctproj", "engine.ctproj", "engine-50-hoses.ctproj", "test-rig.ctproj"})
         EXPECT_TRUE(fs::exists(samplesFolder() / name)) << name;
     EXPECT_GE(sampleFiles().size(), 4u);
 }
@@ -72,7 +71,8 @@ TEST(Samples, ContentsMatchWhatTheyPromise)
 
     const Project rig = loadProject(samplesFolder() / "test-rig.ctproj");
     ASSERT_EQ(rig.scenes.size(), 1u);
-    EXPECT_TRUE(fs::exists(resolveScenePath(rig.scenes[0], samplesFolder() / "test-rig.ctproj", {})))
+    EXPECT_TRUE(
+        fs::exists(resolveScenePath(rig.scenes[0], samplesFolder() / "test-rig.ctproj", {})))
         << "the test rig's scene is committed with the sample";
 }
 

@@ -1,9 +1,8 @@
 // importScene() on the third-party scenes in CHAINTUBE_SCENES_DIR (skipped when absent).
 #include "chaintube/formats/scene_import.h"
 
-#include <gtest/gtest.h>
-
 #include <filesystem>
+#include <gtest/gtest.h>
 
 namespace chaintube::formats {
 namespace {
@@ -13,15 +12,16 @@ std::filesystem::path sceneFile(const char* name)
     return std::filesystem::path(CHAINTUBE_SCENES_DIR) / name;
 }
 
-#define SKIP_UNLESS_PRESENT(file)                                                                 \
-    if (!std::filesystem::exists(file))                                                           \
-    GTEST_SKIP() << "third-party scene " << (file)                                                \
+#define SKIP_UNLESS_PRESENT(file)                                                                  \
+    if (!std::filesystem::exists(file))                                                            \
+    GTEST_SKIP() << "third-party scene " << (file)                                                 \
                  << " is absent (set CHAINTUBE_SCENES_DIR to the folder holding it)"
 
 std::vector<std::string> childNames(const ImportedScene& scene, int node)
 {
     std::vector<std::string> names;
-    for (int child : scene.nodes[size_t(node)].children) names.push_back(scene.nodes[size_t(child)].name);
+    for (int child : scene.nodes[size_t(node)].children)
+        names.push_back(scene.nodes[size_t(child)].name);
     return names;
 }
 

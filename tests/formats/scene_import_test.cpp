@@ -2,17 +2,14 @@
 // axis are normalised, bad input gives errors naming the file, big files report progress and
 // can be cancelled.
 #include "chaintube/formats/scene_import.h"
-
 #include "test_files.h"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/scene.h>
-
-#include <gtest/gtest.h>
-
 #include <chrono>
+#include <gtest/gtest.h>
 #include <set>
 
 namespace chaintube::formats {
@@ -113,11 +110,13 @@ TEST_P(ExportedFormat, ImportsWithAllTrianglesAndFiniteMetreGeometry)
     EXPECT_EQ(scene.instancedTriangleCount(), 12u) << formatId;
     for (const SceneMesh& mesh : scene.meshes) {
         ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
-        for (float v : mesh.positions) EXPECT_TRUE(std::isfinite(v));
+        for (float v : mesh.positions)
+            EXPECT_TRUE(std::isfinite(v));
         for (size_t i = 0; i + 2 < mesh.normals.size(); i += 3)
-            EXPECT_NEAR(Vec3(mesh.normals[i], mesh.normals[i + 1], mesh.normals[i + 2]).norm(),
-                        1.0, 1e-5);
-        for (std::uint32_t index : mesh.indices) EXPECT_LT(index, mesh.vertexCount());
+            EXPECT_NEAR(Vec3(mesh.normals[i], mesh.normals[i + 1], mesh.normals[i + 2]).norm(), 1.0,
+                        1e-5);
+        for (std::uint32_t index : mesh.indices)
+            EXPECT_LT(index, mesh.vertexCount());
     }
 }
 
@@ -144,8 +143,7 @@ TEST(SceneImport, GlbKeepsNodeNamesAndHierarchy)
     importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_USE_COLLADA_NAMES, true);
     const aiScene* source = importer.ReadFile((folder / "rig.dae").string(), 0);
     ASSERT_NE(source, nullptr);
-    ASSERT_EQ(Assimp::Exporter().Export(source, "glb2", (folder / "rig.glb").string()),
-              AI_SUCCESS);
+    ASSERT_EQ(Assimp::Exporter().Export(source, "glb2", (folder / "rig.glb").string()), AI_SUCCESS);
     const ImportedScene scene = importScene(folder / "rig.glb");
     EXPECT_EQ(scene.sourceUnits.unitSource, UnitSource::FormatConvention);
     // (assimp's glTF exporter renames the second "bracket" to keep names unique.)
@@ -175,7 +173,8 @@ TEST(SceneImport, ThreeMfIsMillimetresZUpByConventionAndTheUserCanOverrideTheUni
     EXPECT_EQ(millimetres.sourceUnits.upAxis, UpAxis::PositiveZ);
     ASSERT_FALSE(millimetres.meshes.empty());
     float largest = 0;
-    for (float v : millimetres.meshes[0].positions) largest = std::max(largest, std::abs(v));
+    for (float v : millimetres.meshes[0].positions)
+        largest = std::max(largest, std::abs(v));
     EXPECT_NEAR(largest, 1.0f, 1e-6f);
 
     ImportOptions options;
@@ -183,7 +182,8 @@ TEST(SceneImport, ThreeMfIsMillimetresZUpByConventionAndTheUserCanOverrideTheUni
     const ImportedScene metres = importScene(folder / "tri.3mf", options);
     EXPECT_EQ(metres.sourceUnits.unitSource, UnitSource::UserOverride);
     largest = 0;
-    for (float v : metres.meshes[0].positions) largest = std::max(largest, std::abs(v));
+    for (float v : metres.meshes[0].positions)
+        largest = std::max(largest, std::abs(v));
     EXPECT_NEAR(largest, 1000.0f, 1e-3f);
 }
 

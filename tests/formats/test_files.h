@@ -1,12 +1,11 @@
 // Helpers for formats tests: a temporary folder and small generated scene files.
 #pragma once
 
-#include <gtest/gtest.h>
-
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <random>
 #include <string>
 
@@ -22,9 +21,9 @@ public:
     {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
         std::random_device random;
-        m_path = fs::temp_directory_path() /
-                 ("chaintube-" + std::string(info ? info->name() : "test") + "-" +
-                  std::to_string(random()));
+        m_path =
+            fs::temp_directory_path() / ("chaintube-" + std::string(info ? info->name() : "test") +
+                                         "-" + std::to_string(random()));
         fs::create_directories(m_path);
     }
     ~TemporaryFolder()

@@ -133,8 +133,8 @@ struct Rgba
 /// One hose as the author laid it out.
 struct HoseDefinition
 {
-    std::string id;   ///< unique within the project
-    std::string name; ///< for people; may repeat
+    std::string id;          ///< unique within the project
+    std::string name;        ///< for people; may repeat
     std::vector<Vec3> route; ///< world metres, ≥ 2 points, consecutive points distinct
     MaterialChoice material = PresetName{"PVC hose"};
     ProfileSpec profile;
@@ -191,8 +191,8 @@ struct ProjectLoadOptions
 /// What loading found besides the project.
 struct ProjectLoadReport
 {
-    std::string fileVersion;  ///< as written, e.g. "0.9"
-    bool migrated = false;    ///< an older layout was converted to the current one
+    std::string fileVersion; ///< as written, e.g. "0.9"
+    bool migrated = false;   ///< an older layout was converted to the current one
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };

@@ -16,8 +16,7 @@ using ImportedScenes = std::map<std::string, ImportedScene>;
 
 /// Imports every scene of the project (paths resolved with resolveScenePath(), import
 /// settings applied). Throws PathError, FileError, Cancelled as importScene() does.
-ImportedScenes importProjectScenes(const Project& project,
-                                   const std::filesystem::path& projectFile,
+ImportedScenes importProjectScenes(const Project& project, const std::filesystem::path& projectFile,
                                    const NamedRoots& roots,
                                    const std::function<bool(double)>& progress = {});
 

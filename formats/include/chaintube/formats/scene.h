@@ -20,9 +20,9 @@ using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::DontAlign>;
 struct SceneMesh
 {
     std::string name;
-    std::vector<float> positions;        ///< 3 per vertex, metres, node-local
-    std::vector<float> normals;          ///< 3 per vertex, unit length (same count as positions)
-    std::vector<std::uint32_t> indices;  ///< 3 per triangle, counter-clockwise = front
+    std::vector<float> positions;       ///< 3 per vertex, metres, node-local
+    std::vector<float> normals;         ///< 3 per vertex, unit length (same count as positions)
+    std::vector<std::uint32_t> indices; ///< 3 per triangle, counter-clockwise = front
     std::size_t vertexCount() const { return positions.size() / 3; }
     std::size_t triangleCount() const { return indices.size() / 3; }
 };
@@ -42,10 +42,10 @@ struct SceneNode
     /// '/' inside a name becomes '_'; a name already used by an earlier sibling gets "#2",
     /// "#3", … appended in the path (not in name), in file order. Hoses attach by this path.
     std::string path;
-    int parent = -1;               ///< index into ImportedScene::nodes; −1 only for the root
-    std::vector<int> children;     ///< in file order
+    int parent = -1;           ///< index into ImportedScene::nodes; −1 only for the root
+    std::vector<int> children; ///< in file order
     Mat4 localTransform = Mat4::Identity(); ///< parent ← this node, metres
-    std::vector<int> meshes;       ///< indices into ImportedScene::meshes (shared instances ok)
+    std::vector<int> meshes; ///< indices into ImportedScene::meshes (shared instances ok)
 };
 
 /// Up axis of a source file.
@@ -53,10 +53,10 @@ enum class UpAxis { PositiveY, PositiveZ };
 
 /// Where the source's unit / up axis came from.
 enum class UnitSource {
-    FileHeader,        ///< the file states it (FBX UnitScaleFactor, STEP/IFC unit entities)
-    FormatConvention,  ///< the format's specification fixes it (glTF: metres, +Y up)
-    Assumed,           ///< the format does not say (OBJ, STL, PLY, 3DS): metres / +Y assumed
-    UserOverride,      ///< ImportOptions said so
+    FileHeader,       ///< the file states it (FBX UnitScaleFactor, STEP/IFC unit entities)
+    FormatConvention, ///< the format's specification fixes it (glTF: metres, +Y up)
+    Assumed,          ///< the format does not say (OBJ, STL, PLY, 3DS): metres / +Y assumed
+    UserOverride,     ///< ImportOptions said so
 };
 
 const char* toString(UnitSource source);
@@ -65,7 +65,7 @@ const char* toString(UpAxis axis);
 /// What the importer found about the source's units and how it converted them.
 struct SourceUnits
 {
-    double metresPerUnit = 1.0;   ///< one source length unit in metres (0.001 for millimetres)
+    double metresPerUnit = 1.0; ///< one source length unit in metres (0.001 for millimetres)
     std::string unitName = "metre";
     UnitSource unitSource = UnitSource::Assumed;
     UpAxis upAxis = UpAxis::PositiveY;
@@ -80,7 +80,7 @@ struct SourceUnits
 struct ImportedScene
 {
     std::filesystem::path file;
-    std::string format;   ///< e.g. "glTF", "STEP", "IFC" (human-readable)
+    std::string format; ///< e.g. "glTF", "STEP", "IFC" (human-readable)
     std::vector<SceneNode> nodes;
     std::vector<SceneMesh> meshes;
     SourceUnits sourceUnits;
