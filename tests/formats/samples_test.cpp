@@ -45,11 +45,12 @@ TEST(Samples, EverySampleIsCanonicalAndRoundTripsExactly)
         const Project project = loadProject(sample, sampleOptions());
         EXPECT_EQ(serialiseProject(project), testing::readText(sample))
             << "not canonical: run ctproj-canonicalise on it";
-        // Save next to a copy of the sample so relative paths keep their meaning.
-        const fs::path copy = samplesFolder() / (".roundtrip-" + sample.filename().string());
+        // Saved into a temporary folder (never into the source tree): relative scene paths stay
+        // inside it lexically, so they are still valid there.
+        const fs::path copy = folder / sample.filename().string();
         saveProject(project, copy, sampleOptions());
+        EXPECT_EQ(testing::readText(copy), testing::readText(sample));
         const Project reloaded = loadProject(copy, sampleOptions());
-        fs::remove(copy);
         EXPECT_EQ(reloaded, project);
     }
 }
