@@ -36,7 +36,8 @@ public:
     /// the anchor is an end or its other neighbour is not settled). `anchorOld` is where the
     /// anchor was before this update, for the degenerate fallbacks. Returns whether p[i] moved;
     /// `direction` receives the unit direction anchor → p[i].
-    bool place(int i, int a, const Vec3* incoming, const Vec3& anchorOld, Vec3& direction)
+    [[gnu::always_inline]] inline bool place(int i, int a, const Vec3* incoming, const Vec3& anchorOld,
+                                             Vec3& direction)
     {
         const size_t seg = static_cast<size_t>(std::min(i, a));
         const double lmin = h.m_minLength[seg], lmax = h.m_maxLength[seg];
@@ -285,10 +286,10 @@ public:
         return 0;
     }
 
-    bool solveAfterPlacement(const std::vector<std::pair<int, int>>& runs,
-                             const std::vector<std::pair<Vec3, Vec3>>& oldEnds)
+    bool solveAfterPlacement(const std::pair<int, int>* runs, const std::pair<Vec3, Vec3>* oldEnds,
+                             size_t count)
     {
-        for (size_t r = 0; r < runs.size(); ++r)
+        for (size_t r = 0; r < count; ++r)
             propagateFromRun(runs[r].first, runs[r].second, oldEnds[r].first, oldEnds[r].second);
         // Phase 1 alone guarantees every constraint when it met no pinned point and the hose
         // was valid before: the fast path stops here without measuring.
@@ -344,9 +345,10 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     auto attempt = [&](const Vec3& where, int& moved) {
         Solver solver(*this);
         solver.grabbed = index;
-        const Vec3 old = m_local[k];
+        const std::pair<int, int> run(index, index);
+        const std::pair<Vec3, Vec3> oldEnds(m_local[k], m_local[k]);
         m_local[k] = where;
-        const bool converged = solver.solveAfterPlacement({{index, index}}, {{old, old}});
+        const bool converged = solver.solveAfterPlacement(&run, &oldEnds, 1);
         moved = solver.movedPoints;
         measured = solver.measured;
         return converged;
@@ -416,7 +418,7 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         runs.emplace_back(a.first, a.last);
     }
     Solver solver(*this);
-    const bool converged = solver.solveAfterPlacement(runs, oldEnds);
+    const bool converged = solver.solveAfterPlacement(runs.data(), oldEnds.data(), runs.size());
     result = measureViolation();
     if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
     m_dirtyViolation = result.status != Status::Ok;
@@ -441,7 +443,7 @@ UpdateResult Hose::settle()
         oldEnds.emplace_back(m_local[0], m_local[0]);
     }
     m_dirtyViolation = true; // force the global check
-    const bool converged = solver.solveAfterPlacement(runs, oldEnds);
+    const bool converged = solver.solveAfterPlacement(runs.data(), oldEnds.data(), runs.size());
     UpdateResult result = measureViolation();
     if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
     m_dirtyViolation = result.status != Status::Ok;

@@ -25,35 +25,111 @@ Quat RingFrame::rotation() const
     return Quat(m).normalized();
 }
 
+namespace {
+// Structure-of-arrays scratch for the ring frame passes (per thread: no allocation per frame).
+struct FrameScratch
+{
+    std::vector<double> x, y, z; // segment directions, then ring tangents
+    std::vector<double> tx, ty, tz;
+    std::vector<double> ax, ay, az;
+    void resize(size_t n)
+    {
+        for (auto* v : {&x, &y, &z, &tx, &ty, &tz, &ax, &ay, &az}) v->resize(n);
+    }
+};
+
+// Scales (x, y, z)[0, count) to unit length. Vectors of zero length become NaN; callers
+// check lengths first where that can happen.
+void normalizeScalar(double* x, double* y, double* z, size_t count)
+{
+    for (size_t i = 0; i < count; ++i) {
+        const double inv = 1.0 / std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
+        x[i] *= inv;
+        y[i] *= inv;
+        z[i] *= inv;
+    }
+}
+} // namespace
+
+#if defined(__x86_64__) && defined(__GNUC__)
+} // namespace chaintube
+#include <immintrin.h>
+namespace chaintube {
+namespace {
+bool cpuHasAvx2()
+{
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return has;
+}
+
+__attribute__((target("avx2,fma"))) void normalizeAvx2(double* x, double* y, double* z, size_t count)
+{
+    const __m256d one = _mm256_set1_pd(1.0);
+    size_t i = 0;
+    for (; i + 4 <= count; i += 4) {
+        const __m256d vx = _mm256_loadu_pd(x + i), vy = _mm256_loadu_pd(y + i), vz = _mm256_loadu_pd(z + i);
+        const __m256d length2 = _mm256_fmadd_pd(vz, vz, _mm256_fmadd_pd(vy, vy, _mm256_mul_pd(vx, vx)));
+        const __m256d inv = _mm256_div_pd(one, _mm256_sqrt_pd(length2));
+        _mm256_storeu_pd(x + i, _mm256_mul_pd(vx, inv));
+        _mm256_storeu_pd(y + i, _mm256_mul_pd(vy, inv));
+        _mm256_storeu_pd(z + i, _mm256_mul_pd(vz, inv));
+    }
+    normalizeScalar(x + i, y + i, z + i, count - i);
+}
+} // namespace
+#endif
+
+namespace {
+void normalize(double* x, double* y, double* z, size_t count)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpuHasAvx2()) return normalizeAvx2(x, y, z, count);
+#endif
+    normalizeScalar(x, y, z, count);
+}
+} // namespace
+
 void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
 {
     const std::vector<Vec3>& p = hose.localPoints();
     const size_t n = p.size();
     frames.resize(n);
+    thread_local FrameScratch s;
+    s.resize(n);
 
-    // Ring plane normals: bisectors of the unit segment directions.
-    Vec3 previousDirection = (p[1] - p[0]).normalized();
-    frames[0].center = p[0];
-    frames[0].tangent = previousDirection;
-    for (size_t i = 1; i < n; ++i) {
+    // Pass 1: unit segment directions d_i (segments have positive length: Lmin > 0).
+    for (size_t i = 0; i + 1 < n; ++i) {
+        s.x[i] = p[i + 1].x() - p[i].x();
+        s.y[i] = p[i + 1].y() - p[i].y();
+        s.z[i] = p[i + 1].z() - p[i].z();
+    }
+    normalize(s.x.data(), s.y.data(), s.z.data(), n - 1);
+
+    // Pass 2: ring plane normals, the bisectors normalize(d_{i−1} + d_i); end rings follow
+    // their segment. Fold-backs (|d_{i−1} + d_i| ≈ 0) are mended afterwards, in order.
+    s.tx[0] = s.x[0], s.ty[0] = s.y[0], s.tz[0] = s.z[0];
+    s.tx[n - 1] = s.x[n - 2], s.ty[n - 1] = s.y[n - 2], s.tz[n - 1] = s.z[n - 2];
+    bool foldBack = false;
+    for (size_t i = 1; i + 1 < n; ++i) {
+        s.tx[i] = s.x[i - 1] + s.x[i];
+        s.ty[i] = s.y[i - 1] + s.y[i];
+        s.tz[i] = s.z[i - 1] + s.z[i];
+        foldBack |= s.tx[i] * s.tx[i] + s.ty[i] * s.ty[i] + s.tz[i] * s.tz[i] <= 1e-18;
+    }
+    if (n > 2) normalize(s.tx.data() + 1, s.ty.data() + 1, s.tz.data() + 1, n - 2);
+    for (size_t i = 0; i < n; ++i) {
         frames[i].center = p[i];
-        if (i + 1 == n) {
-            frames[i].tangent = previousDirection;
-            break;
-        }
-        const Vec3 segment = p[i + 1] - p[i];
-        const Vec3 direction = segment * (1.0 / std::sqrt(segment.squaredNorm()));
-        const Vec3 bisector = previousDirection + direction;
-        const double length2 = bisector.squaredNorm();
-        if (length2 > 1e-18) {
-            frames[i].tangent = bisector * (1.0 / std::sqrt(length2));
-        } else {
-            Vec3 t = perpendicularPart(frames[i - 1].tangent, direction);
-            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitY(), direction);
-            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitX(), direction);
+        frames[i].tangent = Vec3(s.tx[i], s.ty[i], s.tz[i]);
+    }
+    if (foldBack) {
+        for (size_t i = 1; i + 1 < n; ++i) {
+            const Vec3 in(s.x[i - 1], s.y[i - 1], s.z[i - 1]), out(s.x[i], s.y[i], s.z[i]);
+            if ((in + out).squaredNorm() > 1e-18) continue;
+            Vec3 t = perpendicularPart(frames[i - 1].tangent, out);
+            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitY(), out);
+            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitX(), out);
             frames[i].tangent = t.normalized();
         }
-        previousDirection = direction;
     }
 
     // First alignment: carried over from the previous frame.
@@ -74,13 +150,14 @@ void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
     seed.tangent = t0;
     seed.alignment = a0;
 
-    // Twist correction. Fast path, the paper's own: project the previous alignment onto this
-    // ring plane. Projection is linear, so the chain runs unnormalised (short dependency) and
-    // is normalised afterwards. Where consecutive ring planes turn by nearly 90° the
-    // projection degenerates; there the rotation-minimising double reflection takes over.
+    // Pass 3, twist correction. Fast path, the paper's own: project the previous alignment
+    // onto this ring plane. Projection is linear, so the chain runs unnormalised (a short
+    // dependency chain) and is normalised in pass 4. Where consecutive ring planes turn by
+    // nearly 90° the projection degenerates; there the rotation-minimising double
+    // reflection (Wang et al. 2008) takes over.
     Vec3 u = a0;
     double u2 = 1.0;
-    frames[0].alignment = a0;
+    s.ax[0] = u.x(), s.ay[0] = u.y(), s.az[0] = u.z();
     for (size_t i = 1; i < n; ++i) {
         const Vec3& t = frames[i].tangent;
         const double along = u.dot(t);
@@ -96,7 +173,7 @@ void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
             const RingFrame& before = frames[i - 1];
             const Vec3 v1 = frames[i].center - before.center;
             const double b1 = v1.squaredNorm();
-            Vec3 alignment = u * (1.0 / std::sqrt(u2));
+            Vec3 alignment = Vec3(s.ax[i - 1], s.ay[i - 1], s.az[i - 1]).normalized();
             Vec3 tangentL = before.tangent;
             if (b1 > 0.0) {
                 alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
@@ -109,11 +186,14 @@ void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
             u = alignment.norm() > 1e-9 ? Vec3(alignment.normalized()) : defaultAlignment(t);
             u2 = 1.0;
         }
-        frames[i].alignment = u;
+        s.ax[i] = u.x(), s.ay[i] = u.y(), s.az[i] = u.z();
     }
+
+    // Pass 4: unit alignments and binormals.
+    normalize(s.ax.data(), s.ay.data(), s.az.data(), n);
     for (size_t i = 0; i < n; ++i) {
         RingFrame& ring = frames[i];
-        ring.alignment *= 1.0 / std::sqrt(ring.alignment.squaredNorm());
+        ring.alignment = Vec3(s.ax[i], s.ay[i], s.az[i]);
         ring.binormal = ring.tangent.cross(ring.alignment);
     }
 }
@@ -245,6 +325,15 @@ void writeRingsScalar(const RingKernelInput& in)
 #include <immintrin.h>
 namespace chaintube {
 namespace {
+__attribute__((target("avx2,fma"), always_inline)) inline void
+ringBlock(const RingKernelInput& in, float* pos, float* nrm, size_t m, __m256 c, __m256 a, __m256 b)
+{
+    const __m256 x = _mm256_loadu_ps(in.x + 8 * m), y = _mm256_loadu_ps(in.y + 8 * m);
+    const __m256 nx = _mm256_loadu_ps(in.nx + 8 * m), ny = _mm256_loadu_ps(in.ny + 8 * m);
+    _mm256_storeu_ps(pos + 8 * m, _mm256_fmadd_ps(b, y, _mm256_fmadd_ps(a, x, c)));
+    _mm256_storeu_ps(nrm + 8 * m, _mm256_fmadd_ps(b, ny, _mm256_mul_ps(a, nx)));
+}
+
 // Eight floats at a time in the xyz-interleaved layout: the ring's centre and axes are
 // permuted into the three phases of the xyz pattern (period 24 floats = 8 vertices).
 __attribute__((target("avx2,fma"))) void writeRingsAvx2(const RingKernelInput& in)
@@ -269,21 +358,17 @@ __attribute__((target("avx2,fma"))) void writeRingsAvx2(const RingKernelInput& i
                               _mm256_permutevar8x32_ps(b, phase2)};
         float* pos = in.positions + i * in.ringFloats;
         float* nrm = in.normals + i * in.ringFloats;
-        for (size_t m = 0; m < blocks; ++m) {
-            const size_t phase = m % 3;
-            const __m256 x = _mm256_loadu_ps(in.x + 8 * m), y = _mm256_loadu_ps(in.y + 8 * m);
-            const __m256 nx = _mm256_loadu_ps(in.nx + 8 * m), ny = _mm256_loadu_ps(in.ny + 8 * m);
-            _mm256_storeu_ps(pos + 8 * m, _mm256_fmadd_ps(bp[phase], y, _mm256_fmadd_ps(ap[phase], x, cp[phase])));
-            _mm256_storeu_ps(nrm + 8 * m, _mm256_fmadd_ps(bp[phase], ny, _mm256_mul_ps(ap[phase], nx)));
+        size_t m = 0;
+        for (; m + 3 <= blocks; m += 3) {
+            ringBlock(in, pos, nrm, m, cp[0], ap[0], bp[0]);
+            ringBlock(in, pos, nrm, m + 1, cp[1], ap[1], bp[1]);
+            ringBlock(in, pos, nrm, m + 2, cp[2], ap[2], bp[2]);
         }
+        if (m < blocks) ringBlock(in, pos, nrm, m, cp[0], ap[0], bp[0]);
+        if (m + 1 < blocks) ringBlock(in, pos, nrm, m + 1, cp[1], ap[1], bp[1]);
     }
 }
 
-bool cpuHasAvx2()
-{
-    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    return has;
-}
 } // namespace
 #endif
 

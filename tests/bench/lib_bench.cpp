@@ -92,4 +92,49 @@ void BM_MemsetFrameBytes(benchmark::State& state)
 BENCHMARK(BM_MemsetFrameBytes)->Arg(50 * 100 * 17 * 24)->Unit(benchmark::kMicrosecond);
 } // namespace
 
+
+
+namespace {
+// The parts of one hose's frame update, separately (100 points, 16-sided rings).
+Hose bentHose()
+{
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, benchSpec(99));
+    hose.grab(50, Vec3(0.5, 0.3, 0.1));
+    return hose;
+}
+
+void BM_PartRingFrames(benchmark::State& state)
+{
+    const Hose hose = bentHose();
+    TwistSeed seed;
+    std::vector<RingFrame> frames;
+    for (auto _ : state) {
+        computeRingFrames(hose, seed, frames);
+        benchmark::DoNotOptimize(frames.data());
+    }
+}
+BENCHMARK(BM_PartRingFrames);
+
+void BM_PartSurfaceUpdate(benchmark::State& state)
+{
+    const Hose hose = bentHose();
+    HoseSurface surface(hose);
+    for (auto _ : state) {
+        surface.invalidate();
+        benchmark::DoNotOptimize(surface.update(hose));
+    }
+}
+BENCHMARK(BM_PartSurfaceUpdate);
+
+void BM_PartGrab(benchmark::State& state)
+{
+    Hose hose = bentHose();
+    int frame = 0;
+    for (auto _ : state) {
+        const double phase = 0.05 * ++frame;
+        benchmark::DoNotOptimize(hose.grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.0)));
+    }
+}
+BENCHMARK(BM_PartGrab);
+} // namespace
 BENCHMARK_MAIN();
