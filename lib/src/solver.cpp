@@ -300,6 +300,31 @@ public:
         return relax();
     }
 
+    /// After an infeasible update: every free span between two pinned points that are farther
+    /// apart than the span can stretch is laid on the straight line between them, each segment
+    /// stretched in proportion to its maximum length (the least possible worst overstretch).
+    void straightenOverlongSpans()
+    {
+        const int n = h.pointCount();
+        int previousPin = -1;
+        for (int i = 0; i < n; ++i) {
+            if (!pinned(i)) continue;
+            if (previousPin >= 0 && i > previousPin + 1) {
+                const Vec3 start = p[static_cast<size_t>(previousPin)], end = p[static_cast<size_t>(i)];
+                double reach = 0.0;
+                for (int s = previousPin; s < i; ++s) reach += h.m_maxLength[static_cast<size_t>(s)];
+                if ((end - start).norm() > reach) {
+                    double along = 0.0;
+                    for (int k = previousPin + 1; k < i; ++k) {
+                        along += h.m_maxLength[static_cast<size_t>(k - 1)];
+                        p[static_cast<size_t>(k)] = start + (end - start) * (along / reach);
+                    }
+                }
+            }
+            previousPin = i;
+        }
+    }
+
     Hose& h;
     std::vector<Vec3>& p;
     int grabbed = -1;
@@ -419,8 +444,13 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     }
     Solver solver(*this);
     const bool converged = solver.solveAfterPlacement(runs.data(), oldEnds.data(), runs.size());
-    result = measureViolation();
-    if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
+    if (!converged) solver.straightenOverlongSpans();
+    if (converged && !solver.measured) {
+        result = UpdateResult{}; // phase 1 alone: every constraint holds by construction
+    } else {
+        result = measureViolation();
+        if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
+    }
     m_dirtyViolation = result.status != Status::Ok;
     result.movedPoints = solver.movedPoints;
     ++m_revision;
@@ -444,6 +474,7 @@ UpdateResult Hose::settle()
     }
     m_dirtyViolation = true; // force the global check
     const bool converged = solver.solveAfterPlacement(runs.data(), oldEnds.data(), runs.size());
+    if (!converged) solver.straightenOverlongSpans();
     UpdateResult result = measureViolation();
     if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
     m_dirtyViolation = result.status != Status::Ok;

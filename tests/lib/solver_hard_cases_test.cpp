@@ -84,6 +84,13 @@ TEST(SolverHardCases, BothEndsFixedAndPulledApartBeyondMaximumLengthIsReportedBo
     for (const Vec3& p : points) EXPECT_TRUE(p.allFinite());
     EXPECT_NEAR(points[20].x(), 1.5, 1e-12) << "fixed points stay where their frame put them";
     EXPECT_NEAR(points[0].x(), 0.0, 1e-12);
+    // The excess is shared equally: the free points 2 … 18 lie evenly on the line between the
+    // fixed points 1 (x = 0.05) and 19 (x = 1.45), 18 segments for 1.4 m.
+    for (int s = 1; s < 19; ++s) {
+        EXPECT_NEAR((points[s + 1] - points[s]).norm(), 1.4 / 18, 1e-12) << s;
+        EXPECT_NEAR(points[s].y(), 0.0, 1e-12);
+    }
+    EXPECT_NEAR(result.lengthViolation, (1.4 / 18) / 0.05 - 1.1, 1e-9);
     const auto [again, pointsAgain] = run();
     EXPECT_EQ(points, pointsAgain);
     EXPECT_EQ(again.lengthViolation, result.lengthViolation);

@@ -16,10 +16,12 @@ enum class Status {
     Clamped,      ///< A grab target was out of reach: the point moved along the straight line
                   ///< from where it was towards the target and stopped at the last reachable
                   ///< position (to 1e-6 of the move). Every constraint holds.
-    Infeasible,   ///< Fixed segments contradict each other (e.g. two attachments farther apart
-                  ///< than the hose between them can stretch): every fixed point is where its
-                  ///< frame put it, the free points are placed deterministically in between,
-                  ///< and the residual violation is reported.
+    Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
+                  ///< frame put it and the residual violation is reported. Two attachments
+                  ///< farther apart than the hose between them can stretch: the free points lie
+                  ///< on the straight line between them, every segment stretched by the same
+                  ///< fraction of its maximum length (the least worst overstretch). Other
+                  ///< contradictions (bends): the bounded relaxation's last state.
     InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
                   ///< hose is unchanged.
 };
