@@ -1,0 +1,172 @@
+// ChainTube editor — undo commands. Every edit of a Document is one of these.
+//
+// Parameter edits go through one generic template, ChangeValue<Value>: it swaps a value in
+// the document with the one it holds (so redo and undo are the same operation) and tells the
+// document what changed. Consecutive changes of the same thing with the same MergeId within
+// one merge run (Document::closeMerge() ends a run, e.g. on slider release) merge into one
+// undo step, so a slider drag is a single step.
+#pragma once
+
+#include "chaintube/editor/document.h"
+
+#include <QUndoCommand>
+
+#include <functional>
+#include <string>
+#include <utility>
+
+namespace chaintube::editor {
+
+/// Merge ids (QUndoCommand::id()), one per kind of continuous edit.
+enum class MergeId : int {
+    None = -1,
+    HoseName = 1,
+    HoseDiameter,
+    HoseSegments,
+    HoseMaterial,
+    HoseProfile,
+    HoseColour,
+    HoseRoute,
+    HoseAttachments,
+    HoseDefinition,
+    NodeTransform,
+    Presets,
+    ExportSettings,
+};
+
+/// The generic value change. `access` finds the value in the document (nullptr if it no longer
+/// exists, which makes redo/undo a no-op); `notify` tells the document what changed after a
+/// swap. `mergeKey` names the thing changed (e.g. the hose id) so that only changes of the
+/// same thing merge.
+template <typename Value> class ChangeValue : public QUndoCommand
+{
+public:
+    using Access = std::function<Value*(Document&)>;
+    using Notify = std::function<void(Document&)>;
+
+    ChangeValue(Document& document, const QString& text, Access access, Notify notify,
+                Value newValue, MergeId mergeId = MergeId::None, std::string mergeKey = {})
+        : QUndoCommand(text), m_document(document), m_access(std::move(access)),
+          m_notify(std::move(notify)), m_value(std::move(newValue)), m_mergeId(mergeId),
+          m_mergeKey(std::move(mergeKey)), m_generation(document.mergeGeneration())
+    {
+    }
+
+    void redo() override { swap(); }
+    void undo() override { swap(); }
+    int id() const override { return static_cast<int>(m_mergeId); }
+    bool mergeWith(const QUndoCommand* other) override
+    {
+        // redo() of `other` already put its value in the document; keeping our held value
+        // (the one before the whole run) makes undo go back to the start of the run.
+        const auto* next = dynamic_cast<const ChangeValue*>(other);
+        return next && m_mergeId != MergeId::None && next->m_mergeKey == m_mergeKey &&
+               next->m_generation == m_generation;
+    }
+
+private:
+    void swap()
+    {
+        if (Value* current = m_access(m_document)) {
+            std::swap(*current, m_value);
+            m_notify(m_document);
+        }
+    }
+
+    Document& m_document;
+    Access m_access;
+    Notify m_notify;
+    Value m_value;
+    MergeId m_mergeId;
+    std::string m_mergeKey;
+    std::uint64_t m_generation;
+};
+
+/// Adds a hose at the end of the project (redo) / removes it (undo).
+class AddHoseCommand : public QUndoCommand
+{
+public:
+    AddHoseCommand(Document& document, formats::HoseDefinition definition);
+    void redo() override;
+    void undo() override;
+
+private:
+    Document& m_document;
+    formats::HoseDefinition m_definition;
+    int m_index = 0;
+};
+
+/// Removes a hose (redo) / puts it back at its index (undo).
+class RemoveHoseCommand : public QUndoCommand
+{
+public:
+    RemoveHoseCommand(Document& document, std::string hoseId);
+    void redo() override;
+    void undo() override;
+
+private:
+    Document& m_document;
+    std::string m_hoseId;
+    formats::HoseDefinition m_definition;
+    int m_index = -1;
+};
+
+/// Adds an imported scene and its reference (redo) / removes them (undo).
+class AddSceneCommand : public QUndoCommand
+{
+public:
+    AddSceneCommand(Document& document, formats::SceneReference reference,
+                    formats::ImportedScene scene);
+    void redo() override;
+    void undo() override;
+
+private:
+    Document& m_document;
+    formats::SceneReference m_reference;
+    formats::ImportedScene m_scene;
+};
+
+// --- the concrete edits (each is a ChangeValue) -----------------------------------------------
+
+/// Any hose field through a member pointer, e.g. &HoseDefinition::outerDiameter.
+template <typename Value>
+QUndoCommand* makeChangeHoseField(Document& document, const std::string& hoseId,
+                                  Value formats::HoseDefinition::*field, Value newValue,
+                                  MergeId mergeId, const QString& text)
+{
+    return new ChangeValue<Value>(
+        document, text,
+        [hoseId, field](Document& d) -> Value* {
+            formats::HoseDefinition* definition = d.mutableHoseDefinition(hoseId);
+            return definition ? &(definition->*field) : nullptr;
+        },
+        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(newValue),
+        mergeId, hoseId);
+}
+
+/// Replaces a hose's route (insert/delete/move a route point; commit of a grab-drag). Pass
+/// MergeId::HoseRoute while a route point is dragged so that the drag is one step.
+QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
+                           std::vector<Vec3> route, const QString& text,
+                           MergeId mergeId = MergeId::None);
+
+/// Fixes axis points [first, last] of a hose to a scene node at their current place.
+/// Throws InvalidArgument if the range is outside the hose or overlaps an attachment.
+QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
+                         const std::string& sceneId, int node);
+
+/// Removes attachment `index` (in the definition's order).
+QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index);
+
+/// Sets (or with nullopt clears) a node's transform override; merges while dragging.
+QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
+                                   std::optional<formats::Mat4> localTransform);
+
+/// Replaces the project's material presets (saving an own preset).
+QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPreset> presets,
+                             const QString& text);
+
+/// Replaces the export settings.
+QUndoCommand* makeSetExportSettings(Document& document, formats::ExportSettings settings);
+
+} // namespace chaintube::editor

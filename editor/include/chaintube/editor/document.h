@@ -1,0 +1,250 @@
+// ChainTube editor — the document: project model, imported scenes, live hoses, undo stack.
+//
+// Tiled-like: the Document owns everything an author edits and a QUndoStack; every edit is a
+// QUndoCommand (commands.h) that changes the document through the mutators at the end of this
+// class and reports what changed with one typed signal, changed(ChangeEvent). Views only
+// listen. The Document knows nothing about widgets or OpenGL (it links QtCore/QtGui only) and
+// can be used under QT_QPA_PLATFORM=offscreen.
+//
+// State and what is saved:
+//  * project()        — the formats::Project; this is what Save writes.
+//  * scenes()         — the imported scenes at the pose their files give ("file pose").
+//  * pose overrides   — node transforms the author moved to try the rig (a part moved or
+//                       rotated; the hoses follow). The project format has no field for
+//                       them, so they are part of the undo history but not saved.
+//  * live hoses       — one chaintube::Hose per project hose, built from its definition with
+//                       formats::buildHose at the file pose, then its attachments moved to the
+//                       posed node frames. A grab-drag changes only the live hose until it is
+//                       committed (commitHoseDrag), which writes the dragged axis as the route.
+#pragma once
+
+#include "chaintube/formats/project.h"
+#include "chaintube/formats/project_hoses.h"
+#include "chaintube/hose.h"
+#include "chaintube/metrics.h"
+
+#include <QObject>
+#include <QUndoStack>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace chaintube::editor {
+
+/// What changed. Views re-read what they show for the kinds they care about.
+struct ChangeEvent
+{
+    enum class Kind {
+        ProjectReplaced,  ///< new/open/recover: everything changed
+        ScenesChanged,    ///< a scene was imported or removed
+        HoseAdded,        ///< hoseId was added
+        HoseRemoved,      ///< hoseId was removed
+        HoseChanged,      ///< hoseId's definition changed (and its live hose was rebuilt)
+        HoseShapeChanged, ///< hoseId's live axis moved (drag, a part it is fixed to moved)
+        PoseChanged,      ///< a scene node's transform override changed (sceneId, node)
+        PresetsChanged,   ///< the project's material presets changed
+        ProjectSettingsChanged, ///< name or export settings changed
+        SelectionChanged, ///< selection() changed (not an undoable edit)
+        FileStateChanged, ///< file name or modified flag changed
+    };
+    Kind kind = Kind::ProjectReplaced;
+    std::string hoseId;
+    std::string sceneId;
+    int node = -1;
+};
+
+/// What is selected. A hose and a scene node can be selected at the same time, so that a hose
+/// segment can be fixed to the node.
+struct Selection
+{
+    std::string hoseId;      ///< "" = none
+    int rangeFirst = -1;     ///< selected axis points [rangeFirst, rangeLast] of hoseId; −1 none
+    int rangeLast = -1;
+    int routePoint = -1;     ///< selected route point of hoseId, −1 none
+    std::string sceneId;     ///< selected scene node: scene id and node index, −1 none
+    int node = -1;
+    bool operator==(const Selection& o) const
+    {
+        return hoseId == o.hoseId && rangeFirst == o.rangeFirst && rangeLast == o.rangeLast &&
+               routePoint == o.routePoint && sceneId == o.sceneId && node == o.node;
+    }
+    bool operator!=(const Selection& o) const { return !(*this == o); }
+};
+
+/// A scene node: scene id and node index.
+using NodeKey = std::pair<std::string, int>;
+
+/// A project read from disk with its scenes imported: made on a worker thread, adopted by a
+/// Document on the GUI thread.
+struct LoadedProject
+{
+    formats::Project project;
+    std::filesystem::path file; ///< empty for an untitled project
+    formats::ImportedScenes scenes;
+};
+
+/// Reads a project file and imports its scenes (thread-safe; touches no Document).
+/// progress(fraction) returning false cancels (throws formats::Cancelled). Throws what
+/// loadProject and importProjectScenes throw. `textOverride`, when given, is parsed instead of
+/// the file's contents (crash recovery: an autosave parsed as if it were `file`).
+LoadedProject readProject(const std::filesystem::path& file, const formats::NamedRoots& roots,
+                          const std::function<bool(double)>& progress = {},
+                          const std::optional<std::string>& textOverride = std::nullopt);
+
+class Document : public QObject
+{
+    Q_OBJECT
+public:
+    /// An untitled project with the standard material presets.
+    explicit Document(formats::NamedRoots roots, QObject* parent = nullptr);
+    ~Document() override;
+
+    // --- file -------------------------------------------------------------------------------
+    /// Replaces everything with `loaded`; clears the undo stack (clean) and the selection.
+    void adopt(LoadedProject loaded);
+    /// Replaces everything with an untitled project with standard presets.
+    void reset(const std::string& projectName = "Untitled");
+    /// Saves with formats::saveProject (atomic, validated) and marks the stack clean.
+    /// Throws what saveProject throws; then nothing changed.
+    void save(const std::filesystem::path& file);
+    const std::filesystem::path& fileName() const { return m_file; }
+    /// True if there are edits since the last adopt/reset/save.
+    bool isModified() const { return !m_undoStack.isClean() || m_forcedModified; }
+    /// Marks the document modified although the stack is clean (after recovering an autosave).
+    void setForcedModified(bool modified);
+    const formats::NamedRoots& roots() const { return m_roots; }
+    void setRoots(formats::NamedRoots roots) { m_roots = std::move(roots); }
+
+    QUndoStack* undoStack() { return &m_undoStack; }
+
+    // --- model ------------------------------------------------------------------------------
+    const formats::Project& project() const { return m_project; }
+    const formats::ImportedScenes& scenes() const { return m_scenes; }
+    const formats::ImportedScene* scene(const std::string& sceneId) const;
+
+    int hoseCount() const { return static_cast<int>(m_project.hoses.size()); }
+    /// Index of the hose definition with this id, or −1.
+    int hoseIndex(const std::string& hoseId) const;
+    const formats::HoseDefinition* hoseDefinition(const std::string& hoseId) const;
+    /// The live hose, or nullptr if its definition could not be built (see hoseBuildError).
+    const Hose* hose(const std::string& hoseId) const;
+    /// Why a hose could not be built ("" if it was).
+    std::string hoseBuildError(const std::string& hoseId) const;
+    /// Incremented each time the live hose object is rebuilt (renderers drop cached topology).
+    std::uint64_t hoseBuildSerial(const std::string& hoseId) const;
+    /// measure() of the live hose (cached; recomputed when its revision changes).
+    const HoseMetrics* hoseMetrics(const std::string& hoseId) const;
+
+    /// Checks that `definition` would build (material, profile, diameter, route) without
+    /// changing anything. Returns "" if valid, else the reason, for the properties panel to
+    /// refuse a value with a message.
+    std::string validateHoseDefinition(const formats::HoseDefinition& definition) const;
+
+    /// A hose id not used yet ("hose-1", "hose-2", …).
+    std::string unusedHoseId() const;
+
+    // --- pose -------------------------------------------------------------------------------
+    /// The node's parent ← node transform: the override if any, else the file's.
+    formats::Mat4 nodeLocalTransform(const std::string& sceneId, int node) const;
+    /// world ← node with overrides applied along the parent chain.
+    formats::Mat4 nodeWorldTransform(const std::string& sceneId, int node) const;
+    /// Rigid part of nodeWorldTransform (the frame attachments use).
+    Frame nodeWorldFrame(const std::string& sceneId, int node) const;
+    /// Overrides set by the author (nullopt entries mean "back to the file pose").
+    const std::map<NodeKey, std::optional<formats::Mat4>>& poseOverrides() const
+    {
+        return m_pose;
+    }
+    /// Increments whenever any override changes (pickers rebuild instance transforms).
+    std::uint64_t poseSerial() const { return m_poseSerial; }
+
+    // --- selection (not undoable) -----------------------------------------------------------
+    const Selection& selection() const { return m_selection; }
+    void setSelection(const Selection& selection);
+
+    // --- live drag --------------------------------------------------------------------------
+    /// Moves axis point `point` of the live hose towards `target` (world metres) with
+    /// Hose::grab; emits HoseShapeChanged. Not an undo step until commitHoseDrag(). A fixed
+    /// point, an unknown hose or an index out of range gives Status::InvalidInput.
+    UpdateResult dragHosePoint(const std::string& hoseId, int point, const Vec3& target);
+    /// Ends a drag: pushes a command that writes the live axis as the hose's route (the hose
+    /// is rebuilt from it, so save → load gives the same shape). Returns false (and restores
+    /// the shape before the drag) when the hose is fixed to a node that is moved from its file
+    /// pose, because the route is stored at the file pose; `why` then says so.
+    bool commitHoseDrag(const std::string& hoseId, std::string* why = nullptr);
+    /// Abandons a drag: the live hose is rebuilt from its definition.
+    void cancelHoseDrag(const std::string& hoseId);
+
+    // --- merging ----------------------------------------------------------------------------
+    /// Ends the current merge run: the next value change becomes a new undo step even if it
+    /// changes the same thing (call when a slider or a drag is released).
+    void closeMerge() { ++m_mergeGeneration; }
+    std::uint64_t mergeGeneration() const { return m_mergeGeneration; }
+
+    // --- a canonical description for tests --------------------------------------------------
+    /// serialiseProject(project()) plus the pose overrides and the scene ids: two documents
+    /// with the same state give the same text.
+    std::string stateFingerprint() const;
+
+    // --- mutators used by commands (commands.h); they emit changed() ------------------------
+    formats::Project& mutableProject() { return m_project; }
+    formats::HoseDefinition* mutableHoseDefinition(const std::string& hoseId);
+    std::optional<formats::Mat4>* mutablePoseOverride(const NodeKey& node);
+    /// Rebuilds the live hose from its definition and the current pose; emits HoseChanged.
+    void hoseDefinitionChanged(const std::string& hoseId);
+    /// Inserts a definition at `index` and builds it; emits HoseAdded.
+    void insertHose(int index, formats::HoseDefinition definition);
+    /// Removes the hose; returns its definition. Emits HoseRemoved.
+    formats::HoseDefinition removeHose(const std::string& hoseId);
+    /// Moves the attachments of every hose fixed under the changed node to the posed frames
+    /// (the hoses follow live), or rebuilds a hose exactly when no override affects it any
+    /// more; emits PoseChanged and HoseShapeChanged.
+    void poseChanged(const NodeKey& node);
+    /// Adds/removes an imported scene with its reference (import command).
+    void insertScene(int index, formats::SceneReference reference, formats::ImportedScene scene);
+    std::pair<formats::SceneReference, formats::ImportedScene> removeScene(const std::string& id);
+    void presetsChanged();
+    void projectSettingsChanged();
+
+signals:
+    void changed(const chaintube::editor::ChangeEvent& event);
+
+private:
+    struct LiveHose
+    {
+        std::optional<Hose> hose;
+        std::string error;
+        std::uint64_t buildSerial = 0;
+        mutable std::optional<HoseMetrics> metrics;
+        mutable std::uint64_t metricsRevision = 0;
+    };
+    void rebuildHose(const std::string& hoseId);
+    void rebuildAllHoses();
+    bool hoseAffectedByPose(const formats::HoseDefinition& definition) const;
+    /// Frames of the definition's attachments under the current pose.
+    std::vector<Frame> posedAttachmentFrames(const formats::HoseDefinition& definition) const;
+    void emitChanged(ChangeEvent::Kind kind, const std::string& hoseId = {});
+
+    formats::NamedRoots m_roots;
+    formats::Project m_project;
+    std::filesystem::path m_file;
+    formats::ImportedScenes m_scenes;
+    std::map<std::string, LiveHose> m_live;
+    std::map<NodeKey, std::optional<formats::Mat4>> m_pose;
+    std::uint64_t m_poseSerial = 1;
+    std::uint64_t m_buildCounter = 0;
+    std::uint64_t m_mergeGeneration = 1;
+    Selection m_selection;
+    QUndoStack m_undoStack;
+    bool m_forcedModified = false;
+};
+
+} // namespace chaintube::editor
+
+Q_DECLARE_METATYPE(chaintube::editor::ChangeEvent)

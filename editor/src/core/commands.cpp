@@ -1,0 +1,141 @@
+#include "chaintube/editor/commands.h"
+
+#include <QCoreApplication>
+
+namespace chaintube::editor {
+
+namespace {
+QString tr(const char* text) { return QCoreApplication::translate("Commands", text); }
+} // namespace
+
+AddHoseCommand::AddHoseCommand(Document& document, formats::HoseDefinition definition)
+    : QUndoCommand(tr("Add hose")), m_document(document), m_definition(std::move(definition)),
+      m_index(document.hoseCount())
+{
+}
+
+void AddHoseCommand::redo() { m_document.insertHose(m_index, m_definition); }
+
+void AddHoseCommand::undo() { m_definition = m_document.removeHose(m_definition.id); }
+
+RemoveHoseCommand::RemoveHoseCommand(Document& document, std::string hoseId)
+    : QUndoCommand(tr("Delete hose")), m_document(document), m_hoseId(std::move(hoseId))
+{
+}
+
+void RemoveHoseCommand::redo()
+{
+    m_index = m_document.hoseIndex(m_hoseId);
+    if (m_index >= 0)
+        m_definition = m_document.removeHose(m_hoseId);
+}
+
+void RemoveHoseCommand::undo()
+{
+    if (m_index >= 0)
+        m_document.insertHose(m_index, m_definition);
+}
+
+AddSceneCommand::AddSceneCommand(Document& document, formats::SceneReference reference,
+                                 formats::ImportedScene scene)
+    : QUndoCommand(tr("Import scene")), m_document(document), m_reference(std::move(reference)),
+      m_scene(std::move(scene))
+{
+}
+
+void AddSceneCommand::redo()
+{
+    m_document.insertScene(static_cast<int>(m_document.project().scenes.size()), m_reference,
+                           std::move(m_scene));
+}
+
+void AddSceneCommand::undo()
+{
+    auto removed = m_document.removeScene(m_reference.id);
+    m_scene = std::move(removed.second);
+}
+
+QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
+                           std::vector<Vec3> route, const QString& text, MergeId mergeId)
+{
+    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::route,
+                               std::move(route), mergeId, text);
+}
+
+QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
+                         const std::string& sceneId, int node)
+{
+    const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
+    const Hose* hose = document.hose(hoseId);
+    const formats::ImportedScene* scene = document.scene(sceneId);
+    if (!definition || !hose)
+        throw InvalidArgument("no hose '" + hoseId + "' to fix");
+    if (!scene || node < 0 || node >= static_cast<int>(scene->nodes.size()))
+        throw InvalidArgument("no scene node to fix the hose to");
+    if (first < 0 || last < first || last >= hose->pointCount())
+        throw InvalidArgument("points [" + std::to_string(first) + ", " + std::to_string(last) +
+                              "] are outside the hose's " + std::to_string(hose->pointCount()) +
+                              " axis points");
+    for (const formats::HoseAttachment& existing : definition->attachments)
+        if (first <= existing.lastPoint && existing.firstPoint <= last)
+            throw InvalidArgument("points [" + std::to_string(first) + ", " +
+                                  std::to_string(last) + "] overlap the segment fixed to " +
+                                  existing.node);
+    formats::HoseAttachment attachment;
+    attachment.scene = sceneId;
+    attachment.node = scene->nodes[static_cast<size_t>(node)].path;
+    // The hose is rebuilt from its route at the file pose, so the offset is taken there: the
+    // fixed points keep their route positions relative to the node as it is in the file.
+    attachment.offset = Frame::identity();
+    attachment.firstPoint = first;
+    attachment.lastPoint = last;
+    std::vector<formats::HoseAttachment> attachments = definition->attachments;
+    attachments.push_back(attachment);
+    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::attachments,
+                               std::move(attachments), MergeId::None,
+                               tr("Fix hose to %1")
+                                   .arg(QString::fromStdString(
+                                       scene->nodes[static_cast<size_t>(node)].name)));
+}
+
+QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index)
+{
+    const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
+    if (!definition || index < 0 || index >= static_cast<int>(definition->attachments.size()))
+        throw InvalidArgument("no attachment " + std::to_string(index) + " on hose '" + hoseId +
+                              "'");
+    std::vector<formats::HoseAttachment> attachments = definition->attachments;
+    attachments.erase(attachments.begin() + index);
+    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::attachments,
+                               std::move(attachments), MergeId::None, tr("Detach hose"));
+}
+
+QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
+                                   std::optional<formats::Mat4> localTransform)
+{
+    return new ChangeValue<std::optional<formats::Mat4>>(
+        document, tr("Move part"),
+        [node](Document& d) { return d.mutablePoseOverride(node); },
+        [node](Document& d) { d.poseChanged(node); }, std::move(localTransform),
+        MergeId::NodeTransform, node.first + "#" + std::to_string(node.second));
+}
+
+QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPreset> presets,
+                             const QString& text)
+{
+    return new ChangeValue<std::vector<formats::MaterialPreset>>(
+        document, text,
+        [](Document& d) { return &d.mutableProject().materialPresets; },
+        [](Document& d) { d.presetsChanged(); }, std::move(presets), MergeId::None);
+}
+
+QUndoCommand* makeSetExportSettings(Document& document, formats::ExportSettings settings)
+{
+    return new ChangeValue<formats::ExportSettings>(
+        document, tr("Change export settings"),
+        [](Document& d) { return &d.mutableProject().exportSettings; },
+        [](Document& d) { d.projectSettingsChanged(); }, std::move(settings),
+        MergeId::ExportSettings, "export");
+}
+
+} // namespace chaintube::editor

@@ -1,0 +1,469 @@
+#include "chaintube/editor/document.h"
+
+#include "chaintube/editor/commands.h"
+
+#include <QMetaType>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace chaintube::editor {
+
+namespace fs = std::filesystem;
+
+LoadedProject readProject(const fs::path& file, const formats::NamedRoots& roots,
+                          const std::function<bool(double)>& progress,
+                          const std::optional<std::string>& textOverride)
+{
+    LoadedProject loaded;
+    formats::ProjectLoadOptions options;
+    options.roots = roots;
+    loaded.project = textOverride ? formats::parseProject(*textOverride, file, options)
+                                  : formats::loadProject(file, options);
+    loaded.file = file;
+    loaded.scenes = formats::importProjectScenes(loaded.project, file, roots, progress);
+    return loaded;
+}
+
+Document::Document(formats::NamedRoots roots, QObject* parent)
+    : QObject(parent), m_roots(std::move(roots))
+{
+    qRegisterMetaType<ChangeEvent>();
+    m_project = formats::Project::withStandardPresets("Untitled");
+    connect(&m_undoStack, &QUndoStack::cleanChanged, this,
+            [this](bool) { emitChanged(ChangeEvent::Kind::FileStateChanged); });
+}
+
+Document::~Document()
+{
+    // Nobody may hear about the undo stack's destruction (its commands refer to us).
+    blockSignals(true);
+    m_undoStack.disconnect(this);
+    m_undoStack.clear();
+}
+
+void Document::adopt(LoadedProject loaded)
+{
+    m_undoStack.clear();
+    m_project = std::move(loaded.project);
+    m_file = std::move(loaded.file);
+    m_scenes = std::move(loaded.scenes);
+    m_pose.clear();
+    ++m_poseSerial;
+    m_selection = {};
+    m_forcedModified = false;
+    rebuildAllHoses();
+    m_undoStack.setClean();
+    emitChanged(ChangeEvent::Kind::ProjectReplaced);
+    emitChanged(ChangeEvent::Kind::FileStateChanged);
+}
+
+void Document::reset(const std::string& projectName)
+{
+    LoadedProject empty;
+    empty.project = formats::Project::withStandardPresets(projectName);
+    adopt(std::move(empty));
+}
+
+void Document::save(const fs::path& file)
+{
+    formats::ProjectLoadOptions validation;
+    validation.roots = m_roots;
+    formats::saveProject(m_project, file, validation);
+    m_file = file;
+    m_forcedModified = false;
+    m_undoStack.setClean();
+    emitChanged(ChangeEvent::Kind::FileStateChanged);
+}
+
+void Document::setForcedModified(bool modified)
+{
+    m_forcedModified = modified;
+    emitChanged(ChangeEvent::Kind::FileStateChanged);
+}
+
+const formats::ImportedScene* Document::scene(const std::string& sceneId) const
+{
+    const auto it = m_scenes.find(sceneId);
+    return it == m_scenes.end() ? nullptr : &it->second;
+}
+
+int Document::hoseIndex(const std::string& hoseId) const
+{
+    for (size_t i = 0; i < m_project.hoses.size(); ++i)
+        if (m_project.hoses[i].id == hoseId)
+            return static_cast<int>(i);
+    return -1;
+}
+
+const formats::HoseDefinition* Document::hoseDefinition(const std::string& hoseId) const
+{
+    const int index = hoseIndex(hoseId);
+    return index < 0 ? nullptr : &m_project.hoses[static_cast<size_t>(index)];
+}
+
+formats::HoseDefinition* Document::mutableHoseDefinition(const std::string& hoseId)
+{
+    const int index = hoseIndex(hoseId);
+    return index < 0 ? nullptr : &m_project.hoses[static_cast<size_t>(index)];
+}
+
+const Hose* Document::hose(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    return it == m_live.end() || !it->second.hose ? nullptr : &*it->second.hose;
+}
+
+std::string Document::hoseBuildError(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    return it == m_live.end() ? std::string() : it->second.error;
+}
+
+std::uint64_t Document::hoseBuildSerial(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    return it == m_live.end() ? 0 : it->second.buildSerial;
+}
+
+const HoseMetrics* Document::hoseMetrics(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    if (it == m_live.end() || !it->second.hose)
+        return nullptr;
+    const LiveHose& live = it->second;
+    const std::uint64_t revision = live.hose->revision() ^ (live.buildSerial << 40);
+    if (!live.metrics || live.metricsRevision != revision) {
+        live.metrics = measure(*live.hose);
+        live.metricsRevision = revision;
+    }
+    return &*live.metrics;
+}
+
+std::string Document::validateHoseDefinition(const formats::HoseDefinition& definition) const
+{
+    try {
+        if (!(definition.outerDiameter > 0.0) || !std::isfinite(definition.outerDiameter))
+            return "The outer diameter must be a positive number of metres.";
+        if (definition.route.size() < 2)
+            return "A hose needs at least two route points.";
+        const HoseSpec spec = formats::hoseSpecOf(m_project, definition);
+        spec.validate();
+        const Hose built = Hose::alongRoute(definition.route, spec);
+        for (const formats::HoseAttachment& attachment : definition.attachments)
+            if (attachment.lastPoint >= built.pointCount())
+                return "Attachment points [" + std::to_string(attachment.firstPoint) + ", " +
+                       std::to_string(attachment.lastPoint) + "] lie outside the hose's " +
+                       std::to_string(built.pointCount()) + " axis points.";
+    } catch (const std::exception& error) {
+        return error.what();
+    }
+    return {};
+}
+
+std::string Document::unusedHoseId() const
+{
+    for (int n = 1;; ++n) {
+        std::string id = "hose-" + std::to_string(n);
+        if (hoseIndex(id) < 0)
+            return id;
+    }
+}
+
+formats::Mat4 Document::nodeLocalTransform(const std::string& sceneId, int node) const
+{
+    const auto it = m_pose.find({sceneId, node});
+    if (it != m_pose.end() && it->second)
+        return *it->second;
+    const formats::ImportedScene* imported = scene(sceneId);
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
+        return formats::Mat4::Identity();
+    return imported->nodes[static_cast<size_t>(node)].localTransform;
+}
+
+formats::Mat4 Document::nodeWorldTransform(const std::string& sceneId, int node) const
+{
+    const formats::ImportedScene* imported = scene(sceneId);
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
+        return formats::Mat4::Identity();
+    formats::Mat4 world = formats::Mat4::Identity();
+    for (int n = node; n >= 0; n = imported->nodes[static_cast<size_t>(n)].parent)
+        world = nodeLocalTransform(sceneId, n) * world;
+    return world;
+}
+
+Frame Document::nodeWorldFrame(const std::string& sceneId, int node) const
+{
+    return formats::rigidPart(nodeWorldTransform(sceneId, node));
+}
+
+void Document::setSelection(const Selection& selection)
+{
+    if (selection == m_selection)
+        return;
+    m_selection = selection;
+    emitChanged(ChangeEvent::Kind::SelectionChanged, selection.hoseId);
+}
+
+UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const Vec3& target)
+{
+    const auto it = m_live.find(hoseId);
+    if (it == m_live.end() || !it->second.hose) {
+        UpdateResult invalid;
+        invalid.status = Status::InvalidInput;
+        return invalid;
+    }
+    const UpdateResult result = it->second.hose->grab(point, target);
+    if (result.movedPoints > 0)
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+    return result;
+}
+
+bool Document::commitHoseDrag(const std::string& hoseId, std::string* why)
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    const Hose* live = hose(hoseId);
+    if (!definition || !live)
+        return false;
+    if (hoseAffectedByPose(*definition)) {
+        if (why)
+            *why = "This hose is fixed to a part that is moved from its file position; reset "
+                   "the part's transform before reshaping the hose (the route is stored at "
+                   "the file position).";
+        rebuildHose(hoseId);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+        return false;
+    }
+    std::vector<Vec3> route = live->points();
+    // Consecutive points can coincide after an extreme drag; a route needs distinct points.
+    route.erase(std::unique(route.begin(), route.end(),
+                            [](const Vec3& a, const Vec3& b) { return (a - b).norm() < 1e-9; }),
+                route.end());
+    formats::HoseDefinition changed = *definition;
+    changed.route = route;
+    if (definition->segmentCount > 0)
+        changed.segmentCount = definition->segmentCount;
+    const std::string problem = validateHoseDefinition(changed);
+    if (!problem.empty()) {
+        if (why)
+            *why = problem;
+        rebuildHose(hoseId);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+        return false;
+    }
+    m_undoStack.push(makeSetRoute(*this, hoseId, std::move(route),
+                                  tr("Drag hose point"), MergeId::None));
+    return true;
+}
+
+void Document::cancelHoseDrag(const std::string& hoseId)
+{
+    rebuildHose(hoseId);
+    emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+}
+
+std::string Document::stateFingerprint() const
+{
+    std::ostringstream out;
+    out << formats::serialiseProject(m_project);
+    out.precision(17);
+    for (const auto& [key, transform] : m_pose) {
+        if (!transform)
+            continue;
+        out << "pose " << key.first << ' ' << key.second;
+        for (int i = 0; i < 16; ++i)
+            out << ' ' << (*transform)(i % 4, i / 4);
+        out << '\n';
+    }
+    for (const auto& [id, imported] : m_scenes)
+        out << "scene " << id << ' ' << imported.nodes.size() << '\n';
+    return out.str();
+}
+
+std::optional<formats::Mat4>* Document::mutablePoseOverride(const NodeKey& node)
+{
+    return &m_pose[node];
+}
+
+void Document::hoseDefinitionChanged(const std::string& hoseId)
+{
+    rebuildHose(hoseId);
+    emitChanged(ChangeEvent::Kind::HoseChanged, hoseId);
+}
+
+void Document::insertHose(int index, formats::HoseDefinition definition)
+{
+    const std::string id = definition.id;
+    index = std::clamp(index, 0, hoseCount());
+    m_project.hoses.insert(m_project.hoses.begin() + index, std::move(definition));
+    rebuildHose(id);
+    emitChanged(ChangeEvent::Kind::HoseAdded, id);
+}
+
+formats::HoseDefinition Document::removeHose(const std::string& hoseId)
+{
+    const int index = hoseIndex(hoseId);
+    formats::HoseDefinition removed = m_project.hoses.at(static_cast<size_t>(index));
+    m_project.hoses.erase(m_project.hoses.begin() + index);
+    m_live.erase(hoseId);
+    if (m_selection.hoseId == hoseId) {
+        Selection cleared = m_selection;
+        cleared.hoseId.clear();
+        cleared.rangeFirst = cleared.rangeLast = cleared.routePoint = -1;
+        m_selection = cleared;
+    }
+    emitChanged(ChangeEvent::Kind::HoseRemoved, hoseId);
+    emitChanged(ChangeEvent::Kind::SelectionChanged);
+    return removed;
+}
+
+void Document::poseChanged(const NodeKey& node)
+{
+    ++m_poseSerial;
+    for (const formats::HoseDefinition& definition : m_project.hoses) {
+        bool attachedHere = false;
+        for (const formats::HoseAttachment& attachment : definition.attachments)
+            attachedHere = attachedHere || attachment.scene == node.first;
+        if (!attachedHere)
+            continue;
+        auto live = m_live.find(definition.id);
+        if (live == m_live.end() || !live->second.hose)
+            continue;
+        if (!hoseAffectedByPose(definition)) {
+            rebuildHose(definition.id); // back at the file pose: exactly the built shape
+        } else {
+            Hose& hoseObject = *live->second.hose;
+            std::vector<int> ids;
+            for (const Hose::Attachment& attachment : hoseObject.attachments())
+                ids.push_back(attachment.id);
+            const std::vector<Frame> frames = posedAttachmentFrames(definition);
+            if (ids.size() == frames.size())
+                hoseObject.moveAttachments(ids, frames);
+        }
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
+    }
+    ChangeEvent event;
+    event.kind = ChangeEvent::Kind::PoseChanged;
+    event.sceneId = node.first;
+    event.node = node.second;
+    emit changed(event);
+}
+
+void Document::insertScene(int index, formats::SceneReference reference,
+                           formats::ImportedScene importedScene)
+{
+    index = std::clamp(index, 0, static_cast<int>(m_project.scenes.size()));
+    m_scenes[reference.id] = std::move(importedScene);
+    m_project.scenes.insert(m_project.scenes.begin() + index, std::move(reference));
+    ++m_poseSerial;
+    emitChanged(ChangeEvent::Kind::ScenesChanged);
+}
+
+std::pair<formats::SceneReference, formats::ImportedScene>
+Document::removeScene(const std::string& id)
+{
+    auto it = std::find_if(m_project.scenes.begin(), m_project.scenes.end(),
+                           [&](const formats::SceneReference& s) { return s.id == id; });
+    std::pair<formats::SceneReference, formats::ImportedScene> removed;
+    removed.first = *it;
+    m_project.scenes.erase(it);
+    removed.second = std::move(m_scenes.at(id));
+    m_scenes.erase(id);
+    for (auto pose = m_pose.begin(); pose != m_pose.end();)
+        pose = pose->first.first == id ? m_pose.erase(pose) : std::next(pose);
+    if (m_selection.sceneId == id) {
+        m_selection.sceneId.clear();
+        m_selection.node = -1;
+    }
+    ++m_poseSerial;
+    emitChanged(ChangeEvent::Kind::ScenesChanged);
+    return removed;
+}
+
+void Document::presetsChanged()
+{
+    // Hoses using a preset by name get the new values.
+    for (const formats::HoseDefinition& definition : m_project.hoses)
+        if (std::holds_alternative<formats::PresetName>(definition.material))
+            rebuildHose(definition.id);
+    emitChanged(ChangeEvent::Kind::PresetsChanged);
+}
+
+void Document::projectSettingsChanged()
+{
+    emitChanged(ChangeEvent::Kind::ProjectSettingsChanged);
+}
+
+void Document::rebuildHose(const std::string& hoseId)
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    if (!definition) {
+        m_live.erase(hoseId);
+        return;
+    }
+    LiveHose& live = m_live[hoseId];
+    live.buildSerial = ++m_buildCounter;
+    live.metrics.reset();
+    try {
+        Hose built = formats::buildHose(m_project, *definition, m_scenes);
+        if (hoseAffectedByPose(*definition)) {
+            std::vector<int> ids;
+            for (const Hose::Attachment& attachment : built.attachments())
+                ids.push_back(attachment.id);
+            const std::vector<Frame> frames = posedAttachmentFrames(*definition);
+            if (ids.size() == frames.size())
+                built.moveAttachments(ids, frames);
+        }
+        live.hose = std::move(built);
+        live.error.clear();
+    } catch (const std::exception& error) {
+        live.hose.reset();
+        live.error = error.what();
+    }
+}
+
+void Document::rebuildAllHoses()
+{
+    m_live.clear();
+    for (const formats::HoseDefinition& definition : m_project.hoses)
+        rebuildHose(definition.id);
+}
+
+bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) const
+{
+    for (const formats::HoseAttachment& attachment : definition.attachments) {
+        const formats::ImportedScene* imported = scene(attachment.scene);
+        if (!imported)
+            continue;
+        for (int n = imported->findNode(attachment.node); n >= 0;
+             n = imported->nodes[static_cast<size_t>(n)].parent) {
+            const auto it = m_pose.find({attachment.scene, n});
+            if (it != m_pose.end() && it->second)
+                return true;
+        }
+    }
+    return false;
+}
+
+std::vector<Frame>
+Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
+{
+    std::vector<Frame> frames;
+    for (const formats::HoseAttachment& attachment : definition.attachments) {
+        const formats::ImportedScene* imported = scene(attachment.scene);
+        const int node = imported ? imported->findNode(attachment.node) : -1;
+        frames.push_back(nodeWorldFrame(attachment.scene, node) * attachment.offset);
+    }
+    return frames;
+}
+
+void Document::emitChanged(ChangeEvent::Kind kind, const std::string& hoseId)
+{
+    ChangeEvent event;
+    event.kind = kind;
+    event.hoseId = hoseId;
+    emit changed(event);
+}
+
+} // namespace chaintube::editor

@@ -1,0 +1,309 @@
+// Document and undo commands: every command's undo restores the document exactly (compared
+// through serialiseProject plus the pose overrides), redo gives the edited state exactly, and
+// slider-like edits merge into one undo step. Runs under QT_QPA_PLATFORM=offscreen.
+#include "chaintube/editor/commands.h"
+#include "chaintube/editor/document.h"
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <memory>
+
+namespace chaintube::editor {
+namespace {
+
+using test::roots;
+using test::samplesDir;
+
+std::unique_ptr<Document> openTestRig()
+{
+    auto document = std::make_unique<Document>(roots());
+    document->adopt(readProject(samplesDir() / "test-rig.ctproj", roots()));
+    return document;
+}
+
+/// Pushes the command and checks: the state changed, undo restores it byte for byte, redo
+/// gives the edited state byte for byte, and the live hoses follow.
+void expectExactUndo(Document& document, QUndoCommand* command)
+{
+    document.closeMerge(); // each call is a separate edit
+    const std::string before = document.stateFingerprint();
+    std::vector<std::vector<Vec3>> pointsBefore;
+    for (const auto& hose : document.project().hoses)
+        pointsBefore.push_back(document.hose(hose.id) ? document.hose(hose.id)->points()
+                                                      : std::vector<Vec3>{});
+    document.undoStack()->push(command);
+    const std::string after = document.stateFingerprint();
+    ASSERT_NE(before, after) << "the command changed nothing";
+    document.undoStack()->undo();
+    EXPECT_EQ(before, document.stateFingerprint());
+    ASSERT_EQ(pointsBefore.size(), document.project().hoses.size());
+    for (size_t i = 0; i < pointsBefore.size(); ++i) {
+        const Hose* hose = document.hose(document.project().hoses[i].id);
+        ASSERT_TRUE(hose);
+        EXPECT_EQ(pointsBefore[i], hose->points()) << "hose " << i << " not restored";
+    }
+    document.undoStack()->redo();
+    EXPECT_EQ(after, document.stateFingerprint());
+}
+
+TEST(Document, OpensTheTestRigWithItsSceneAndHoses)
+{
+    auto document = openTestRig();
+    ASSERT_EQ(document->hoseCount(), 2);
+    ASSERT_TRUE(document->scene("rig"));
+    EXPECT_GE(document->scene("rig")->findNode("/test-rig/valve"), 0);
+    for (const auto& hose : document->project().hoses)
+        EXPECT_TRUE(document->hose(hose.id)) << document->hoseBuildError(hose.id);
+    EXPECT_FALSE(document->isModified());
+}
+
+TEST(DocumentUndo, EveryHoseFieldChangeUndoesExactly)
+{
+    auto document = openTestRig();
+    const std::string id = document->project().hoses[0].id;
+    using formats::HoseDefinition;
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::outerDiameter,
+                                                   0.031, MergeId::HoseDiameter, "diameter"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::segmentCount,
+                                                   24, MergeId::HoseSegments, "segments"));
+    expectExactUndo(*document,
+                    makeChangeHoseField(*document, id, &HoseDefinition::name,
+                                        std::string("renamed"), MergeId::HoseName, "name"));
+    formats::Rgba colour{0.9, 0.1, 0.2, 1.0};
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::colour,
+                                                   colour, MergeId::HoseColour, "colour"));
+    Material material;
+    material.expansionCoefficient = 0.2;
+    material.bendLimit = BendLimit::deflectionAngle(0.5);
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::material,
+                                                   formats::MaterialChoice(material),
+                                                   MergeId::HoseMaterial, "material"));
+    formats::ProfileSpec profile;
+    profile.shape = Profile::Shape::Rectangle;
+    profile.width = 0.03;
+    profile.height = 0.012;
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::profile,
+                                                   profile, MergeId::HoseProfile, "profile"));
+}
+
+TEST(DocumentUndo, RouteEditsUndoExactly)
+{
+    auto document = openTestRig();
+    const auto& hose = document->project().hoses[0];
+    std::vector<Vec3> inserted = hose.route;
+    inserted.insert(inserted.begin() + 2, 0.5 * (inserted[1] + inserted[2]) + Vec3(0, 0.05, 0));
+    expectExactUndo(*document, makeSetRoute(*document, hose.id, inserted, "insert"));
+    std::vector<Vec3> deleted = document->project().hoses[0].route;
+    deleted.erase(deleted.begin() + 1);
+    expectExactUndo(*document, makeSetRoute(*document, hose.id, deleted, "delete"));
+    std::vector<Vec3> moved = document->project().hoses[0].route;
+    moved[1] += Vec3(0.02, 0.03, -0.01);
+    expectExactUndo(*document, makeSetRoute(*document, hose.id, moved, "move"));
+}
+
+TEST(DocumentUndo, AddAndRemoveHoseUndoExactly)
+{
+    auto document = openTestRig();
+    formats::HoseDefinition definition;
+    definition.id = document->unusedHoseId();
+    definition.name = "new";
+    definition.route = {Vec3(0, 0.3, 0), Vec3(0.2, 0.35, 0.1), Vec3(0.3, 0.3, 0.3)};
+    expectExactUndo(*document, new AddHoseCommand(*document, definition));
+    EXPECT_TRUE(document->hose(definition.id));
+    expectExactUndo(*document, new RemoveHoseCommand(*document, document->project().hoses[0].id));
+    EXPECT_EQ(document->hoseCount(), 2);
+}
+
+TEST(DocumentUndo, AttachAndDetachUndoExactly)
+{
+    auto document = openTestRig();
+    const auto& rig = *document->scene("rig");
+    const int floor = rig.findNode("/test-rig/floor_plate");
+    ASSERT_GE(floor, 0);
+    const std::string id = document->project().hoses[0].id;
+    expectExactUndo(*document, makeAttach(*document, id, 7, 8, "rig", floor));
+    EXPECT_TRUE(document->hose(id)->isFixed(7));
+    expectExactUndo(*document, makeDetach(*document, id, 0));
+    EXPECT_THROW(makeAttach(*document, id, 7, 7, "rig", floor), InvalidArgument)
+        << "overlapping range must be refused";
+}
+
+TEST(DocumentUndo, MovingAPartMovesTheFixedSegmentAndUndoesExactly)
+{
+    auto document = openTestRig();
+    const auto& rig = *document->scene("rig");
+    const int valve = rig.findNode("/test-rig/valve");
+    const auto& right = document->project().hoses[1]; // last point fixed to the valve
+    const int last = document->hose(right.id)->pointCount() - 1;
+    const Vec3 before = document->hose(right.id)->point(last);
+    formats::Mat4 moved = document->nodeLocalTransform("rig", valve);
+    moved(0, 3) += 0.05;
+    moved(2, 3) -= 0.03;
+    expectExactUndo(*document, makeSetNodeTransform(*document, {"rig", valve}, moved));
+    const Vec3 after = document->hose(right.id)->point(last);
+    EXPECT_NEAR((after - before - Vec3(0.05, 0, -0.03)).norm(), 0.0, 1e-9);
+    document->undoStack()->undo();
+    EXPECT_NEAR((document->hose(right.id)->point(last) - before).norm(), 0.0, 0.0);
+}
+
+TEST(DocumentUndo, PresetsAndExportSettingsUndoExactly)
+{
+    auto document = openTestRig();
+    auto presets = document->project().materialPresets;
+    formats::MaterialPreset own;
+    own.name = "my silicone hose";
+    own.description = "soft";
+    own.material.expansionCoefficient = 0.15;
+    own.material.bendLimit = BendLimit::minBendRadius(0.04);
+    presets.push_back(own);
+    expectExactUndo(*document, makeSetPresets(*document, presets, "save preset"));
+    formats::ExportSettings settings = document->project().exportSettings;
+    settings.format = "gltf";
+    settings.path = "out.gltf";
+    expectExactUndo(*document, makeSetExportSettings(*document, settings));
+}
+
+TEST(DocumentUndo, ImportingASceneUndoesExactly)
+{
+    Document document(roots());
+    formats::SceneReference reference;
+    reference.id = "rig";
+    reference.path = (samplesDir() / "scenes/test-rig.gltf").string();
+    auto scene = formats::importScene(samplesDir() / "scenes/test-rig.gltf");
+    expectExactUndo(document, new AddSceneCommand(document, reference, scene));
+    EXPECT_TRUE(document.scene("rig"));
+    document.undoStack()->undo();
+    EXPECT_FALSE(document.scene("rig"));
+}
+
+TEST(DocumentUndo, CommittedDragUndoesExactly)
+{
+    auto document = openTestRig();
+    const std::string id = document->project().hoses[0].id;
+    const std::string before = document->stateFingerprint();
+    const std::vector<Vec3> pointsBefore = document->hose(id)->points();
+    const Vec3 start = document->hose(id)->point(8);
+    for (int step = 1; step <= 10; ++step)
+        document->dragHosePoint(id, 8, start + Vec3(0, 0.006 * step, 0.004 * step));
+    EXPECT_NE(pointsBefore, document->hose(id)->points());
+    EXPECT_EQ(before, document->stateFingerprint()) << "a drag is not an edit until committed";
+    ASSERT_TRUE(document->commitHoseDrag(id));
+    EXPECT_EQ(document->undoStack()->count(), 1);
+    EXPECT_NEAR((document->hose(id)->point(8) - (start + Vec3(0, 0.06, 0.04))).norm(), 0.0,
+                0.01)
+        << "the rebuilt hose keeps the dragged shape";
+    document->undoStack()->undo();
+    EXPECT_EQ(before, document->stateFingerprint());
+    EXPECT_EQ(pointsBefore, document->hose(id)->points());
+}
+
+TEST(DocumentUndo, DragOfAHoseFixedToAMovedPartIsRefusedWithAReason)
+{
+    auto document = openTestRig();
+    const int valve = document->scene("rig")->findNode("/test-rig/valve");
+    formats::Mat4 moved = document->nodeLocalTransform("rig", valve);
+    moved(1, 3) += 0.02;
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
+    const std::string id = document->project().hoses[1].id;
+    document->dragHosePoint(id, 5, document->hose(id)->point(5) + Vec3(0, 0.05, 0));
+    std::string why;
+    EXPECT_FALSE(document->commitHoseDrag(id, &why));
+    EXPECT_NE(why.find("moved"), std::string::npos) << why;
+    EXPECT_EQ(document->undoStack()->count(), 1);
+}
+
+TEST(DocumentUndo, ASliderDragIsOneUndoStepAndTwoDragsAreTwo)
+{
+    auto document = openTestRig();
+    const std::string id = document->project().hoses[0].id;
+    const double original = document->hoseDefinition(id)->outerDiameter;
+    for (double d : {0.021, 0.022, 0.023, 0.024})
+        document->undoStack()->push(makeChangeHoseField(
+            *document, id, &formats::HoseDefinition::outerDiameter, d, MergeId::HoseDiameter,
+            "diameter"));
+    EXPECT_EQ(document->undoStack()->count(), 1);
+    document->closeMerge(); // slider released
+    for (double d : {0.025, 0.026})
+        document->undoStack()->push(makeChangeHoseField(
+            *document, id, &formats::HoseDefinition::outerDiameter, d, MergeId::HoseDiameter,
+            "diameter"));
+    EXPECT_EQ(document->undoStack()->count(), 2);
+    document->undoStack()->undo();
+    EXPECT_EQ(document->hoseDefinition(id)->outerDiameter, 0.024);
+    document->undoStack()->undo();
+    EXPECT_EQ(document->hoseDefinition(id)->outerDiameter, original);
+}
+
+TEST(DocumentUndo, DifferentHosesDoNotMerge)
+{
+    auto document = openTestRig();
+    for (const auto& hose : std::vector<formats::HoseDefinition>(document->project().hoses))
+        document->undoStack()->push(makeChangeHoseField(
+            *document, hose.id, &formats::HoseDefinition::outerDiameter, 0.03,
+            MergeId::HoseDiameter, "diameter"));
+    EXPECT_EQ(document->undoStack()->count(), 2);
+}
+
+TEST(Document, ValidationRefusesImpossibleValuesWithAReason)
+{
+    auto document = openTestRig();
+    formats::HoseDefinition definition = document->project().hoses[0];
+    definition.profile.shape = Profile::Shape::RoundedRectangle;
+    definition.profile.width = 0.02;
+    definition.profile.height = 0.01;
+    definition.profile.cornerRadius = 0.02; // more than half the height
+    EXPECT_FALSE(document->validateHoseDefinition(definition).empty());
+    definition = document->project().hoses[0];
+    definition.material = formats::PresetName{"no such preset"};
+    EXPECT_FALSE(document->validateHoseDefinition(definition).empty());
+    definition = document->project().hoses[0];
+    definition.segmentCount = 4; // attachment at points 15–16 would be outside
+    EXPECT_FALSE(document->validateHoseDefinition(definition).empty());
+    EXPECT_TRUE(document->validateHoseDefinition(document->project().hoses[0]).empty());
+}
+
+TEST(Document, SaveThenOpenGivesTheSameProject)
+{
+    auto document = openTestRig();
+    const std::string id = document->project().hoses[0].id;
+    document->undoStack()->push(makeChangeHoseField(
+        *document, id, &formats::HoseDefinition::outerDiameter, 0.027, MergeId::HoseDiameter,
+        "diameter"));
+    EXPECT_TRUE(document->isModified());
+    // The relative scene path must stay valid: the scene is copied beside the saved file.
+    const auto folder = test::outputDir() / "save-open";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    const auto file = folder / "saved.ctproj";
+    document->save(file);
+    EXPECT_FALSE(document->isModified());
+    Document reopened(roots());
+    reopened.adopt(readProject(file, roots()));
+    EXPECT_EQ(formats::serialiseProject(document->project()),
+              formats::serialiseProject(reopened.project()));
+    EXPECT_EQ(document->hose(id)->points(), reopened.hose(id)->points());
+}
+
+TEST(Document, ChangeEventsNameWhatChanged)
+{
+    auto document = openTestRig();
+    std::vector<ChangeEvent> events;
+    QObject::connect(document.get(), &Document::changed,
+                     [&](const ChangeEvent& event) { events.push_back(event); });
+    const std::string id = document->project().hoses[1].id;
+    document->undoStack()->push(makeChangeHoseField(
+        *document, id, &formats::HoseDefinition::segmentCount, 24, MergeId::HoseSegments, "s"));
+    bool sawHoseChanged = false;
+    for (const ChangeEvent& event : events)
+        sawHoseChanged = sawHoseChanged ||
+                         (event.kind == ChangeEvent::Kind::HoseChanged && event.hoseId == id);
+    EXPECT_TRUE(sawHoseChanged);
+    EXPECT_EQ(document->hose(id)->pointCount(), 25);
+}
+
+} // namespace
+} // namespace chaintube::editor
