@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 debian_packages=(
   build-essential cmake ninja-build ccache pkg-config zlib1g-dev
   libeigen3-dev libassimp-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libbullet-dev
   qt6-base-dev libqt6opengl6-dev libqt6openglwidgets6
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-ocaf-dev
   libocct-visualization-dev

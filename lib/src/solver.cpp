@@ -278,6 +278,45 @@ public:
         return false;
     }
 
+    /// Clamp of a grab whose point k has fixed points on one side only (pinSide = −1: left,
+    /// +1: right) and a free end on the other: FABRIK-style reaching. Alternately place the
+    /// chain from the target back towards the nearest pinned point, then from the pinned point
+    /// out to the free end with k free. Every pass from the pin leaves all constraints exact;
+    /// k converges to the reachable position closest to the target. Bounded: 64 rounds.
+    void softClamp(int k, const Vec3& target, int pinSide)
+    {
+        const int n = h.pointCount();
+        int pin = k + pinSide;
+        while (!h.m_fixed[static_cast<size_t>(pin)]) pin += pinSide;
+        const int freeEnd = pinSide < 0 ? n - 1 : 0;
+        const int outward = -pinSide; // from the pin towards the free end
+        auto direction = [&](int from, int to) {
+            return Vec3((p[static_cast<size_t>(to)] - p[static_cast<size_t>(from)]).normalized());
+        };
+        auto valid = [&](int i) { return i >= 0 && i < n; };
+        Vec3 previous = p[static_cast<size_t>(k)];
+        for (int round = 0; round < 64; ++round) {
+            // Towards the pin from the target (k pinned at the target).
+            p[static_cast<size_t>(k)] = target;
+            for (int i = k + pinSide; i != pin; i += pinSide) {
+                const int anchor = i - pinSide, before = anchor - pinSide;
+                const bool haveIncoming = valid(before);
+                Vec3 incoming = haveIncoming ? direction(before, anchor) : Vec3::Zero(), out;
+                place(i, anchor, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(anchor)], out);
+            }
+            // From the pin out to the free end, k free.
+            for (int i = pin + outward; valid(i) && i != freeEnd + outward; i += outward) {
+                const int anchor = i - outward, before = anchor - outward;
+                const bool haveIncoming = valid(before);
+                Vec3 incoming = haveIncoming ? direction(before, anchor) : Vec3::Zero(), out;
+                place(i, anchor, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(anchor)], out);
+            }
+            const double step = (p[static_cast<size_t>(k)] - previous).norm();
+            previous = p[static_cast<size_t>(k)];
+            if (step <= 1e-12 * h.m_restLength[0] * n) break;
+        }
+    }
+
     /// Attachment id owning point i (0 for the grabbed point or a free point).
     int runOf(int i) const
     {
@@ -353,6 +392,14 @@ UpdateResult Hose::measureViolation() const
     return result;
 }
 
+bool Hose::pinnedOnOneSideOnly(int index) const
+{
+    bool left = false, right = false;
+    for (int i = 0; i < pointCount(); ++i)
+        if (m_fixed[static_cast<size_t>(i)]) (i < index ? left : right) = true;
+    return left != right;
+}
+
 UpdateResult Hose::grab(int index, const Vec3& target)
 {
     UpdateResult result;
@@ -389,6 +436,15 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             m_local = m_scratch;
             attempt(localTarget, moved);
             status = Status::Infeasible;
+        } else if (pinnedOnOneSideOnly(index)) {
+            // Reach towards the target as far as the hose allows (closest reachable point).
+            m_local = m_scratch;
+            Solver solver(*this);
+            bool left = false;
+            for (int i = 0; i < index; ++i) left = left || m_fixed[static_cast<size_t>(i)];
+            solver.softClamp(index, localTarget, left ? -1 : +1);
+            moved = pointCount();
+            status = Status::Clamped;
         } else {
             // Largest reachable fraction of the move, by bisection (deterministic, bounded).
             double good = 0.0, bad = 1.0;

@@ -242,3 +242,20 @@ TEST(SolverHardCases, SetUpFunctionsRejectBadInputNamingTheField)
     hose.attach(0, 3, Frame::identity());
     expectMessage([&] { hose.attach(3, 4, Frame::identity()); }, "already fixed");
 }
+
+TEST(SolverHardCases, PullingAFreeEndOutOfReachReachesTowardsTheTarget)
+{
+    HoseSpec spec = paperSpec(40, 0.0, 0);
+    spec.material.bendLimit = BendLimit::minBendRadius(0.2);
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    hose.attach(0, 1, Frame::identity());
+    const Vec3 target(0.0, 5.0, 0.0); // far beyond reach, at right angles to the fixed start
+    const UpdateResult result = hose.grab(40, target);
+    EXPECT_EQ(result.status, Status::Clamped);
+    EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+    // The hose bends towards the target as tightly as allowed and then points at it: the end is
+    // much closer to the target than where it started (5.1 m away).
+    EXPECT_LT(result.grabError, 4.3);
+    const Vec3 lastDirection = (hose.point(40) - hose.point(39)).normalized();
+    EXPECT_GT(lastDirection.dot((target - hose.point(40)).normalized()), 0.99);
+}

@@ -5,6 +5,7 @@
 #include "chaintube/material.h"
 #include "chaintube/metrics.h"
 #include "chaintube/profile.h"
+#include "chaintube/resolution.h"
 #include "chaintube/route.h"
 #include "chaintube/scene.h"
 #include "chaintube/surface.h"

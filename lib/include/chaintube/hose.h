@@ -13,9 +13,13 @@ namespace chaintube {
 /// What an update did. Always look at status.
 enum class Status {
     Ok,           ///< The request was met exactly; every constraint holds (1e-9 relative).
-    Clamped,      ///< A grab target was out of reach: the point moved along the straight line
-                  ///< from where it was towards the target and stopped at the last reachable
-                  ///< position (to 1e-6 of the move). Every constraint holds.
+    Clamped,      ///< A grab target was out of reach. Every constraint holds. If the hose is
+                  ///< fixed on one side of the point only, the point goes to (nearly) the
+                  ///< reachable position closest to the target: FABRIK-style reaching, at most
+                  ///< 64 rounds, each ending with a pass from the fixed side that leaves every
+                  ///< constraint exact. If it is fixed on both sides, it moves along the
+                  ///< straight line from where it was towards the target and stops at the last
+                  ///< reachable position (bisection, 20 steps: to 1e-6 of the move).
     Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
                   ///< frame put it and the residual violation is reported. Two attachments
                   ///< farther apart than the hose between them can stretch: the free points lie
@@ -169,6 +173,7 @@ private:
     Hose() = default;
     void initialiseFromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec);
     void recomputeLimits();
+    bool pinnedOnOneSideOnly(int index) const;
 
     friend class Solver;
     HoseSpec m_spec;

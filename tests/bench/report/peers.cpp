@@ -1,0 +1,249 @@
+#include "peers.h"
+
+#include <chaintube/chaintube.h>
+
+#include <algorithm>
+#include <cmath>
+
+#ifdef CHAINTUBE_HAVE_BULLET
+#include <BulletSoftBody/btDefaultSoftBodySolver.h>
+#include <BulletSoftBody/btSoftBodyHelpers.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
+#include <btBulletDynamicsCommon.h>
+#endif
+
+namespace chaintube::bench {
+
+namespace {
+
+double jointLimit(const RodSetup& setup, double meanLength)
+{
+    if (setup.minBendRadius > 0.0)
+        return jointDeflectionLimit(BendLimit::minBendRadius(setup.minBendRadius), meanLength);
+    return setup.deflectionAngle;
+}
+
+// Fixed runs shared by the peers: local positions and which frame moves them.
+struct FixedRuns
+{
+    int startCount = 0, endCount = 0;
+    std::vector<Vec3> startRest, endRest;
+};
+
+class ChainTubeRod final : public RodSolver
+{
+public:
+    explicit ChainTubeRod(const RodSetup& setup) : m_hose(Hose::fromAxis(setup.axis, spec(setup))) {}
+    std::string name() const override { return "ChainTube"; }
+    void fixStart(int count) override { m_start = m_hose.attach(0, count - 1, Frame::identity()); }
+    void fixEnd(int count) override
+    {
+        m_end = m_hose.attach(m_hose.pointCount() - count, m_hose.pointCount() - 1, Frame::identity());
+    }
+    void step(const FrameRequest& r) override
+    {
+        std::vector<int> ids;
+        std::vector<Frame> frames;
+        if (r.moveStart) ids.push_back(m_start), frames.push_back(r.start);
+        if (r.moveEnd) ids.push_back(m_end), frames.push_back(r.end);
+        if (!ids.empty()) m_hose.moveAttachments(ids, frames);
+        for (const auto& [index, target] : r.grabs) m_hose.grab(index, target);
+    }
+    std::vector<Vec3> points() const override { return m_hose.points(); }
+
+private:
+    static HoseSpec spec(const RodSetup& setup)
+    {
+        HoseSpec spec;
+        spec.material.expansionCoefficient = setup.expansionCoefficient;
+        spec.material.bendLimit = setup.minBendRadius > 0.0 ? BendLimit::minBendRadius(setup.minBendRadius)
+                                                            : BendLimit::deflectionAngle(setup.deflectionAngle);
+        return spec;
+    }
+    Hose m_hose;
+    int m_start = 0, m_end = 0;
+};
+
+class XpbdRod final : public RodSolver
+{
+public:
+    XpbdRod(const RodSetup& setup, int iterations) : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations)
+    {
+        const size_t n = m_x.size();
+        m_inverseMass.assign(n, 1.0);
+        for (size_t s = 0; s + 1 < n; ++s) {
+            const double l = (m_x[s + 1] - m_x[s]).norm();
+            m_minLength.push_back(l * (1 - setup.expansionCoefficient));
+            m_maxLength.push_back(l * (1 + setup.expansionCoefficient));
+        }
+        m_minChord.assign(n, 0.0);
+        for (size_t j = 1; j + 1 < n; ++j) {
+            const double a = (m_x[j] - m_x[j - 1]).norm(), b = (m_x[j + 1] - m_x[j]).norm();
+            const double turn = jointLimit(setup, 0.5 * (a + b));
+            // Law of cosines: the neighbours' distance when the joint turns by `turn`.
+            m_minChord[j] = std::sqrt(std::max(0.0, a * a + b * b + 2 * a * b * std::cos(turn)));
+        }
+    }
+    std::string name() const override { return "XPBD x" + std::to_string(m_iterations); }
+    void fixStart(int count) override
+    {
+        m_startCount = count;
+        for (int i = 0; i < count; ++i) m_inverseMass[static_cast<size_t>(i)] = 0.0;
+    }
+    void fixEnd(int count) override
+    {
+        m_endCount = count;
+        for (int i = 0; i < count; ++i) m_inverseMass[m_x.size() - 1 - static_cast<size_t>(i)] = 0.0;
+    }
+    void step(const FrameRequest& r) override
+    {
+        const size_t n = m_x.size();
+        if (r.moveStart)
+            for (int i = 0; i < m_startCount; ++i) m_x[static_cast<size_t>(i)] = r.start.apply(m_rest[static_cast<size_t>(i)]);
+        if (r.moveEnd)
+            for (int i = 0; i < m_endCount; ++i) {
+                const size_t k = n - 1 - static_cast<size_t>(i);
+                m_x[k] = r.end.apply(m_rest[k]);
+            }
+        std::vector<double> saved;
+        for (const auto& [index, target] : r.grabs) {
+            saved.push_back(m_inverseMass[static_cast<size_t>(index)]);
+            m_inverseMass[static_cast<size_t>(index)] = 0.0;
+            m_x[static_cast<size_t>(index)] = target;
+        }
+        for (int it = 0; it < m_iterations; ++it) {
+            for (size_t s = 0; s + 1 < n; ++s) project(s, s + 1, m_minLength[s], m_maxLength[s]);
+            for (size_t j = 1; j + 1 < n; ++j) project(j - 1, j + 1, m_minChord[j], 1e300);
+        }
+        for (size_t g = 0; g < r.grabs.size(); ++g) m_inverseMass[static_cast<size_t>(r.grabs[g].first)] = saved[g];
+    }
+    std::vector<Vec3> points() const override { return m_x; }
+
+private:
+    void project(size_t i, size_t k, double lower, double upper)
+    {
+        const double wi = m_inverseMass[i], wk = m_inverseMass[k];
+        if (wi + wk == 0.0) return;
+        const Vec3 d = m_x[k] - m_x[i];
+        const double length = d.norm();
+        if (!(length > 0.0)) return;
+        const double target = std::clamp(length, lower, upper);
+        if (target == length) return;
+        const Vec3 correction = d * ((length - target) / (length * (wi + wk)));
+        m_x[i] += wi * correction;
+        m_x[k] -= wk * correction;
+    }
+
+    std::vector<Vec3> m_rest, m_x;
+    std::vector<double> m_inverseMass, m_minLength, m_maxLength, m_minChord;
+    int m_iterations;
+    int m_startCount = 0, m_endCount = 0;
+};
+
+#ifdef CHAINTUBE_HAVE_BULLET
+class BulletRope final : public RodSolver
+{
+public:
+    BulletRope(const RodSetup& setup, int iterations) : m_rest(setup.axis), m_iterations(iterations)
+    {
+        m_world = std::make_unique<btSoftRigidDynamicsWorld>(&m_dispatcher, &m_broadphase, &m_solver,
+                                                             &m_configuration, &m_softSolver);
+        m_world->setGravity(btVector3(0, 0, 0));
+        m_info.m_gravity.setValue(0, 0, 0);
+        m_info.m_broadphase = &m_broadphase;
+        m_info.m_dispatcher = &m_dispatcher;
+        m_info.m_sparsesdf.Initialize();
+        const Vec3 a = setup.axis.front(), b = setup.axis.back();
+        m_rope = btSoftBodyHelpers::CreateRope(m_info, btVector3(a.x(), a.y(), a.z()), btVector3(b.x(), b.y(), b.z()),
+                                               static_cast<int>(setup.axis.size()) - 2, 0);
+        for (int i = 0; i < m_rope->m_nodes.size(); ++i) {
+            const Vec3& p = setup.axis[static_cast<size_t>(i)];
+            m_rope->m_nodes[i].m_x = btVector3(p.x(), p.y(), p.z());
+        }
+        m_rope->m_cfg.piterations = iterations;
+        m_rope->m_cfg.kDP = 0.5; // damping: the scenarios are quasi-static
+        m_rope->m_materials[0]->m_kLST = 1.0;
+        m_rope->generateBendingConstraints(2, m_rope->m_materials[0]);
+        m_rope->setTotalMass(1.0);
+        m_world->addSoftBody(m_rope);
+    }
+    ~BulletRope() override
+    {
+        m_world->removeSoftBody(m_rope);
+        delete m_rope;
+    }
+    std::string name() const override { return "Bullet rope x" + std::to_string(m_iterations); }
+    void fixStart(int count) override
+    {
+        m_startCount = count;
+        for (int i = 0; i < count; ++i) m_rope->setMass(i, 0);
+    }
+    void fixEnd(int count) override
+    {
+        m_endCount = count;
+        for (int i = 0; i < count; ++i) m_rope->setMass(m_rope->m_nodes.size() - 1 - i, 0);
+    }
+    void step(const FrameRequest& r) override
+    {
+        const int n = m_rope->m_nodes.size();
+        auto place = [&](int i, const Vec3& p) {
+            m_rope->m_nodes[i].m_x = btVector3(p.x(), p.y(), p.z());
+            m_rope->m_nodes[i].m_q = m_rope->m_nodes[i].m_x;
+            m_rope->m_nodes[i].m_v.setZero();
+        };
+        if (r.moveStart)
+            for (int i = 0; i < m_startCount; ++i) place(i, r.start.apply(m_rest[static_cast<size_t>(i)]));
+        if (r.moveEnd)
+            for (int i = 0; i < m_endCount; ++i) place(n - 1 - i, r.end.apply(m_rest[static_cast<size_t>(n - 1 - i)]));
+        std::vector<btScalar> masses;
+        for (const auto& [index, target] : r.grabs) {
+            masses.push_back(m_rope->getMass(index));
+            m_rope->setMass(index, 0);
+            place(index, target);
+        }
+        m_world->stepSimulation(1.0 / 60.0, 0);
+        for (size_t g = 0; g < r.grabs.size(); ++g) m_rope->setMass(r.grabs[g].first, masses[g]);
+    }
+    std::vector<Vec3> points() const override
+    {
+        std::vector<Vec3> out;
+        for (int i = 0; i < m_rope->m_nodes.size(); ++i) {
+            const btVector3& p = m_rope->m_nodes[i].m_x;
+            out.emplace_back(p.x(), p.y(), p.z());
+        }
+        return out;
+    }
+
+private:
+    std::vector<Vec3> m_rest;
+    int m_iterations;
+    int m_startCount = 0, m_endCount = 0;
+    btSoftBodyRigidBodyCollisionConfiguration m_configuration;
+    btCollisionDispatcher m_dispatcher{&m_configuration};
+    btDbvtBroadphase m_broadphase;
+    btSequentialImpulseConstraintSolver m_solver;
+    btDefaultSoftBodySolver m_softSolver;
+    std::unique_ptr<btSoftRigidDynamicsWorld> m_world;
+    btSoftBodyWorldInfo m_info;
+    btSoftBody* m_rope = nullptr;
+};
+#endif
+
+} // namespace
+
+std::unique_ptr<RodSolver> makeChainTubeRod(const RodSetup& setup) { return std::make_unique<ChainTubeRod>(setup); }
+
+std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations)
+{
+    return std::make_unique<XpbdRod>(setup, iterations);
+}
+
+#ifdef CHAINTUBE_HAVE_BULLET
+std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations)
+{
+    return std::make_unique<BulletRope>(setup, iterations);
+}
+#endif
+
+} // namespace chaintube::bench
