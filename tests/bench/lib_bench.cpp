@@ -136,5 +136,26 @@ void BM_PartGrab(benchmark::State& state)
     }
 }
 BENCHMARK(BM_PartGrab);
+
+// A grab between two fixed end segments that pulls the span nearly taut (phase 2: the
+// relaxation between pinned points), 100 points.
+void BM_GrabBetweenFixedEnds(benchmark::State& state)
+{
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, benchSpec(99));
+    hose.attach(0, 1, Frame::identity());
+    const int end = hose.attach(98, 99, Frame::identity());
+    Frame closer;
+    closer.translation = Vec3(-0.2, 0.0, 0.0);
+    for (int k = 1; k <= 20; ++k) {
+        closer.translation = Vec3(-0.01 * k, 0.0, 0.0);
+        hose.moveAttachment(end, closer);
+    }
+    int frame = 0;
+    for (auto _ : state) {
+        const double t = 0.02 * ++frame;
+        benchmark::DoNotOptimize(hose.grab(50, Vec3(0.4, 0.25 * std::sin(t), 0.15 * std::sin(2 * t))));
+    }
+}
+BENCHMARK(BM_GrabBetweenFixedEnds);
 } // namespace
 BENCHMARK_MAIN();
