@@ -174,6 +174,8 @@ private:
     void initialiseFromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec);
     void recomputeLimits();
     bool pinnedOnOneSideOnly(int index) const;
+    bool blendSide(int from, int side, const Vec3& displacement);
+    bool blendTowardsPins(int index, const Vec3& displacement);
 
     friend class Solver;
     HoseSpec m_spec;
