@@ -1,0 +1,130 @@
+// ChainTube export — a project (scene + hoses) as a glTF 2.0 hose rig.
+//
+// Output: GLB, or .gltf + .bin. The imported scenes' nodes (names, hierarchy, transforms) and
+// meshes, plus every hose as a skinned mesh: one joint node (TRS, never matrix) per axis point
+// whose world transform is (ring centre, ring rotation), every ring's vertices weighted 1.0 to
+// their own joint, inverse bind matrices, the skinned-mesh node at the scene root. Joints of a
+// segment fixed to a scene node are children of that node, so moving the node in any viewer
+// carries the fixed segment; the other joints hang under a per-hose "<name> joints" node. All
+// joints share the single root node named after the project. Metres, +Y up. One PBR material
+// per hose (base colour, roughness, metallic 0).
+//
+// The runtime descriptor (rig_descriptor.h) is embedded as the root extension
+// CHAINTUBE_hose_rig (extensionsUsed only) and written beside as <name>.hoses.json.
+//
+// Every file is written atomically (formats::writeFileAtomically); for .gltf + .bin + .hoses.json
+// all contents are built in memory first, so a failure while building writes nothing, and a
+// failure while writing removes what this call already wrote.
+#pragma once
+
+#include "chaintube/export/rig_descriptor.h"
+#include "chaintube/formats/paths.h"
+#include "chaintube/formats/project.h"
+#include "chaintube/formats/scene.h"
+#include "chaintube/hose.h"
+
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace chaintube::exporting {
+
+enum class Container {
+    FromExtension, ///< ".glb" → Glb, ".gltf" → Gltf; anything else is an InvalidArgument
+    Glb,
+    Gltf, ///< JSON + <name>.bin beside it
+};
+
+struct ExportOptions
+{
+    Container container = Container::FromExtension;
+    /// Include the scenes' nodes and meshes (false: only the nodes hoses attach to, without
+    /// meshes, keeping their place in the hierarchy).
+    bool includeSceneMeshes = true;
+    /// Keep scene nodes that carry nothing (no mesh, no kept child, no hose attached). Off:
+    /// they are left out (the validator reports empty nodes); node paths of kept nodes are
+    /// unchanged.
+    bool keepEmptyNodes = false;
+    /// Write the hoses' TEXCOORD_0 (u around the profile, v = metres of rest length along the
+    /// axis). Off by default: without a texture in the material the validator reports them as
+    /// unused; turn on when artists will texture the hoses.
+    bool writeTextureCoordinates = false;
+    /// Joints of attached segments are children of their scene node (moving the node in any
+    /// viewer carries them), and the free joints hang under the deepest common ancestor of the
+    /// attachment nodes. Off: every joint of a hose hangs under its own "<id> joints" node at
+    /// the root, so each hose has joints with a common root of its own (Blender then makes one
+    /// armature per hose) but moving a scene node in a plain viewer leaves the hose behind;
+    /// the descriptor still names the attachment nodes for a runtime.
+    bool jointsUnderAttachedNodes = true;
+    /// Also write <name>.hoses.json beside the glTF.
+    bool writeSidecarDescriptor = true;
+    /// Called with the fraction done (0 … 1, non-decreasing) from the calling thread. Return
+    /// false to cancel: the export then throws formats::Cancelled and writes nothing.
+    std::function<bool(double fraction)> progress;
+    /// asset.generator and the descriptor's generator.
+    std::string generator = "ChainTube exporter";
+};
+
+/// A scene node a hose attachment is fixed to.
+struct NodeRef
+{
+    int scene = -1; ///< index into the scenes passed to exportRig(); −1: fixed in world
+    int node = -1;  ///< index into that scene's ImportedScene::nodes
+};
+
+/// One hose to export.
+struct ExportHose
+{
+    std::string id;
+    std::string name;
+    Hose hose;                          ///< current shape, attachments already fixed
+    std::vector<NodeRef> attachedNodes; ///< one per hose.attachments(), same order
+    std::array<double, 4> baseColour{0.2, 0.2, 0.2, 1.0}; ///< linear RGBA [0, 1]
+    double roughness = 0.5;                               ///< [0, 1]
+};
+
+/// What an export wrote.
+struct ExportReport
+{
+    std::filesystem::path gltfFile;
+    std::filesystem::path binFile;        ///< empty for GLB
+    std::filesystem::path descriptorFile; ///< empty when not written
+    int hoseCount = 0;
+    int jointCount = 0;
+    int sceneNodeCount = 0; ///< glTF nodes that came from the scenes
+    std::size_t bytesWritten = 0;
+    double seconds = 0.0;
+    std::vector<std::string> warnings; ///< overstretch, bend below minimum, self-intersection
+    rig::HoseRigDescriptor descriptor; ///< as embedded
+};
+
+/// Exports scenes + hoses to `output` (.glb or .gltf). Throws InvalidArgument for inconsistent
+/// input (attachedNodes not matching a hose's attachments, node out of range, a scene node
+/// under which a joint cannot be expressed as TRS because of shear), formats::FileError when a
+/// file cannot be written (nothing is left behind), formats::Cancelled.
+ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
+                       const std::vector<ExportHose>& hoses, const std::string& rootName,
+                       const std::filesystem::path& output, const ExportOptions& options = {});
+
+/// The editor's and the CLI's entry point: loads nothing, imports the project's scenes
+/// (formats::importProjectScenes with `roots`), builds its hoses (formats::buildHoses) and
+/// exports them with colours/roughness from the project. `output` empty: the project's export
+/// settings (path, format) or <project name>.glb next to the project file. Progress covers
+/// import (first 60 %) and export. Throws what importProjectScenes, buildHoses and exportRig
+/// throw.
+ExportReport exportProject(const formats::Project& project,
+                           const std::filesystem::path& projectFile, std::filesystem::path output,
+                           const formats::NamedRoots& roots, const ExportOptions& options = {});
+
+/// exportProject() for the project file: loadProject(projectFile, roots) first.
+ExportReport exportProjectFile(const std::filesystem::path& projectFile,
+                               const std::filesystem::path& output,
+                               const formats::NamedRoots& roots, const ExportOptions& options = {});
+
+/// Warnings the library's measures give for a hose (overstretch, joints bending below the
+/// minimum bend radius, ring self-intersection), each prefixed with `label`.
+std::vector<std::string> hoseWarnings(const Hose& hose, const std::string& label);
+
+} // namespace chaintube::exporting

@@ -1,0 +1,153 @@
+// ChainTube runtime — the hose-rig descriptor: everything a runtime needs to run the hoses of an
+// exported glTF without the project file.
+//
+// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.0"). It is
+// embedded in the glTF as the root extension CHAINTUBE_hose_rig (listed in extensionsUsed only,
+// never in extensionsRequired, so viewers that do not know it still load the file) and written
+// beside the glTF as <name>.hoses.json. Node and skin indices refer to that glTF.
+//
+// Units: lengths in metres, angles in radians, positions in glTF world coordinates (+Y up,
+// right-handed), rotations as unit quaternions [x, y, z, w] (glTF order).
+#pragma once
+
+#include "chaintube/hose.h"
+#include "chaintube/material.h"
+#include "chaintube/profile.h"
+#include "chaintube/types.h"
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace chaintube::rig {
+
+/// Name of the glTF root extension that carries the descriptor.
+constexpr const char* kExtensionName = "CHAINTUBE_hose_rig";
+/// Value of the descriptor's "format" member.
+constexpr const char* kDescriptorFormat = "chaintube-hose-rig";
+/// Newest descriptor version this code reads, and the one it writes.
+constexpr int kDescriptorMajor = 1;
+constexpr int kDescriptorMinor = 0;
+
+/// A glTF node transform: parent ← node = T · R · S.
+struct NodeTransform
+{
+    Vec3 translation = Vec3::Zero();
+    Quat rotation = Quat::Identity();
+    Vec3 scale = Vec3::Ones();
+};
+
+/// The cross-section a hose was built with, in a form that rebuilds the same Profile.
+struct CrossSection
+{
+    Profile::Shape shape = Profile::Shape::Circle;
+    /// As Profile::parameters(): circle {radius, sides}; ellipse {semiAxisX, semiAxisY, sides};
+    /// rectangle {width, height}; roundedRectangle {width, height, cornerRadius, cornerSegments};
+    /// polygon {smoothAngle}. Metres, radians, counts as numbers.
+    std::vector<double> parameters;
+    std::vector<Vec2> polygonPoints; ///< polygon only: the outline (metres, ring plane)
+
+    static CrossSection of(const Profile& profile);
+    /// The Profile (identical to the one the hose was exported with). Throws InvalidArgument
+    /// when the parameters are out of range or the wrong count for the shape.
+    Profile build() const;
+};
+
+/// A run of axis points fixed to a glTF node (or to the world when node is −1).
+struct RigAttachment
+{
+    int node = -1; ///< glTF node index; −1: fixed in world coordinates
+    /// Attachment frame relative to the rigid part of the node's world transform (scale and
+    /// shear removed): attachment frame = rigid(world(node)) · offset.
+    Frame offset;
+    /// The attachment's world frame at export (where the points were fixed).
+    Frame frame;
+    int firstPoint = 0; ///< inclusive axis-point range
+    int lastPoint = 0;
+};
+
+/// One exported hose.
+struct RigHose
+{
+    std::string id;
+    std::string name;
+    /// glTF node with the skinned mesh (at the scene root), its skin, and the node grouping the
+    /// joints that are not attached to a scene node. −1 when the hose is exported as a plain mesh.
+    int meshNode = -1;
+    int skin = -1;
+    int rigNode = -1;
+    /// Joint node per axis point, in axis order (pointCount entries). The joint's world transform
+    /// is (ring centre, ring rotation) with rotation columns (alignment, binormal, tangent).
+    std::vector<int> jointNodes;
+    /// Axis points at export, world metres (pointCount ≥ 2 entries).
+    std::vector<Vec3> axis;
+    /// Rest length of each segment (metres, pointCount − 1 entries).
+    std::vector<double> restLengths;
+    double expansionCoefficient = 0.05; ///< [0, 1)
+    /// The limit as authored: minimum bend radius (metres) or deflection angle (radians).
+    BendLimit bendLimit;
+    /// Per interior joint j = 1 … pointCount − 2 (entry j − 1): the deflection limit (radians,
+    /// π = unlimited) and the bend radius it corresponds to (metres).
+    std::vector<double> jointBendLimits;
+    std::vector<double> jointMinBendRadii;
+    double outerDiameter = 0.02; ///< metres
+    CrossSection crossSection;
+    std::vector<RigAttachment> attachments;
+    /// Axis points a runtime may grab (the free ones), ascending.
+    std::vector<int> grabbablePoints;
+    std::array<double, 4> baseColour{0.2, 0.2, 0.2, 1.0}; ///< linear RGBA
+    double roughness = 0.5;
+
+    int pointCount() const { return static_cast<int>(axis.size()); }
+    Material material() const;
+};
+
+struct HoseRigDescriptor
+{
+    std::string version = "1.0";
+    std::string generator;
+    std::vector<RigHose> hoses;
+};
+
+/// The descriptor is malformed. what() is "<source>: <JSON pointer>: <what was expected>".
+class DescriptorError : public Error
+{
+public:
+    DescriptorError(std::string source, std::string pointer, std::string expected);
+    const std::string& source() const { return m_source; }
+    const std::string& pointer() const { return m_pointer; }
+
+private:
+    std::string m_source;
+    std::string m_pointer;
+};
+
+/// Parses a descriptor from JSON text. `source` names the file (or "file.glb#CHAINTUBE_hose_rig")
+/// in messages. Checks types, ranges and the hose invariants (array lengths agree with the
+/// point count, attachment ranges inside the hose and not overlapping, grabbable points free,
+/// unit quaternions, finite numbers). Throws DescriptorError; a newer major version is refused.
+HoseRigDescriptor parseDescriptor(std::string_view json, const std::string& source);
+
+/// The descriptor as JSON text (2-space indentation, shortest round-trip numbers, final newline).
+/// Empty lists are written as [] (never null).
+std::string serialiseDescriptor(const HoseRigDescriptor& descriptor);
+
+/// Rebuilds the hose a descriptor entry describes, as it was at export: Hose::fromAxis(axis)
+/// with the material, diameter and cross-section, then every attachment fixed at its exported
+/// world frame. attachmentIds (optional) receives the library's id of each attachment.
+/// Rest lengths come from the axis: a hose exported away from its rest shape comes back relaxed
+/// at the exported shape (restLengthsMatch() tells). Throws InvalidArgument.
+Hose rebuildHose(const RigHose& hose, std::vector<int>* attachmentIds = nullptr);
+
+/// True if the axis distances equal restLengths within 1e-9 (relative), i.e. rebuildHose()
+/// reproduces the exported rest lengths.
+bool restLengthsMatch(const RigHose& hose);
+
+/// Problems a descriptor has in the context of its glTF: joint/mesh/attachment node indices
+/// outside [0, nodeCount), joints used twice. Empty when consistent. Messages carry a pointer.
+std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, int nodeCount,
+                                          int skinCount);
+
+} // namespace chaintube::rig

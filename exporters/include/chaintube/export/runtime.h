@@ -1,0 +1,140 @@
+// ChainTube runtime — loads an exported glTF/GLB with its hose-rig descriptor and runs the hoses.
+//
+// This is what a C++ VR platform links (target chaintube_runtime: the core library, no Qt, no
+// tinygltf or JSON types in this header). Per frame the platform tells the runtime where scene
+// objects moved (setNodeTransform) and where the user's hands are (grab), then reads back the
+// joint transforms to pose the skinned meshes (jointPoses), or the surface vertices directly.
+//
+// Frames: node transforms are glTF parent-local T·R·S; world = product of local transforms
+// from the scene root. Units: metres, radians. A joint's world transform is rigid: (ring
+// centre, ring rotation with columns alignment, binormal, tangent).
+#pragma once
+
+#include "chaintube/export/rig_descriptor.h"
+#include "chaintube/hose.h"
+#include "chaintube/surface.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace chaintube::rig {
+
+/// One glTF node as the runtime sees it.
+struct RigNode
+{
+    std::string name;
+    int parent = -1;
+    NodeTransform local; ///< parent ← node (a glTF `matrix` is decomposed)
+};
+
+/// A joint's pose: in its glTF parent's frame (what to write into the node's TRS) and in world.
+struct JointPose
+{
+    int node = -1;
+    NodeTransform local;
+    Frame world;
+};
+
+/// What changed for one hose in a call.
+struct HoseUpdate
+{
+    int hose = -1;
+    UpdateResult result;
+};
+
+/// Where the descriptor came from and what the loader noticed.
+struct RuntimeLoadReport
+{
+    std::string descriptorSource; ///< "<file>#CHAINTUBE_hose_rig" or the sidecar path
+    std::vector<std::string> warnings;
+};
+
+class HoseRuntime
+{
+public:
+    /// Loads an exported .glb or .gltf (+ .bin): the node hierarchy, and the descriptor from the
+    /// CHAINTUBE_hose_rig extension, or from the sidecar <name>.hoses.json when the glTF has no
+    /// extension (e.g. after a tool that drops unknown extensions). Rebuilds every hose with
+    /// its attachments as exported. Throws DescriptorError (file + JSON pointer) or
+    /// chaintube::Error naming the file for unreadable or inconsistent input.
+    static HoseRuntime load(const std::filesystem::path& file, RuntimeLoadReport* report = nullptr);
+
+    /// For a platform that parses glTF itself: the descriptor and the glTF's nodes (index order,
+    /// parents, local transforms). Throws as load() does.
+    static HoseRuntime fromDescriptor(HoseRigDescriptor descriptor, std::vector<RigNode> nodes,
+                                      RuntimeLoadReport* report = nullptr);
+
+    int hoseCount() const { return static_cast<int>(m_hoses.size()); }
+    /// Index of the hose with this descriptor id, or −1.
+    int findHose(std::string_view id) const;
+    const RigHose& description(int hose) const
+    {
+        return m_descriptor.hoses.at(static_cast<size_t>(hose));
+    }
+    const Hose& hose(int hose) const { return m_hoses.at(static_cast<size_t>(hose)).hose; }
+    /// The hose's surface as of the last update() (positions relative to hose(h).origin()).
+    const HoseSurface& surface(int hose) const
+    {
+        return m_hoses.at(static_cast<size_t>(hose)).surface;
+    }
+    const HoseRigDescriptor& descriptor() const { return m_descriptor; }
+
+    int nodeCount() const { return static_cast<int>(m_nodes.size()); }
+    const RigNode& node(int index) const { return m_nodes.at(static_cast<size_t>(index)); }
+    /// Index of the first node with this name, or −1.
+    int findNode(std::string_view name) const;
+    /// Rigid part of the node's current world transform.
+    Frame nodeWorldFrame(int node) const;
+
+    /// A scene object moved: sets node's local transform (glTF parent space) and moves every
+    /// attachment on this node or a descendant, one Hose::moveAttachments() per affected hose.
+    /// Returns the affected hoses' results (look at status). A node index out of range or a
+    /// non-finite transform returns one entry with hose −1 and Status::InvalidInput, and
+    /// changes nothing.
+    std::vector<HoseUpdate> setNodeTransform(int node, const NodeTransform& local);
+
+    /// Moves free axis point `point` of hose `hose` to `target` (world metres); the hose
+    /// follows (Hose::grab). Out-of-range indices give Status::InvalidInput; so does a point
+    /// that is not in grabbablePoints.
+    UpdateResult grab(int hose, int point, const Vec3& target);
+
+    /// Brings every changed hose's surface and joint poses up to date. Returns how many hoses
+    /// were recomputed.
+    int update();
+
+    /// Joint poses of a hose, in axis order, as of the last update(). Local poses are relative
+    /// to the joint node's current parent world transform.
+    const std::vector<JointPose>& jointPoses(int hose) const
+    {
+        return m_hoses.at(static_cast<size_t>(hose)).poses;
+    }
+
+    /// Surface vertex positions in world metres (3 floats per vertex, vertex order of
+    /// SurfaceTopology), as of the last update().
+    std::vector<float> worldPositions(int hose) const;
+
+private:
+    struct RunningHose
+    {
+        Hose hose;
+        HoseSurface surface;
+        std::vector<int> attachmentIds; ///< per descriptor attachment
+        std::vector<JointPose> poses;
+        std::uint64_t posedRevision = 0;
+        std::vector<int> jointParents;
+    };
+    HoseRuntime() = default;
+    void recomputeWorld();
+    void poseJoints(RunningHose& running, const RigHose& description);
+
+    HoseRigDescriptor m_descriptor;
+    std::vector<RigNode> m_nodes;
+    std::vector<Eigen::Matrix<double, 4, 4, Eigen::DontAlign>> m_world; ///< per node, world ← node
+    std::vector<RunningHose> m_hoses;
+    bool m_nodesMoved = false;
+};
+
+} // namespace chaintube::rig

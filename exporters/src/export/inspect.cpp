@@ -1,0 +1,436 @@
+#include "chaintube/export/inspect.h"
+
+#include "chaintube/export/gltf_export.h"
+#include "chaintube/export/runtime.h"
+#include "chaintube/formats/project_hoses.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+namespace chaintube::exporting {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readText(const fs::path& file)
+{
+    std::ifstream stream(file, std::ios::binary);
+    if (!stream) throw Error(file.string() + ": cannot be read (missing or no permission)");
+    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+}
+
+std::string lower(std::string text)
+{
+    std::transform(text.begin(), text.end(), text.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return text;
+}
+
+/// Hose invariants a parsed descriptor must meet beyond its schema.
+void checkDescriptorHoses(const rig::HoseRigDescriptor& descriptor, const std::string& source,
+                          ValidationResult& result)
+{
+    for (size_t h = 0; h < descriptor.hoses.size(); ++h) {
+        const rig::RigHose& d = descriptor.hoses[h];
+        const std::string at = source + ": /hoses/" + std::to_string(h);
+        Hose hose = [&] {
+            try {
+                return rig::rebuildHose(d);
+            } catch (const Error& error) {
+                result.errors.push_back(at + ": the hose cannot be rebuilt: " + error.what());
+                throw;
+            }
+        }();
+        if (!rig::restLengthsMatch(d))
+            result.warnings.push_back(at +
+                                      "/restLengths: the axis is not at its rest shape; a "
+                                      "runtime rebuilds the hose relaxed at the exported shape");
+        for (int j = 1; j + 1 < hose.pointCount(); ++j) {
+            const double expected = hose.deflectionLimit(j);
+            const double written = d.jointBendLimits[static_cast<size_t>(j - 1)];
+            if (std::abs(expected - written) > 1e-9 * std::max(1.0, expected))
+                result.errors.push_back(at + "/jointBendLimits/" + std::to_string(j - 1) +
+                                        ": expected " + std::to_string(expected) +
+                                        " rad (from bendLimit and the rest lengths), got " +
+                                        std::to_string(written));
+        }
+        const std::vector<std::string> warnings = hoseWarnings(hose, at + " '" + d.id + "'");
+        result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());
+    }
+}
+
+void validateProject(const fs::path& file, const formats::NamedRoots& roots,
+                     ValidationResult& result)
+{
+    formats::ProjectLoadOptions load;
+    load.roots = roots;
+    const formats::Project project = formats::loadProject(file, load);
+    const formats::ImportedScenes scenes = formats::importProjectScenes(project, file, roots);
+    for (size_t h = 0; h < project.hoses.size(); ++h) {
+        const formats::HoseDefinition& definition = project.hoses[h];
+        try {
+            const Hose hose = formats::buildHose(project, definition, scenes);
+            const auto warnings = hoseWarnings(
+                hose, file.string() + ": /hoses/" + std::to_string(h) + " '" + definition.id + "'");
+            result.warnings.insert(result.warnings.end(), warnings.begin(), warnings.end());
+        } catch (const Error& error) {
+            result.errors.push_back(file.string() + ": /hoses/" + std::to_string(h) + ": " +
+                                    error.what());
+        }
+    }
+}
+
+using Json = nlohmann::json;
+
+std::uint32_t readU32(const std::string& bytes, size_t at)
+{
+    std::uint32_t value = 0;
+    std::memcpy(&value, bytes.data() + at, 4);
+    return value;
+}
+
+/// A glTF's JSON and its buffers, read without tinygltf's loader (Debian's libtinygltf.so
+/// disagrees with its header about the TinyGLTF class layout: loading corrupts the heap).
+struct GltfFile
+{
+    Json json;
+    std::vector<std::string> buffers;
+};
+
+GltfFile readGltf(const fs::path& file)
+{
+    GltfFile gltf;
+    const std::string bytes = readText(file);
+    std::string binChunk;
+    std::string text = bytes;
+    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
+        if (bytes.size() < 20 || readU32(bytes, 8) != bytes.size())
+            throw Error(file.string() + ": GLB header length does not match the file size");
+        const size_t jsonLength = readU32(bytes, 12);
+        if (readU32(bytes, 16) != 0x4E4F534Au || 20 + jsonLength > bytes.size())
+            throw Error(file.string() + ": GLB's first chunk is not a complete JSON chunk");
+        text = bytes.substr(20, jsonLength);
+        const size_t binAt = 20 + jsonLength;
+        if (binAt + 8 <= bytes.size()) {
+            const size_t binLength = readU32(bytes, binAt);
+            if (readU32(bytes, binAt + 4) != 0x004E4942u || binAt + 8 + binLength > bytes.size())
+                throw Error(file.string() + ": GLB's second chunk is not a complete BIN chunk");
+            binChunk = bytes.substr(binAt + 8, binLength);
+        }
+    }
+    try {
+        gltf.json = Json::parse(text);
+    } catch (const Json::exception& error) {
+        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
+    }
+    const Json& buffers = gltf.json.value("buffers", Json::array());
+    for (size_t b = 0; b < buffers.size(); ++b) {
+        const std::string where = file.string() + ": /buffers/" + std::to_string(b);
+        std::string data;
+        if (!buffers[b].contains("uri")) {
+            if (b != 0) throw Error(where + ": only buffer 0 may omit its uri (the GLB BIN chunk)");
+            data = binChunk;
+        } else {
+            const std::string uri = buffers[b]["uri"].get<std::string>();
+            if (uri.rfind("data:", 0) == 0)
+                throw Error(where + "/uri: data URIs are not read by validate");
+            data = readText(file.parent_path() / uri);
+        }
+        if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
+            throw Error(where + "/byteLength: the buffer has only " + std::to_string(data.size()) +
+                        " bytes");
+        gltf.buffers.push_back(std::move(data));
+    }
+    return gltf;
+}
+
+/// Reads float accessor `index` (tightly packed or strided).
+std::vector<float> floatsOf(const GltfFile& gltf, int index, const std::string& where)
+{
+    const Json& accessor = gltf.json.at("accessors").at(static_cast<size_t>(index));
+    if (accessor.value("componentType", 0) != 5126)
+        throw Error(where + ": expected a float accessor");
+    const std::map<std::string, size_t> componentsOf{
+        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
+    const size_t components = componentsOf.at(accessor.value("type", "SCALAR"));
+    const size_t count = accessor.value("count", std::size_t{0});
+    const Json& view = gltf.json.at("bufferViews").at(accessor.at("bufferView").get<size_t>());
+    const std::string& buffer = gltf.buffers.at(view.value("buffer", std::size_t{0}));
+    const size_t stride = view.value("byteStride", components * 4);
+    const size_t start =
+        view.value("byteOffset", std::size_t{0}) + accessor.value("byteOffset", std::size_t{0});
+    if (count > 0 && start + (count - 1) * stride + components * 4 > buffer.size())
+        throw Error(where + ": accessor " + std::to_string(index) + " reaches beyond its buffer");
+    std::vector<float> values(count * components);
+    for (size_t i = 0; i < count; ++i)
+        std::memcpy(&values[i * components], buffer.data() + start + i * stride, components * 4);
+    return values;
+}
+
+void validateGltf(const fs::path& file, ValidationResult& result)
+{
+    const std::string name = file.string();
+    const GltfFile gltf = readGltf(file);
+    const auto lists = [&](const char* key) {
+        for (const Json& value : gltf.json.value(key, Json::array()))
+            if (value == rig::kExtensionName) return true;
+        return false;
+    };
+    if (!lists("extensionsUsed"))
+        result.errors.push_back(name + ": /extensionsUsed: expected to list " +
+                                rig::kExtensionName);
+    if (lists("extensionsRequired"))
+        result.errors.push_back(name + ": /extensionsRequired: must not list " +
+                                rig::kExtensionName +
+                                " (viewers that do not know it would refuse the file)");
+    const Json& nodes = gltf.json.value("nodes", Json::array());
+    const Json& skins = gltf.json.value("skins", Json::array());
+
+    rig::RuntimeLoadReport loadReport;
+    const rig::HoseRuntime runtime = rig::HoseRuntime::load(file, &loadReport);
+    for (const std::string& w : loadReport.warnings)
+        result.warnings.push_back(w);
+    const rig::HoseRigDescriptor& descriptor = runtime.descriptor();
+    checkDescriptorHoses(descriptor, loadReport.descriptorSource, result);
+
+    std::vector<int> isSceneRoot(nodes.size(), 0);
+    for (const Json& scene : gltf.json.value("scenes", Json::array()))
+        for (const Json& n : scene.value("nodes", Json::array()))
+            if (n.is_number_integer() && n.get<size_t>() < nodes.size())
+                isSceneRoot[n.get<size_t>()] = 1;
+    for (int h = 0; h < runtime.hoseCount(); ++h) {
+        const rig::RigHose& d = descriptor.hoses[static_cast<size_t>(h)];
+        const std::string at = loadReport.descriptorSource + ": /hoses/" + std::to_string(h);
+        if (d.skin < 0) continue; // a plain mesh: nothing to pose
+        const Json& meshNode = nodes.at(static_cast<size_t>(d.meshNode));
+        if (meshNode.value("skin", -1) != d.skin || meshNode.value("mesh", -1) < 0)
+            result.errors.push_back(at + "/mesh: node " + std::to_string(d.meshNode) +
+                                    " is not a mesh skinned with skin " + std::to_string(d.skin));
+        if (!isSceneRoot[static_cast<size_t>(d.meshNode)])
+            result.errors.push_back(at + "/mesh: the skinned-mesh node must be a scene root");
+        const Json& skin = skins.at(static_cast<size_t>(d.skin));
+        if (skin.value("joints", std::vector<int>{}) != d.jointNodes)
+            result.errors.push_back(at + "/joints: differ from the joints of skin " +
+                                    std::to_string(d.skin) +
+                                    " (expected the same nodes in axis order)");
+        const std::vector<float> inverseBind =
+            skin.contains("inverseBindMatrices")
+                ? floatsOf(gltf, skin["inverseBindMatrices"].get<int>(),
+                           name + ": /skins/" + std::to_string(d.skin))
+                : std::vector<float>{};
+        const std::vector<rig::JointPose>& poses = runtime.jointPoses(h);
+        for (size_t i = 0; i < d.jointNodes.size() && i < poses.size(); ++i) {
+            const int joint = d.jointNodes[i];
+            if (nodes.at(static_cast<size_t>(joint)).contains("matrix"))
+                result.errors.push_back(at + "/joints/" + std::to_string(i) + ": node " +
+                                        std::to_string(joint) +
+                                        " uses `matrix`; joints must be TRS");
+            const Frame inFile = runtime.nodeWorldFrame(joint);
+            const Frame& expected = poses[i].world;
+            const double offset = (inFile.translation - expected.translation).norm();
+            const double angle = inFile.rotation.angularDistance(expected.rotation);
+            if (offset > 1e-4 || angle > 1e-4) {
+                result.errors.push_back(at + "/joints/" + std::to_string(i) + ": joint node " +
+                                        std::to_string(joint) + " is " + std::to_string(offset) +
+                                        " m / " + std::to_string(angle) +
+                                        " rad away from the hose's ring frame");
+                break;
+            }
+            if (inverseBind.size() >= 16 * (i + 1)) {
+                Eigen::Matrix4d ibm;
+                for (int k = 0; k < 16; ++k)
+                    ibm.data()[k] = inverseBind[16 * i + static_cast<size_t>(k)];
+                Eigen::Matrix4d world = Eigen::Matrix4d::Identity();
+                world.topLeftCorner<3, 3>() =
+                    Eigen::Quaterniond(expected.rotation).toRotationMatrix();
+                world.topRightCorner<3, 1>() = Eigen::Vector3d(expected.translation);
+                const double bindError =
+                    (world * ibm - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff();
+                if (bindError > 1e-4) {
+                    result.errors.push_back(at + "/joints/" + std::to_string(i) +
+                                            ": the inverse bind matrix does not invert the joint's "
+                                            "bind pose (error " +
+                                            std::to_string(bindError) + ")");
+                    break;
+                }
+            }
+        }
+    }
+
+    fs::path sidecar = file;
+    sidecar.replace_extension(".hoses.json");
+    if (fs::exists(sidecar) && loadReport.descriptorSource != sidecar.string()) {
+        const rig::HoseRigDescriptor beside =
+            rig::parseDescriptor(readText(sidecar), sidecar.string());
+        if (rig::serialiseDescriptor(beside) != rig::serialiseDescriptor(descriptor))
+            result.errors.push_back(sidecar.string() +
+                                    ": differs from the descriptor embedded in " + name);
+    }
+}
+
+std::string frameText(const Frame& frame)
+{
+    std::ostringstream out;
+    out << std::setprecision(4) << "at (" << frame.translation.x() << ", " << frame.translation.y()
+        << ", " << frame.translation.z() << ") m";
+    return out.str();
+}
+
+const char* shapeText(Profile::Shape shape)
+{
+    switch (shape) {
+    case Profile::Shape::Circle:
+        return "circle";
+    case Profile::Shape::Ellipse:
+        return "ellipse";
+    case Profile::Shape::Rectangle:
+        return "rectangle";
+    case Profile::Shape::RoundedRectangle:
+        return "rounded rectangle";
+    case Profile::Shape::Polygon:
+        return "polygon";
+    }
+    return "?";
+}
+
+/// One hose's description; returns its warnings.
+std::vector<std::string> describeHose(std::ostream& out, const std::string& id,
+                                      const std::string& name, const Hose& hose,
+                                      const std::array<double, 4>& colour, double roughness,
+                                      const std::vector<std::string>& attachedTo)
+{
+    out << std::setprecision(4);
+    out << "hose '" << id << "'" << (name.empty() ? "" : " (" + name + ")") << "\n"
+        << "  axis: " << hose.pointCount() << " points, rest length " << hose.restLengthTotal()
+        << " m, current length " << hose.currentLength() << " m\n"
+        << "  material: expansion " << 100.0 * hose.material().expansionCoefficient << " %, ";
+    if (hose.material().bendLimit.kind == BendLimit::Kind::MinBendRadius)
+        out << "minimum bend radius " << hose.material().bendLimit.value << " m\n";
+    else
+        out << "deflection limit " << hose.material().bendLimit.value << " rad per joint\n";
+    out << "  outer diameter " << hose.spec().outerDiameter << " m, cross-section "
+        << shapeText(hose.profile().shape()) << " (" << hose.profile().vertexCount() - 1
+        << " vertices per ring)\n"
+        << "  colour (" << colour[0] << ", " << colour[1] << ", " << colour[2] << ", " << colour[3]
+        << "), roughness " << roughness << "\n";
+    if (hose.attachments().empty()) out << "  attachments: none (free hose)\n";
+    for (size_t k = 0; k < hose.attachments().size(); ++k) {
+        const Hose::Attachment& a = hose.attachments()[k];
+        out << "  attachment " << k << ": points " << a.first << "–" << a.last << " fixed to "
+            << (k < attachedTo.size() ? attachedTo[k] : std::string("the world")) << ", "
+            << frameText(a.frame) << "\n";
+    }
+    const std::vector<std::string> warnings = hoseWarnings(hose, "hose '" + id + "'");
+    for (const std::string& warning : warnings)
+        out << "  warning: " << warning << "\n";
+    return warnings;
+}
+
+} // namespace
+
+FileKind fileKindOf(const fs::path& file)
+{
+    const std::string extension = lower(file.extension().string());
+    if (extension == formats::kProjectExtension) return FileKind::Project;
+    if (extension == ".json") return FileKind::Descriptor;
+    if (extension == ".glb" || extension == ".gltf") return FileKind::Gltf;
+    throw InvalidArgument(file.string() + ": unknown kind of file (expected .ctproj, .hoses.json, "
+                                          ".glb or .gltf)");
+}
+
+ValidationResult validateFile(const fs::path& file, const formats::NamedRoots& roots)
+{
+    ValidationResult result;
+    try {
+        result.kind = fileKindOf(file);
+        switch (result.kind) {
+        case FileKind::Project:
+            validateProject(file, roots, result);
+            break;
+        case FileKind::Descriptor:
+            checkDescriptorHoses(rig::parseDescriptor(readText(file), file.string()), file.string(),
+                                 result);
+            break;
+        case FileKind::Gltf:
+            validateGltf(file, result);
+            break;
+        }
+    } catch (const std::exception& error) {
+        const std::string what = error.what();
+        // An error already recorded (and rethrown to stop) is not repeated.
+        if (result.errors.empty() || result.errors.back().find(what) == std::string::npos)
+            result.errors.push_back(
+                what.find(file.string()) == std::string::npos ? file.string() + ": " + what : what);
+    }
+    return result;
+}
+
+int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::ostream& out)
+{
+    int warnings = 0;
+    switch (fileKindOf(file)) {
+    case FileKind::Project: {
+        formats::ProjectLoadOptions load;
+        load.roots = roots;
+        const formats::Project project = formats::loadProject(file, load);
+        out << file.string() << ": project '" << project.name << "', " << project.scenes.size()
+            << " scene(s), " << project.hoses.size() << " hose(s)\n";
+        const formats::ImportedScenes scenes = formats::importProjectScenes(project, file, roots);
+        for (const formats::HoseDefinition& definition : project.hoses) {
+            std::vector<std::string> attachedTo;
+            for (const formats::HoseAttachment& a : definition.attachments)
+                attachedTo.push_back("scene '" + a.scene + "' node " + a.node);
+            const Hose hose = formats::buildHose(project, definition, scenes);
+            warnings += static_cast<int>(describeHose(out, definition.id, definition.name, hose,
+                                                      {definition.colour.r, definition.colour.g,
+                                                       definition.colour.b, definition.colour.a},
+                                                      definition.roughness, attachedTo)
+                                             .size());
+        }
+        break;
+    }
+    case FileKind::Descriptor:
+    case FileKind::Gltf: {
+        const bool gltf = fileKindOf(file) == FileKind::Gltf;
+        std::optional<rig::HoseRuntime> runtime;
+        rig::HoseRigDescriptor descriptor;
+        if (gltf) {
+            runtime.emplace(rig::HoseRuntime::load(file));
+            descriptor = runtime->descriptor();
+        } else {
+            descriptor = rig::parseDescriptor(readText(file), file.string());
+        }
+        out << file.string() << ": hose rig " << descriptor.version << " ("
+            << (descriptor.generator.empty() ? "unknown generator" : descriptor.generator) << "), "
+            << descriptor.hoses.size() << " hose(s)\n";
+        for (const rig::RigHose& d : descriptor.hoses) {
+            std::vector<std::string> attachedTo;
+            for (const rig::RigAttachment& a : d.attachments) {
+                std::string label = a.node < 0 ? "the world" : "node " + std::to_string(a.node);
+                if (runtime && a.node >= 0) label += " '" + runtime->node(a.node).name + "'";
+                attachedTo.push_back(label);
+            }
+            warnings += static_cast<int>(describeHose(out, d.id, d.name, rig::rebuildHose(d),
+                                                      d.baseColour, d.roughness, attachedTo)
+                                             .size());
+            if (d.skin >= 0)
+                out << "  rig: skinned mesh node " << d.meshNode << ", skin " << d.skin << ", "
+                    << d.jointNodes.size() << " joints, " << d.grabbablePoints.size()
+                    << " grabbable points\n";
+        }
+        break;
+    }
+    }
+    return warnings;
+}
+
+} // namespace chaintube::exporting

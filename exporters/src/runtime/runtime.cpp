@@ -1,0 +1,333 @@
+#include "chaintube/export/runtime.h"
+
+#include "transform_math.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+namespace chaintube::rig {
+
+namespace {
+
+using Json = nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string readFile(const fs::path& file)
+{
+    std::ifstream stream(file, std::ios::binary);
+    if (!stream) throw Error(file.string() + ": cannot be read (missing or no permission)");
+    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+}
+
+std::uint32_t readU32(const std::string& bytes, size_t at)
+{
+    std::uint32_t value = 0;
+    std::memcpy(&value, bytes.data() + at, 4);
+    return value; // GLB is little-endian, as every platform we build for
+}
+
+/// The JSON text of a .gltf, or of a GLB's JSON chunk.
+std::string gltfJson(const fs::path& file, const std::string& bytes)
+{
+    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
+        if (bytes.size() < 20) throw Error(file.string() + ": truncated GLB header");
+        if (readU32(bytes, 4) != 2)
+            throw Error(file.string() + ": GLB container version " +
+                        std::to_string(readU32(bytes, 4)) + ", expected 2");
+        const std::uint32_t chunkLength = readU32(bytes, 12);
+        if (readU32(bytes, 16) != 0x4E4F534Au || 20ull + chunkLength > bytes.size())
+            throw Error(file.string() + ": GLB's first chunk is not a complete JSON chunk");
+        return bytes.substr(20, chunkLength);
+    }
+    return bytes;
+}
+
+NodeTransform nodeTransformOf(const Json& node, const std::string& where)
+{
+    NodeTransform trs;
+    const auto numbers = [&](const char* key, size_t count) {
+        std::vector<double> values;
+        const Json& array = node.at(key);
+        if (!array.is_array() || array.size() != count)
+            throw Error(where + "/" + key + ": expected " + std::to_string(count) + " numbers");
+        for (const Json& value : array)
+            values.push_back(value.get<double>());
+        return values;
+    };
+    if (node.contains("matrix")) {
+        const std::vector<double> m = numbers("matrix", 16);
+        detail::Affine affine;
+        for (int column = 0; column < 4; ++column)
+            for (int row = 0; row < 4; ++row)
+                affine(row, column) = m[static_cast<size_t>(4 * column + row)];
+        detail::decompose(affine, trs);
+        return trs;
+    }
+    if (node.contains("translation")) {
+        const auto t = numbers("translation", 3);
+        trs.translation = Vec3(t[0], t[1], t[2]);
+    }
+    if (node.contains("rotation")) {
+        const auto r = numbers("rotation", 4);
+        trs.rotation = Quat(r[3], r[0], r[1], r[2]).normalized();
+    }
+    if (node.contains("scale")) {
+        const auto s = numbers("scale", 3);
+        trs.scale = Vec3(s[0], s[1], s[2]);
+    }
+    return trs;
+}
+
+bool finite(const NodeTransform& trs)
+{
+    return trs.translation.allFinite() && trs.rotation.coeffs().allFinite() &&
+           trs.scale.allFinite() && trs.rotation.norm() > 0.5;
+}
+
+} // namespace
+
+HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
+{
+    const std::string bytes = readFile(file);
+    Json gltf;
+    try {
+        gltf = Json::parse(gltfJson(file, bytes));
+    } catch (const Json::exception& error) {
+        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
+    }
+    std::vector<RigNode> nodes;
+    try {
+        const Json& jsonNodes = gltf.value("nodes", Json::array());
+        nodes.resize(jsonNodes.size());
+        for (size_t i = 0; i < jsonNodes.size(); ++i) {
+            const std::string where = file.string() + ": /nodes/" + std::to_string(i);
+            nodes[i].name = jsonNodes[i].value("name", "");
+            nodes[i].local = nodeTransformOf(jsonNodes[i], where);
+            for (const Json& child : jsonNodes[i].value("children", Json::array())) {
+                const auto c = child.get<long long>();
+                if (c < 0 || static_cast<size_t>(c) >= jsonNodes.size() ||
+                    nodes[static_cast<size_t>(c)].parent >= 0)
+                    throw Error(where + "/children: invalid or repeated child " +
+                                std::to_string(c));
+                nodes[static_cast<size_t>(c)].parent = static_cast<int>(i);
+            }
+        }
+    } catch (const Json::exception& error) {
+        throw Error(file.string() + ": /nodes: " + error.what());
+    }
+
+    RuntimeLoadReport local;
+    RuntimeLoadReport& r = report ? *report : local;
+    const Json* extension = nullptr;
+    if (gltf.contains("extensions") && gltf["extensions"].contains(kExtensionName))
+        extension = &gltf["extensions"][kExtensionName];
+    HoseRigDescriptor descriptor;
+    if (extension) {
+        r.descriptorSource = file.string() + "#" + kExtensionName;
+        descriptor = parseDescriptor(extension->dump(), r.descriptorSource);
+    } else {
+        fs::path sidecar = file;
+        sidecar.replace_extension(".hoses.json");
+        if (!fs::exists(sidecar))
+            throw Error(file.string() + ": has no " + kExtensionName + " extension and no " +
+                        sidecar.filename().string() + " beside it");
+        r.descriptorSource = sidecar.string();
+        r.warnings.push_back(file.string() + ": no " + kExtensionName +
+                             " extension; using the descriptor in " + sidecar.string());
+        descriptor = parseDescriptor(readFile(sidecar), r.descriptorSource);
+    }
+    const int skins = static_cast<int>(gltf.value("skins", Json::array()).size());
+    const std::vector<std::string> problems =
+        checkAgainstGltf(descriptor, static_cast<int>(nodes.size()), skins);
+    if (!problems.empty()) throw Error(r.descriptorSource + problems.front());
+    return fromDescriptor(std::move(descriptor), std::move(nodes), &r);
+}
+
+HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vector<RigNode> nodes,
+                                        RuntimeLoadReport* report)
+{
+    const std::vector<std::string> problems =
+        checkAgainstGltf(descriptor, static_cast<int>(nodes.size()), 1 << 30);
+    if (!problems.empty()) throw Error("descriptor" + problems.front());
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (nodes[i].parent >= static_cast<int>(i) && nodes[i].parent >= 0) {
+            // Parents may come after children in glTF; the world pass handles any order, but a
+            // cycle must be refused.
+            int steps = 0;
+            for (int p = nodes[i].parent; p >= 0; p = nodes[static_cast<size_t>(p)].parent)
+                if (++steps > static_cast<int>(nodes.size()))
+                    throw Error("glTF node " + std::to_string(i) + ": its parents form a cycle");
+        }
+
+    HoseRuntime runtime;
+    runtime.m_descriptor = std::move(descriptor);
+    runtime.m_nodes = std::move(nodes);
+    runtime.recomputeWorld();
+    for (size_t h = 0; h < runtime.m_descriptor.hoses.size(); ++h) {
+        const RigHose& d = runtime.m_descriptor.hoses[h];
+        const std::string at = "/hoses/" + std::to_string(h);
+        std::vector<int> attachmentIds;
+        Hose hose = rebuildHose(d, &attachmentIds);
+        // The library rebuilds rest lengths from the axis (the hose was exported relaxed, as a
+        // project builds it). Report, rather than hide, a hose exported in a stretched state.
+        if (!restLengthsMatch(d) && report)
+            report->warnings.push_back(at + "/restLengths: the axis was exported away from its "
+                                            "rest shape; the runtime rebuilds the hose relaxed at "
+                                            "the exported shape");
+        HoseSurface surface(hose); // as the library does after building: same twist seed
+        RunningHose running{
+            std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}};
+        for (int joint : d.jointNodes)
+            running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
+        runtime.m_hoses.push_back(std::move(running));
+    }
+    runtime.update();
+    return runtime;
+}
+
+int HoseRuntime::findHose(std::string_view id) const
+{
+    for (size_t h = 0; h < m_descriptor.hoses.size(); ++h)
+        if (m_descriptor.hoses[h].id == id) return static_cast<int>(h);
+    return -1;
+}
+
+int HoseRuntime::findNode(std::string_view name) const
+{
+    for (size_t i = 0; i < m_nodes.size(); ++i)
+        if (m_nodes[i].name == name) return static_cast<int>(i);
+    return -1;
+}
+
+Frame HoseRuntime::nodeWorldFrame(int node) const
+{
+    return detail::rigidPart(m_world.at(static_cast<size_t>(node)));
+}
+
+void HoseRuntime::recomputeWorld()
+{
+    m_world.assign(m_nodes.size(), Eigen::Matrix4d::Identity());
+    std::vector<char> done(m_nodes.size(), 0);
+    // Nodes may list parents after children: resolve each chain once, memoised.
+    std::vector<int> chain;
+    for (size_t i = 0; i < m_nodes.size(); ++i) {
+        chain.clear();
+        for (int n = static_cast<int>(i); n >= 0 && !done[static_cast<size_t>(n)];
+             n = m_nodes[static_cast<size_t>(n)].parent)
+            chain.push_back(n);
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+            const RigNode& node = m_nodes[static_cast<size_t>(*it)];
+            const detail::Affine local = detail::matrixOf(node.local);
+            m_world[static_cast<size_t>(*it)] =
+                node.parent >= 0 ? detail::Affine(m_world[static_cast<size_t>(node.parent)] * local)
+                                 : local;
+            done[static_cast<size_t>(*it)] = 1;
+        }
+    }
+}
+
+std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransform& local)
+{
+    if (node < 0 || node >= nodeCount() || !finite(local)) {
+        HoseUpdate rejected;
+        rejected.result.status = Status::InvalidInput;
+        return {rejected};
+    }
+    m_nodes[static_cast<size_t>(node)].local = local;
+    m_nodes[static_cast<size_t>(node)].local.rotation.normalize();
+    recomputeWorld();
+    m_nodesMoved = true;
+    const auto isUnder = [&](int candidate) {
+        for (int n = candidate; n >= 0; n = m_nodes[static_cast<size_t>(n)].parent)
+            if (n == node) return true;
+        return false;
+    };
+    std::vector<HoseUpdate> updates;
+    for (size_t h = 0; h < m_hoses.size(); ++h) {
+        const RigHose& d = m_descriptor.hoses[h];
+        std::vector<int> ids;
+        std::vector<Frame> frames;
+        for (size_t k = 0; k < d.attachments.size(); ++k)
+            if (d.attachments[k].node >= 0 && isUnder(d.attachments[k].node)) {
+                ids.push_back(m_hoses[h].attachmentIds[k]);
+                frames.push_back(nodeWorldFrame(d.attachments[k].node) * d.attachments[k].offset);
+            }
+        if (ids.empty()) continue;
+        HoseUpdate update;
+        update.hose = static_cast<int>(h);
+        update.result = ids.size() == 1 ? m_hoses[h].hose.moveAttachment(ids[0], frames[0])
+                                        : m_hoses[h].hose.moveAttachments(ids, frames);
+        updates.push_back(update);
+    }
+    return updates;
+}
+
+UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
+{
+    UpdateResult rejected;
+    rejected.status = Status::InvalidInput;
+    if (hose < 0 || hose >= hoseCount()) return rejected;
+    const std::vector<int>& grabbable =
+        m_descriptor.hoses[static_cast<size_t>(hose)].grabbablePoints;
+    if (!std::binary_search(grabbable.begin(), grabbable.end(), point)) return rejected;
+    return m_hoses[static_cast<size_t>(hose)].hose.grab(point, target);
+}
+
+int HoseRuntime::update()
+{
+    int recomputed = 0;
+    for (size_t h = 0; h < m_hoses.size(); ++h) {
+        RunningHose& running = m_hoses[h];
+        const bool changed = running.surface.update(running.hose);
+        if (changed || m_nodesMoved || running.posedRevision != running.hose.revision()) {
+            poseJoints(running, m_descriptor.hoses[h]);
+            running.posedRevision = running.hose.revision();
+            ++recomputed;
+        }
+    }
+    m_nodesMoved = false;
+    return recomputed;
+}
+
+void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
+{
+    const std::vector<RingFrame>& frames = running.surface.frames();
+    const Vec3& origin = running.hose.origin();
+    running.poses.resize(frames.size());
+    for (size_t i = 0; i < frames.size(); ++i) {
+        JointPose& pose = running.poses[i];
+        pose.node = i < description.jointNodes.size() ? description.jointNodes[i] : -1;
+        pose.world.translation = origin + frames[i].center;
+        pose.world.rotation = frames[i].rotation();
+        const int parent = i < running.jointParents.size() ? running.jointParents[i] : -1;
+        if (parent < 0) {
+            pose.local.translation = pose.world.translation;
+            pose.local.rotation = pose.world.rotation;
+            pose.local.scale = Vec3::Ones();
+            continue;
+        }
+        const detail::Affine local =
+            m_world[static_cast<size_t>(parent)].inverse() * detail::matrixOf(pose.world);
+        detail::decompose(local, pose.local);
+    }
+}
+
+std::vector<float> HoseRuntime::worldPositions(int hose) const
+{
+    const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
+    const FloatSpan local = running.surface.positions();
+    const Vec3& origin = running.hose.origin();
+    std::vector<float> world(local.size());
+    for (size_t v = 0; v < local.size(); v += 3)
+        for (size_t c = 0; c < 3; ++c)
+            world[v + c] = static_cast<float>(static_cast<double>(local[v + c]) +
+                                              origin(static_cast<Eigen::Index>(c)));
+    return world;
+}
+
+} // namespace chaintube::rig
