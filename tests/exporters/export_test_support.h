@@ -1,0 +1,132 @@
+// Helpers for exporter tests: temporary folders, the samples, reading GLB chunks and accessors.
+#pragma once
+
+#include <chaintube/export/gltf_export.h>
+#include <chaintube/formats/project_hoses.h>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace chaintube::exporting::testing {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+class TemporaryFolder
+{
+public:
+    TemporaryFolder()
+    {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        std::random_device random;
+        m_path = fs::temp_directory_path() /
+                 ("chaintube-export-" + std::string(info ? info->name() : "test") + "-" +
+                  std::to_string(random()));
+        fs::create_directories(m_path);
+    }
+    ~TemporaryFolder()
+    {
+        std::error_code ignored;
+        fs::permissions(m_path, fs::perms::owner_all, fs::perm_options::add, ignored);
+        fs::remove_all(m_path, ignored);
+    }
+    const fs::path& path() const { return m_path; }
+    fs::path operator/(const std::string& name) const { return m_path / name; }
+
+private:
+    fs::path m_path;
+};
+
+inline std::string readBytes(const fs::path& file)
+{
+    std::ifstream stream(file, std::ios::binary);
+    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+}
+
+inline void writeBytes(const fs::path& file, const std::string& bytes)
+{
+    std::ofstream stream(file, std::ios::binary);
+    stream << bytes;
+}
+
+inline fs::path samplesDir()
+{
+    return CHAINTUBE_SAMPLES_DIR;
+}
+inline fs::path scenesDir()
+{
+    return CHAINTUBE_SCENES_DIR;
+}
+inline bool haveScenes()
+{
+    return fs::exists(scenesDir() / "2CylinderEngine.glb");
+}
+inline formats::NamedRoots roots()
+{
+    return {{"scenes", scenesDir()}};
+}
+
+/// Samples whose scenes are present (the engine samples need ../shared/scenes).
+inline std::vector<std::string> availableSamples()
+{
+    std::vector<std::string> samples{"single-hose", "test-rig"};
+    if (haveScenes()) {
+        samples.push_back("engine");
+        samples.push_back("engine-50-hoses");
+    }
+    return samples;
+}
+
+/// The glTF JSON and buffer 0 of a .glb or .gltf (+ .bin).
+struct GltfDocument
+{
+    Json json;
+    std::string bin;
+};
+
+inline GltfDocument readGltf(const fs::path& file)
+{
+    GltfDocument document;
+    const std::string bytes = readBytes(file);
+    if (bytes.compare(0, 4, "glTF") == 0) {
+        std::uint32_t jsonLength = 0, binLength = 0;
+        std::memcpy(&jsonLength, bytes.data() + 12, 4);
+        document.json = Json::parse(bytes.substr(20, jsonLength));
+        if (20 + jsonLength + 8 <= bytes.size()) {
+            std::memcpy(&binLength, bytes.data() + 20 + jsonLength, 4);
+            document.bin = bytes.substr(20 + jsonLength + 8, binLength);
+        }
+    } else {
+        document.json = Json::parse(bytes);
+        if (document.json.contains("buffers"))
+            document.bin = readBytes(file.parent_path() /
+                                     document.json["buffers"][0]["uri"].get<std::string>());
+    }
+    return document;
+}
+
+/// Float accessor values (tightly packed, as the exporter writes them).
+inline std::vector<float> floatAccessor(const GltfDocument& document, int accessorIndex)
+{
+    const Json& accessor = document.json["accessors"][static_cast<size_t>(accessorIndex)];
+    const Json& view = document.json["bufferViews"][accessor["bufferView"].get<size_t>()];
+    const std::map<std::string, size_t> components{
+        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
+    const size_t count =
+        accessor["count"].get<size_t>() * components.at(accessor["type"].get<std::string>());
+    std::vector<float> values(count);
+    std::memcpy(values.data(),
+                document.bin.data() + view.value("byteOffset", size_t{0}) +
+                    accessor.value("byteOffset", size_t{0}),
+                count * 4);
+    return values;
+}
+
+} // namespace chaintube::exporting::testing

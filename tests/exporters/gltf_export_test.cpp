@@ -1,0 +1,212 @@
+// The glTF hose rig as written: structure the spec and our descriptor promise, atomic writes.
+#include "export_test_support.h"
+
+#include <chaintube/export/rig_descriptor.h>
+#include <chaintube/formats/errors.h>
+#include <set>
+
+namespace chaintube::exporting::testing {
+namespace {
+
+ExportReport exportSample(const std::string& sample, const fs::path& output,
+                          const ExportOptions& options = {})
+{
+    return exportProjectFile(samplesDir() / (sample + ".ctproj"), output, roots(), options);
+}
+
+TEST(GltfExport, EveryHoseIsASkinnedMeshAtTheSceneRootWithOneTrsJointPerAxisPoint)
+{
+    TemporaryFolder folder;
+    for (const std::string& sample : availableSamples()) {
+        const fs::path output = folder / (sample + ".glb");
+        const ExportReport report = exportSample(sample, output);
+        const GltfDocument gltf = readGltf(output);
+        const Json& descriptor = gltf.json["extensions"][rig::kExtensionName];
+        ASSERT_EQ(descriptor["hoses"].size(), static_cast<size_t>(report.hoseCount)) << sample;
+        const std::vector<int> sceneRoots = gltf.json["scenes"][0]["nodes"].get<std::vector<int>>();
+        for (const Json& hose : descriptor["hoses"]) {
+            const int mesh = hose["mesh"].get<int>();
+            EXPECT_NE(std::find(sceneRoots.begin(), sceneRoots.end(), mesh), sceneRoots.end())
+                << sample << ": skinned mesh node not at the scene root";
+            const Json& node = gltf.json["nodes"][static_cast<size_t>(mesh)];
+            ASSERT_EQ(node["skin"].get<int>(), hose["skin"].get<int>());
+            const Json& skin = gltf.json["skins"][hose["skin"].get<size_t>()];
+            EXPECT_EQ(skin["joints"], hose["joints"]);
+            EXPECT_EQ(skin["joints"].size(), hose["axis"].size()) << "one joint per axis point";
+            for (const Json& joint : skin["joints"])
+                EXPECT_FALSE(gltf.json["nodes"][joint.get<size_t>()].contains("matrix"))
+                    << sample << ": joint " << joint << " uses matrix";
+            const Json& attributes =
+                gltf.json["meshes"][node["mesh"].get<size_t>()]["primitives"][0]["attributes"];
+            EXPECT_TRUE(attributes.contains("JOINTS_0") && attributes.contains("WEIGHTS_0"));
+            // Rigid weights: (1, 0, 0, 0) for every vertex.
+            const std::vector<float> weights =
+                floatAccessor(gltf, attributes["WEIGHTS_0"].get<int>());
+            for (size_t v = 0; v < weights.size(); v += 4) {
+                ASSERT_EQ(weights[v], 1.0f);
+                ASSERT_EQ(weights[v + 1] + weights[v + 2] + weights[v + 3], 0.0f);
+            }
+        }
+    }
+}
+
+TEST(GltfExport, TheExtensionIsUsedButNeverRequired)
+{
+    TemporaryFolder folder;
+    exportSample("test-rig", folder / "rig.glb");
+    const Json json = readGltf(folder / "rig.glb").json;
+    EXPECT_EQ(json["extensionsUsed"], Json::array({rig::kExtensionName}));
+    EXPECT_FALSE(json.contains("extensionsRequired"));
+}
+
+TEST(GltfExport, EmptyDescriptorListsAreWrittenAsArraysNotNull)
+{
+    // single-hose has no attachments: tinygltf would have written "attachments": null.
+    TemporaryFolder folder;
+    exportSample("single-hose", folder / "free.glb");
+    const Json embedded = readGltf(folder / "free.glb").json["extensions"][rig::kExtensionName];
+    const Json sidecar = Json::parse(readBytes(folder / "free.hoses.json"));
+    for (const Json* descriptor : {&embedded, &sidecar}) {
+        const Json& attachments = (*descriptor)["hoses"][0]["attachments"];
+        EXPECT_TRUE(attachments.is_array()) << attachments.dump();
+        EXPECT_TRUE(attachments.empty());
+    }
+    EXPECT_EQ(embedded, sidecar);
+}
+
+TEST(GltfExport, AttachedJointsAreChildrenOfTheirSceneNodeAndFreeJointsHangUnderTheRigNode)
+{
+    TemporaryFolder folder;
+    exportSample("test-rig", folder / "rig.glb");
+    const Json json = readGltf(folder / "rig.glb").json;
+    const Json& hose =
+        json["extensions"][rig::kExtensionName]["hoses"][0]; // left-feed: 0–1 on bracket_left
+    const Json& attachment = hose["attachments"][0];
+    const Json& bracket = json["nodes"][attachment["node"].get<size_t>()];
+    EXPECT_EQ(bracket["name"], "bracket_left");
+    const std::vector<int> children = bracket["children"].get<std::vector<int>>();
+    for (int point : {0, 1})
+        EXPECT_NE(std::find(children.begin(), children.end(), hose["joints"][point].get<int>()),
+                  children.end());
+    const std::vector<int> rigChildren =
+        json["nodes"][hose["rig"].get<size_t>()]["children"].get<std::vector<int>>();
+    EXPECT_NE(std::find(rigChildren.begin(), rigChildren.end(), hose["joints"][8].get<int>()),
+              rigChildren.end());
+}
+
+TEST(GltfExport, JointsAtRootGiveEveryHoseItsOwnJointTree)
+{
+    TemporaryFolder folder;
+    ExportOptions options;
+    options.jointsUnderAttachedNodes = false;
+    exportSample("test-rig", folder / "rig.glb", options);
+    const Json json = readGltf(folder / "rig.glb").json;
+    for (const Json& hose : json["extensions"][rig::kExtensionName]["hoses"]) {
+        const std::vector<int> rigChildren =
+            json["nodes"][hose["rig"].get<size_t>()]["children"].get<std::vector<int>>();
+        EXPECT_EQ(rigChildren, hose["joints"].get<std::vector<int>>());
+    }
+}
+
+TEST(GltfExport, SplitGltfWritesJsonBinAndDescriptorThatReferToEachOther)
+{
+    TemporaryFolder folder;
+    const ExportReport report = exportSample("test-rig", folder / "rig.gltf");
+    EXPECT_EQ(report.binFile, folder / "rig.bin");
+    const Json json = Json::parse(readBytes(folder / "rig.gltf"));
+    EXPECT_EQ(json["buffers"][0]["uri"], "rig.bin");
+    EXPECT_EQ(json["buffers"][0]["byteLength"].get<size_t>(), fs::file_size(folder / "rig.bin"));
+    EXPECT_TRUE(fs::exists(folder / "rig.hoses.json"));
+}
+
+TEST(GltfExport, TheSameProjectExportsToTheSameBytes)
+{
+    TemporaryFolder folder;
+    exportSample("test-rig", folder / "a.glb");
+    exportSample("test-rig", folder / "b.glb");
+    EXPECT_EQ(readBytes(folder / "a.glb"), readBytes(folder / "b.glb"));
+}
+
+TEST(GltfExport, AFailedWriteLeavesNoHalfOutput)
+{
+    TemporaryFolder folder;
+    // The descriptor's name is taken by a folder: the .bin is written first, then the
+    // descriptor fails; the .bin this call created must be gone and no .gltf written.
+    fs::create_directories(folder / "rig.hoses.json");
+    EXPECT_THROW(exportSample("test-rig", folder / "rig.gltf"), formats::FileError);
+    EXPECT_FALSE(fs::exists(folder / "rig.bin"));
+    EXPECT_FALSE(fs::exists(folder / "rig.gltf"));
+}
+
+TEST(GltfExport, AFailedReExportLeavesThePreviousExportUntouched)
+{
+    TemporaryFolder folder;
+    exportSample("test-rig", folder / "rig.glb", {});
+    const std::string before = readBytes(folder / "rig.glb");
+    fs::remove(folder / "rig.hoses.json");
+    fs::create_directories(folder / "rig.hoses.json"); // the sidecar is written before the GLB
+    ExportOptions moved;
+    moved.jointsUnderAttachedNodes = false; // different contents, so a write would show
+    EXPECT_THROW(exportSample("test-rig", folder / "rig.glb", moved), formats::FileError);
+    EXPECT_EQ(readBytes(folder / "rig.glb"), before);
+}
+
+TEST(GltfExport, CancellingFromTheProgressCallbackWritesNothing)
+{
+    TemporaryFolder folder;
+    ExportOptions options;
+    std::vector<double> seen;
+    options.progress = [&](double fraction) {
+        seen.push_back(fraction);
+        return fraction < 0.7;
+    };
+    EXPECT_THROW(exportSample("test-rig", folder / "rig.glb", options), formats::Cancelled);
+    EXPECT_FALSE(fs::exists(folder / "rig.glb"));
+    EXPECT_FALSE(fs::exists(folder / "rig.hoses.json"));
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+}
+
+TEST(GltfExport, ProgressRunsFromZeroToOne)
+{
+    TemporaryFolder folder;
+    ExportOptions options;
+    std::vector<double> seen;
+    options.progress = [&](double fraction) {
+        seen.push_back(fraction);
+        return true;
+    };
+    exportSample("test-rig", folder / "rig.glb", options);
+    ASSERT_FALSE(seen.empty());
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+}
+
+TEST(GltfExport, RejectsAnOutputThatIsNeitherGlbNorGltf)
+{
+    TemporaryFolder folder;
+    try {
+        exportSample("single-hose", folder / "out.obj");
+        FAIL();
+    } catch (const InvalidArgument& error) {
+        EXPECT_NE(std::string(error.what()).find("out.obj"), std::string::npos);
+    }
+}
+
+TEST(GltfExport, TheFiftyHoseEngineExportsEveryHoseWithItsJoints)
+{
+    if (!haveScenes()) GTEST_SKIP() << "needs ../shared/scenes";
+    TemporaryFolder folder;
+    const ExportReport report = exportSample("engine-50-hoses", folder / "engine.glb");
+    EXPECT_EQ(report.hoseCount, 50);
+    EXPECT_EQ(report.descriptor.hoses.size(), 50u);
+    int joints = 0;
+    for (const rig::RigHose& hose : report.descriptor.hoses)
+        joints += static_cast<int>(hose.jointNodes.size());
+    EXPECT_EQ(report.jointCount, joints);
+    // A measurement for the log, not an assertion (README "Export and the runtime" has timings).
+    std::cout << "[ timing ] engine-50-hoses: import + build + export " << report.seconds << " s, "
+              << report.bytesWritten / 1024 << " KiB, " << report.jointCount << " joints\n";
+}
+
+} // namespace
+} // namespace chaintube::exporting::testing

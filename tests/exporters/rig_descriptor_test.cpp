@@ -1,0 +1,103 @@
+// The runtime descriptor: exact round trip, and malformed documents rejected with a pointer.
+#include "export_test_support.h"
+
+#include <chaintube/export/rig_descriptor.h>
+
+namespace chaintube::exporting::testing {
+namespace {
+
+rig::HoseRigDescriptor exportedDescriptor(const std::string& sample)
+{
+    TemporaryFolder folder;
+    return exportProjectFile(samplesDir() / (sample + ".ctproj"), folder / "out.glb", roots())
+        .descriptor;
+}
+
+/// Parses `text` and returns the DescriptorError's pointer ("(parsed)" if it parsed).
+std::string pointerOfError(const std::string& text)
+{
+    try {
+        rig::parseDescriptor(text, "test.hoses.json");
+    } catch (const rig::DescriptorError& error) {
+        EXPECT_NE(std::string(error.what()).find("test.hoses.json"), std::string::npos);
+        return error.pointer();
+    }
+    return "(parsed)";
+}
+
+TEST(RigDescriptor, SerialiseThenParseGivesBackTheSameDescriptor)
+{
+    const rig::HoseRigDescriptor descriptor = exportedDescriptor("test-rig");
+    const std::string text = rig::serialiseDescriptor(descriptor);
+    const rig::HoseRigDescriptor parsed = rig::parseDescriptor(text, "x");
+    EXPECT_EQ(rig::serialiseDescriptor(parsed), text);
+    ASSERT_EQ(parsed.hoses.size(), 2u);
+    // Full double precision: the rebuilt rest lengths equal the exported ones exactly.
+    EXPECT_EQ(parsed.hoses[0].axis, descriptor.hoses[0].axis);
+    EXPECT_TRUE(rig::restLengthsMatch(parsed.hoses[0]));
+}
+
+TEST(RigDescriptor, EveryCrossSectionShapeRebuildsTheSameProfile)
+{
+    const std::vector<Profile> profiles{
+        Profile::circle(0.01, 12), Profile::ellipse(0.01, 0.006, 10),
+        Profile::rectangle(0.02, 0.01), Profile::roundedRectangle(0.02, 0.01, 0.002, 3),
+        Profile::polygon({{0.0, 0.0}, {0.02, 0.0}, {0.0, 0.015}}, 0.1)};
+    for (const Profile& profile : profiles) {
+        const Profile rebuilt = rig::CrossSection::of(profile).build();
+        EXPECT_TRUE(rebuilt == profile);
+        EXPECT_EQ(rebuilt.points(), profile.points());
+    }
+}
+
+TEST(RigDescriptor, RejectsMalformedDocumentsNamingTheField)
+{
+    const Json good = Json::parse(rig::serialiseDescriptor(exportedDescriptor("test-rig")));
+    EXPECT_EQ(pointerOfError(good.dump()), "(parsed)");
+
+    Json bad = good;
+    bad["hoses"][0]["attachments"] = nullptr; // what tinygltf would have written for []
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/attachments");
+
+    bad = good;
+    bad["hoses"][0]["restLengths"].erase(0);
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/restLengths");
+
+    bad = good;
+    bad["hoses"][1]["attachments"][1]["points"] = Json::array({0, 3}); // overlaps attachment 0
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/1/attachments/1/points");
+
+    bad = good;
+    bad["hoses"][0]["grabbablePoints"][0] = 0; // point 0 is attached
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/grabbablePoints/0");
+
+    bad = good;
+    bad["hoses"][0]["attachments"][0]["offset"]["rotation"] = Json::array({0, 0, 0, 2});
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/attachments/0/offset/rotation");
+
+    bad = good;
+    bad["version"] = "2.0";
+    EXPECT_EQ(pointerOfError(bad.dump()), "/version");
+
+    bad = good;
+    bad["hoses"][0]["expansionCoefficient"] = 1.5;
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/expansionCoefficient");
+
+    bad = good;
+    bad["hoses"][1]["id"] = good["hoses"][0]["id"];
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/1/id");
+
+    EXPECT_EQ(pointerOfError("{ not json"), "");
+}
+
+TEST(RigDescriptor, NodeIndicesOutsideTheGltfAreReported)
+{
+    const rig::HoseRigDescriptor descriptor = exportedDescriptor("test-rig");
+    EXPECT_TRUE(rig::checkAgainstGltf(descriptor, 1000, 2).empty());
+    const std::vector<std::string> problems = rig::checkAgainstGltf(descriptor, 10, 2);
+    ASSERT_FALSE(problems.empty());
+    EXPECT_NE(problems.front().find("/hoses/0/"), std::string::npos) << problems.front();
+}
+
+} // namespace
+} // namespace chaintube::exporting::testing
