@@ -19,6 +19,7 @@ debian_packages=(
   libocct-visualization-dev
   xvfb xauth libgl1-mesa-dri
   python3 python3-jsonschema
+  blender python3-numpy  # the exporter's Blender import test (python3-numpy: its glTF importer)
 )
 
 install_missing_packages() {
@@ -36,6 +37,40 @@ install_missing_packages() {
     "${missing[@]}" >/dev/null
 }
 
+# The real glTF clients of the exporter tests (Khronos glTF-Validator, three.js) come from npm,
+# pinned by tests/clients/package-lock.json; installed once, when node_modules is missing.
+install_test_clients() {
+  [ -d tests/clients/node_modules ] && return 0
+  if ! command -v npm >/dev/null; then
+    echo "build.sh: npm not found: installing Debian's nodejs and npm" >&2
+    local sudo=""
+    [ "$(id -u)" -ne 0 ] && sudo="sudo"
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
+      nodejs npm >/dev/null
+  fi
+  (cd tests/clients && npm ci --no-audit --no-fund --loglevel=error)
+}
+
+# The main job: export the bundled samples to glTF hose rigs in build/export and validate them.
+# The engine samples need ../shared/scenes (third-party, never committed); without it only the
+# self-contained samples are exported, and the skipped ones are named.
+export_samples() {
+  local scenes=../shared/scenes
+  local projects=(samples/single-hose.ctproj samples/test-rig.ctproj)
+  local roots=()
+  if [ -f "$scenes/2CylinderEngine.glb" ]; then
+    projects=(samples/*.ctproj)
+    roots=(--root "scenes=$scenes")
+  else
+    echo "build.sh: $scenes/2CylinderEngine.glb is absent: skipping samples/engine.ctproj and" \
+         "samples/engine-50-hoses.ctproj (they reference scenes:2CylinderEngine.glb)" >&2
+  fi
+  ./build/exporters/chaintube export --batch "${projects[@]}" -o build/export -j 2 "${roots[@]}"
+  for file in build/export/*.glb; do
+    ./build/exporters/chaintube validate "$file" 2>/dev/null
+  done
+}
+
 build() {
   cmake --preset default >/dev/null
   cmake --build --preset default
@@ -45,10 +80,11 @@ case "${1:-}" in
   run)
     install_missing_packages
     build
-    ./build/exporters/chaintube demo
+    export_samples
     ;;
   test)
     install_missing_packages
+    install_test_clients
     build
     ctest --preset default
     ;;

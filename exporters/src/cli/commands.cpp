@@ -59,7 +59,8 @@ void addCommands(CLI::App& app, ExportCommand& exportCommand, FileCommand& valid
         kExitCodes);
     exporter->add_option("project", exportCommand.project, "Project file (*.ctproj)");
     exporter->add_option("--batch", exportCommand.batch,
-                         "Export every project in a folder, or matching a glob pattern");
+                         "Export every project in a folder, or matching a glob pattern (several "
+                         "folders, patterns or project files may follow)");
     exporter->add_option("-o,--output", exportCommand.output,
                          "OUT.glb or OUT.gltf (+ OUT.bin); with --batch the output folder. "
                          "Default: the project's export settings, else <project>.glb beside it");
@@ -105,10 +106,14 @@ int runExport(const ExportCommand& command, std::ostream& out, std::ostream& err
             err << "chaintube export --batch: -o OUTDIR is required\n";
             return kExitUsage;
         }
-        const auto projects = exporting::findProjects(command.batch);
-        if (projects.empty()) {
-            err << "chaintube export --batch: no *.ctproj matches '" << command.batch << "'\n";
-            return kExitFailed;
+        std::vector<std::filesystem::path> projects;
+        for (const std::string& argument : command.batch) {
+            const auto found = exporting::findProjects(argument);
+            if (found.empty()) {
+                err << "chaintube export --batch: no *.ctproj matches '" << argument << "'\n";
+                return kExitFailed;
+            }
+            projects.insert(projects.end(), found.begin(), found.end());
         }
         exporting::ExportOptions options = exportOptionsOf(command);
         options.container =
@@ -119,9 +124,10 @@ int runExport(const ExportCommand& command, std::ostream& out, std::ostream& err
                 if (command.quiet && event.ok) return;
                 err << "[" << event.finished << "/" << event.total << "] "
                     << (event.ok ? "ok     " : "FAILED ") << event.message << "\n";
-                if (event.ok && !command.quiet)
-                    for (const std::string& warning : event.report->warnings)
-                        err << "        warning: " << warning << "\n";
+                if (event.ok && !event.report->warnings.empty())
+                    err << "        " << event.report->warnings.size()
+                        << " warning(s) about the hoses' state: chaintube info "
+                        << event.report->gltfFile.string() << " lists them\n";
             },
             options);
         out << "exported " << result.exported.size() << " of " << projects.size()

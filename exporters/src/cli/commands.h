@@ -21,7 +21,7 @@ constexpr int kExitUsage = 2; ///< bad command line (unknown option, missing arg
 struct ExportCommand
 {
     std::string project;            ///< a project file (single export)
-    std::string batch;              ///< a folder or glob of projects (batch export)
+    std::vector<std::string> batch; ///< folders, glob patterns or files of projects (batch export)
     std::string output;             ///< OUT.glb | OUT.gltf, or the batch output folder
     std::vector<std::string> roots; ///< NAME=DIR
     std::string format = "glb";     ///< batch: glb | gltf
