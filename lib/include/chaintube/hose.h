@@ -62,6 +62,21 @@ struct HoseSpec
     void validate() const;
 };
 
+/// Gravity sag options (beyond the paper; optional, costs nothing unless used): Hose::sag().
+struct SagOptions
+{
+    Vec3 gravityDirection = Vec3(0.0, -1.0, 0.0); ///< world, need not be unit (non-zero)
+    int maxRounds = 20000;    ///< bound on the work (each round is O(n))
+    double tolerance = 1e-10; ///< stop when no point moves more than this × mean rest length
+};
+
+struct SagResult
+{
+    UpdateResult update;  ///< constraint state after the final exact pass
+    int rounds = 0;       ///< rounds used
+    bool settled = false; ///< converged within maxRounds
+};
+
 /// A hose: a chain of axis points p0 … pn with per-segment rest lengths, a stretch band and a
 /// per-joint deflection limit, plus attachments (runs of points fixed to frames).
 ///
@@ -161,6 +176,16 @@ public:
     /// Re-impose all constraints on the current shape (after a material change or on a shape
     /// built from raw points): propagates from the fixed points (or from point 0 if none).
     UpdateResult settle();
+
+    /// Let the free points settle under gravity while the stretch band and bend limits hold:
+    /// the quasi-static equilibrium of a chain with mass spread evenly along its rest length
+    /// (each point carries half of its adjacent rest lengths), found by damped position-based
+    /// iterations (mass-weighted projections of the length band and of the bend limit as a
+    /// lower bound on the distance between a joint's neighbours), then one exact ChainTube pass
+    /// from the fixed points. Deterministic; a settled hose stays where it is (calling again
+    /// changes nothing beyond the tolerance). Without fixed points the hose falls without end:
+    /// returns InvalidInput and leaves it unchanged. Non-finite or zero direction: InvalidInput.
+    SagResult sag(const SagOptions& options = SagOptions());
 
     /// Incremented whenever an axis point, the profile or the diameter changes; renderers and
     /// the scene use it to skip hoses whose inputs did not change.
