@@ -1,5 +1,6 @@
 #include "chaintube/export/inspect.h"
 
+#include "../runtime/gltf_container.h"
 #include "chaintube/export/gltf_export.h"
 #include "chaintube/export/runtime.h"
 #include "chaintube/formats/project_hoses.h"
@@ -7,9 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <iomanip>
-#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -20,13 +19,6 @@ namespace chaintube::exporting {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string readText(const fs::path& file)
-{
-    std::ifstream stream(file, std::ios::binary);
-    if (!stream) throw Error(file.string() + ": cannot be read (missing or no permission)");
-    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-}
 
 std::string lower(std::string text)
 {
@@ -91,13 +83,6 @@ void validateProject(const fs::path& file, const formats::NamedRoots& roots,
 
 using Json = nlohmann::json;
 
-std::uint32_t readU32(const std::string& bytes, size_t at)
-{
-    std::uint32_t value = 0;
-    std::memcpy(&value, bytes.data() + at, 4);
-    return value;
-}
-
 /// A glTF's JSON and its buffers, read without tinygltf's loader (Debian's libtinygltf.so
 /// disagrees with its header about the TinyGLTF class layout: loading corrupts the heap).
 struct GltfFile
@@ -109,24 +94,10 @@ struct GltfFile
 GltfFile readGltf(const fs::path& file)
 {
     GltfFile gltf;
-    const std::string bytes = readText(file);
-    std::string binChunk;
-    std::string text = bytes;
-    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
-        if (bytes.size() < 20 || readU32(bytes, 8) != bytes.size())
-            throw Error(file.string() + ": GLB header length does not match the file size");
-        const size_t jsonLength = readU32(bytes, 12);
-        if (readU32(bytes, 16) != 0x4E4F534Au || 20 + jsonLength > bytes.size())
-            throw Error(file.string() + ": GLB's first chunk is not a complete JSON chunk");
-        text = bytes.substr(20, jsonLength);
-        const size_t binAt = 20 + jsonLength;
-        if (binAt + 8 <= bytes.size()) {
-            const size_t binLength = readU32(bytes, binAt);
-            if (readU32(bytes, binAt + 4) != 0x004E4942u || binAt + 8 + binLength > bytes.size())
-                throw Error(file.string() + ": GLB's second chunk is not a complete BIN chunk");
-            binChunk = bytes.substr(binAt + 8, binLength);
-        }
-    }
+    const rig::detail::GltfContainer container =
+        rig::detail::splitGltf(file, rig::detail::readFileBytes(file));
+    const std::string& text = container.json;
+    const std::string& binChunk = container.binChunk;
     try {
         gltf.json = Json::parse(text);
     } catch (const Json::exception& error) {
@@ -143,7 +114,7 @@ GltfFile readGltf(const fs::path& file)
             const std::string uri = buffers[b]["uri"].get<std::string>();
             if (uri.rfind("data:", 0) == 0)
                 throw Error(where + "/uri: data URIs are not read by validate");
-            data = readText(file.parent_path() / uri);
+            data = rig::detail::readFileBytes(file.parent_path() / uri);
         }
         if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
             throw Error(where + "/byteLength: the buffer has only " + std::to_string(data.size()) +
@@ -270,7 +241,7 @@ void validateGltf(const fs::path& file, ValidationResult& result)
     sidecar.replace_extension(".hoses.json");
     if (fs::exists(sidecar) && loadReport.descriptorSource != sidecar.string()) {
         const rig::HoseRigDescriptor beside =
-            rig::parseDescriptor(readText(sidecar), sidecar.string());
+            rig::parseDescriptor(rig::detail::readFileBytes(sidecar), sidecar.string());
         if (rig::serialiseDescriptor(beside) != rig::serialiseDescriptor(descriptor))
             result.errors.push_back(sidecar.string() +
                                     ": differs from the descriptor embedded in " + name);
@@ -357,8 +328,9 @@ ValidationResult validateFile(const fs::path& file, const formats::NamedRoots& r
             validateProject(file, roots, result);
             break;
         case FileKind::Descriptor:
-            checkDescriptorHoses(rig::parseDescriptor(readText(file), file.string()), file.string(),
-                                 result);
+            checkDescriptorHoses(
+                rig::parseDescriptor(rig::detail::readFileBytes(file), file.string()),
+                file.string(), result);
             break;
         case FileKind::Gltf:
             validateGltf(file, result);
@@ -407,7 +379,7 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
             runtime.emplace(rig::HoseRuntime::load(file));
             descriptor = runtime->descriptor();
         } else {
-            descriptor = rig::parseDescriptor(readText(file), file.string());
+            descriptor = rig::parseDescriptor(rig::detail::readFileBytes(file), file.string());
         }
         out << file.string() << ": hose rig " << descriptor.version << " ("
             << (descriptor.generator.empty() ? "unknown generator" : descriptor.generator) << "), "

@@ -1,13 +1,12 @@
 #include "chaintube/export/runtime.h"
 
+#include "gltf_container.h"
 #include "transform_math.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 
 namespace chaintube::rig {
@@ -16,36 +15,6 @@ namespace {
 
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
-
-std::string readFile(const fs::path& file)
-{
-    std::ifstream stream(file, std::ios::binary);
-    if (!stream) throw Error(file.string() + ": cannot be read (missing or no permission)");
-    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-}
-
-std::uint32_t readU32(const std::string& bytes, size_t at)
-{
-    std::uint32_t value = 0;
-    std::memcpy(&value, bytes.data() + at, 4);
-    return value; // GLB is little-endian, as every platform we build for
-}
-
-/// The JSON text of a .gltf, or of a GLB's JSON chunk.
-std::string gltfJson(const fs::path& file, const std::string& bytes)
-{
-    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
-        if (bytes.size() < 20) throw Error(file.string() + ": truncated GLB header");
-        if (readU32(bytes, 4) != 2)
-            throw Error(file.string() + ": GLB container version " +
-                        std::to_string(readU32(bytes, 4)) + ", expected 2");
-        const std::uint32_t chunkLength = readU32(bytes, 12);
-        if (readU32(bytes, 16) != 0x4E4F534Au || 20ull + chunkLength > bytes.size())
-            throw Error(file.string() + ": GLB's first chunk is not a complete JSON chunk");
-        return bytes.substr(20, chunkLength);
-    }
-    return bytes;
-}
 
 NodeTransform nodeTransformOf(const Json& node, const std::string& where)
 {
@@ -93,10 +62,10 @@ bool finite(const NodeTransform& trs)
 
 HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
 {
-    const std::string bytes = readFile(file);
+    const std::string bytes = detail::readFileBytes(file);
     Json gltf;
     try {
-        gltf = Json::parse(gltfJson(file, bytes));
+        gltf = Json::parse(detail::splitGltf(file, bytes).json);
     } catch (const Json::exception& error) {
         throw Error(file.string() + ": malformed glTF JSON: " + error.what());
     }
@@ -139,7 +108,7 @@ HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
         r.descriptorSource = sidecar.string();
         r.warnings.push_back(file.string() + ": no " + kExtensionName +
                              " extension; using the descriptor in " + sidecar.string());
-        descriptor = parseDescriptor(readFile(sidecar), r.descriptorSource);
+        descriptor = parseDescriptor(detail::readFileBytes(sidecar), r.descriptorSource);
     }
     const int skins = static_cast<int>(gltf.value("skins", Json::array()).size());
     const std::vector<std::string> problems =
