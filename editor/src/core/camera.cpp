@@ -89,7 +89,7 @@ void Camera::frame(const Box& box)
         return;
     target = box.centre();
     const double radius = std::max(box.radius(), 0.01);
-    distance = radius / std::sin(fieldOfViewY / 2.0) * 1.1;
+    distance = radius / std::sin(fieldOfViewY / 2.0) * 0.9;
 }
 
 } // namespace chaintube::editor

@@ -55,6 +55,17 @@ void AddSceneCommand::undo()
     m_scene = std::move(removed.second);
 }
 
+QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseId,
+                                    formats::HoseDefinition definition, MergeId mergeId,
+                                    const QString& text)
+{
+    return new ChangeValue<formats::HoseDefinition>(
+        document, text,
+        [hoseId](Document& d) { return d.mutableHoseDefinition(hoseId); },
+        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(definition),
+        mergeId, hoseId);
+}
+
 QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
                            std::vector<Vec3> route, const QString& text, MergeId mergeId)
 {

@@ -7,6 +7,7 @@
 #include <QOpenGLShaderProgram>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
@@ -419,8 +420,12 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         if (!hose)
             continue;
         gl.surfaceProgram.bind();
+        const auto updateStart = std::chrono::steady_clock::now();
         Private::GpuHose& gpu =
             gl.hoseFor(document, definition.id, *hose, options.showProblems, m_stats);
+        m_stats.hoseUpdateMilliseconds += std::chrono::duration<double, std::milli>(
+                                              std::chrono::steady_clock::now() - updateStart)
+                                              .count();
         Eigen::Matrix4d model = Eigen::Matrix4d::Identity();
         model.block<3, 1>(0, 3) = hose->origin();
         const Eigen::Matrix4f modelFloat = toFloat(model);

@@ -144,6 +144,13 @@ QUndoCommand* makeChangeHoseField(Document& document, const std::string& hoseId,
         mergeId, hoseId);
 }
 
+/// Replaces a hose's whole definition (the properties panel: one field changed, checked with
+/// Document::validateHoseDefinition first). `mergeId` names the field so that a slider drag
+/// merges into one step.
+QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseId,
+                                    formats::HoseDefinition definition, MergeId mergeId,
+                                    const QString& text);
+
 /// Replaces a hose's route (insert/delete/move a route point; commit of a grab-drag). Pass
 /// MergeId::HoseRoute while a route point is dragged so that the drag is one step.
 QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,

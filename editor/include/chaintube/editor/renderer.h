@@ -36,6 +36,7 @@ struct RenderStats
     int hosesUploaded = 0;     ///< hoses whose vertex buffers were updated
     int hosesDrawn = 0;
     long long trianglesDrawn = 0;
+    double hoseUpdateMilliseconds = 0.0; ///< CPU time of surface updates + uploads
 };
 
 class Renderer

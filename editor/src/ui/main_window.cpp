@@ -1,0 +1,726 @@
+#include "main_window.h"
+
+#include "chaintube/editor/commands.h"
+#include "chaintube/formats/atomic_file.h"
+#include "chaintube/formats/scene_import.h"
+#include "chaintube/route.h"
+#include "export_dialog.h"
+#include "import_runner.h"
+#include "problems_panel.h"
+#include "properties_panel.h"
+#include "viewport.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDir>
+#include <QDockWidget>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QHeaderView>
+#include <QMenuBar>
+#include <QScrollArea>
+#include <QSettings>
+#include <QStandardPaths>
+#include <QStatusBar>
+#include <QTextStream>
+#include <QToolBar>
+#include <QTreeWidget>
+#include <QUndoView>
+
+#include <fstream>
+#include <sstream>
+
+namespace chaintube::editor {
+
+namespace {
+
+constexpr int kMaxRecentFiles = 8;
+constexpr int kAutosaveIntervalMs = 30000;
+enum TreeRole { KindRole = Qt::UserRole, IdRole, NodeRole };
+enum TreeKind { SceneItem = 1, NodeItem, HoseItem };
+
+QString sceneFileFilter()
+{
+    QStringList patterns;
+    for (const std::string& extension : formats::supportedSceneExtensions())
+        patterns << "*" + QString::fromStdString(extension);
+    return QObject::tr("CAD and DCC scenes (%1)").arg(patterns.join(' '));
+}
+
+const formats::Rgba kHoseColours[] = {
+    {0.08, 0.08, 0.08, 1.0}, {0.75, 0.1, 0.08, 1.0}, {0.1, 0.3, 0.75, 1.0},
+    {0.9, 0.6, 0.05, 1.0},   {0.1, 0.55, 0.2, 1.0},  {0.7, 0.7, 0.72, 1.0},
+};
+
+} // namespace
+
+formats::NamedRoots editorRoots(const QStringList& rootOptions, QString* error)
+{
+    formats::NamedRoots roots{{"scenes", CHAINTUBE_DEFAULT_SCENES_DIR}};
+    QSettings settings;
+    settings.beginGroup("roots");
+    for (const QString& name : settings.childKeys())
+        roots[name.toStdString()] = settings.value(name).toString().toStdString();
+    settings.endGroup();
+    for (const QString& option : rootOptions) {
+        const int equals = option.indexOf('=');
+        if (equals < 2) {
+            if (error)
+                *error = QObject::tr("--root expects NAME=DIR, got '%1'").arg(option);
+            continue;
+        }
+        roots[option.left(equals).toStdString()] = option.mid(equals + 1).toStdString();
+    }
+    return roots;
+}
+
+bool MainWindow::recoverUntitled() { return offerRecovery(QString(), autosavePath()); }
+
+MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
+    : QMainWindow(parent), m_document(std::make_unique<Document>(std::move(roots)))
+{
+    setObjectName("mainWindow");
+    ask = [this](const QString& title, const QString& text, QMessageBox::StandardButtons buttons) {
+        return QMessageBox::question(this, title, text, buttons);
+    };
+    showError = [this](const QString& title, const QString& text) {
+        QMessageBox::warning(this, title, text);
+    };
+    m_viewport = new Viewport(*m_document, this);
+    m_viewport->setObjectName("viewport");
+    setCentralWidget(m_viewport);
+    createDocks();
+    createActions();
+    statusBar()->showMessage(tr("Ready"));
+    connect(m_document.get(), &Document::changed, this, &MainWindow::onDocumentChanged);
+    connect(m_viewport, &Viewport::statusMessage, this,
+            [this](const QString& message) { statusBar()->showMessage(message, 8000); });
+    connect(m_viewport, &Viewport::routeFinished, this, &MainWindow::onRouteFinished);
+    connect(&m_autosaveTimer, &QTimer::timeout, this, [this] { autosaveNow(); });
+    m_autosaveTimer.start(kAutosaveIntervalMs);
+
+    QSettings settings;
+    restoreGeometry(settings.value("window/geometry").toByteArray());
+    restoreState(settings.value("window/state").toByteArray());
+    if (settings.contains("view/wireframe"))
+        action("actionWireframe")->setChecked(settings.value("view/wireframe").toBool());
+    if (!settings.contains("window/geometry"))
+        resize(1280, 800);
+    rebuildSceneTree();
+    updateTitle();
+}
+
+MainWindow::~MainWindow()
+{
+    // The viewport and panels listen to the document: delete them first.
+    delete m_exportDialog;
+    m_exportDialog = nullptr;
+    delete m_viewport;
+    m_viewport = nullptr;
+    const auto docks = findChildren<QDockWidget*>();
+    for (QDockWidget* dock : docks)
+        delete dock;
+    m_document->disconnect(this);
+}
+
+QAction* MainWindow::action(const QString& objectName) const
+{
+    return findChild<QAction*>(objectName);
+}
+
+void MainWindow::createDocks()
+{
+    m_sceneTree = new QTreeWidget;
+    m_sceneTree->setObjectName("sceneTree");
+    m_sceneTree->setMinimumWidth(240);
+    m_sceneTree->setHeaderLabels({tr("Name"), tr("Kind")});
+    m_sceneTree->header()->setStretchLastSection(false);
+    m_sceneTree->header()->setSectionResizeMode(0, QHeaderView::Stretch);
+    auto* treeDock = new QDockWidget(tr("Scene"), this);
+    treeDock->setObjectName("sceneDock");
+    treeDock->setWidget(m_sceneTree);
+    addDockWidget(Qt::LeftDockWidgetArea, treeDock);
+    connect(m_sceneTree, &QTreeWidget::currentItemChanged, this,
+            [this](QTreeWidgetItem* item) {
+                if (m_syncingTree || !item)
+                    return;
+                Selection selection = m_document->selection();
+                const int kind = item->data(0, KindRole).toInt();
+                const std::string id = item->data(0, IdRole).toString().toStdString();
+                if (kind == NodeItem) {
+                    selection.sceneId = id;
+                    selection.node = item->data(0, NodeRole).toInt();
+                } else if (kind == HoseItem) {
+                    if (selection.hoseId != id)
+                        selection.rangeFirst = selection.rangeLast = selection.routePoint = -1;
+                    selection.hoseId = id;
+                } else {
+                    return;
+                }
+                m_document->setSelection(selection);
+            });
+
+    m_properties = new PropertiesPanel(*m_document);
+    auto* scroll = new QScrollArea;
+    scroll->setWidget(m_properties);
+    scroll->setWidgetResizable(true);
+    scroll->setMinimumWidth(470);
+    scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    auto* propertiesDock = new QDockWidget(tr("Properties"), this);
+    propertiesDock->setObjectName("propertiesDock");
+    propertiesDock->setWidget(scroll);
+    addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
+
+    m_problems = new ProblemsPanel(*m_document);
+    auto* problemsDock = new QDockWidget(tr("Problems"), this);
+    problemsDock->setObjectName("problemsDock");
+    problemsDock->setWidget(m_problems);
+    addDockWidget(Qt::BottomDockWidgetArea, problemsDock);
+
+    m_history = new QUndoView(m_document->undoStack());
+    m_history->setObjectName("history");
+    auto* historyDock = new QDockWidget(tr("History"), this);
+    historyDock->setObjectName("historyDock");
+    historyDock->setWidget(m_history);
+    addDockWidget(Qt::LeftDockWidgetArea, historyDock);
+    resizeDocks({treeDock, historyDock}, {500, 200}, Qt::Vertical);
+}
+
+void MainWindow::createActions()
+{
+    auto make = [this](const QString& text, const char* name, const QKeySequence& shortcut,
+                       auto slot) {
+        auto* a = new QAction(text, this);
+        a->setObjectName(name);
+        if (!shortcut.isEmpty())
+            a->setShortcut(shortcut);
+        connect(a, &QAction::triggered, this, slot);
+        return a;
+    };
+    QMenu* file = menuBar()->addMenu(tr("&File"));
+    file->addAction(make(tr("&New"), "actionNew", QKeySequence::New, [this] { newProject(); }));
+    file->addAction(make(tr("&Open…"), "actionOpen", QKeySequence::Open, [this] {
+        if (!maybeSave())
+            return;
+        const QString path = QFileDialog::getOpenFileName(
+            this, tr("Open project"), QString(), tr("ChainTube projects (*.ctproj)"));
+        if (!path.isEmpty())
+            openFile(path);
+    }));
+    m_recentMenu = file->addMenu(tr("Open &Recent"));
+    file->addAction(make(tr("&Save"), "actionSave", QKeySequence::Save, [this] { save(); }));
+    file->addAction(make(tr("Save &As…"), "actionSaveAs", QKeySequence::SaveAs, [this] {
+        const QString path = QFileDialog::getSaveFileName(this, tr("Save project as"), QString(),
+                                                          tr("ChainTube projects (*.ctproj)"));
+        if (!path.isEmpty())
+            saveAs(path.endsWith(".ctproj") ? path : path + ".ctproj");
+    }));
+    file->addSeparator();
+    file->addAction(make(tr("&Import Scene…"), "actionImportScene", QKeySequence(tr("Ctrl+I")),
+                         [this] {
+                             const QString path = QFileDialog::getOpenFileName(
+                                 this, tr("Import scene"), QString(), sceneFileFilter());
+                             if (!path.isEmpty())
+                                 importSceneFile(path);
+                         }));
+    file->addAction(make(tr("&Export…"), "actionExport", QKeySequence(tr("Ctrl+E")), [this] {
+        exportDialog().show();
+        exportDialog().raise();
+    }));
+    file->addSeparator();
+    file->addAction(make(tr("&Quit"), "actionQuit", QKeySequence::Quit, [this] { close(); }));
+
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    QAction* undo = m_document->undoStack()->createUndoAction(this, tr("&Undo"));
+    undo->setObjectName("actionUndo");
+    undo->setShortcut(QKeySequence::Undo);
+    QAction* redo = m_document->undoStack()->createRedoAction(this, tr("&Redo"));
+    redo->setObjectName("actionRedo");
+    redo->setShortcuts({QKeySequence::Redo, QKeySequence(tr("Ctrl+Y"))});
+    edit->addAction(undo);
+    edit->addAction(redo);
+    edit->addSeparator();
+    edit->addAction(make(tr("&Delete"), "actionDelete", QKeySequence::Delete,
+                         [this] { deleteSelection(); }));
+
+    QMenu* hose = menuBar()->addMenu(tr("&Hose"));
+    QAction* newHose = make(tr("&New Hose (click route points)"), "actionNewHose",
+                            QKeySequence(tr("N")), [this] {
+                                m_viewport->setMode(Viewport::Mode::LayRoute);
+                                m_viewport->setFocus();
+                            });
+    hose->addAction(newHose);
+    hose->addAction(make(tr("&Finish Route"), "actionFinishRoute", QKeySequence(Qt::Key_Return),
+                         [this] { m_viewport->finishRoute(); }));
+    hose->addAction(make(tr("&Cancel Route"), "actionCancelRoute", QKeySequence(Qt::Key_Escape),
+                         [this] { m_viewport->cancelRoute(); }));
+    hose->addAction(make(tr("&Insert Route Point"), "actionInsertRoutePoint",
+                         QKeySequence(tr("I")), [this] { insertRoutePoint(); }));
+    hose->addAction(make(tr("Fix Segment to &Part"), "actionFix", QKeySequence(tr("Ctrl+F")),
+                         [this] { m_properties->fixSelectionToPart(); }));
+    hose->addAction(make(tr("&Detach All"), "actionDetach", QKeySequence(tr("Ctrl+D")), [this] {
+        const formats::HoseDefinition* definition =
+            m_document->hoseDefinition(m_document->selection().hoseId);
+        if (!definition || definition->attachments.empty())
+            return;
+        m_document->undoStack()->beginMacro(tr("Detach hose"));
+        for (int i = int(definition->attachments.size()) - 1; i >= 0; --i)
+            m_document->undoStack()->push(makeDetach(*m_document, definition->id, i));
+        m_document->undoStack()->endMacro();
+    }));
+
+    QMenu* view = menuBar()->addMenu(tr("&View"));
+    view->addAction(make(tr("&Frame Selection"), "actionFrameSelection", QKeySequence(tr("F")),
+                         [this] { m_viewport->frameSelection(); }));
+    view->addAction(make(tr("Frame &All"), "actionFrameAll", QKeySequence(Qt::Key_Home),
+                         [this] { m_viewport->frameAll(); }));
+    QAction* wireframe = make(tr("&Wireframe"), "actionWireframe", QKeySequence(tr("W")),
+                              [this](bool on) { m_viewport->setWireframe(on); });
+    wireframe->setCheckable(true);
+    view->addAction(wireframe);
+    view->addSeparator();
+    for (QDockWidget* dock : findChildren<QDockWidget*>())
+        view->addAction(dock->toggleViewAction());
+
+    auto* toolbar = addToolBar(tr("Main"));
+    toolbar->setObjectName("mainToolbar");
+    for (const char* name : {"actionNew", "actionOpen", "actionSave", "actionImportScene",
+                             "actionExport", "actionNewHose", "actionFix", "actionFrameSelection",
+                             "actionWireframe"})
+        toolbar->addAction(action(name));
+    rebuildRecentMenu();
+}
+
+ExportDialog& MainWindow::exportDialog()
+{
+    if (!m_exportDialog)
+        m_exportDialog = new ExportDialog(*m_document, this);
+    return *m_exportDialog;
+}
+
+void MainWindow::onDocumentChanged(const ChangeEvent& event)
+{
+    using Kind = ChangeEvent::Kind;
+    switch (event.kind) {
+    case Kind::ProjectReplaced:
+    case Kind::ScenesChanged:
+    case Kind::HoseAdded:
+    case Kind::HoseRemoved:
+        rebuildSceneTree();
+        if (event.kind == Kind::ProjectReplaced) {
+            delete m_exportDialog; // its defaults come from the project
+            m_exportDialog = nullptr;
+        }
+        break;
+    case Kind::HoseChanged:
+        if (QTreeWidgetItem* root = m_sceneTree->topLevelItem(0))
+            for (int i = 0; i < root->childCount(); ++i)
+                if (root->child(i)->data(0, IdRole).toString().toStdString() == event.hoseId)
+                    if (const auto* d = m_document->hoseDefinition(event.hoseId))
+                        root->child(i)->setText(0, QString::fromStdString(d->name));
+        break;
+    case Kind::SelectionChanged:
+        syncTreeSelection();
+        break;
+    case Kind::FileStateChanged:
+        updateTitle();
+        break;
+    default:
+        break;
+    }
+}
+
+void MainWindow::rebuildSceneTree()
+{
+    m_syncingTree = true;
+    m_sceneTree->clear();
+    auto* hoses = new QTreeWidgetItem(m_sceneTree, {tr("Hoses"), QString()});
+    for (const formats::HoseDefinition& definition : m_document->project().hoses) {
+        auto* item = new QTreeWidgetItem(
+            hoses, {QString::fromStdString(definition.name.empty() ? definition.id
+                                                                   : definition.name),
+                    tr("hose")});
+        item->setData(0, KindRole, HoseItem);
+        item->setData(0, IdRole, QString::fromStdString(definition.id));
+    }
+    hoses->setExpanded(true);
+    for (const formats::SceneReference& reference : m_document->project().scenes) {
+        const formats::ImportedScene* scene = m_document->scene(reference.id);
+        auto* sceneItem = new QTreeWidgetItem(
+            m_sceneTree, {QString::fromStdString(reference.id),
+                          scene ? QString::fromStdString(scene->format) : tr("missing")});
+        sceneItem->setData(0, KindRole, SceneItem);
+        sceneItem->setToolTip(0, QString::fromStdString(reference.path));
+        if (!scene)
+            continue;
+        std::vector<QTreeWidgetItem*> items(scene->nodes.size(), nullptr);
+        for (size_t n = 0; n < scene->nodes.size(); ++n) {
+            const formats::SceneNode& node = scene->nodes[n];
+            QTreeWidgetItem* parent = node.parent >= 0 ? items[size_t(node.parent)] : sceneItem;
+            auto* item = new QTreeWidgetItem(
+                parent, {QString::fromStdString(node.name),
+                         node.meshes.empty() ? tr("group") : tr("part")});
+            item->setData(0, KindRole, NodeItem);
+            item->setData(0, IdRole, QString::fromStdString(reference.id));
+            item->setData(0, NodeRole, int(n));
+            item->setToolTip(0, QString::fromStdString(node.path));
+            items[n] = item;
+        }
+        sceneItem->setExpanded(true);
+        if (!items.empty())
+            items[0]->setExpanded(true);
+    }
+    m_syncingTree = false;
+    syncTreeSelection();
+}
+
+void MainWindow::syncTreeSelection()
+{
+    const Selection& selection = m_document->selection();
+    m_syncingTree = true;
+    QTreeWidgetItem* wanted = nullptr;
+    for (QTreeWidgetItemIterator it(m_sceneTree); *it; ++it) {
+        const int kind = (*it)->data(0, KindRole).toInt();
+        const std::string id = (*it)->data(0, IdRole).toString().toStdString();
+        if (kind == HoseItem && id == selection.hoseId)
+            wanted = *it;
+        if (kind == NodeItem && id == selection.sceneId &&
+            (*it)->data(0, NodeRole).toInt() == selection.node && selection.hoseId.empty())
+            wanted = *it;
+    }
+    if (wanted) {
+        m_sceneTree->setCurrentItem(wanted);
+        m_sceneTree->scrollToItem(wanted);
+    } else {
+        m_sceneTree->clearSelection();
+    }
+    m_syncingTree = false;
+}
+
+void MainWindow::updateTitle()
+{
+    const QString name = m_document->fileName().empty()
+                             ? tr("Untitled")
+                             : QFileInfo(QString::fromStdString(m_document->fileName().string()))
+                                   .fileName();
+    setWindowTitle(tr("%1[*] — ChainTube Studio").arg(name));
+    setWindowModified(m_document->isModified());
+}
+
+bool MainWindow::maybeSave()
+{
+    if (!m_document->isModified())
+        return true;
+    const auto answer =
+        ask(tr("Unsaved changes"), tr("The project has unsaved changes. Save them?"),
+            QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
+    if (answer == QMessageBox::Cancel)
+        return false;
+    if (answer == QMessageBox::Save) {
+        if (m_document->fileName().empty()) {
+            const QString path = QFileDialog::getSaveFileName(
+                this, tr("Save project as"), QString(), tr("ChainTube projects (*.ctproj)"));
+            return !path.isEmpty() && saveAs(path);
+        }
+        return save();
+    }
+    removeAutosave(); // discarded on purpose: nothing to recover
+    return true;
+}
+
+QString MainWindow::autosavePath() const
+{
+    if (!m_document->fileName().empty())
+        return QString::fromStdString(m_document->fileName().string()) + ".autosave";
+    const QString folder = QStandardPaths::writableLocation(QStandardPaths::AppLocalDataLocation);
+    QDir().mkpath(folder);
+    return folder + "/untitled.ctproj.autosave";
+}
+
+QString MainWindow::autosaveNow()
+{
+    if (!m_document->isModified())
+        return QString();
+    const QString path = autosavePath();
+    try {
+        formats::writeFileAtomically(path.toStdString(),
+                                     formats::serialiseProject(m_document->project()));
+        statusBar()->showMessage(tr("Autosaved to %1").arg(path), 3000);
+        return path;
+    } catch (const std::exception& error) {
+        statusBar()->showMessage(tr("Autosave failed: %1").arg(error.what()), 8000);
+        return QString();
+    }
+}
+
+void MainWindow::removeAutosave() { QFile::remove(autosavePath()); }
+
+bool MainWindow::offerRecovery(const QString& projectPath, const QString& autosave)
+{
+    const QFileInfo saved(projectPath), recovered(autosave);
+    if (!recovered.exists() || (saved.exists() && recovered.lastModified() < saved.lastModified()))
+        return false;
+    const auto answer = ask(tr("Recover unsaved changes?"),
+                            tr("ChainTube Studio found unsaved changes of %1 from %2 (it was "
+                               "probably not closed normally). Recover them?")
+                                .arg(saved.fileName().isEmpty() ? tr("an untitled project")
+                                                                : saved.fileName(),
+                                     recovered.lastModified().toString()),
+                            QMessageBox::Yes | QMessageBox::No);
+    if (answer != QMessageBox::Yes) {
+        QFile::remove(autosave);
+        return false;
+    }
+    QFile file(autosave);
+    if (!file.open(QIODevice::ReadOnly))
+        return false;
+    const std::string text = file.readAll().toStdString();
+    LoadedProject loaded;
+    QString error;
+    const std::filesystem::path target =
+        projectPath.isEmpty() ? std::filesystem::path(autosave.toStdString()).replace_extension()
+                              : std::filesystem::path(projectPath.toStdString());
+    const formats::NamedRoots roots = m_document->roots();
+    if (!runWithProgress(
+            this, tr("Recovering…"),
+            [&](const std::function<bool(double)>& progress) {
+                loaded = readProject(target, roots, progress, text);
+            },
+            &error)) {
+        showError(tr("Recovery failed"), error);
+        return false;
+    }
+    if (projectPath.isEmpty())
+        loaded.file.clear();
+    m_document->adopt(std::move(loaded));
+    m_document->setForcedModified(true);
+    statusBar()->showMessage(tr("Recovered the autosaved state; save to keep it"), 8000);
+    return true;
+}
+
+bool MainWindow::openFile(const QString& path)
+{
+    if (!maybeSave())
+        return false;
+    const QString absolute = QFileInfo(path).absoluteFilePath();
+    if (offerRecovery(absolute, absolute + ".autosave")) {
+        addRecentFile(absolute);
+        return true;
+    }
+    LoadedProject loaded;
+    QString error;
+    bool cancelled = false;
+    const formats::NamedRoots roots = m_document->roots();
+    if (!runWithProgress(
+            this, tr("Opening %1…").arg(QFileInfo(path).fileName()),
+            [&](const std::function<bool(double)>& progress) {
+                loaded = readProject(absolute.toStdString(), roots, progress);
+            },
+            &error, &cancelled)) {
+        if (!cancelled)
+            showError(tr("Cannot open project"), error);
+        return false;
+    }
+    m_document->adopt(std::move(loaded));
+    addRecentFile(absolute);
+    statusBar()->showMessage(tr("Opened %1").arg(absolute), 5000);
+    return true;
+}
+
+bool MainWindow::save()
+{
+    if (m_document->fileName().empty()) {
+        const QString path = QFileDialog::getSaveFileName(this, tr("Save project as"), QString(),
+                                                          tr("ChainTube projects (*.ctproj)"));
+        return !path.isEmpty() && saveAs(path);
+    }
+    return saveAs(QString::fromStdString(m_document->fileName().string()));
+}
+
+bool MainWindow::saveAs(const QString& path)
+{
+    const QString oldAutosave = autosavePath();
+    try {
+        m_document->save(QFileInfo(path).absoluteFilePath().toStdString());
+    } catch (const std::exception& error) {
+        showError(tr("Cannot save"), QString::fromStdString(error.what()));
+        return false;
+    }
+    QFile::remove(oldAutosave);
+    removeAutosave();
+    addRecentFile(QFileInfo(path).absoluteFilePath());
+    statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
+    return true;
+}
+
+void MainWindow::newProject()
+{
+    if (!maybeSave())
+        return;
+    m_document->reset();
+}
+
+bool MainWindow::importSceneFile(const QString& path)
+{
+    const std::filesystem::path file = QFileInfo(path).absoluteFilePath().toStdString();
+    formats::ImportedScene scene;
+    QString error;
+    bool cancelled = false;
+    if (!runWithProgress(
+            this, tr("Importing %1…").arg(QFileInfo(path).fileName()),
+            [&](const std::function<bool(double)>& progress) {
+                formats::ImportOptions options;
+                options.progress = progress;
+                scene = formats::importScene(file, options);
+            },
+            &error, &cancelled)) {
+        if (cancelled)
+            statusBar()->showMessage(tr("Import cancelled"), 5000);
+        else
+            showError(tr("Cannot import scene"), error);
+        return false;
+    }
+    formats::SceneReference reference;
+    // A unique id from the file name.
+    std::string base = file.stem().string();
+    for (char& c : base)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
+            c = '-';
+    reference.id = base;
+    for (int n = 2; m_document->scene(reference.id); ++n)
+        reference.id = base + "-" + std::to_string(n);
+    // The path as a project would write it: inside a named root → "root:rest"; inside the
+    // project's folder → relative; else absolute.
+    reference.path = file.generic_string();
+    for (const auto& [name, root] : m_document->roots())
+        if (formats::isInsideFolder(file, root)) {
+            reference.path = name + ":" +
+                             std::filesystem::relative(file, root).generic_string();
+            break;
+        }
+    if (!m_document->fileName().empty() &&
+        formats::isInsideFolder(file, m_document->fileName().parent_path()))
+        reference.path =
+            std::filesystem::relative(file, m_document->fileName().parent_path()).generic_string();
+    m_document->undoStack()->push(new AddSceneCommand(*m_document, reference, std::move(scene)));
+    m_viewport->frameAll();
+    statusBar()->showMessage(tr("Imported %1").arg(path), 5000);
+    return true;
+}
+
+void MainWindow::addRecentFile(const QString& path)
+{
+    QSettings settings;
+    QStringList files = settings.value("recentFiles").toStringList();
+    files.removeAll(path);
+    files.prepend(path);
+    while (files.size() > kMaxRecentFiles)
+        files.removeLast();
+    settings.setValue("recentFiles", files);
+    rebuildRecentMenu();
+}
+
+void MainWindow::rebuildRecentMenu()
+{
+    m_recentMenu->clear();
+    const QStringList files = QSettings().value("recentFiles").toStringList();
+    for (const QString& file : files) {
+        QAction* a = m_recentMenu->addAction(QFileInfo(file).fileName());
+        a->setToolTip(file);
+        connect(a, &QAction::triggered, this, [this, file] { openFile(file); });
+    }
+    m_recentMenu->setEnabled(!files.isEmpty());
+}
+
+void MainWindow::onRouteFinished(const std::vector<Vec3>& route)
+{
+    formats::HoseDefinition definition;
+    definition.id = m_document->unusedHoseId();
+    definition.name = "Hose " + definition.id.substr(definition.id.find('-') + 1);
+    definition.route = route;
+    const auto& presets = m_document->project().materialPresets;
+    if (!presets.empty())
+        definition.material = formats::PresetName{presets.front().name};
+    else
+        definition.material = Material();
+    // About 3 cm per segment, at least the paper's 12.
+    definition.segmentCount =
+        std::clamp(int(std::lround(polylineLength(route) / 0.03)), 12, 400);
+    definition.colour = kHoseColours[size_t(m_document->hoseCount()) % std::size(kHoseColours)];
+    const std::string problem = m_document->validateHoseDefinition(definition);
+    if (!problem.empty()) {
+        showError(tr("Cannot lay out this hose"), QString::fromStdString(problem));
+        return;
+    }
+    m_document->undoStack()->push(new AddHoseCommand(*m_document, definition));
+    Selection selection = m_document->selection();
+    selection.hoseId = definition.id;
+    selection.rangeFirst = selection.rangeLast = selection.routePoint = -1;
+    m_document->setSelection(selection);
+    statusBar()->showMessage(tr("Added %1").arg(QString::fromStdString(definition.name)), 5000);
+}
+
+void MainWindow::deleteSelection()
+{
+    Selection selection = m_document->selection();
+    const formats::HoseDefinition* definition = m_document->hoseDefinition(selection.hoseId);
+    if (!definition)
+        return;
+    if (selection.routePoint >= 0 && selection.routePoint < int(definition->route.size())) {
+        if (definition->route.size() <= 2) {
+            statusBar()->showMessage(tr("A hose needs at least two route points"), 5000);
+            return;
+        }
+        std::vector<Vec3> route = definition->route;
+        route.erase(route.begin() + selection.routePoint);
+        formats::HoseDefinition changed = *definition;
+        changed.route = route;
+        const std::string problem = m_document->validateHoseDefinition(changed);
+        if (!problem.empty()) {
+            statusBar()->showMessage(QString::fromStdString(problem), 8000);
+            return;
+        }
+        m_document->undoStack()->push(
+            makeSetRoute(*m_document, selection.hoseId, route, tr("Delete route point")));
+        selection.routePoint = -1;
+        m_document->setSelection(selection);
+        return;
+    }
+    m_document->undoStack()->push(new RemoveHoseCommand(*m_document, selection.hoseId));
+}
+
+void MainWindow::insertRoutePoint()
+{
+    Selection selection = m_document->selection();
+    const formats::HoseDefinition* definition = m_document->hoseDefinition(selection.hoseId);
+    if (!definition)
+        return;
+    // After the selected route point (or before the last one): the middle of that leg.
+    int after = selection.routePoint >= 0 ? selection.routePoint : int(definition->route.size()) - 2;
+    after = std::clamp(after, 0, int(definition->route.size()) - 2);
+    std::vector<Vec3> route = definition->route;
+    route.insert(route.begin() + after + 1,
+                 0.5 * (route[size_t(after)] + route[size_t(after) + 1]));
+    m_document->undoStack()->push(
+        makeSetRoute(*m_document, selection.hoseId, route, tr("Insert route point")));
+    selection.routePoint = after + 1;
+    m_document->setSelection(selection);
+}
+
+void MainWindow::closeEvent(QCloseEvent* event)
+{
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    QSettings settings;
+    settings.setValue("window/geometry", saveGeometry());
+    settings.setValue("window/state", saveState());
+    settings.setValue("view/wireframe", action("actionWireframe")->isChecked());
+    removeAutosave();
+    event->accept();
+}
+
+} // namespace chaintube::editor

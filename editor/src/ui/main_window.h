@@ -1,0 +1,103 @@
+// ChainTube editor — the main window: menus and shortcuts, the viewport, the scene tree,
+// properties, problems and history docks; files (new/open/save/save as, recent files, the
+// unsaved-changes prompt, autosave and crash recovery), scene import and export.
+#pragma once
+
+#include "chaintube/editor/document.h"
+
+#include <QMainWindow>
+#include <QMessageBox>
+#include <QTimer>
+
+#include <functional>
+#include <memory>
+
+class QAction;
+class QMenu;
+class QTreeWidget;
+class QTreeWidgetItem;
+class QUndoView;
+
+namespace chaintube::editor {
+
+class ExportDialog;
+class ProblemsPanel;
+class PropertiesPanel;
+class Viewport;
+
+/// The named roots the editor resolves "root:path" scene paths with: scenes = the build's
+/// CHAINTUBE_SCENES_DIR, overridden by the settings entries roots/<name>, overridden by the
+/// command line's `--root NAME=DIR` options (given here). Malformed options set *error.
+formats::NamedRoots editorRoots(const QStringList& rootOptions, QString* error);
+
+class MainWindow : public QMainWindow
+{
+    Q_OBJECT
+public:
+    explicit MainWindow(formats::NamedRoots roots, QWidget* parent = nullptr);
+    ~MainWindow() override;
+
+    Document& document() { return *m_document; }
+    Viewport& viewport() { return *m_viewport; }
+    PropertiesPanel& properties() { return *m_properties; }
+    ProblemsPanel& problems() { return *m_problems; }
+    QTreeWidget& sceneTree() { return *m_sceneTree; }
+    /// The export dialog (created on first use, shown modeless).
+    ExportDialog& exportDialog();
+
+    /// How the window asks a question (unsaved changes, recovery). Tests replace it; the
+    /// default shows a QMessageBox.
+    std::function<QMessageBox::StandardButton(const QString& title, const QString& text,
+                                              QMessageBox::StandardButtons buttons)>
+        ask;
+    /// How errors are shown (default: a QMessageBox); tests collect them.
+    std::function<void(const QString& title, const QString& text)> showError;
+
+    /// Opens a project (asks about unsaved changes first; offers a newer autosave).
+    bool openFile(const QString& path);
+    bool save();
+    bool saveAs(const QString& path);
+    void newProject();
+    /// Imports a scene file into the project (progress dialog, cancellable).
+    bool importSceneFile(const QString& path);
+    /// Asks to save unsaved changes; false if the user cancelled.
+    bool maybeSave();
+    /// Writes the autosave now if the document is modified; returns its path ("" if none).
+    QString autosaveNow();
+    /// Where the autosave of the current document goes.
+    QString autosavePath() const;
+    QAction* action(const QString& objectName) const;
+    /// At start-up without a project: offers the untitled autosave if one exists.
+    bool recoverUntitled();
+
+protected:
+    void closeEvent(QCloseEvent* event) override;
+
+private:
+    void createActions();
+    void createDocks();
+    void onDocumentChanged(const ChangeEvent& event);
+    void rebuildSceneTree();
+    void syncTreeSelection();
+    void updateTitle();
+    void addRecentFile(const QString& path);
+    void rebuildRecentMenu();
+    void onRouteFinished(const std::vector<Vec3>& route);
+    void deleteSelection();
+    void insertRoutePoint();
+    void removeAutosave();
+    bool offerRecovery(const QString& projectPath, const QString& autosave);
+
+    std::unique_ptr<Document> m_document;
+    Viewport* m_viewport = nullptr;
+    PropertiesPanel* m_properties = nullptr;
+    ProblemsPanel* m_problems = nullptr;
+    QTreeWidget* m_sceneTree = nullptr;
+    QUndoView* m_history = nullptr;
+    ExportDialog* m_exportDialog = nullptr;
+    QMenu* m_recentMenu = nullptr;
+    QTimer m_autosaveTimer;
+    bool m_syncingTree = false;
+};
+
+} // namespace chaintube::editor

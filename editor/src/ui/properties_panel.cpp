@@ -1,0 +1,642 @@
+#include "properties_panel.h"
+
+#include "chaintube/editor/commands.h"
+#include "chaintube/route.h"
+
+#include <QCheckBox>
+#include <QColorDialog>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QInputDialog>
+#include <QLabel>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QPushButton>
+#include <QSlider>
+#include <QSpinBox>
+#include <QVBoxLayout>
+
+#include <cmath>
+
+namespace chaintube::editor {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+QDoubleSpinBox* spin(double minimum, double maximum, int decimals, const QString& suffix,
+                     const char* name)
+{
+    auto* box = new QDoubleSpinBox;
+    box->setRange(minimum, maximum);
+    box->setDecimals(decimals);
+    box->setSuffix(suffix);
+    box->setKeyboardTracking(false);
+    box->setObjectName(name);
+    return box;
+}
+
+QSlider* slider(int minimum, int maximum, const char* name)
+{
+    auto* s = new QSlider(Qt::Horizontal);
+    s->setRange(minimum, maximum);
+    s->setObjectName(name);
+    return s;
+}
+
+QWidget* row(QWidget* a, QWidget* b)
+{
+    auto* widget = new QWidget;
+    auto* layout = new QHBoxLayout(widget);
+    layout->setContentsMargins(0, 0, 0, 0);
+    layout->addWidget(a, 1);
+    layout->addWidget(b, 1);
+    return widget;
+}
+
+QColor toQColor(const formats::Rgba& c)
+{
+    return QColor::fromRgbF(float(c.r), float(c.g), float(c.b), float(c.a));
+}
+
+} // namespace
+
+PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
+    : QWidget(parent), m_document(document)
+{
+    setObjectName("propertiesPanel");
+    auto* layout = new QVBoxLayout(this);
+
+    // --- hose -----------------------------------------------------------------------------
+    m_hoseGroup = new QGroupBox(tr("Hose"));
+    auto* form = new QFormLayout(m_hoseGroup);
+    m_name = new QLineEdit;
+    m_name->setObjectName("hoseName");
+    form->addRow(tr("Name"), m_name);
+    m_diameter = spin(0.5, 500, 1, tr(" mm"), "diameter");
+    m_diameterSlider = slider(1, 200, "diameterSlider");
+    form->addRow(tr("Diameter"), row(m_diameter, m_diameterSlider));
+    m_length = spin(0.01, 1000, 3, tr(" m"), "routeLength");
+    m_length->setToolTip(tr("Length of the route polyline: changing it moves the last route "
+                            "point along the last leg"));
+    form->addRow(tr("Route length"), m_length);
+    m_lengthInfo = new QLabel;
+    form->addRow(QString(), m_lengthInfo);
+    m_segments = new QSpinBox;
+    m_segments->setRange(1, 5000);
+    m_segments->setKeyboardTracking(false);
+    m_segments->setObjectName("segments");
+    m_segmentsSlider = slider(2, 200, "segmentsSlider");
+    form->addRow(tr("Resolution (segments)"), row(m_segments, m_segmentsSlider));
+    m_colour = new QPushButton;
+    m_colour->setObjectName("colour");
+    form->addRow(tr("Colour"), m_colour);
+    layout->addWidget(m_hoseGroup);
+
+    // --- material -------------------------------------------------------------------------
+    auto* materialGroup = new QGroupBox(tr("Material"));
+    auto* materialForm = new QFormLayout(materialGroup);
+    m_preset = new QComboBox;
+    m_preset->setObjectName("preset");
+    materialForm->addRow(tr("Preset"), m_preset);
+    m_expansion = spin(0, 99, 1, tr(" %"), "expansion");
+    m_expansionSlider = slider(0, 60, "expansionSlider");
+    materialForm->addRow(tr("Expansion"), row(m_expansion, m_expansionSlider));
+    m_bendKind = new QComboBox;
+    m_bendKind->setObjectName("bendKind");
+    m_bendKind->addItems({tr("Minimum bend radius"), tr("Deflection angle")});
+    materialForm->addRow(tr("Bend limit"), m_bendKind);
+    m_bendValue = spin(0, 5000, 1, QString(), "bendValue");
+    m_bendSlider = slider(0, 1000, "bendSlider");
+    materialForm->addRow(QString(), row(m_bendValue, m_bendSlider));
+    m_savePreset = new QPushButton(tr("Save as preset…"));
+    m_savePreset->setObjectName("savePreset");
+    materialForm->addRow(QString(), m_savePreset);
+    layout->addWidget(materialGroup);
+
+    // --- cross-section --------------------------------------------------------------------
+    auto* profileGroup = new QGroupBox(tr("Cross-section"));
+    auto* profileForm = new QFormLayout(profileGroup);
+    m_shape = new QComboBox;
+    m_shape->setObjectName("shape");
+    m_shape->addItems({tr("Circle"), tr("Ellipse"), tr("Rectangle"), tr("Rounded rectangle")});
+    profileForm->addRow(tr("Shape"), m_shape);
+    m_sides = new QSpinBox;
+    m_sides->setRange(3, 1024);
+    m_sides->setKeyboardTracking(false);
+    m_sides->setObjectName("sides");
+    profileForm->addRow(tr("Sides"), m_sides);
+    m_width = spin(0.1, 1000, 1, tr(" mm"), "profileWidth");
+    m_height = spin(0.1, 1000, 1, tr(" mm"), "profileHeight");
+    profileForm->addRow(tr("Width × height"), row(m_width, m_height));
+    m_cornerRadius = spin(0.0, 500, 2, tr(" mm"), "cornerRadius");
+    profileForm->addRow(tr("Corner radius"), m_cornerRadius);
+    layout->addWidget(profileGroup);
+
+    m_message = new QLabel;
+    m_message->setObjectName("refusal");
+    m_message->setWordWrap(true);
+    m_message->setStyleSheet("color: #ff6b5a;");
+    layout->addWidget(m_message);
+
+    // --- fixing ---------------------------------------------------------------------------
+    m_fixGroup = new QGroupBox(tr("Fix segment to part"));
+    auto* fixForm = new QFormLayout(m_fixGroup);
+    m_fixFirst = new QSpinBox;
+    m_fixFirst->setObjectName("fixFirst");
+    m_fixLast = new QSpinBox;
+    m_fixLast->setObjectName("fixLast");
+    fixForm->addRow(tr("Axis points"), row(m_fixFirst, m_fixLast));
+    m_fixPart = new QLabel(tr("(select a part)"));
+    m_fixPart->setWordWrap(true);
+    fixForm->addRow(tr("Part"), m_fixPart);
+    m_fixButton = new QPushButton(tr("Fix to part"));
+    m_fixButton->setObjectName("fixButton");
+    fixForm->addRow(QString(), m_fixButton);
+    m_attachments = new QListWidget;
+    m_attachments->setObjectName("attachments");
+    m_attachments->setMaximumHeight(80);
+    fixForm->addRow(tr("Fixed"), m_attachments);
+    m_detachButton = new QPushButton(tr("Detach"));
+    m_detachButton->setObjectName("detachButton");
+    fixForm->addRow(QString(), m_detachButton);
+    layout->addWidget(m_fixGroup);
+
+    // --- part -----------------------------------------------------------------------------
+    m_partGroup = new QGroupBox(tr("Selected part"));
+    auto* partForm = new QFormLayout(m_partGroup);
+    m_partName = new QLabel;
+    m_partName->setWordWrap(true);
+    partForm->addRow(m_partName);
+    auto* translationRow = new QWidget;
+    auto* translationLayout = new QHBoxLayout(translationRow);
+    translationLayout->setContentsMargins(0, 0, 0, 0);
+    auto* rotationRow = new QWidget;
+    auto* rotationLayout = new QHBoxLayout(rotationRow);
+    rotationLayout->setContentsMargins(0, 0, 0, 0);
+    const char* axes[3] = {"X", "Y", "Z"};
+    for (int i = 0; i < 3; ++i) {
+        m_translation[i] = spin(-1e6, 1e6, 3, tr(" mm"), "");
+        m_translation[i]->setObjectName(QString("partTranslation%1").arg(axes[i]));
+        m_translation[i]->setPrefix(QString(axes[i]) + " ");
+        translationLayout->addWidget(m_translation[i]);
+        m_rotation[i] = spin(-360, 360, 1, tr("°"), "");
+        m_rotation[i]->setObjectName(QString("partRotation%1").arg(axes[i]));
+        m_rotation[i]->setPrefix(QString(axes[i]) + " ");
+        rotationLayout->addWidget(m_rotation[i]);
+    }
+    partForm->addRow(tr("Position"), translationRow);
+    partForm->addRow(tr("Rotation"), rotationRow);
+    m_resetPart = new QPushButton(tr("Back to file position"));
+    m_resetPart->setObjectName("resetPart");
+    partForm->addRow(QString(), m_resetPart);
+    layout->addWidget(m_partGroup);
+    layout->addStretch(1);
+
+    // --- wiring ---------------------------------------------------------------------------
+    connect(&m_document, &Document::changed, this, &PropertiesPanel::onDocumentChanged);
+    auto edit = [this](MergeId id, const QString& text,
+                       std::function<void(formats::HoseDefinition&)> change) {
+        if (m_updating || m_hoseId.empty())
+            return;
+        formats::HoseDefinition changed = currentDefinition();
+        change(changed);
+        apply(changed, static_cast<int>(id), text);
+    };
+    connect(m_name, &QLineEdit::editingFinished, this, [this, edit] {
+        if (m_updating)
+            return;
+        edit(MergeId::HoseName, tr("Rename hose"),
+             [this](formats::HoseDefinition& d) { d.name = m_name->text().toStdString(); });
+        m_document.closeMerge();
+    });
+    connect(m_diameter, &QDoubleSpinBox::valueChanged, this, [this, edit](double mm) {
+        if (m_updating)
+            return;
+        edit(MergeId::HoseDiameter, tr("Change diameter"),
+             [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
+        m_document.closeMerge();
+    });
+    connect(m_diameterSlider, &QSlider::valueChanged, this, [edit](int mm) {
+        edit(MergeId::HoseDiameter, tr("Change diameter"),
+             [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
+    });
+    connect(m_length, &QDoubleSpinBox::valueChanged, this, [this, edit](double metres) {
+        if (m_updating)
+            return;
+        edit(MergeId::HoseRoute, tr("Change length"), [this, metres](formats::HoseDefinition& d) {
+            const double current = polylineLength(d.route);
+            auto& route = d.route;
+            const Vec3 leg = route.back() - route[route.size() - 2];
+            const double newLeg = leg.norm() + (metres - current);
+            if (newLeg <= 1e-3) {
+                refuse(tr("The route's last leg would vanish: lengthen or shorten by moving "
+                          "route points instead."));
+                d.route.clear(); // invalid on purpose: apply() refuses it
+                return;
+            }
+            route.back() = route[route.size() - 2] + leg.normalized() * newLeg;
+        });
+        m_document.closeMerge();
+    });
+    connect(m_segments, &QSpinBox::valueChanged, this, [this, edit](int n) {
+        if (m_updating)
+            return;
+        edit(MergeId::HoseSegments, tr("Change resolution"),
+             [n](formats::HoseDefinition& d) { d.segmentCount = n; });
+        m_document.closeMerge();
+    });
+    connect(m_segmentsSlider, &QSlider::valueChanged, this, [edit](int n) {
+        edit(MergeId::HoseSegments, tr("Change resolution"),
+             [n](formats::HoseDefinition& d) { d.segmentCount = n; });
+    });
+    connect(m_colour, &QPushButton::clicked, this, [this, edit] {
+        const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+        if (!definition)
+            return;
+        const QColor chosen =
+            QColorDialog::getColor(toQColor(definition->colour), this, tr("Hose colour"));
+        if (!chosen.isValid())
+            return;
+        edit(MergeId::HoseColour, tr("Change colour"), [chosen](formats::HoseDefinition& d) {
+            d.colour = {chosen.redF(), chosen.greenF(), chosen.blueF(), chosen.alphaF()};
+        });
+        m_document.closeMerge();
+    });
+    connect(m_preset, &QComboBox::activated, this, [this, edit](int index) {
+        if (m_updating)
+            return;
+        if (index >= int(m_document.project().materialPresets.size()))
+            return; // "custom": stays as it is until a value changes
+        const std::string name = m_document.project().materialPresets[size_t(index)].name;
+        edit(MergeId::HoseMaterial, tr("Choose material"),
+             [name](formats::HoseDefinition& d) { d.material = formats::PresetName{name}; });
+        m_document.closeMerge();
+    });
+    auto materialEdit = [this, edit](bool merge) {
+        if (m_updating)
+            return;
+        edit(MergeId::HoseMaterial, tr("Change material"),
+             [this](formats::HoseDefinition& d) { d.material = currentMaterial(); });
+        if (!merge)
+            m_document.closeMerge();
+    };
+    connect(m_expansion, &QDoubleSpinBox::valueChanged, this, [this, materialEdit](double) {
+        if (m_updating)
+            return;
+        m_updating = true;
+        m_expansionSlider->setValue(int(std::lround(m_expansion->value())));
+        m_updating = false;
+        materialEdit(false);
+    });
+    connect(m_expansionSlider, &QSlider::valueChanged, this, [this, materialEdit](int value) {
+        if (m_updating)
+            return;
+        m_updating = true;
+        m_expansion->setValue(value);
+        m_updating = false;
+        materialEdit(true);
+    });
+    connect(m_bendKind, &QComboBox::activated, this, [materialEdit](int) { materialEdit(false); });
+    connect(m_bendValue, &QDoubleSpinBox::valueChanged, this, [this, materialEdit](double) {
+        if (m_updating)
+            return;
+        m_updating = true;
+        m_bendSlider->setValue(int(std::lround(m_bendValue->value())));
+        m_updating = false;
+        materialEdit(false);
+    });
+    connect(m_bendSlider, &QSlider::valueChanged, this, [this, materialEdit](int value) {
+        if (m_updating)
+            return;
+        m_updating = true;
+        m_bendValue->setValue(value);
+        m_updating = false;
+        materialEdit(true);
+    });
+    for (QSlider* s : {m_diameterSlider, m_segmentsSlider, m_expansionSlider, m_bendSlider})
+        connect(s, &QSlider::sliderReleased, this, &PropertiesPanel::sliderReleased);
+    connect(m_savePreset, &QPushButton::clicked, this, [this] {
+        if (m_hoseId.empty())
+            return;
+        const QString name = askPresetName ? askPresetName()
+                                           : QInputDialog::getText(this, tr("Save material preset"),
+                                                                   tr("Preset name:"));
+        if (name.trimmed().isEmpty())
+            return;
+        auto presets = m_document.project().materialPresets;
+        for (const auto& preset : presets)
+            if (preset.name == name.toStdString()) {
+                refuse(tr("A preset named '%1' exists already.").arg(name));
+                return;
+            }
+        formats::MaterialPreset preset;
+        preset.name = name.toStdString();
+        preset.description = "Saved from hose " + m_hoseId;
+        preset.material = currentMaterial();
+        presets.push_back(preset);
+        m_document.undoStack()->push(makeSetPresets(m_document, presets, tr("Save preset")));
+    });
+    auto profileEdit = [this, edit] {
+        if (m_updating)
+            return;
+        edit(MergeId::HoseProfile, tr("Change cross-section"), [this](formats::HoseDefinition& d) {
+            formats::ProfileSpec p = d.profile;
+            const Profile::Shape shapes[] = {Profile::Shape::Circle, Profile::Shape::Ellipse,
+                                             Profile::Shape::Rectangle,
+                                             Profile::Shape::RoundedRectangle};
+            p.shape = shapes[std::clamp(m_shape->currentIndex(), 0, 3)];
+            p.sides = m_sides->value();
+            p.width = m_width->value() / 1000.0;
+            p.height = m_height->value() / 1000.0;
+            p.semiAxisX = p.width / 2;
+            p.semiAxisY = p.height / 2;
+            p.cornerRadius = m_cornerRadius->value() / 1000.0;
+            d.profile = p;
+        });
+        m_document.closeMerge();
+    };
+    connect(m_shape, &QComboBox::activated, this, profileEdit);
+    connect(m_sides, &QSpinBox::valueChanged, this, profileEdit);
+    connect(m_width, &QDoubleSpinBox::valueChanged, this, profileEdit);
+    connect(m_height, &QDoubleSpinBox::valueChanged, this, profileEdit);
+    connect(m_cornerRadius, &QDoubleSpinBox::valueChanged, this, profileEdit);
+
+    connect(m_fixFirst, &QSpinBox::valueChanged, this, [this](int value) {
+        if (m_updating)
+            return;
+        Selection selection = m_document.selection();
+        selection.rangeFirst = value;
+        selection.rangeLast = std::max(value, m_fixLast->value());
+        m_document.setSelection(selection);
+    });
+    connect(m_fixLast, &QSpinBox::valueChanged, this, [this](int value) {
+        if (m_updating)
+            return;
+        Selection selection = m_document.selection();
+        selection.rangeLast = value;
+        selection.rangeFirst = std::min(value, m_fixFirst->value());
+        m_document.setSelection(selection);
+    });
+    connect(m_fixButton, &QPushButton::clicked, this, &PropertiesPanel::fixSelectionToPart);
+    connect(m_detachButton, &QPushButton::clicked, this, [this] {
+        const int row = m_attachments->currentRow();
+        if (m_hoseId.empty() || row < 0)
+            return;
+        m_document.undoStack()->push(makeDetach(m_document, m_hoseId, row));
+    });
+
+    for (int i = 0; i < 3; ++i) {
+        connect(m_translation[i], &QDoubleSpinBox::valueChanged, this,
+                [this, i] { setPartTransformFromFields(i); });
+        connect(m_rotation[i], &QDoubleSpinBox::valueChanged, this,
+                [this] { setPartTransformFromFields(-1); });
+    }
+    connect(m_resetPart, &QPushButton::clicked, this, [this] {
+        const Selection& selection = m_document.selection();
+        if (!m_document.scene(selection.sceneId) || selection.node < 0)
+            return;
+        m_document.closeMerge();
+        m_document.undoStack()->push(
+            makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, std::nullopt));
+        m_document.closeMerge();
+    });
+    refresh();
+}
+
+QString PropertiesPanel::lastRefusal() const { return m_message->text(); }
+
+void PropertiesPanel::fixSelectionToPart()
+{
+    const Selection& selection = m_document.selection();
+    try {
+        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId,
+                                                m_fixFirst->value(), m_fixLast->value(),
+                                                selection.sceneId, selection.node));
+        m_message->clear();
+    } catch (const std::exception& error) {
+        refuse(QString::fromStdString(error.what()));
+    }
+}
+
+void PropertiesPanel::onDocumentChanged(const ChangeEvent& event)
+{
+    using Kind = ChangeEvent::Kind;
+    switch (event.kind) {
+    case Kind::HoseShapeChanged:
+        // Only the current-length label depends on the live shape.
+        if (event.hoseId == m_hoseId)
+            if (const Hose* hose = m_document.hose(m_hoseId))
+                m_lengthInfo->setText(tr("axis %1 m now, %2 m at rest")
+                                          .arg(hose->currentLength(), 0, 'f', 3)
+                                          .arg(hose->restLengthTotal(), 0, 'f', 3));
+        break;
+    case Kind::PoseChanged:
+        refreshPart();
+        break;
+    case Kind::FileStateChanged:
+        break;
+    default:
+        refresh();
+    }
+}
+
+formats::HoseDefinition PropertiesPanel::currentDefinition() const
+{
+    const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+    return definition ? *definition : formats::HoseDefinition();
+}
+
+Material PropertiesPanel::currentMaterial() const
+{
+    Material material;
+    material.expansionCoefficient = m_expansion->value() / 100.0;
+    if (m_bendKind->currentIndex() == 0)
+        material.bendLimit.kind = BendLimit::Kind::MinBendRadius,
+        material.bendLimit.value = m_bendValue->value() / 1000.0;
+    else
+        material.bendLimit.kind = BendLimit::Kind::DeflectionAngle,
+        material.bendLimit.value = m_bendValue->value() * kPi / 180.0;
+    return material;
+}
+
+bool PropertiesPanel::apply(const formats::HoseDefinition& changed, int mergeId,
+                            const QString& text)
+{
+    const std::string problem = changed.route.empty()
+                                    ? std::string("invalid route")
+                                    : m_document.validateHoseDefinition(changed);
+    if (!problem.empty()) {
+        if (!changed.route.empty())
+            refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+        refresh(); // the widgets go back to the document's values
+        return false;
+    }
+    m_message->clear();
+    if (changed == currentDefinition())
+        return true;
+    m_document.undoStack()->push(
+        makeSetHoseDefinition(m_document, m_hoseId, changed, static_cast<MergeId>(mergeId), text));
+    return true;
+}
+
+void PropertiesPanel::refuse(const QString& message)
+{
+    m_message->setText(message);
+}
+
+void PropertiesPanel::sliderReleased() { m_document.closeMerge(); }
+
+void PropertiesPanel::refresh()
+{
+    m_updating = true;
+    const Selection& selection = m_document.selection();
+    m_hoseId = m_document.hoseDefinition(selection.hoseId) ? selection.hoseId : std::string();
+    const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_fixGroup})
+        w->setEnabled(definition != nullptr);
+    m_preset->clear();
+    for (const auto& preset : m_document.project().materialPresets)
+        m_preset->addItem(QString::fromStdString(preset.name),
+                          QString::fromStdString(preset.description));
+    m_preset->addItem(tr("(custom values)"));
+    if (definition) {
+        m_hoseGroup->setTitle(tr("Hose %1").arg(QString::fromStdString(definition->id)));
+        m_name->setText(QString::fromStdString(definition->name));
+        m_diameter->setValue(definition->outerDiameter * 1000.0);
+        m_diameterSlider->setValue(int(std::lround(definition->outerDiameter * 1000.0)));
+        m_length->setValue(polylineLength(definition->route));
+        const Hose* hose = m_document.hose(m_hoseId);
+        m_lengthInfo->setText(hose ? tr("axis %1 m now, %2 m at rest")
+                                         .arg(hose->currentLength(), 0, 'f', 3)
+                                         .arg(hose->restLengthTotal(), 0, 'f', 3)
+                                   : QString::fromStdString(m_document.hoseBuildError(m_hoseId)));
+        const int segments = hose ? hose->segmentCount() : definition->segmentCount;
+        m_segments->setValue(segments);
+        m_segmentsSlider->setValue(segments);
+        const QColor colour = toQColor(definition->colour);
+        m_colour->setText(colour.name());
+        m_colour->setStyleSheet(QString("background-color: %1; color: %2;")
+                                    .arg(colour.name(),
+                                         colour.lightnessF() > 0.5 ? "black" : "white"));
+        Material material;
+        try {
+            material = m_document.project().materialOf(*definition);
+        } catch (const std::exception&) {
+        }
+        int presetIndex = int(m_document.project().materialPresets.size());
+        if (const auto* preset = std::get_if<formats::PresetName>(&definition->material))
+            for (size_t i = 0; i < m_document.project().materialPresets.size(); ++i)
+                if (m_document.project().materialPresets[i].name == preset->name)
+                    presetIndex = int(i);
+        m_preset->setCurrentIndex(presetIndex);
+        m_expansion->setValue(material.expansionCoefficient * 100.0);
+        m_expansionSlider->setValue(int(std::lround(material.expansionCoefficient * 100.0)));
+        const bool radius = material.bendLimit.kind == BendLimit::Kind::MinBendRadius;
+        m_bendKind->setCurrentIndex(radius ? 0 : 1);
+        m_bendValue->setSuffix(radius ? tr(" mm") : tr("°"));
+        m_bendValue->setRange(0, radius ? 5000 : 179.9);
+        m_bendSlider->setRange(0, radius ? 1000 : 179);
+        const double bend = radius ? material.bendLimit.value * 1000.0
+                                   : material.bendLimit.value * 180.0 / kPi;
+        m_bendValue->setValue(bend);
+        m_bendSlider->setValue(int(std::lround(bend)));
+        const formats::ProfileSpec& p = definition->profile;
+        const int shapeIndex = p.shape == Profile::Shape::Ellipse            ? 1
+                               : p.shape == Profile::Shape::Rectangle        ? 2
+                               : p.shape == Profile::Shape::RoundedRectangle ? 3
+                                                                             : 0;
+        m_shape->setCurrentIndex(shapeIndex);
+        m_sides->setValue(p.sides);
+        m_width->setValue((shapeIndex == 1 ? 2 * p.semiAxisX : p.width) * 1000.0);
+        m_height->setValue((shapeIndex == 1 ? 2 * p.semiAxisY : p.height) * 1000.0);
+        m_cornerRadius->setValue(p.cornerRadius * 1000.0);
+        const int points = hose ? hose->pointCount() : 1;
+        m_fixFirst->setRange(0, points - 1);
+        m_fixLast->setRange(0, points - 1);
+        m_fixFirst->setValue(std::max(0, selection.rangeFirst));
+        m_fixLast->setValue(std::max(0, selection.rangeLast));
+        m_attachments->clear();
+        for (const auto& attachment : definition->attachments)
+            m_attachments->addItem(QString("[%1, %2] → %3")
+                                       .arg(attachment.firstPoint)
+                                       .arg(attachment.lastPoint)
+                                       .arg(QString::fromStdString(attachment.node)));
+        if (m_attachments->count() > 0)
+            m_attachments->setCurrentRow(0);
+    } else {
+        m_hoseGroup->setTitle(tr("Hose (none selected)"));
+        m_attachments->clear();
+    }
+    const formats::ImportedScene* scene = m_document.scene(selection.sceneId);
+    m_fixPart->setText(scene && selection.node >= 0
+                           ? QString::fromStdString(scene->nodes[size_t(selection.node)].path)
+                           : tr("(select a part)"));
+    m_fixButton->setEnabled(definition && scene && selection.node >= 0);
+    m_detachButton->setEnabled(definition && !definition->attachments.empty());
+    m_updating = false;
+    refreshPart();
+}
+
+void PropertiesPanel::refreshPart()
+{
+    const bool wasUpdating = m_updating;
+    m_updating = true;
+    const Selection& selection = m_document.selection();
+    const formats::ImportedScene* scene = m_document.scene(selection.sceneId);
+    const bool havePart = scene && selection.node >= 0;
+    m_partGroup->setEnabled(havePart);
+    if (havePart) {
+        m_partName->setText(QString::fromStdString(scene->nodes[size_t(selection.node)].path));
+        const formats::Mat4 local = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        Mat3 rotation = local.block<3, 3>(0, 0);
+        for (int c = 0; c < 3; ++c)
+            if (rotation.col(c).norm() > 0)
+                rotation.col(c).normalize();
+        const Eigen::Vector3d euler = rotation.eulerAngles(0, 1, 2);
+        for (int i = 0; i < 3; ++i) {
+            m_translation[i]->setValue(local(i, 3) * 1000.0);
+            double degrees = euler[i] * 180.0 / kPi;
+            if (degrees > 180.0)
+                degrees -= 360.0;
+            m_rotation[i]->setValue(degrees);
+        }
+    } else {
+        m_partName->setText(tr("(no part selected)"));
+    }
+    m_updating = wasUpdating;
+}
+
+void PropertiesPanel::setPartTransformFromFields(int translationAxis)
+{
+    if (m_updating)
+        return;
+    const Selection& selection = m_document.selection();
+    if (!m_document.scene(selection.sceneId) || selection.node < 0)
+        return;
+    const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+    Eigen::Vector3d scale;
+    for (int c = 0; c < 3; ++c)
+        scale[c] = current.block<3, 1>(0, c).norm();
+    const Mat3 rotation =
+        (Eigen::AngleAxisd(m_rotation[0]->value() * kPi / 180.0, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(m_rotation[1]->value() * kPi / 180.0, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(m_rotation[2]->value() * kPi / 180.0, Eigen::Vector3d::UnitZ()))
+            .toRotationMatrix();
+    formats::Mat4 local = current;
+    // Only what was edited is taken from the (rounded) fields, so that moving a part along
+    // one axis never perturbs the other coordinates or its rotation.
+    if (translationAxis < 0)
+        local.block<3, 3>(0, 0) = rotation * scale.asDiagonal();
+    else
+        local(translationAxis, 3) = m_translation[translationAxis]->value() / 1000.0;
+    m_document.closeMerge();
+    m_document.undoStack()->push(
+        makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
+    m_document.closeMerge();
+}
+
+} // namespace chaintube::editor

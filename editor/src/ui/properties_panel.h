@@ -1,0 +1,95 @@
+// ChainTube editor — the properties panel: the selected hose's parameters (live while a slider
+// moves; one undo step per drag), its material and presets, cross-section, colour, fixing a
+// segment to a scene part and detaching, and the selected part's transform.
+#pragma once
+
+#include "chaintube/editor/document.h"
+
+#include <QWidget>
+
+#include <functional>
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QFormLayout;
+class QGroupBox;
+class QLabel;
+class QLineEdit;
+class QListWidget;
+class QPushButton;
+class QSlider;
+class QSpinBox;
+
+namespace chaintube::editor {
+
+class PropertiesPanel : public QWidget
+{
+    Q_OBJECT
+public:
+    explicit PropertiesPanel(Document& document, QWidget* parent = nullptr);
+
+    /// The last refusal shown (empty if the last edit was accepted): tests read it.
+    QString lastRefusal() const;
+    /// Asks for a preset name when saving an own preset; tests replace it.
+    std::function<QString()> askPresetName;
+
+    /// Fixes the selected axis-point range of the selected hose to the selected part.
+    void fixSelectionToPart();
+
+private:
+    void onDocumentChanged(const ChangeEvent& event);
+    void refresh();
+    void refreshPart();
+    /// Validates `changed` and pushes it as a change of one field; refuses with a message.
+    bool apply(const formats::HoseDefinition& changed, int mergeId, const QString& text);
+    void refuse(const QString& message);
+    void sliderReleased();
+    formats::HoseDefinition currentDefinition() const;
+    Material currentMaterial() const;
+    /// Applies the part fields: translation axis 0–2 changed, or −1 for the rotation.
+    void setPartTransformFromFields(int translationAxis);
+
+    Document& m_document;
+    bool m_updating = false;
+    std::string m_hoseId;
+
+    QGroupBox* m_hoseGroup;
+    QLineEdit* m_name;
+    QDoubleSpinBox* m_diameter;
+    QSlider* m_diameterSlider;
+    QDoubleSpinBox* m_length;
+    QLabel* m_lengthInfo;
+    QSpinBox* m_segments;
+    QSlider* m_segmentsSlider;
+    QPushButton* m_colour;
+    QComboBox* m_preset;
+    QDoubleSpinBox* m_expansion;
+    QSlider* m_expansionSlider;
+    QComboBox* m_bendKind;
+    QDoubleSpinBox* m_bendValue;
+    QSlider* m_bendSlider;
+    QPushButton* m_savePreset;
+    QComboBox* m_shape;
+    QSpinBox* m_sides;
+    QDoubleSpinBox* m_width;
+    QDoubleSpinBox* m_height;
+    QDoubleSpinBox* m_cornerRadius;
+    QLabel* m_message;
+
+    QGroupBox* m_fixGroup;
+    QSpinBox* m_fixFirst;
+    QSpinBox* m_fixLast;
+    QLabel* m_fixPart;
+    QPushButton* m_fixButton;
+    QListWidget* m_attachments;
+    QPushButton* m_detachButton;
+
+    QGroupBox* m_partGroup;
+    QLabel* m_partName;
+    QDoubleSpinBox* m_translation[3];
+    QDoubleSpinBox* m_rotation[3];
+    QPushButton* m_resetPart;
+};
+
+} // namespace chaintube::editor

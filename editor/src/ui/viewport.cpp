@@ -1,0 +1,449 @@
+#include "viewport.h"
+
+#include "chaintube/editor/commands.h"
+
+#include <QMouseEvent>
+#include <QOpenGLContext>
+#include <QOpenGLFunctions>
+#include <QSurfaceFormat>
+#include <QWheelEvent>
+
+#include <chrono>
+#include <cmath>
+
+namespace chaintube::editor {
+
+namespace {
+/// Hoses laid out by clicks sit on the surface: route points are lifted by this much (the
+/// default hose radius) along the surface normal.
+constexpr double kRouteLift = 0.01;
+constexpr double kHandlePixels = 9.0;
+} // namespace
+
+Viewport::Viewport(Document& document, QWidget* parent)
+    : QOpenGLWidget(parent), m_document(document)
+{
+    QSurfaceFormat format;
+    format.setVersion(3, 3);
+    format.setProfile(QSurfaceFormat::CoreProfile);
+    format.setDepthBufferSize(24);
+    // 4× multisampling by default; CHAINTUBE_STUDIO_SAMPLES overrides it (0 is much faster
+    // with a software renderer such as Mesa's llvmpipe).
+    bool haveSamples = false;
+    const int samples = qEnvironmentVariableIntValue("CHAINTUBE_STUDIO_SAMPLES", &haveSamples);
+    format.setSamples(haveSamples ? samples : 4);
+    setFormat(format);
+    setFocusPolicy(Qt::StrongFocus);
+    setMouseTracking(true);
+    setMinimumSize(320, 240);
+    connect(&m_document, &Document::changed, this, &Viewport::onDocumentChanged);
+}
+
+Viewport::~Viewport()
+{
+    if (m_initialised) {
+        makeCurrent();
+        m_renderer.releaseResources();
+        doneCurrent();
+    }
+}
+
+void Viewport::setMode(Mode mode)
+{
+    if (mode == m_mode)
+        return;
+    m_mode = mode;
+    m_pendingRoute.clear();
+    m_options.pendingRoute.clear();
+    setCursor(mode == Mode::LayRoute ? Qt::CrossCursor : Qt::ArrowCursor);
+    emit statusMessage(mode == Mode::LayRoute
+                           ? tr("New hose: click route points on the scene; Enter or "
+                                "double-click finishes, Esc cancels")
+                           : QString());
+    emit modeChanged();
+    update();
+}
+
+void Viewport::finishRoute()
+{
+    std::vector<Vec3> route = m_pendingRoute;
+    setMode(Mode::Select);
+    if (route.size() >= 2)
+        emit routeFinished(route);
+    else
+        emit statusMessage(tr("A hose needs at least two route points"));
+}
+
+void Viewport::cancelRoute() { setMode(Mode::Select); }
+
+void Viewport::setWireframe(bool on)
+{
+    m_options.wireframe = on;
+    update();
+}
+
+void Viewport::frameAll()
+{
+    m_picker.update(m_document);
+    Box box = m_picker.bounds();
+    for (const auto& definition : m_document.project().hoses)
+        if (const Hose* hose = m_document.hose(definition.id))
+            for (const Vec3& p : hose->points())
+                box.extend(p);
+    if (!box.empty())
+        m_camera.frame(box);
+    update();
+}
+
+void Viewport::frameSelection()
+{
+    const Selection& selection = m_document.selection();
+    Box box;
+    if (const Hose* hose = m_document.hose(selection.hoseId)) {
+        for (const Vec3& p : hose->points())
+            box.extend(p);
+    } else if (m_document.scene(selection.sceneId) && selection.node >= 0) {
+        m_picker.update(m_document);
+        box = m_picker.nodeBounds(selection.sceneId, selection.node);
+        if (box.empty())
+            box.extend(m_document.nodeWorldFrame(selection.sceneId, selection.node).translation);
+    }
+    if (box.empty()) {
+        frameAll();
+        return;
+    }
+    m_camera.frame(box);
+    update();
+}
+
+QPoint Viewport::toWidget(const Vec3& world) const
+{
+    Eigen::Vector2d pixel;
+    if (!m_camera.project(world, width(), height(), &pixel))
+        return QPoint(-1, -1);
+    return QPoint(int(std::lround(pixel.x())), int(std::lround(pixel.y())));
+}
+
+Ray Viewport::rayAt(const QPointF& position) const
+{
+    return m_camera.rayThrough(position.x(), position.y(), width(), height());
+}
+
+bool Viewport::pickScene(const QPointF& position, ScenePickHit* hit)
+{
+    m_picker.update(m_document);
+    return m_picker.pick(rayAt(position), hit);
+}
+
+QImage Viewport::renderToImage() { return grabFramebuffer(); }
+
+void Viewport::initializeGL()
+{
+    m_initialised = m_renderer.initialize();
+    if (!m_initialised)
+        emit statusMessage(tr("OpenGL initialisation failed: %1")
+                               .arg(QString::fromStdString(m_renderer.errorString())));
+    connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, [this] {
+        makeCurrent();
+        m_renderer.releaseResources();
+        m_initialised = false;
+        doneCurrent();
+    });
+}
+
+void Viewport::paintGL()
+{
+    if (!m_initialised)
+        return;
+    if (!m_framedOnce) {
+        m_framedOnce = true;
+        frameAll();
+    }
+    const auto start = std::chrono::steady_clock::now();
+    m_options.pendingRoute = m_pendingRoute;
+    const qreal ratio = devicePixelRatioF();
+    m_renderer.render(m_document, m_camera, int(width() * ratio), int(height() * ratio),
+                      m_options);
+    if (m_finishEachFrame)
+        context()->functions()->glFinish();
+    m_lastFrameMilliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count();
+    ++m_paintCount;
+}
+
+void Viewport::onDocumentChanged(const ChangeEvent& event)
+{
+    if (event.kind == ChangeEvent::Kind::ProjectReplaced) {
+        m_framedOnce = false;
+        setMode(Mode::Select);
+    }
+    if (event.kind == ChangeEvent::Kind::FileStateChanged)
+        return;
+    update();
+}
+
+int Viewport::gizmoAxisAt(const QPointF& position) const
+{
+    const Selection& selection = m_document.selection();
+    if (!m_document.scene(selection.sceneId) || selection.node < 0)
+        return -1;
+    const Vec3 origin = m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+    const QPointF a = toWidget(origin);
+    int best = -1;
+    double bestDistance = kHandlePixels;
+    for (int axis = 0; axis < 3; ++axis) {
+        const QPointF b = toWidget(origin + Renderer::gizmoLength(m_camera) * Vec3::Unit(axis));
+        const QPointF ab = b - a;
+        const double length2 = QPointF::dotProduct(ab, ab);
+        if (length2 < 1.0)
+            continue;
+        // Only the outer 70 % of an arrow grabs, so that the node itself stays clickable.
+        const double s = std::clamp(QPointF::dotProduct(position - a, ab) / length2, 0.3, 1.0);
+        const QPointF closest = a + s * ab;
+        const double distance = std::hypot(position.x() - closest.x(), position.y() - closest.y());
+        if (distance < bestDistance) {
+            bestDistance = distance;
+            best = axis;
+        }
+    }
+    return best;
+}
+
+int Viewport::routePointAt(const QPointF& position) const
+{
+    const formats::HoseDefinition* definition =
+        m_document.hoseDefinition(m_document.selection().hoseId);
+    if (!definition)
+        return -1;
+    int best = -1;
+    double bestDistance = kHandlePixels;
+    for (size_t i = 0; i < definition->route.size(); ++i) {
+        const QPointF p = toWidget(definition->route[i]);
+        const double distance = std::hypot(position.x() - p.x(), position.y() - p.y());
+        if (distance < bestDistance) {
+            bestDistance = distance;
+            best = int(i);
+        }
+    }
+    return best;
+}
+
+Vec3 Viewport::onViewPlane(const QPointF& position, const Vec3& anchor) const
+{
+    const Ray ray = rayAt(position);
+    const Vec3 normal = m_camera.forward();
+    const double denominator = ray.direction.dot(normal);
+    if (std::abs(denominator) < 1e-9)
+        return anchor;
+    const double t = (anchor - ray.origin).dot(normal) / denominator;
+    return ray.origin + t * ray.direction;
+}
+
+void Viewport::mousePressEvent(QMouseEvent* event)
+{
+    const QPointF position = event->position();
+    m_lastMouse = m_pressMouse = position;
+    const bool orbitButton = event->button() == Qt::MiddleButton ||
+                             event->button() == Qt::RightButton ||
+                             (event->button() == Qt::LeftButton &&
+                              (event->modifiers() & Qt::AltModifier));
+    if (orbitButton) {
+        m_drag = (event->modifiers() & Qt::ShiftModifier) ? Drag::Pan : Drag::Orbit;
+        return;
+    }
+    if (event->button() != Qt::LeftButton)
+        return;
+
+    if (m_mode == Mode::LayRoute) {
+        ScenePickHit hit;
+        if (pickScene(position, &hit)) {
+            m_pendingRoute.push_back(hit.point + kRouteLift * hit.normal);
+            emit statusMessage(tr("Route point %1 on %2")
+                                   .arg(m_pendingRoute.size())
+                                   .arg(QString::fromStdString(
+                                       m_document.scene(hit.sceneId)
+                                           ->nodes[size_t(hit.node)]
+                                           .name)));
+        } else {
+            emit statusMessage(tr("Click on a scene surface to place a route point"));
+        }
+        update();
+        return;
+    }
+
+    Selection selection = m_document.selection();
+    // 1. The gizmo of the selected part.
+    const int axis = gizmoAxisAt(position);
+    if (axis >= 0) {
+        m_drag = Drag::Gizmo;
+        m_gizmoAxis = axis;
+        m_options.activeGizmoAxis = axis;
+        m_gizmoStartLocal = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        m_gizmoStartOrigin =
+            m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+        const Ray ray = rayAt(position);
+        const Vec3 a = Vec3::Unit(axis);
+        const Vec3 w = ray.origin - m_gizmoStartOrigin;
+        const double b = ray.direction.dot(a);
+        m_gizmoStartParameter = (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
+        m_document.closeMerge();
+        return;
+    }
+    // 2. A route point of the selected hose.
+    const int routePoint = routePointAt(position);
+    if (routePoint >= 0) {
+        selection.routePoint = routePoint;
+        m_document.setSelection(selection);
+        m_drag = Drag::RoutePoint;
+        m_dragHose = selection.hoseId;
+        m_dragIndex = routePoint;
+        m_dragAnchor = m_document.hoseDefinition(selection.hoseId)->route[size_t(routePoint)];
+        m_document.closeMerge();
+        return;
+    }
+    // 3. A hose, 4. a scene part, 5. nothing. Whichever is nearer along the ray wins.
+    const Ray ray = rayAt(position);
+    const double pixelMetres = 2.0 * m_camera.distance * std::tan(m_camera.fieldOfViewY / 2) /
+                               std::max(height(), 1);
+    HosePickHit hoseHit;
+    ScenePickHit sceneHit;
+    const bool onHose = pickHose(m_document, ray, 3.0 * pixelMetres, &hoseHit);
+    const bool onScene = pickScene(position, &sceneHit);
+    if (onHose && (!onScene || hoseHit.distance <= sceneHit.distance + 0.02)) {
+        const bool extend = (event->modifiers() & Qt::ShiftModifier) &&
+                            selection.hoseId == hoseHit.hoseId && selection.rangeFirst >= 0;
+        if (selection.hoseId != hoseHit.hoseId)
+            selection.routePoint = -1;
+        selection.hoseId = hoseHit.hoseId;
+        if (extend) {
+            selection.rangeFirst = std::min(selection.rangeFirst, hoseHit.point);
+            selection.rangeLast = std::max(selection.rangeLast, hoseHit.point);
+        } else {
+            selection.rangeFirst = selection.rangeLast = hoseHit.point;
+        }
+        m_document.setSelection(selection);
+        const Hose* hose = m_document.hose(hoseHit.hoseId);
+        if (!extend && hose && !hose->isFixed(hoseHit.point)) {
+            m_drag = Drag::HosePoint;
+            m_dragHose = hoseHit.hoseId;
+            m_dragIndex = hoseHit.point;
+            m_dragAnchor = hoseHit.position;
+            // Keep the offset between the picked spot and the axis point while dragging.
+            m_dragGrabOffset = hoseHit.position - onViewPlane(position, hoseHit.position);
+        }
+        emit statusMessage(tr("Hose %1, axis point %2%3")
+                               .arg(QString::fromStdString(hoseHit.hoseId))
+                               .arg(hoseHit.point)
+                               .arg(hose && hose->isFixed(hoseHit.point) ? tr(" (fixed)")
+                                                                          : QString()));
+    } else if (onScene) {
+        selection.sceneId = sceneHit.sceneId;
+        selection.node = sceneHit.node;
+        m_document.setSelection(selection);
+        emit statusMessage(
+            tr("Part %1").arg(QString::fromStdString(
+                m_document.scene(sceneHit.sceneId)->nodes[size_t(sceneHit.node)].path)));
+    } else {
+        m_document.setSelection(Selection());
+    }
+}
+
+void Viewport::mouseMoveEvent(QMouseEvent* event)
+{
+    const QPointF position = event->position();
+    const QPointF delta = position - m_lastMouse;
+    m_lastMouse = position;
+    switch (m_drag) {
+    case Drag::Orbit:
+        m_camera.orbit(delta.x(), delta.y());
+        update();
+        break;
+    case Drag::Pan:
+        m_camera.pan(delta.x(), delta.y(), height());
+        update();
+        break;
+    case Drag::HosePoint: {
+        const Vec3 target = onViewPlane(position, m_dragAnchor) + m_dragGrabOffset;
+        const UpdateResult result = m_document.dragHosePoint(m_dragHose, m_dragIndex, target);
+        if (result.status == Status::Clamped)
+            emit statusMessage(tr("Out of reach: the hose is as long as it can stretch"));
+        break;
+    }
+    case Drag::RoutePoint: {
+        const formats::HoseDefinition* definition = m_document.hoseDefinition(m_dragHose);
+        if (!definition)
+            break;
+        std::vector<Vec3> route = definition->route;
+        route[size_t(m_dragIndex)] = onViewPlane(position, m_dragAnchor);
+        m_document.undoStack()->push(
+            makeSetRoute(m_document, m_dragHose, route, tr("Move route point"), MergeId::HoseRoute));
+        break;
+    }
+    case Drag::Gizmo: {
+        const Selection& selection = m_document.selection();
+        const Ray ray = rayAt(position);
+        const Vec3 a = Vec3::Unit(m_gizmoAxis);
+        const Vec3 w = ray.origin - m_gizmoStartOrigin;
+        const double b = ray.direction.dot(a);
+        const double parameter =
+            (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
+        const Vec3 shift = (parameter - m_gizmoStartParameter) * a;
+        // newLocal = parentWorld⁻¹ · T(shift) · parentWorld · startLocal.
+        const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
+        const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 parentWorld = world * current.inverse();
+        formats::Mat4 translation = formats::Mat4::Identity();
+        translation.block<3, 1>(0, 3) = shift;
+        const formats::Mat4 local = parentWorld.inverse() * translation * parentWorld * m_gizmoStartLocal;
+        m_document.undoStack()->push(
+            makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
+        break;
+    }
+    case Drag::None:
+        if (m_mode == Mode::Select) {
+            const int axis = gizmoAxisAt(position);
+            if (axis != m_options.activeGizmoAxis) {
+                m_options.activeGizmoAxis = axis;
+                update();
+            }
+        }
+        break;
+    }
+}
+
+void Viewport::mouseReleaseEvent(QMouseEvent*)
+{
+    const Drag drag = m_drag;
+    m_drag = Drag::None;
+    m_options.activeGizmoAxis = -1;
+    if (drag == Drag::HosePoint) {
+        const Hose* hose = m_document.hose(m_dragHose);
+        const bool moved = hose && (hose->point(m_dragIndex) - m_dragAnchor).norm() > 1e-12;
+        if (moved) {
+            std::string why;
+            if (!m_document.commitHoseDrag(m_dragHose, &why))
+                emit statusMessage(QString::fromStdString(why));
+        }
+    }
+    m_document.closeMerge();
+    update();
+}
+
+void Viewport::mouseDoubleClickEvent(QMouseEvent* event)
+{
+    if (m_mode == Mode::LayRoute && event->button() == Qt::LeftButton) {
+        finishRoute();
+        return;
+    }
+    if (event->button() == Qt::LeftButton)
+        frameSelection();
+}
+
+void Viewport::wheelEvent(QWheelEvent* event)
+{
+    m_camera.zoom(event->angleDelta().y() / 120.0);
+    update();
+}
+
+} // namespace chaintube::editor

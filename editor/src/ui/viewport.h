@@ -1,0 +1,112 @@
+// ChainTube editor — the 3D viewport: a QOpenGLWidget over Renderer, with orbit/pan/zoom,
+// picking, laying out a route by clicks, grab-dragging hose points, dragging route points and
+// the part gizmo. It only reads the Document and changes it through commands.
+#pragma once
+
+#include "chaintube/editor/camera.h"
+#include "chaintube/editor/document.h"
+#include "chaintube/editor/picking.h"
+#include "chaintube/editor/renderer.h"
+
+#include <QElapsedTimer>
+#include <QOpenGLWidget>
+
+#include <memory>
+#include <vector>
+
+namespace chaintube::editor {
+
+class Viewport : public QOpenGLWidget
+{
+    Q_OBJECT
+public:
+    enum class Mode {
+        Select,   ///< click selects; drag moves hose points, route points, the gizmo
+        LayRoute, ///< clicks on scene surfaces add route points of a new hose
+    };
+
+    explicit Viewport(Document& document, QWidget* parent = nullptr);
+    ~Viewport() override;
+
+    Camera& camera() { return m_camera; }
+    Mode mode() const { return m_mode; }
+    void setMode(Mode mode);
+    /// Route points clicked so far in LayRoute mode (world metres).
+    const std::vector<Vec3>& pendingRoute() const { return m_pendingRoute; }
+    /// Ends LayRoute mode; with ≥ 2 points emits routeFinished(points).
+    void finishRoute();
+    void cancelRoute();
+
+    bool wireframe() const { return m_options.wireframe; }
+    void setWireframe(bool on);
+    /// Frames the selection (hose, node) or, with nothing selected, everything.
+    void frameSelection();
+    void frameAll();
+
+    /// Widget coordinates (logical pixels) of a world point.
+    QPoint toWidget(const Vec3& world) const;
+    /// Ray through a widget position (logical pixels).
+    Ray rayAt(const QPointF& position) const;
+    /// Picks scene triangles under a widget position.
+    bool pickScene(const QPointF& position, ScenePickHit* hit);
+
+    /// Milliseconds the last paintGL took (CPU side, including surface updates; with
+    /// setFinishEachFrame(true) also until the GPU finished).
+    double lastFrameMilliseconds() const { return m_lastFrameMilliseconds; }
+    void setFinishEachFrame(bool finish) { m_finishEachFrame = finish; }
+    /// Number of paintGL calls so far.
+    long long paintCount() const { return m_paintCount; }
+    const RenderStats& lastRenderStats() const { return m_renderer.lastStats(); }
+    /// Renders into an image of the viewport's size (for screenshots).
+    QImage renderToImage();
+
+signals:
+    void routeFinished(const std::vector<chaintube::Vec3>& route);
+    void statusMessage(const QString& message);
+    void modeChanged();
+
+protected:
+    void initializeGL() override;
+    void paintGL() override;
+    void mousePressEvent(QMouseEvent* event) override;
+    void mouseMoveEvent(QMouseEvent* event) override;
+    void mouseReleaseEvent(QMouseEvent* event) override;
+    void mouseDoubleClickEvent(QMouseEvent* event) override;
+    void wheelEvent(QWheelEvent* event) override;
+
+private:
+    enum class Drag { None, Orbit, Pan, HosePoint, RoutePoint, Gizmo };
+    void onDocumentChanged(const ChangeEvent& event);
+    int gizmoAxisAt(const QPointF& position) const;
+    int routePointAt(const QPointF& position) const;
+    /// Where the mouse ray meets the plane through `anchor` facing the camera.
+    Vec3 onViewPlane(const QPointF& position, const Vec3& anchor) const;
+
+    Document& m_document;
+    Renderer m_renderer;
+    Camera m_camera;
+    ScenePicker m_picker;
+    RenderOptions m_options;
+    Mode m_mode = Mode::Select;
+    std::vector<Vec3> m_pendingRoute;
+    bool m_initialised = false;
+    bool m_framedOnce = false;
+
+    Drag m_drag = Drag::None;
+    QPointF m_lastMouse;
+    QPointF m_pressMouse;
+    std::string m_dragHose;
+    int m_dragIndex = -1;
+    Vec3 m_dragAnchor = Vec3::Zero();
+    Vec3 m_dragGrabOffset = Vec3::Zero();
+    int m_gizmoAxis = -1;
+    formats::Mat4 m_gizmoStartLocal;
+    Vec3 m_gizmoStartOrigin = Vec3::Zero();
+    double m_gizmoStartParameter = 0.0;
+
+    double m_lastFrameMilliseconds = 0.0;
+    bool m_finishEachFrame = false;
+    long long m_paintCount = 0;
+};
+
+} // namespace chaintube::editor

@@ -1,0 +1,471 @@
+// End-to-end tests of the real main window under xvfb-run (platform xcb, Mesa), driven with
+// QTest mouse and key events: open a sample, grab-drag a hose, lay out a new hose by clicks on
+// the scene, fix one end to a part, move the part (gizmo and numeric field), check the hose
+// followed, undo everything, export and validate the written file. Also: the unsaved-changes
+// prompt, autosave recovery, refusing invalid values, one undo step per slider drag, the
+// problems panel. Screenshots go to the test output folder (CHAINTUBE_UPDATE_SCREENSHOTS=1:
+// to editor/screenshots).
+#include "chaintube/editor/export_integration.h"
+#include "export_dialog.h"
+#include "main_window.h"
+#include "problems_panel.h"
+#include "properties_panel.h"
+#include "test_support.h"
+#include "viewport.h"
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFile>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QPushButton>
+#include <QSlider>
+#include <QSpinBox>
+#include <QTest>
+#include <QTreeWidget>
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <map>
+
+namespace chaintube::editor {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A main window on screen with prompts answered by the test.
+class MainWindowTest : public ::testing::Test
+{
+protected:
+    void SetUp() override { m_window = makeWindow(); }
+    std::unique_ptr<MainWindow> makeWindow()
+    {
+        auto window = std::make_unique<MainWindow>(test::roots());
+        window->ask = [this](const QString& title, const QString&, QMessageBox::StandardButtons) {
+            m_questions << title;
+            return m_answer;
+        };
+        window->showError = [this](const QString& title, const QString& text) {
+            m_errors << title + ": " + text;
+        };
+        window->resize(1280, 800);
+        window->show();
+        EXPECT_TRUE(QTest::qWaitForWindowExposed(window.get()));
+        window->activateWindow();
+        QApplication::setActiveWindow(window.get());
+        return window;
+    }
+    void settle()
+    {
+        QApplication::processEvents();
+        m_window->viewport().repaint();
+        QApplication::processEvents();
+    }
+    /// A copy of the test rig in a fresh folder (so that saving never touches samples/).
+    QString copyOfTestRig(const std::string& folderName)
+    {
+        const fs::path folder = test::outputDir() / folderName;
+        fs::remove_all(folder);
+        fs::create_directories(folder / "scenes");
+        fs::copy_file(test::samplesDir() / "test-rig.ctproj", folder / "test-rig.ctproj");
+        fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf", folder / "scenes/test-rig.gltf");
+        return QString::fromStdString((folder / "test-rig.ctproj").string());
+    }
+    void screenshot(const char* name)
+    {
+        settle();
+        const QImage image = m_window->grab().toImage();
+        const QString file = QString::fromStdString((test::outputDir() / name).string());
+        EXPECT_TRUE(image.save(file));
+        if (std::getenv("CHAINTUBE_UPDATE_SCREENSHOTS"))
+            image.save(QString(CHAINTUBE_SCREENSHOT_DIR) + "/" + name);
+    }
+    /// Screen positions (8 px grid) whose pick hits node `path` from above (normal up).
+    std::vector<std::pair<QPoint, ScenePickHit>> topHits(const std::string& path)
+    {
+        std::vector<std::pair<QPoint, ScenePickHit>> hits;
+        Viewport& viewport = m_window->viewport();
+        for (int y = 4; y < viewport.height(); y += 8)
+            for (int x = 4; x < viewport.width(); x += 8) {
+                ScenePickHit hit;
+                if (viewport.pickScene(QPointF(x, y), &hit) && hit.normal.y() > 0.9 &&
+                    m_window->document().scene(hit.sceneId)->nodes[size_t(hit.node)].path == path)
+                    hits.push_back({QPoint(x, y), hit});
+            }
+        return hits;
+    }
+    void clickTreeItem(const QString& text)
+    {
+        QTreeWidget& tree = m_window->sceneTree();
+        const auto items = tree.findItems(text, Qt::MatchExactly | Qt::MatchRecursive);
+        ASSERT_FALSE(items.isEmpty()) << text.toStdString();
+        tree.scrollToItem(items.first());
+        const QRect rect = tree.visualItemRect(items.first());
+        QTest::mouseClick(tree.viewport(), Qt::LeftButton, {}, rect.center());
+    }
+    void drag(QWidget* widget, QPoint from, QPoint to, int steps = 8)
+    {
+        QTest::mousePress(widget, Qt::LeftButton, {}, from);
+        for (int i = 1; i <= steps; ++i)
+            QTest::mouseMove(widget, from + (to - from) * i / steps);
+        QTest::mouseRelease(widget, Qt::LeftButton, {}, to);
+        settle();
+    }
+
+    std::unique_ptr<MainWindow> m_window;
+    QMessageBox::StandardButton m_answer = QMessageBox::No;
+    QStringList m_questions;
+    QStringList m_errors;
+};
+
+std::vector<std::vector<Vec3>> allPoints(const Document& document)
+{
+    std::vector<std::vector<Vec3>> points;
+    for (const auto& hose : document.project().hoses)
+        points.push_back(document.hose(hose.id) ? document.hose(hose.id)->points()
+                                                : std::vector<Vec3>{});
+    return points;
+}
+
+/// Checks a GLB's container and JSON; returns the JSON.
+QJsonObject readGlb(const fs::path& file)
+{
+    QFile in(QString::fromStdString(file.string()));
+    EXPECT_TRUE(in.open(QIODevice::ReadOnly)) << file;
+    const QByteArray bytes = in.readAll();
+    EXPECT_GE(bytes.size(), 20);
+    if (bytes.size() < 20)
+        return {};
+    auto u32 = [&](int offset) {
+        return quint32(quint8(bytes[offset])) | quint32(quint8(bytes[offset + 1])) << 8 |
+               quint32(quint8(bytes[offset + 2])) << 16 | quint32(quint8(bytes[offset + 3])) << 24;
+    };
+    EXPECT_EQ(bytes.left(4), QByteArray("glTF"));
+    EXPECT_EQ(u32(4), 2u);
+    EXPECT_EQ(u32(8), quint32(bytes.size()));
+    const quint32 jsonLength = u32(12);
+    EXPECT_EQ(u32(16), 0x4E4F534Au); // "JSON"
+    QJsonParseError error;
+    const QJsonDocument json = QJsonDocument::fromJson(bytes.mid(20, int(jsonLength)), &error);
+    EXPECT_EQ(error.error, QJsonParseError::NoError) << error.errorString().toStdString();
+    return json.object();
+}
+
+TEST_F(MainWindowTest, LayOutFixMoveUndoAndExportOnTheTestRig)
+{
+    const QString project = copyOfTestRig("e2e");
+    ASSERT_TRUE(m_window->openFile(project)) << m_errors.join('\n').toStdString();
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    settle();
+    const std::string initialState = document.stateFingerprint();
+    const auto initialPoints = allPoints(document);
+
+    // 1. Grab a point of the left hose and drag it upwards: the hose deforms, one undo step.
+    {
+        const Vec3 before = document.hose("left-feed")->point(8);
+        const QPoint at = viewport.toWidget(before);
+        drag(&viewport, at, at + QPoint(0, -40));
+        EXPECT_EQ(document.selection().hoseId, "left-feed");
+        EXPECT_GT((document.hose("left-feed")->point(8) - before).norm(), 0.01);
+        EXPECT_EQ(document.undoStack()->count(), 1);
+    }
+
+    // 2. Lay out a new hose by clicks: on top of the valve, then two spots on the floor plate
+    //    in front of it; Enter finishes.
+    auto valveTop = topHits("/test-rig/valve");
+    auto floor = topHits("/test-rig/floor_plate");
+    ASSERT_FALSE(valveTop.empty());
+    std::vector<std::pair<QPoint, ScenePickHit>> front;
+    for (const auto& hit : floor)
+        if (hit.second.point.z() > 0.2 && std::abs(hit.second.point.x()) < 0.3)
+            front.push_back(hit);
+    ASSERT_GE(front.size(), 2u);
+    std::sort(front.begin(), front.end(), [](const auto& a, const auto& b) {
+        return a.second.point.x() < b.second.point.x();
+    });
+    // The valve spot farthest (on screen) from the hoses already fixed to the valve.
+    auto clearance = [&](const QPoint& p) {
+        double nearest = 1e9;
+        for (const auto& hose : document.project().hoses)
+            for (const Vec3& point : document.hose(hose.id)->points()) {
+                const QPoint q = viewport.toWidget(point);
+                nearest = std::min(nearest, std::hypot(double(p.x() - q.x()), double(p.y() - q.y())));
+            }
+        return nearest;
+    };
+    const auto& first = *std::max_element(valveTop.begin(), valveTop.end(), [&](const auto& a, const auto& b) {
+        return clearance(a.first) < clearance(b.first);
+    });
+    const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {first, front.front(),
+                                                                 front.back()};
+    QTest::keyClick(&viewport, Qt::Key_N);
+    ASSERT_EQ(viewport.mode(), Viewport::Mode::LayRoute) << "shortcut N starts a new hose";
+    for (const auto& click : clicks)
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
+    ASSERT_EQ(viewport.pendingRoute().size(), 3u);
+    QTest::keyClick(&viewport, Qt::Key_Return);
+    settle();
+    ASSERT_EQ(document.hoseCount(), 3) << m_errors.join('\n').toStdString();
+    const std::string newId = document.project().hoses.back().id;
+    const auto& route = document.hoseDefinition(newId)->route;
+    ASSERT_EQ(route.size(), 3u);
+    for (size_t i = 0; i < 3; ++i) {
+        // On the surface that was clicked, lifted by the hose radius along its normal.
+        EXPECT_NEAR((route[i] - clicks[i].second.point).norm(), 0.01, 1e-6);
+    }
+    ASSERT_TRUE(document.hose(newId));
+
+    // 3. Fix the start of the new hose to the valve: click its first axis point, extend the
+    //    range to point 1, choose the valve in the scene tree, press "Fix to part".
+    // (Axis point 0 lies under route point 0's handle: click point 1, then widen the range.)
+    QTest::mouseClick(&viewport, Qt::LeftButton, {},
+                      viewport.toWidget(document.hose(newId)->point(1)));
+    ASSERT_EQ(document.selection().hoseId, newId);
+    EXPECT_EQ(document.selection().rangeFirst, 1);
+    clickTreeItem("valve");
+    ASSERT_EQ(document.selection().node, document.scene("rig")->findNode("/test-rig/valve"));
+    ASSERT_EQ(document.selection().hoseId, newId) << "choosing a part keeps the hose";
+    m_window->findChild<QSpinBox*>("fixFirst")->setValue(0);
+    m_window->findChild<QSpinBox*>("fixLast")->setValue(1);
+    EXPECT_EQ(document.selection().rangeFirst, 0);
+    EXPECT_EQ(document.selection().rangeLast, 1);
+    QTest::mouseClick(m_window->findChild<QPushButton*>("fixButton"), Qt::LeftButton);
+    settle();
+    ASSERT_EQ(document.hoseDefinition(newId)->attachments.size(), 1u)
+        << m_window->properties().lastRefusal().toStdString();
+    EXPECT_TRUE(document.hose(newId)->isFixed(0));
+    EXPECT_TRUE(document.hose(newId)->isFixed(1));
+    screenshot("editor-test-rig.png");
+
+    // 4. Move the valve with the gizmo's X arrow: the fixed end follows rigidly.
+    const int valve = document.scene("rig")->findNode("/test-rig/valve");
+    const Vec3 valveBefore = document.nodeWorldFrame("rig", valve).translation;
+    const Vec3 startBefore = document.hose(newId)->point(0);
+    const int stepsBefore = document.undoStack()->count();
+    const double length = Renderer::gizmoLength(viewport.camera());
+    const QPoint a = viewport.toWidget(valveBefore);
+    const QPoint b = viewport.toWidget(valveBefore + length * Vec3::UnitX());
+    const QPointF direction = QPointF(b - a) / std::hypot(b.x() - a.x(), b.y() - a.y());
+    const QPoint grip = a + (b - a) * 0.8;
+    drag(&viewport, grip, grip + (direction * 60).toPoint());
+    const Vec3 valveAfter = document.nodeWorldFrame("rig", valve).translation;
+    const Vec3 shift = valveAfter - valveBefore;
+    EXPECT_GT(shift.x(), 0.02) << "the gizmo moved the valve along +X";
+    EXPECT_NEAR(shift.y(), 0.0, 1e-9);
+    EXPECT_NEAR(shift.z(), 0.0, 1e-9);
+    EXPECT_EQ(document.undoStack()->count(), stepsBefore + 1) << "a gizmo drag is one step";
+    EXPECT_NEAR((document.hose(newId)->point(0) - (startBefore + shift)).norm(), 0.0, 1e-6)
+        << "the fixed end followed the valve";
+
+    // 5. …and with the numeric field: 25 mm along Z.
+    auto* z = m_window->findChild<QDoubleSpinBox*>("partTranslationZ");
+    ASSERT_TRUE(z);
+    z->setValue(z->value() + 25.0);
+    settle();
+    EXPECT_NEAR((document.hose(newId)->point(0) - (startBefore + shift + Vec3(0, 0, 0.025))).norm(),
+                0.0, 1e-6);
+    // (The field shows micrometres; the file's float position is not a whole number of them.)
+    EXPECT_NEAR(document.nodeWorldFrame("rig", valve).translation.z(), valveBefore.z() + 0.025,
+                1e-6);
+
+    // 6. Undo everything with Ctrl+Z: exactly the opened project again.
+    int guard = 0;
+    while (document.undoStack()->canUndo() && guard++ < 50)
+        QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    settle();
+    EXPECT_EQ(document.undoStack()->index(), 0);
+    EXPECT_EQ(initialState, document.stateFingerprint());
+    EXPECT_EQ(initialPoints, allPoints(document));
+    EXPECT_FALSE(document.isModified());
+
+    // 7. Export through the dialog (the exporter library's exportProject, as the CLI).
+    if (!exportAvailable()) {
+        std::printf("export library not built: export step skipped\n");
+        return;
+    }
+    const fs::path output = test::outputDir() / "e2e" / "rig.glb";
+    fs::remove(output);
+    m_window->action("actionExport")->trigger();
+    m_window->exportDialog().setOutputPath(QString::fromStdString(output.string()));
+    ASSERT_TRUE(m_window->exportDialog().runExport())
+        << m_window->exportDialog().summaryText().toStdString();
+    EXPECT_TRUE(m_window->exportDialog().summaryText().contains("2 hoses"))
+        << m_window->exportDialog().summaryText().toStdString();
+    const QJsonObject gltf = readGlb(output);
+    EXPECT_EQ(gltf["asset"].toObject()["version"].toString(), "2.0");
+    EXPECT_EQ(gltf["skins"].toArray().size(), 2) << "one skin per hose";
+    QStringList nodeNames;
+    for (const auto& node : gltf["nodes"].toArray())
+        nodeNames << node.toObject()["name"].toString();
+    EXPECT_TRUE(nodeNames.contains("valve")) << nodeNames.join(',').toStdString();
+    EXPECT_TRUE(gltf["extensionsUsed"].toArray().contains(QJsonValue("CHAINTUBE_hose_rig")));
+}
+
+TEST_F(MainWindowTest, EngineSceneLayOutFixAndMove)
+{
+    if (!test::haveScenes())
+        GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no 2CylinderEngine.glb: engine test skipped";
+    ASSERT_TRUE(m_window->openFile(
+        QString::fromStdString((test::samplesDir() / "engine.ctproj").string())))
+        << m_errors.join('\n').toStdString();
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    settle();
+    const std::string initialState = document.stateFingerprint();
+    const int hosesBefore = document.hoseCount();
+    // Click three points on engine parts spread over the view.
+    std::vector<std::pair<QPoint, ScenePickHit>> hits;
+    for (QPoint p : {QPoint(viewport.width() * 35 / 100, viewport.height() / 2),
+                     QPoint(viewport.width() / 2, viewport.height() * 40 / 100),
+                     QPoint(viewport.width() * 65 / 100, viewport.height() / 2)}) {
+        // Search around each spot for a surface.
+        ScenePickHit hit;
+        bool found = false;
+        for (int r = 0; r < 200 && !found; r += 6)
+            for (QPoint d : {QPoint(r, 0), QPoint(-r, 0), QPoint(0, r), QPoint(0, -r)})
+                if (!found && viewport.pickScene(p + d, &hit)) {
+                    hits.push_back({p + d, hit});
+                    found = true;
+                }
+    }
+    ASSERT_EQ(hits.size(), 3u);
+    m_window->action("actionNewHose")->trigger();
+    for (const auto& hit : hits)
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, hit.first);
+    QTest::keyClick(&viewport, Qt::Key_Return);
+    settle();
+    ASSERT_EQ(document.hoseCount(), hosesBefore + 1) << m_errors.join('\n').toStdString();
+    const std::string id = document.project().hoses.back().id;
+    // Fix the first point to the part that was clicked first, then move that part.
+    Selection selection = document.selection();
+    selection.hoseId = id;
+    selection.rangeFirst = selection.rangeLast = 0;
+    selection.sceneId = hits[0].second.sceneId;
+    selection.node = hits[0].second.node;
+    document.setSelection(selection);
+    QTest::mouseClick(m_window->findChild<QPushButton*>("fixButton"), Qt::LeftButton);
+    ASSERT_EQ(document.hoseDefinition(id)->attachments.size(), 1u)
+        << m_window->properties().lastRefusal().toStdString();
+    const Vec3 before = document.hose(id)->point(0);
+    const Vec3 partBefore = document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+    auto* y = m_window->findChild<QDoubleSpinBox*>("partTranslationY");
+    y->setValue(y->value() + 30.0);
+    settle();
+    const Vec3 partShift =
+        document.nodeWorldFrame(selection.sceneId, selection.node).translation - partBefore;
+    EXPECT_GT(partShift.norm(), 1e-4);
+    EXPECT_NEAR((document.hose(id)->point(0) - before - partShift).norm(), 0.0, 1e-6);
+    screenshot("editor-engine.png");
+    while (document.undoStack()->canUndo())
+        document.undoStack()->undo();
+    EXPECT_EQ(initialState, document.stateFingerprint());
+}
+
+TEST_F(MainWindowTest, UnsavedChangesPromptAndAutosaveRecovery)
+{
+    const QString project = copyOfTestRig("recovery");
+    ASSERT_TRUE(m_window->openFile(project));
+    Document& document = m_window->document();
+    // An edit, then "New": the prompt appears; Cancel keeps everything.
+    m_window->findChild<QDoubleSpinBox*>("diameter")->setValue(0); // refused below min: clamps
+    Selection selection;
+    selection.hoseId = "left-feed";
+    document.setSelection(selection);
+    m_window->findChild<QDoubleSpinBox*>("diameter")->setValue(33.0);
+    ASSERT_TRUE(document.isModified());
+    const std::string edited = document.stateFingerprint();
+    m_answer = QMessageBox::Cancel;
+    m_window->action("actionNew")->trigger();
+    EXPECT_EQ(m_questions.size(), 1);
+    EXPECT_EQ(edited, document.stateFingerprint()) << "Cancel kept the project";
+    // Autosave, then "crash": the window goes away without closing.
+    const QString autosave = m_window->autosaveNow();
+    ASSERT_FALSE(autosave.isEmpty());
+    ASSERT_TRUE(QFile::exists(autosave));
+    m_window.reset();
+    // A new session opens the project and is offered the autosave.
+    m_window = makeWindow();
+    m_answer = QMessageBox::Yes;
+    m_questions.clear();
+    ASSERT_TRUE(m_window->openFile(project));
+    ASSERT_EQ(m_questions.size(), 1) << "recovery was offered";
+    EXPECT_EQ(edited, m_window->document().stateFingerprint());
+    EXPECT_TRUE(m_window->document().isModified());
+    EXPECT_TRUE(m_window->windowTitle().contains("test-rig.ctproj"));
+    // Saving writes the recovered state and removes the autosave.
+    ASSERT_TRUE(m_window->save());
+    EXPECT_FALSE(QFile::exists(autosave));
+    EXPECT_FALSE(m_window->document().isModified());
+}
+
+TEST_F(MainWindowTest, PropertiesRefuseInvalidValuesAndASliderDragIsOneStep)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("properties")));
+    Document& document = m_window->document();
+    Selection selection;
+    selection.hoseId = "left-feed";
+    document.setSelection(selection);
+    settle();
+    // A slider drag: many values, one undo step, applied live.
+    auto* slider = m_window->findChild<QSlider*>("diameterSlider");
+    slider->setSliderDown(true);
+    for (int mm = 21; mm <= 30; ++mm) {
+        slider->setValue(mm);
+        EXPECT_NEAR(document.hoseDefinition("left-feed")->outerDiameter, mm / 1000.0, 1e-12);
+        EXPECT_NEAR(document.hose("left-feed")->outerRadius(), mm / 2000.0, 1e-12) << "live";
+    }
+    slider->setSliderDown(false);
+    EXPECT_EQ(document.undoStack()->count(), 1);
+    // Rounded rectangle with a corner radius larger than half the height: refused.
+    const std::string before = document.stateFingerprint();
+    auto* corner = m_window->findChild<QDoubleSpinBox*>("cornerRadius");
+    auto* shape = m_window->findChild<QComboBox*>("shape");
+    m_window->findChild<QDoubleSpinBox*>("profileHeight")->setValue(10.0);
+    const int steps = document.undoStack()->count();
+    corner->setValue(9.0); // still a circle: accepted, no effect on the shape
+    shape->setCurrentIndex(3);
+    emit shape->activated(3);
+    EXPECT_FALSE(m_window->properties().lastRefusal().isEmpty())
+        << "corner radius 9 mm > height/2 must be refused";
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::Circle);
+    EXPECT_EQ(shape->currentIndex(), 0) << "the widget shows the document's value again";
+    EXPECT_LE(document.undoStack()->count(), steps + 2);
+    (void)before;
+}
+
+TEST_F(MainWindowTest, ProblemsPanelListsAnOverstretchAndSelectsItOnClick)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("problems")));
+    Document& document = m_window->document();
+    ProblemsPanel& problems = m_window->problems();
+    problems.refreshNow();
+    const size_t before = problems.problems().size();
+    // Pull the valve far away: both hoses fixed to it overstretch.
+    Selection selection;
+    selection.sceneId = "rig";
+    selection.node = document.scene("rig")->findNode("/test-rig/valve");
+    document.setSelection(selection);
+    auto* x = m_window->findChild<QDoubleSpinBox*>("partTranslationX");
+    x->setValue(x->value() - 500.0);
+    problems.refreshNow();
+    EXPECT_NE(problems.problems().size(), before);
+    int overstretch = -1;
+    for (size_t i = 0; i < problems.problems().size(); ++i)
+        if (problems.problems()[i].text.contains("overstretched"))
+            overstretch = int(i);
+    ASSERT_GE(overstretch, 0);
+    const Problem problem = problems.problems()[size_t(overstretch)];
+    QTest::mouseClick(problems.viewport(), Qt::LeftButton, {},
+                      problems.visualItemRect(problems.item(overstretch)).center());
+    EXPECT_EQ(document.selection().hoseId, problem.hoseId);
+    EXPECT_EQ(document.selection().rangeFirst, problem.firstPoint);
+    EXPECT_EQ(document.selection().rangeLast, problem.lastPoint);
+    m_window->viewport().frameSelection();
+    screenshot("editor-problems.png");
+}
+
+} // namespace
+} // namespace chaintube::editor
