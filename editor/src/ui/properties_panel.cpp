@@ -36,6 +36,8 @@ QDoubleSpinBox* spin(double minimum, double maximum, int decimals, const QString
     box->setSuffix(suffix);
     box->setKeyboardTracking(false);
     box->setObjectName(name);
+    // Wide ranges would otherwise make the panel wider than its dock.
+    box->setMinimumWidth(64);
     return box;
 }
 
@@ -151,6 +153,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_fixLast->setObjectName("fixLast");
     fixForm->addRow(tr("Axis points"), row(m_fixFirst, m_fixLast));
     m_fixPart = new QLabel(tr("(select a part)"));
+    m_fixPart->setMinimumWidth(10);
     m_fixPart->setWordWrap(true);
     fixForm->addRow(tr("Part"), m_fixPart);
     m_fixButton = new QPushButton(tr("Fix to part"));
@@ -170,6 +173,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     auto* partForm = new QFormLayout(m_partGroup);
     m_partName = new QLabel;
     m_partName->setWordWrap(true);
+    m_partName->setMinimumWidth(10);
     partForm->addRow(m_partName);
     auto* translationRow = new QWidget;
     auto* translationLayout = new QHBoxLayout(translationRow);
