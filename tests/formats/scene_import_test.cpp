@@ -9,6 +9,8 @@
 #include <assimp/config.h>
 #include <assimp/scene.h>
 #include <chrono>
+#include <fstream>
+#include <iterator>
 #include <gtest/gtest.h>
 #include <set>
 
@@ -347,6 +349,45 @@ TEST_F(MillionTriangleStl, CancellingAtTheFirstReportThrowsCancelled)
     ImportOptions options;
     options.progress = [](double) { return false; };
     EXPECT_THROW(importScene(*s_folder / "million.stl", options), Cancelled);
+}
+
+
+// FBX states its unit in GlobalSettings (UnitScaleFactor: centimetres per file unit) and its up
+// axis (UpAxis 0/1/2 = X/Y/Z): a file in millimetres with +Z up must come in as metres, +Y up.
+TEST(SceneImport, FbxUnitScaleFactorAndUpAxisAreReadFromTheFile)
+{
+    TemporaryFolder folder;
+    writeText(folder / "tri.obj", "o tri\nv 0 0 0\nv 1000 0 0\nv 0 0 500\nf 1 2 3\n");
+    Assimp::Importer importer;
+    const aiScene* source = importer.ReadFile((folder / "tri.obj").string(), 0);
+    ASSERT_NE(source, nullptr);
+    ASSERT_EQ(Assimp::Exporter().Export(source, "fbxa", (folder / "tri.fbx").string()), AI_SUCCESS);
+    std::ifstream in(folder / "tri.fbx");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string unit = "P: \"UnitScaleFactor\", \"double\", \"Number\", \"\", 1";
+    const std::string up = "P: \"UpAxis\", \"int\", \"Integer\", \"\", 1";
+    ASSERT_NE(text.find(unit), std::string::npos) << "assimp's FBX exporter changed its GlobalSettings";
+    ASSERT_NE(text.find(up), std::string::npos);
+    text.replace(text.find(unit), unit.size(), "P: \"UnitScaleFactor\", \"double\", \"Number\", \"\", 0.1");
+    text.replace(text.find(up), up.size(), "P: \"UpAxis\", \"int\", \"Integer\", \"\", 2");
+    writeText(folder / "tri.fbx", text);
+
+    const ImportedScene scene = importScene(folder / "tri.fbx");
+    EXPECT_EQ(scene.sourceUnits.unitSource, UnitSource::FileHeader);
+    EXPECT_NEAR(scene.sourceUnits.metresPerUnit, 0.001, 1e-9); // assimp keeps the factor as float
+    EXPECT_EQ(scene.sourceUnits.upAxisSource, UnitSource::FileHeader);
+    EXPECT_EQ(scene.sourceUnits.upAxis, UpAxis::PositiveZ);
+    // The vertex at source (0, 0, 500) mm is 0.5 m up in world +Y.
+    double highest = 0.0;
+    for (size_t n = 0; n < scene.nodes.size(); ++n)
+        for (int m : scene.nodes[n].meshes) {
+            const SceneMesh& mesh = scene.meshes[size_t(m)];
+            for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+                const Eigen::Vector4d local(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2], 1.0);
+                highest = std::max(highest, (scene.worldTransform(int(n)) * local).y());
+            }
+        }
+    EXPECT_NEAR(highest, 0.5, 1e-6);
 }
 
 } // namespace
