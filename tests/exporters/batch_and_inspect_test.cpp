@@ -119,6 +119,33 @@ TEST(ValidateFile, RejectsADescriptorWhosePerJointLimitsContradictItsMaterial)
         << result.errors.front();
 }
 
+TEST(ValidateFile, NeverReadsABufferOutsideTheGltfsFolder)
+{
+    TemporaryFolder folder;
+    exportProjectFile(samplesDir() / "single-hose.ctproj", folder / "hose.gltf", roots());
+    Json gltf = Json::parse(readBytes(folder / "hose.gltf"));
+    gltf["buffers"][0]["uri"] = "../../../../etc/hostname";
+    writeBytes(folder / "hose.gltf", gltf.dump());
+    const ValidationResult result = validateFile(folder / "hose.gltf", {});
+    EXPECT_FALSE(result.valid());
+    EXPECT_TRUE(anyContains(result.errors, "/buffers/0/uri")) << result.errors.front();
+}
+
+TEST(ValidateFile, ReportsAnAccessorReachingBeyondItsBuffer)
+{
+    TemporaryFolder folder;
+    exportProjectFile(samplesDir() / "single-hose.ctproj", folder / "hose.gltf", roots());
+    Json gltf = Json::parse(readBytes(folder / "hose.gltf"));
+    const int skin = gltf["extensions"][rig::kExtensionName]["hoses"][0]["skin"].get<int>();
+    const size_t inverseBind =
+        gltf["skins"][static_cast<size_t>(skin)]["inverseBindMatrices"].get<size_t>();
+    gltf["accessors"][inverseBind]["count"] = 1u << 30;
+    writeBytes(folder / "hose.gltf", gltf.dump());
+    const ValidationResult result = validateFile(folder / "hose.gltf", {});
+    EXPECT_FALSE(result.valid());
+    EXPECT_TRUE(anyContains(result.errors, "reaches beyond its buffer")) << result.errors.front();
+}
+
 TEST(ValidateFile, ReportsAProjectWhoseScenesCannotBeFound)
 {
     const ValidationResult result = validateFile(samplesDir() / "engine.ctproj", {});

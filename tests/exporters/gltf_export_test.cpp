@@ -181,6 +181,20 @@ TEST(GltfExport, ProgressRunsFromZeroToOne)
     EXPECT_DOUBLE_EQ(seen.back(), 1.0);
 }
 
+TEST(GltfExport, AProjectWhoseSceneRootIsUnknownFailsNamingTheProjectAndThePath)
+{
+    TemporaryFolder folder;
+    try {
+        exportProjectFile(samplesDir() / "engine.ctproj", folder / "engine.glb", {});
+        FAIL() << "exported without the scenes root";
+    } catch (const formats::FileError& error) {
+        const std::string what = error.what();
+        EXPECT_NE(what.find("engine.ctproj"), std::string::npos) << what;
+        EXPECT_NE(what.find("scenes:2CylinderEngine.glb"), std::string::npos) << what;
+    }
+    EXPECT_FALSE(fs::exists(folder / "engine.glb"));
+}
+
 TEST(GltfExport, RejectsAnOutputThatIsNeitherGlbNorGltf)
 {
     TemporaryFolder folder;

@@ -3,7 +3,6 @@
 #include "demo.h"
 
 #include <CLI/CLI.hpp>
-#include <chaintube/types.h>
 #include <iostream>
 
 int main(int argc, char** argv)

@@ -603,20 +603,48 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                                                                ? std::vector<unsigned char>{}
                                                                : model.buffers[0].data)
                                    : gltf.dump(1) + "\n");
-    // The glTF itself is written last: it is what readers open; its companions are in place first.
-    std::vector<fs::path> created;
+    // Every file is first written completely beside its target (<file>.partial); only when all
+    // are on disk are they renamed over the targets, so a full disk or a write error leaves a
+    // previous export's .glb/.gltf, .bin and .hoses.json all as they were (not a new sidecar
+    // beside an old glTF). The glTF itself is renamed last: it is what readers open.
+    struct Staged
+    {
+        fs::path partial;
+        fs::path target;
+        bool targetExisted = false;
+    };
+    std::vector<Staged> staged;
     try {
         for (const auto& [file, contents] : files) {
-            const bool existed = fs::exists(file);
-            formats::writeFileAtomically(file, contents);
-            if (!existed) created.push_back(file);
+            std::error_code error;
+            if (fs::is_directory(file, error))
+                throw formats::FileError(file, "cannot replace the file: it is a folder");
+            fs::path partial = file;
+            partial += ".partial";
+            const bool existed = fs::exists(file, error);
+            formats::writeFileAtomically(partial, contents);
+            staged.push_back({partial, file, existed});
             report.bytesWritten += contents.size();
         }
     } catch (...) {
         std::error_code ignored;
-        for (const fs::path& file : created)
-            fs::remove(file, ignored);
+        for (const Staged& s : staged)
+            fs::remove(s.partial, ignored);
         throw;
+    }
+    // Renames within one folder fail only in exotic cases (the folder's permissions changed
+    // meanwhile): then the files this call created are removed again and the staged ones
+    // deleted; a target already replaced cannot be given back.
+    for (size_t i = 0; i < staged.size(); ++i) {
+        std::error_code error;
+        fs::rename(staged[i].partial, staged[i].target, error);
+        if (!error) continue;
+        std::error_code ignored;
+        for (size_t j = 0; j < staged.size(); ++j) {
+            if (j < i && !staged[j].targetExisted) fs::remove(staged[j].target, ignored);
+            if (j >= i) fs::remove(staged[j].partial, ignored);
+        }
+        throw formats::FileError(staged[i].target, "cannot replace the file: " + error.message());
     }
     report.gltfFile = output;
     report.binFile = binFile;
@@ -645,29 +673,38 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
     const auto importProgress = [&](double fraction) {
         return !options.progress || options.progress(0.6 * fraction);
     };
-    const formats::ImportedScenes imported =
-        formats::importProjectScenes(project, projectFile, roots, importProgress);
+    // Scene paths and hose definitions come from the project: their errors name it.
+    formats::ImportedScenes imported;
     std::vector<const formats::ImportedScene*> scenes;
-    std::map<std::string, int> sceneIndex;
-    for (const formats::SceneReference& reference : project.scenes) {
-        sceneIndex[reference.id] = static_cast<int>(scenes.size());
-        scenes.push_back(&imported.at(reference.id));
-    }
     std::vector<ExportHose> hoses;
-    for (const formats::HoseDefinition& definition : project.hoses) {
-        ExportHose hose{
-            definition.id,
-            definition.name,
-            formats::buildHose(project, definition, imported),
-            {},
-            {definition.colour.r, definition.colour.g, definition.colour.b, definition.colour.a},
-            definition.roughness};
-        for (const formats::HoseAttachment& attachment : definition.attachments) {
-            const int s = sceneIndex.at(attachment.scene);
-            hose.attachedNodes.push_back(
-                {s, scenes[static_cast<size_t>(s)]->findNode(attachment.node)});
+    try {
+        imported = formats::importProjectScenes(project, projectFile, roots, importProgress);
+        std::map<std::string, int> sceneIndex;
+        for (const formats::SceneReference& reference : project.scenes) {
+            sceneIndex[reference.id] = static_cast<int>(scenes.size());
+            scenes.push_back(&imported.at(reference.id));
         }
-        hoses.push_back(std::move(hose));
+        for (const formats::HoseDefinition& definition : project.hoses) {
+            ExportHose hose{definition.id,
+                            definition.name,
+                            formats::buildHose(project, definition, imported),
+                            {},
+                            {definition.colour.r, definition.colour.g, definition.colour.b,
+                             definition.colour.a},
+                            definition.roughness};
+            for (const formats::HoseAttachment& attachment : definition.attachments) {
+                const int s = sceneIndex.at(attachment.scene);
+                hose.attachedNodes.push_back(
+                    {s, scenes[static_cast<size_t>(s)]->findNode(attachment.node)});
+            }
+            hoses.push_back(std::move(hose));
+        }
+    } catch (const formats::PathError& error) {
+        throw formats::FileError(projectFile, error.what());
+    } catch (const InvalidArgument& error) {
+        const std::string what = error.what();
+        if (what.find(projectFile.string()) != std::string::npos) throw;
+        throw InvalidArgument(projectFile.string() + ": " + what);
     }
     ExportOptions exportOptions = options;
     exportOptions.includeSceneMeshes =

@@ -111,10 +111,19 @@ GltfFile readGltf(const fs::path& file)
             if (b != 0) throw Error(where + ": only buffer 0 may omit its uri (the GLB BIN chunk)");
             data = binChunk;
         } else {
+            if (!buffers[b]["uri"].is_string()) throw Error(where + "/uri: expected a string");
             const std::string uri = buffers[b]["uri"].get<std::string>();
             if (uri.rfind("data:", 0) == 0)
                 throw Error(where + "/uri: data URIs are not read by validate");
-            data = rig::detail::readFileBytes(file.parent_path() / uri);
+            // A buffer is a file beside the glTF: never read what a hostile file points at
+            // elsewhere ("../../etc/passwd", "/dev/zero", a link out of the folder).
+            const fs::path folder = fs::absolute(file).parent_path();
+            const fs::path bufferFile = folder / uri;
+            if (uri.empty() || fs::path(uri).is_absolute() ||
+                !formats::isInsideFolder(bufferFile, folder))
+                throw Error(where + "/uri: \"" + uri +
+                            "\" is outside the glTF's folder (only files beside it are read)");
+            data = rig::detail::readFileBytes(bufferFile);
         }
         if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
             throw Error(where + "/byteLength: the buffer has only " + std::to_string(data.size()) +
@@ -136,11 +145,22 @@ std::vector<float> floatsOf(const GltfFile& gltf, int index, const std::string& 
     const size_t count = accessor.value("count", std::size_t{0});
     const Json& view = gltf.json.at("bufferViews").at(accessor.at("bufferView").get<size_t>());
     const std::string& buffer = gltf.buffers.at(view.value("buffer", std::size_t{0}));
-    const size_t stride = view.value("byteStride", components * 4);
-    const size_t start =
-        view.value("byteOffset", std::size_t{0}) + accessor.value("byteOffset", std::size_t{0});
-    if (count > 0 && start + (count - 1) * stride + components * 4 > buffer.size())
+    const size_t elementBytes = components * 4;
+    const size_t stride = view.value("byteStride", elementBytes);
+    const size_t viewOffset = view.value("byteOffset", std::size_t{0});
+    const size_t accessorOffset = accessor.value("byteOffset", std::size_t{0});
+    if (stride < elementBytes)
+        throw Error(where + ": accessor " + std::to_string(index) + ": byteStride " +
+                    std::to_string(stride) + " is smaller than an element");
+    // Checked without overflow: a hostile count or offset must not wrap around the test.
+    const size_t size = buffer.size();
+    const bool fits = viewOffset <= size && accessorOffset <= size - viewOffset &&
+                      (count == 0 || (elementBytes <= size - viewOffset - accessorOffset &&
+                                      count - 1 <= (size - viewOffset - accessorOffset -
+                                                    elementBytes) / stride));
+    if (!fits)
         throw Error(where + ": accessor " + std::to_string(index) + " reaches beyond its buffer");
+    const size_t start = viewOffset + accessorOffset;
     std::vector<float> values(count * components);
     for (size_t i = 0; i < count; ++i)
         std::memcpy(&values[i * components], buffer.data() + start + i * stride, components * 4);

@@ -12,9 +12,10 @@
 // The runtime descriptor (rig_descriptor.h) is embedded as the root extension
 // CHAINTUBE_hose_rig (extensionsUsed only) and written beside as <name>.hoses.json.
 //
-// Every file is written atomically (formats::writeFileAtomically); for .gltf + .bin + .hoses.json
-// all contents are built in memory first, so a failure while building writes nothing, and a
-// failure while writing removes what this call already wrote.
+// Writes are atomic: all contents are built in memory, each file is written completely as
+// <file>.partial (formats::writeFileAtomically), and only when all are on disk are they renamed
+// over their targets, the glTF last. A failure while building or writing leaves a previous
+// export's .glb/.gltf, .bin and .hoses.json as they were, and no .partial behind.
 #pragma once
 
 #include "chaintube/export/rig_descriptor.h"
