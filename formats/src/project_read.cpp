@@ -2,6 +2,7 @@
 // JSON pointer and what was expected (no C++ JSON Schema library exists in Debian 12).
 #include "chaintube/formats/project.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,18 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 namespace {
+
+// Limits of the reader (README, "Hardening"): a hostile or corrupt file is refused with a
+// ProjectFormatError (a FileError for the size) instead of exhausting memory or the stack.
+// Real projects are far below them (the 50-hose sample: 52 KB, 1,200 axis points).
+constexpr std::size_t kMaxProjectFileBytes = std::size_t{64} << 20; // 64 MiB of JSON
+constexpr int kMaxJsonDepth = 64;                // nesting of arrays and objects
+constexpr std::size_t kMaxJsonValues = 2000000; // values in the document (~150 MB DOM)
+constexpr std::size_t kMaxProjectHoses = 100000; // hoses in one project
+constexpr std::size_t kMaxRoutePoints = 100000;  // route points of one hose
+// Axis points of all hoses together (segmentCount + 1 each; with segmentLength, the route
+// length divided by it).
+constexpr std::size_t kMaxProjectAxisPoints = 10000000;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -404,7 +417,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     // --- hoses --------------------------------------------------------------------------------
     const Cursor hoses = root.key("hoses");
     std::set<std::string> hoseIds;
-    for (size_t i = 0, n = hoses.arraySize(); i < n; ++i) {
+    double projectAxisPoints = 0; // limit: kMaxProjectAxisPoints (a hostile file must not OOM)
+    for (size_t i = 0, n = hoses.arraySize(0, kMaxProjectHoses); i < n; ++i) {
         const Cursor entry = hoses[i];
         entry.object({"id", "name", "route", "material", "profile", "outerDiameter", "segmentCount",
                       "segmentLength", "colour", "roughness", "attachments"});
@@ -415,7 +429,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         hose.name = entry.key("name").string(true);
 
         const Cursor route = entry.key("route");
-        for (size_t p = 0, count = route.arraySize(2); p < count; ++p) {
+        for (size_t p = 0, count = route.arraySize(2, kMaxRoutePoints); p < count; ++p) {
             hose.route.push_back(readVec3(route[p]));
             if (p > 0 && hose.route[p] == hose.route[p - 1])
                 route[p].fail("expected a route point distinct from the previous one");
@@ -446,6 +460,15 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             hose.segmentCount = 0;
             hose.segmentLength = entry.key("segmentLength").number(0, false, HUGE_VAL, false);
         }
+        double routeLength = 0;
+        for (size_t p = 1; p < hose.route.size(); ++p)
+            routeLength += (hose.route[p] - hose.route[p - 1]).norm();
+        projectAxisPoints += 1.0 + (byCount ? double(hose.segmentCount)
+                                            : std::min(1e7, routeLength / hose.segmentLength));
+        if (projectAxisPoints > double(kMaxProjectAxisPoints))
+            entry.key(byCount ? "segmentCount" : "segmentLength")
+                .fail("the project's hoses together would have more than " +
+                      std::to_string(kMaxProjectAxisPoints) + " axis points (limit)");
 
         const Cursor colour = entry.key("colour");
         colour.arraySize(4, 4);
@@ -505,6 +528,31 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
 {
     json document;
     try {
+        // Checked in one linear pass before parsing, so that a hostile document (10^7 empty
+        // objects, nesting 10^5 deep) never becomes a DOM larger than the memory.
+        std::size_t values = 0;
+        int depth = 0;
+        bool inString = false, escaped = false;
+        for (const char c : text) {
+            if (inString) {
+                if (escaped) escaped = false;
+                else if (c == '\\') escaped = true;
+                else if (c == '"') inString = false;
+                continue;
+            }
+            if (c == '"') inString = true;
+            if (c == '[' || c == '{') {
+                if (++depth > kMaxJsonDepth)
+                    throw ProjectFormatError(file, "", "JSON nested deeper than " +
+                                                           std::to_string(kMaxJsonDepth) +
+                                                           " levels (limit)");
+            } else if (c == ']' || c == '}') {
+                --depth;
+            }
+            if ((c == ',' || c == '[' || c == '{') && ++values > kMaxJsonValues)
+                throw ProjectFormatError(file, "", "more than " + std::to_string(kMaxJsonValues) +
+                                                       " JSON values (limit)");
+        }
         document = json::parse(text.begin(), text.end());
     } catch (const json::exception& error) { // parse_error, or out_of_range for 1e400
         // nlohmann reports "[json.exception.parse_error.101] parse error at line 3, column 5:
@@ -546,6 +594,9 @@ Project loadProject(const fs::path& file, const ProjectLoadOptions& options,
     std::error_code error;
     if (!fs::exists(file, error)) throw FileError(file, "no such file");
     if (fs::is_directory(file, error)) throw FileError(file, "is a directory, not a project file");
+    if (fs::is_regular_file(file, error) && fs::file_size(file, error) > kMaxProjectFileBytes)
+        throw FileError(file, "file is larger than " + std::to_string(kMaxProjectFileBytes >> 20) +
+                                  " MiB (limit for project files)");
     std::ifstream stream(file, std::ios::binary);
     if (!stream) throw FileError(file, "cannot be opened for reading");
     std::ostringstream contents;
@@ -553,6 +604,9 @@ Project loadProject(const fs::path& file, const ProjectLoadOptions& options,
     if (stream.bad()) throw FileError(file, "reading failed");
     const std::string text = contents.str();
     if (text.empty()) throw FileError(file, "file is empty");
+    if (text.size() > kMaxProjectFileBytes)
+        throw FileError(file, "file is larger than " + std::to_string(kMaxProjectFileBytes >> 20) +
+                                  " MiB (limit for project files)");
     return parseProject(text, file, options, report);
 }
 
