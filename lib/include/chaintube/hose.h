@@ -66,8 +66,9 @@ struct HoseSpec
 struct SagOptions
 {
     Vec3 gravityDirection = Vec3(0.0, -1.0, 0.0); ///< world, need not be unit (non-zero)
-    int maxRounds = 20000;    ///< bound on the work (each round is O(n))
-    double tolerance = 1e-10; ///< stop when no point moves more than this × mean rest length
+    int maxRounds = 4000;    ///< bound on the work (each round is O(n))
+    double tolerance = 1e-7; ///< settled when no point moves more than this × mean rest length
+                             ///< over two rounds
 };
 
 struct SagResult
@@ -180,9 +181,11 @@ public:
     /// Let the free points settle under gravity while the stretch band and bend limits hold:
     /// the quasi-static equilibrium of a chain with mass spread evenly along its rest length
     /// (each point carries half of its adjacent rest lengths), found by damped position-based
-    /// iterations (mass-weighted projections of the length band and of the bend limit as a
-    /// lower bound on the distance between a joint's neighbours), then one exact ChainTube pass
-    /// from the fixed points. Deterministic; a settled hose stays where it is (calling again
+    /// rounds: a small gravity step, then a mass-weighted projection of the length band (a
+    /// direct tridiagonal solve, Goldenthal et al. 2007) and of the bend limit (a lower bound on
+    /// the distance between a joint's neighbours), then one exact ChainTube pass from the fixed
+    /// points. `settled` is false when maxRounds ran out first (the shape is then still the
+    /// best found; the constraints hold either way). Deterministic; a settled hose stays where it is (calling again
     /// changes nothing beyond the tolerance). Without fixed points the hose falls without end:
     /// returns InvalidInput and leaves it unchanged. Non-finite or zero direction: InvalidInput.
     SagResult sag(const SagOptions& options = SagOptions());
