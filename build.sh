@@ -3,6 +3,9 @@
 #
 #   ./build.sh run    install missing Debian packages, build, run the main job
 #   ./build.sh test   install missing Debian packages, build, run the whole test suite
+#   ./build.sh sanitize  build the test suite with ASan + UBSan (preset asan, build-asan/), run it
+#   ./build.sh fuzz [SECONDS]  build the libFuzzer targets with clang (preset fuzz, build-fuzz/)
+#                     and run each for SECONDS (default 60) from its seed corpus
 #
 # Safe to run again: it installs only what is missing and rebuilds incrementally (ccache).
 set -euo pipefail
@@ -22,9 +25,12 @@ debian_packages=(
   blender python3-numpy  # the exporter's Blender import test (python3-numpy: its glTF importer)
 )
 
+# Only for `./build.sh fuzz`: clang 14 with the libFuzzer/ASan/UBSan runtimes, llvm-symbolizer.
+fuzz_packages=(clang libclang-rt-14-dev llvm)
+
 install_missing_packages() {
   local missing=()
-  for package in "${debian_packages[@]}"; do
+  for package in "${debian_packages[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
       missing+=("$package")
   done
@@ -88,8 +94,28 @@ case "${1:-}" in
     build
     ctest --preset default
     ;;
+  sanitize)
+    install_missing_packages
+    cmake --preset asan >/dev/null
+    cmake --build --preset asan
+    ctest --preset asan
+    ;;
+  fuzz)
+    install_missing_packages "${fuzz_packages[@]}"
+    cmake --preset fuzz >/dev/null
+    cmake --build --preset fuzz
+    seconds="${2:-60}"
+    for target in project descriptor gltf scene_import; do
+      # New inputs go to build-fuzz/corpus/<target>; the committed seeds are only read.
+      mkdir -p "build-fuzz/corpus/$target" "build-fuzz/artifacts/$target"
+      echo "build.sh: fuzzing $target for ${seconds} s" >&2
+      "build-fuzz/tests/fuzz/${target}_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 \
+        -timeout=10 -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$target/" \
+        "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target"
+    done
+    ;;
   *)
-    echo "usage: $0 run|test" >&2
+    echo "usage: $0 run|test|sanitize|fuzz [SECONDS]" >&2
     exit 2
     ;;
 esac
