@@ -125,6 +125,25 @@ Hose Hose::fromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec)
     return hose;
 }
 
+Hose Hose::fromAxis(const std::vector<Vec3>& axisPoints, const std::vector<double>& restLengths,
+                    const HoseSpec& spec)
+{
+    spec.validate();
+    Hose hose;
+    hose.initialiseFromAxis(axisPoints, spec);
+    if (restLengths.size() != hose.m_restLength.size())
+        throw InvalidArgument("hose.restLengths: expected " + std::to_string(hose.m_restLength.size()) +
+                              " values (one per segment), got " + std::to_string(restLengths.size()));
+    for (size_t s = 0; s < restLengths.size(); ++s)
+        if (!std::isfinite(restLengths[s]) || restLengths[s] <= 0.0)
+            throw InvalidArgument("hose.restLengths[" + std::to_string(s) + "]: expected a length > 0 m, got " +
+                                  str(restLengths[s]));
+    hose.m_restLength = restLengths;
+    hose.recomputeLimits();
+    hose.m_dirtyViolation = hose.measureViolation().status != Status::Ok;
+    return hose;
+}
+
 void Hose::initialiseFromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec)
 {
     if (axisPoints.size() < 2)

@@ -259,3 +259,19 @@ TEST(SolverHardCases, PullingAFreeEndOutOfReachReachesTowardsTheTarget)
     const Vec3 lastDirection = (hose.point(40) - hose.point(39)).normalized();
     EXPECT_GT(lastDirection.dot((target - hose.point(40)).normalized()), 0.99);
 }
+
+TEST(SolverHardCases, AHoseRebuiltFromADeformedShapeKeepsItsRestLengths)
+{
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(10, 0.2, 40));
+    hose.grab(10, Vec3(1.15, 0.0, 0.0)); // stretched: every segment longer than its rest length
+    std::vector<double> rest;
+    for (int s = 0; s < hose.segmentCount(); ++s) rest.push_back(hose.restLength(s));
+    const Hose rebuilt = Hose::fromAxis(hose.points(), rest, hose.spec());
+    for (int s = 0; s < hose.segmentCount(); ++s) {
+        EXPECT_EQ(rebuilt.restLength(s), hose.restLength(s));
+        EXPECT_DOUBLE_EQ(rebuilt.maxLength(s), hose.maxLength(s));
+    }
+    EXPECT_NEAR(measure(rebuilt).maxStretch, measure(hose).maxStretch, 1e-12);
+    EXPECT_THROW(Hose::fromAxis(hose.points(), std::vector<double>(3, 0.1), hose.spec()), InvalidArgument);
+    EXPECT_THROW(Hose::fromAxis(hose.points(), std::vector<double>(10, -1.0), hose.spec()), InvalidArgument);
+}

@@ -468,7 +468,11 @@ Hose rebuildHose(const RigHose& description, std::vector<int>* attachmentIds)
     spec.material = description.material();
     spec.segmentCount = description.pointCount() - 1;
     spec.profile = description.crossSection.build();
-    Hose hose = Hose::fromAxis(description.axis, spec);
+    // The exported shape with the exported rest lengths: a hose exported while deformed comes
+    // back deformed, not relaxed at that shape.
+    Hose hose = description.restLengths.size() + 1 == description.axis.size()
+                    ? Hose::fromAxis(description.axis, description.restLengths, spec)
+                    : Hose::fromAxis(description.axis, spec);
     for (const RigAttachment& attachment : description.attachments) {
         const int id = hose.attach(attachment.firstPoint, attachment.lastPoint, attachment.frame);
         if (attachmentIds) attachmentIds->push_back(id);

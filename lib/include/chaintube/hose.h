@@ -115,6 +115,13 @@ public:
     /// distances become the rest lengths. Throws InvalidArgument.
     static Hose fromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec);
 
+    /// A hose whose current shape is `axisPoints` but whose rest lengths are given (metres,
+    /// one per segment, each > 0 and finite): e.g. a hose saved or exported while deformed.
+    /// The shape may violate the constraints; settle() or the next update re-imposes them.
+    /// Throws InvalidArgument.
+    static Hose fromAxis(const std::vector<Vec3>& axisPoints, const std::vector<double>& restLengths,
+                         const HoseSpec& spec);
+
     // --- geometry -------------------------------------------------------------------------
     int pointCount() const { return static_cast<int>(m_local.size()); }
     int segmentCount() const { return pointCount() - 1; }
