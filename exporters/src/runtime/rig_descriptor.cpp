@@ -431,7 +431,7 @@ HoseRigDescriptor parseDescriptor(std::string_view text, const std::string& sour
     Json document;
     try {
         document = Json::parse(text.begin(), text.end());
-    } catch (const nlohmann::json::parse_error& error) {
+    } catch (const nlohmann::json::exception& error) { // parse_error, or out_of_range for 1e400
         r.fail("", std::string("malformed JSON: ") + error.what());
     }
     r.object(document, "");
