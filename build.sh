@@ -109,7 +109,8 @@ case "${1:-}" in
       # New inputs go to build-fuzz/corpus/<target>; the committed seeds are only read.
       mkdir -p "build-fuzz/corpus/$target" "build-fuzz/artifacts/$target"
       echo "build.sh: fuzzing $target for ${seconds} s" >&2
-      "build-fuzz/tests/fuzz/${target}_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 \
+      LSAN_OPTIONS="suppressions=$PWD/tests/hardening/lsan.supp:print_suppressions=0" \
+        "build-fuzz/tests/fuzz/${target}_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 \
         -timeout=10 -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$target/" \
         "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target"
     done
