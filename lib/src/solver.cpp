@@ -436,12 +436,12 @@ bool Hose::blendTowardsPins(int index, const Vec3& displacement)
     return left || right;
 }
 
-bool Hose::pinnedOnOneSideOnly(int index) const
+int Hose::pinnedSide(int index) const
 {
     bool left = false, right = false;
     for (int i = 0; i < pointCount(); ++i)
         if (m_fixed[static_cast<size_t>(i)]) (i < index ? left : right) = true;
-    return left != right;
+    return left == right ? 0 : (left ? -1 : +1);
 }
 
 UpdateResult Hose::grab(int index, const Vec3& target)
@@ -482,13 +482,11 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             m_local = m_scratch;
             attempt(localTarget, moved);
             status = Status::Infeasible;
-        } else if (pinnedOnOneSideOnly(index)) {
+        } else if (const int side = pinnedSide(index); side != 0) {
             // Reach towards the target as far as the hose allows (closest reachable point).
             m_local = m_scratch;
             Solver solver(*this);
-            bool left = false;
-            for (int i = 0; i < index; ++i) left = left || m_fixed[static_cast<size_t>(i)];
-            solver.softClamp(index, localTarget, left ? -1 : +1);
+            solver.softClamp(index, localTarget, side);
             moved = pointCount();
             status = Status::Clamped;
         } else {

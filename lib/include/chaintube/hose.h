@@ -208,7 +208,8 @@ private:
     Hose() = default;
     void initialiseFromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec);
     void recomputeLimits();
-    bool pinnedOnOneSideOnly(int index) const;
+    /// −1: fixed points only before `index`; +1: only after it; 0: on both sides or none.
+    int pinnedSide(int index) const;
     bool blendSide(int from, int side, const Vec3& displacement);
     bool blendTowardsPins(int index, const Vec3& displacement);
 
