@@ -65,6 +65,12 @@ void HoseSpec::validate() const
                               " (or 0 to use segmentLength), got " + std::to_string(segmentCount));
     if (segmentCount == 0 && (!std::isfinite(segmentLength) || segmentLength <= 0.0))
         throw InvalidArgument("hose.segmentLength: expected a length > 0 m, got " + str(segmentLength));
+    if (!gravity.direction.allFinite() || gravity.direction.squaredNorm() == 0.0)
+        throw InvalidArgument("hose.gravity.direction: expected a finite non-zero vector, got " +
+                              str(gravity.direction));
+    if (!std::isfinite(torsion.twistLimit) || torsion.twistLimit <= 0.0 || torsion.twistLimit > kPi)
+        throw InvalidArgument("hose.torsion.twistLimit: expected an angle in (0, pi] rad per joint, got " +
+                              str(torsion.twistLimit));
 }
 
 Hose Hose::straight(const Vec3& start, const Vec3& direction, double length, const HoseSpec& spec)

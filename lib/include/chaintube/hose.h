@@ -46,6 +46,24 @@ struct UpdateResult
     bool ok() const { return status == Status::Ok; }
 };
 
+/// Per-frame gravity (issue 7). When enabled, every update ends with a bounded number of
+/// warm-started settle rounds (see Hose::sag) and Hose::step() keeps settling on frames without
+/// input; a settled hose costs one comparison per frame.
+struct Gravity
+{
+    bool enabled = false;
+    Vec3 direction = Vec3(0.0, -1.0, 0.0); ///< world; need not be unit (finite, non-zero)
+};
+
+/// Torsion as an optional degree of freedom (issue 7): the roll of an attachment's frame about
+/// the hose axis twists the rings; between two attachments the twist is spread over the joints
+/// between them, at most twistLimit per joint.
+struct Torsion
+{
+    bool enabled = false;
+    double twistLimit = 0.1; ///< radians per joint, in (0, π]
+};
+
 /// Parameters that make a hose.
 struct HoseSpec
 {
@@ -57,6 +75,10 @@ struct HoseSpec
     double segmentLength = 0.02;
     /// Cross-section; when empty (vertexCount() == 0) a 16-sided circle of outerDiameter/2.
     Profile profile;
+    /// Gravity sag during updates (beyond the paper, opt-in; costs nothing when off).
+    Gravity gravity;
+    /// Torsion (beyond the paper, opt-in; costs nothing when off).
+    Torsion torsion;
 
     /// Throws InvalidArgument naming the field if a value is outside its range.
     void validate() const;
