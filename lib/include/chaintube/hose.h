@@ -1,11 +1,13 @@
 // ChainTube — one hose: its axis, constraints, attachments and the deformation solver.
 #pragma once
 
+#include "chaintube/collision.h"
 #include "chaintube/material.h"
 #include "chaintube/profile.h"
 #include "chaintube/types.h"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace chaintube {
@@ -43,6 +45,16 @@ struct UpdateResult
     double grabError = 0.0;
     /// Number of axis points whose position changed.
     int movedPoints = 0;
+    /// Collision (Hose::setColliders): a collider kept the update from being met — the grabbed
+    /// point stopped short of its target (a wall, or a gap narrower than the hose: the hose never
+    /// passes through, status becomes Clamped), or the hose could not be brought outside every
+    /// collider (e.g. an attachment moved into an object; penetration says how deep).
+    bool blocked = false;
+    /// Collision: deepest remaining penetration of the hose surface into a collider (metres,
+    /// 0 = none beyond CollisionOptions::tolerance).
+    double penetration = 0.0;
+    /// Collision: axis points touching a collider after the update.
+    int contacts = 0;
     bool ok() const { return status == Status::Ok; }
 };
 
@@ -223,6 +235,28 @@ public:
     /// the scene use it to skip hoses whose inputs did not change.
     std::uint64_t revision() const { return m_revision; }
 
+    // --- collision with scene objects (issue 7; opt-in, one branch per update without) ------
+    /// Make the hose stay outside these colliders (shared with other hoses; moving a collider's
+    /// frame moves it for all). Every grab, attachment move and gravity step then ends with a
+    /// continuous check of each moved point from its previous position (a sphere of
+    /// outerRadius() sweeps from the last collision-free shape; it stops at contact and slides,
+    /// so the hose never tunnels through thin walls or gaps narrower than its diameter) and
+    /// bounded contact rounds that re-impose the length band and bend limits with every move
+    /// again swept (CollisionOptions). Segments are kept out too (sharp edges). Residual
+    /// constraint violations are reported in the UpdateResult; status becomes Infeasible only
+    /// when they exceed options.constraintTolerance. An empty list turns collision off. The
+    /// current shape is taken as the starting state: call resolveCollisions() if it may
+    /// already intersect. Throws InvalidArgument for a null collider or options out of range.
+    void setColliders(std::vector<std::shared_ptr<const MeshCollider>> colliders,
+                      const CollisionOptions& options = CollisionOptions());
+    const std::vector<std::shared_ptr<const MeshCollider>>& colliders() const { return m_colliders; }
+    const CollisionOptions& collisionOptions() const { return m_collisionOptions; }
+    /// Push the hose out of its colliders now (after moving a collider's frame, or after
+    /// setColliders on a shape that intersects): points inside are moved out on the side
+    /// their centre is on, then the contact rounds run. A collider moving farther than the
+    /// hose radius in one step can pass through a hose (discrete for moving colliders).
+    UpdateResult resolveCollisions();
+
     /// Largest violation of the length band (relative) and of the deflection limits (rad).
     UpdateResult measureViolation() const;
 
@@ -253,6 +287,15 @@ private:
     int m_nextAttachmentId = 1;
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     std::uint64_t m_revision = 1;
+
+    /// Collision hook at the end of every update entry point (collision.cpp); no-op without
+    /// colliders. `grabbed` is the grabbed point (−1 if none) and its requested local target.
+    void applyCollisions(UpdateResult& result, int grabbed, const Vec3& localTarget);
+    std::vector<std::shared_ptr<const MeshCollider>> m_colliders;
+    CollisionOptions m_collisionOptions;
+    std::vector<Vec3> m_collisionStart; ///< last collision-resolved shape (local)
+    std::vector<double> m_collisionFree; ///< per point: clearance left before a query is needed
+    std::vector<std::uint64_t> m_colliderRevisions; ///< collider frames m_collisionFree is for
 };
 
 } // namespace chaintube
