@@ -41,6 +41,39 @@ void checkReadableFile(const std::filesystem::path& file)
     if (!error && size == 0) throw FileError(file, "file is empty");
 }
 
+/// assimp 5.2.5's PLY reader loops forever on a header that never reaches `end_header`:
+/// PLY::DOM::ParseHeader skips unknown header lines with IOStreamBuffer::getNextLine and
+/// ignores its `false` at end of file, so the line buffer never empties
+/// (tests/fuzz/findings/assimp-ply-hang.bin). Such a file is refused here, before assimp sees
+/// it: the header must start with the magic line and contain an `end_header` line within the
+/// first 1 MiB (real headers are a few hundred bytes).
+void checkPlyHeader(const std::filesystem::path& file)
+{
+    constexpr std::size_t headerLimit = 1 << 20;
+    std::ifstream stream(file, std::ios::binary);
+    std::string line;
+    std::size_t consumed = 0;
+    bool first = true;
+    while (consumed < headerLimit && std::getline(stream, line)) {
+        consumed += line.size() + 1;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        const std::size_t start = line.find_first_not_of(" \t");
+        const std::string token =
+            start == std::string::npos
+                ? std::string()
+                : line.substr(start, line.find_first_of(" \t", start) - start);
+        if (first) {
+            if (token != "ply" && token != "PLY")
+                throw FileError(file, "malformed PLY: the first line must be 'ply'");
+            first = false;
+        } else if (token == "end_header") {
+            return;
+        }
+    }
+    throw FileError(file, "malformed PLY: the header has no 'end_header' line" +
+                              std::string(consumed >= headerLimit ? " in its first 1 MiB" : ""));
+}
+
 /// Rotation taking +Z up to +Y up (−90° about X): (x, y, z) → (x, z, −y).
 Mat4 zUpToYUp()
 {
@@ -101,6 +134,7 @@ ImportedScene importScene(const std::filesystem::path& file, const ImportOptions
                         "unsupported scene format '" + extension + "' (supported: " + list + ")");
     }
     checkReadableFile(file);
+    if (extension == ".ply") checkPlyHeader(file);
 
     // The parser gets 85 % of the bar, our conversion the rest.
     detail::ProgressStage parsing(options, file, 0.0, 0.85);

@@ -1,0 +1,127 @@
+// Scene files that made a third-party reader hang are refused by formats::importScene with a
+// clear error within a bounded time (each import runs in a forked child that is killed after
+// the limit, so a regression fails this test instead of blocking the suite).
+#include "bounded_child.h"
+
+#include <chaintube/formats/scene_import.h>
+
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <random>
+
+namespace chaintube::hardening {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ImportOutcome
+{
+    ChildOutcome child;
+    bool refused() const { return child.finished && child.exitCode == 1; }
+    bool imported() const { return child.finished && child.exitCode == 0; }
+};
+
+/// importScene(file) in a child: exit 0 imported, 1 refused with chaintube::Error (message
+/// written back), 2 any other exception.
+ImportOutcome importWithin(const fs::path& file, std::chrono::seconds limit)
+{
+    ImportOutcome outcome;
+    outcome.child = runInChild(
+        [&](const std::function<void(const std::string&)>& write) {
+            try {
+                (void)formats::importScene(file);
+                return 0;
+            } catch (const Error& error) {
+                write(error.what());
+                return 1;
+            } catch (const std::exception& error) {
+                write(error.what());
+                return 2;
+            }
+        },
+        limit);
+    return outcome;
+}
+
+class ScratchFolder
+{
+public:
+    ScratchFolder()
+        : m_path(fs::temp_directory_path() /
+                 ("chaintube-hardening-" + std::to_string(std::random_device{}())))
+    {
+        fs::create_directories(m_path);
+    }
+    ~ScratchFolder() { fs::remove_all(m_path); }
+    fs::path write(const std::string& name, const std::string& text) const
+    {
+        std::ofstream(m_path / name, std::ios::binary) << text;
+        return m_path / name;
+    }
+
+private:
+    fs::path m_path;
+};
+
+const fs::path badScenes = fs::path(CHAINTUBE_BAD_DATA_DIR) / "scene";
+
+TEST(SceneImportHardening, PlyWhoseHeaderNeverEndsIsRefusedWithinTwoSeconds)
+{
+    // The fuzzer's finding (tests/fuzz/findings/assimp-ply-hang.bin without its format byte):
+    // assimp 5.2.5 loops forever on it.
+    const fs::path file = badScenes / "ply-without-end-header.ply";
+    const ImportOutcome outcome = importWithin(file, std::chrono::seconds(20));
+    ASSERT_TRUE(outcome.child.finished) << "importScene did not return within 20 s";
+    EXPECT_LT(outcome.child.seconds, 2.0);
+    EXPECT_TRUE(outcome.refused()) << "exit " << outcome.child.exitCode;
+    EXPECT_EQ(outcome.child.message,
+              file.string() + ": malformed PLY: the header has no 'end_header' line");
+}
+
+TEST(SceneImportHardening, PlyHeadersThatStopEarlyAreRefusedNotHung)
+{
+    ScratchFolder folder;
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n";
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+             {"binary-header-only.ply",
+              "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"},
+             {"element-at-end.ply", header + "property float y\nproperty float z\nelement vertex 3\n"},
+             {"crlf-no-end.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 1\r\n"},
+             {"magic-only.ply", "ply"},
+             {"end-header-in-a-comment.ply", header + "comment end_header\n0\n0\n0\n"}}) {
+        const ImportOutcome outcome = importWithin(folder.write(name, text), std::chrono::seconds(20));
+        ASSERT_TRUE(outcome.child.finished) << name << ": importScene did not return within 20 s";
+        EXPECT_TRUE(outcome.refused()) << name << ": exit " << outcome.child.exitCode;
+        EXPECT_NE(outcome.child.message.find("malformed PLY: the header has no 'end_header' line"),
+                  std::string::npos)
+            << name << ": " << outcome.child.message;
+    }
+    const ImportOutcome notPly = importWithin(folder.write("not-ply.ply", "solid x\n"),
+                                              std::chrono::seconds(20));
+    EXPECT_TRUE(notPly.refused());
+    EXPECT_NE(notPly.child.message.find("malformed PLY: the first line must be 'ply'"),
+              std::string::npos)
+        << notPly.child.message;
+}
+
+TEST(SceneImportHardening, WellFormedPlyStillImports)
+{
+    ScratchFolder folder;
+    const std::string body = "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 3\n"
+                             "property float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list uchar int vertex_indices\n";
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+             {"triangle.ply", body + "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+             {"triangle-crlf.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\n"
+                                   "property float x\r\nproperty float y\r\nproperty float z\r\n"
+                                   "element face 1\r\nproperty list uchar int vertex_indices\r\n"
+                                   "end_header\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n"}}) {
+        const ImportOutcome outcome = importWithin(folder.write(name, text), std::chrono::seconds(20));
+        EXPECT_TRUE(outcome.imported())
+            << name << ": exit " << outcome.child.exitCode << " " << outcome.child.message;
+    }
+}
+
+} // namespace
+} // namespace chaintube::hardening
