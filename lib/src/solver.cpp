@@ -40,10 +40,20 @@ public:
     [[gnu::always_inline]] inline bool place(int i, int a, const Vec3* incoming, const Vec3& anchorOld,
                                              Vec3& direction)
     {
+        Vec3 placed;
+        return place<false>(i, a, Vec3(p[static_cast<size_t>(a)]), incoming, anchorOld, direction, placed);
+    }
+
+    /// As above with the anchor's final position passed in (a sweep carries it in registers:
+    /// reading it back from memory would put a store-to-load forward on the critical path).
+    /// With Fma, the final multiply-add is fused (only instantiated in FMA-targeted code).
+    template <bool Fma>
+    [[gnu::always_inline]] inline bool place(int i, int a, const Vec3 anchor, const Vec3* incoming,
+                                             const Vec3& anchorOld, Vec3& direction, Vec3& placed)
+    {
         const size_t seg = static_cast<size_t>(std::min(i, a));
         const double lmin = h.m_minLength[seg], lmax = h.m_maxLength[seg];
         Vec3& point = p[static_cast<size_t>(i)];
-        const Vec3& anchor = p[static_cast<size_t>(a)];
         Vec3 d = point - anchor;
         double length2 = d.squaredNorm();
         bool moved = false;
@@ -57,8 +67,10 @@ public:
             v = before.normalized();
             moved = true;
         } else {
+            // 1/|d| as sqrt(|d|²) · (1/|d|²): the square root and the division run in
+            // parallel instead of one after the other (the sweep is latency bound).
             length = std::sqrt(length2);
-            v = d * (1.0 / length);
+            v = d * (length * (1.0 / length2));
         }
         if (incoming) {
             const size_t joint = static_cast<size_t>(a);
@@ -90,7 +102,14 @@ public:
             target = lmax;
             moved = true;
         }
-        if (moved) point = anchor + target * v;
+        if (moved) {
+            if constexpr (Fma)
+                point = Vec3(__builtin_fma(target, v.x(), anchor.x()), __builtin_fma(target, v.y(), anchor.y()),
+                             __builtin_fma(target, v.z(), anchor.z()));
+            else
+                point = anchor + target * v;
+        }
+        placed = point;
         direction = v;
         return moved;
     }
@@ -108,9 +127,11 @@ public:
         bool anchorMoved = true;
         Vec3 anchorOld = Vec3::Zero();
         bool active = true;
+        Vec3 anchor = Vec3::Zero(); ///< final position of point next − step (set by run())
     };
 
-    void advance(Sweep& s)
+    template <bool Fma>
+    [[gnu::always_inline]] inline void advance(Sweep& s)
     {
         const int i = s.next;
         if (i < 0 || i >= h.pointCount()) {
@@ -124,7 +145,8 @@ public:
         }
         const Vec3 before = p[static_cast<size_t>(i)];
         Vec3 direction;
-        const bool moved = place(i, i - s.step, s.haveIncoming ? &s.incoming : nullptr, s.anchorOld, direction);
+        const bool moved = place<Fma>(i, i - s.step, s.anchor, s.haveIncoming ? &s.incoming : nullptr, s.anchorOld,
+                                 direction, s.anchor);
         movedPoints += moved;
         if (!moved && !s.anchorMoved) {
             s.active = false;
@@ -138,14 +160,37 @@ public:
     }
 
     /// Runs two independent sweeps interleaved: their dependency chains overlap in the CPU.
+    template <bool Fma>
+    [[gnu::always_inline]] inline void runSweeps(Sweep leftIn, Sweep rightIn)
+    {
+        // Local copies whose address never escapes: the compiler keeps them in registers.
+        Sweep left = leftIn, right = rightIn;
+        while (left.active && right.active) {
+            advance<Fma>(left);
+            advance<Fma>(right);
+        }
+        while (left.active) advance<Fma>(left);
+        while (right.active) advance<Fma>(right);
+    }
+#if defined(__x86_64__) && defined(__GNUC__)
+    __attribute__((target("fma"))) void runSweepsFma(const Sweep& left, const Sweep& right)
+    {
+        runSweeps<true>(left, right);
+    }
+#endif
+
     void run(Sweep left, Sweep right)
     {
-        while (left.active && right.active) {
-            advance(left);
-            advance(right);
+        const int n = h.pointCount();
+        for (Sweep* s : {&left, &right}) {
+            const int a = s->next - s->step;
+            if (s->active && a >= 0 && a < n) s->anchor = p[static_cast<size_t>(a)];
         }
-        while (left.active) advance(left);
-        while (right.active) advance(right);
+#if defined(__x86_64__) && defined(__GNUC__)
+        static const bool fma = __builtin_cpu_supports("fma");
+        if (fma) return runSweepsFma(left, right);
+#endif
+        runSweeps<false>(left, right);
     }
 
     /// The paper's update after the run first … last was placed (grab: first = last = k).
@@ -514,6 +559,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     result.grabError = (m_local[k] - localTarget).norm();
     result.movedPoints = moved;
     ++m_revision;
+    if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
     return result;
 }
 
@@ -560,6 +606,7 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     m_dirtyViolation = result.status != Status::Ok;
     result.movedPoints = solver.movedPoints;
     ++m_revision;
+    if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     return result;
 }
 
