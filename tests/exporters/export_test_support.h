@@ -68,9 +68,20 @@ inline bool haveScenes()
 {
     return fs::exists(scenesDir() / "2CylinderEngine.glb");
 }
+/// Test projects of this folder (data/), e.g. rig-options.ctproj (root "samples:").
+inline fs::path testDataDir()
+{
+    return CHAINTUBE_EXPORT_TEST_DATA_DIR;
+}
 inline formats::NamedRoots roots()
 {
-    return {{"scenes", scenesDir()}};
+    return {{"scenes", scenesDir()}, {"samples", samplesDir()}};
+}
+/// A sample's project file: samples/<name>.ctproj, or data/<name>.ctproj for the test projects.
+inline fs::path projectFileOf(const std::string& name)
+{
+    const fs::path sample = samplesDir() / (name + ".ctproj");
+    return fs::exists(sample) ? sample : testDataDir() / (name + ".ctproj");
 }
 
 /// Samples whose scenes are present (the engine samples need ../shared/scenes).

@@ -1,8 +1,10 @@
 // The glTF hose rig as written: structure the spec and our descriptor promise, atomic writes.
 #include "export_test_support.h"
 
+#include <chaintube/export/inspect.h>
 #include <chaintube/export/rig_descriptor.h>
 #include <chaintube/formats/errors.h>
+#include <map>
 #include <set>
 
 namespace chaintube::exporting::testing {
@@ -204,6 +206,144 @@ TEST(GltfExport, RejectsAnOutputThatIsNeitherGlbNorGltf)
     } catch (const InvalidArgument& error) {
         EXPECT_NE(std::string(error.what()).find("out.obj"), std::string::npos);
     }
+}
+
+/// Index of the hose with this id in an exported descriptor.
+size_t hoseIndex(const Json& json, const std::string& id)
+{
+    const Json& hoses = json["extensions"][rig::kExtensionName]["hoses"];
+    for (size_t h = 0; h < hoses.size(); ++h)
+        if (hoses[h]["id"] == id) return h;
+    ADD_FAILURE() << "no hose " << id;
+    return 0;
+}
+
+/// World matrix of a glTF node (TRS or matrix), parents first.
+Eigen::Matrix4d worldOf(const Json& json, int node)
+{
+    std::map<int, int> parent;
+    for (size_t i = 0; i < json["nodes"].size(); ++i)
+        for (const Json& child : json["nodes"][i].value("children", Json::array()))
+            parent[child.get<int>()] = static_cast<int>(i);
+    Eigen::Matrix4d world = Eigen::Matrix4d::Identity();
+    for (int n = node; n >= 0; n = parent.count(n) ? parent[n] : -1) {
+        const Json& j = json["nodes"][static_cast<size_t>(n)];
+        Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
+        if (j.contains("matrix")) {
+            for (int k = 0; k < 16; ++k)
+                local.data()[k] = j["matrix"][static_cast<size_t>(k)].get<double>();
+        } else {
+            const std::vector<double> t = j.value("translation", std::vector<double>{0, 0, 0});
+            const std::vector<double> r = j.value("rotation", std::vector<double>{0, 0, 0, 1});
+            const std::vector<double> sc = j.value("scale", std::vector<double>{1, 1, 1});
+            local.block<3, 3>(0, 0) =
+                Eigen::Quaterniond(r[3], r[0], r[1], r[2]).toRotationMatrix() *
+                Eigen::Vector3d(sc[0], sc[1], sc[2]).asDiagonal();
+            local.block<3, 1>(0, 3) = Eigen::Vector3d(t[0], t[1], t[2]);
+        }
+        world = local * world;
+    }
+    return world;
+}
+
+TEST(GltfExport, AStaticHoseIsAPlainMeshUnderItsNodeWhereTheSkinnedHoseWouldBe)
+{
+    TemporaryFolder folder;
+    const fs::path project = testDataDir() / "rig-options.ctproj";
+    exportProjectFile(project, folder / "plain.glb", roots());
+    ExportOptions skinnedOptions;
+    skinnedOptions.plainMeshesForStaticHoses = false;
+    exportProjectFile(project, folder / "skinned.glb", roots(), skinnedOptions);
+    const GltfDocument plain = readGltf(folder / "plain.glb");
+    const GltfDocument skinned = readGltf(folder / "skinned.glb");
+
+    const size_t h = hoseIndex(plain.json, "pipe-on-plate");
+    const Json& hose = plain.json["extensions"][rig::kExtensionName]["hoses"][h];
+    EXPECT_EQ(hose["static"], true);
+    EXPECT_EQ(hose["skin"], -1);
+    EXPECT_EQ(hose["rig"], -1);
+    EXPECT_TRUE(hose["joints"].empty());
+    EXPECT_TRUE(hose["grabbablePoints"].empty());
+    const int meshNode = hose["mesh"].get<int>();
+    const Json& node = plain.json["nodes"][static_cast<size_t>(meshNode)];
+    EXPECT_FALSE(node.contains("skin"));
+    const Json& plate = plain.json["nodes"][hose["attachments"][0]["node"].get<size_t>()];
+    EXPECT_EQ(plate["name"], "floor_plate");
+    const std::vector<int> plateChildren = plate["children"].get<std::vector<int>>();
+    EXPECT_NE(std::find(plateChildren.begin(), plateChildren.end(), meshNode), plateChildren.end());
+    // The only hoses that are skinned are the other two.
+    for (const Json& other : plain.json["extensions"][rig::kExtensionName]["hoses"])
+        EXPECT_EQ(other["static"], other["id"] == "pipe-on-plate") << other["id"];
+
+    // Same place as the skinned export's bind pose (world metres), vertex for vertex.
+    const Json& skinnedHose = skinned.json["extensions"][rig::kExtensionName]["hoses"]
+                                          [hoseIndex(skinned.json, "pipe-on-plate")];
+    EXPECT_EQ(skinnedHose["static"], false);
+    const auto positionsOf = [](const GltfDocument& document, int nodeIndex) {
+        const Json& n = document.json["nodes"][static_cast<size_t>(nodeIndex)];
+        return floatAccessor(
+            document,
+            document
+                .json["meshes"][n["mesh"].get<size_t>()]["primitives"][0]["attributes"]["POSITION"]
+                .get<int>());
+    };
+    const std::vector<float> local = positionsOf(plain, meshNode);
+    const std::vector<float> world = positionsOf(skinned, skinnedHose["mesh"].get<int>());
+    ASSERT_EQ(local.size(), world.size());
+    const Eigen::Matrix4d placement = worldOf(plain.json, meshNode);
+    double worst = 0.0;
+    for (size_t v = 0; v < local.size() / 3; ++v) {
+        const Eigen::Vector4d p =
+            placement * Eigen::Vector4d(local[3 * v], local[3 * v + 1], local[3 * v + 2], 1.0);
+        worst = std::max(
+            worst, (p.head<3>() - Eigen::Vector3d(world[3 * v], world[3 * v + 1], world[3 * v + 2]))
+                       .norm());
+    }
+    EXPECT_LT(worst, 1e-6);
+    EXPECT_TRUE(validateFile(folder / "plain.glb", roots()).valid());
+}
+
+TEST(GltfExport, AHoseFixedToOneNodeHasAllItsJointsUnderItsOwnRigNodeBelowThatNode)
+{
+    TemporaryFolder folder;
+    exportProjectFile(testDataDir() / "rig-options.ctproj", folder / "rig.glb", roots());
+    const Json json = readGltf(folder / "rig.glb").json;
+    const Json& hose =
+        json["extensions"][rig::kExtensionName]["hoses"][hoseIndex(json, "valve-tail")];
+    const Json& rigNode = json["nodes"][hose["rig"].get<size_t>()];
+    EXPECT_EQ(rigNode["children"], hose["joints"]) << "every joint, attached or free";
+    const Json& valve = json["nodes"][hose["attachments"][0]["node"].get<size_t>()];
+    EXPECT_EQ(valve["name"], "valve");
+    const std::vector<int> valveChildren = valve["children"].get<std::vector<int>>();
+    EXPECT_NE(std::find(valveChildren.begin(), valveChildren.end(), hose["rig"].get<int>()),
+              valveChildren.end());
+    // The joints are still where the hose is (world), e.g. the first one at axis point 0.
+    const Eigen::Matrix4d first = worldOf(json, hose["joints"][0].get<int>());
+    const std::vector<double> axis0 = hose["axis"][0].get<std::vector<double>>();
+    EXPECT_LT((first.block<3, 1>(0, 3) - Eigen::Vector3d(axis0[0], axis0[1], axis0[2])).norm(),
+              1e-9);
+}
+
+TEST(GltfExport, AHoseFixedWhollyToTheWorldIsAPlainMeshUnderTheRootNode)
+{
+    TemporaryFolder folder;
+    HoseSpec spec;
+    spec.segmentCount = 6;
+    ExportHose input{
+        "pinned", "", Hose::alongRoute({{0, 1, 0}, {0.5, 1, 0}}, spec), {}, {0.2, 0.2, 0.2, 1.0},
+        0.5};
+    input.hose.attach(0, 6, Frame::identity());
+    input.attachedNodes.push_back({});
+    const ExportReport report = exportRig({}, {input}, "world", folder / "w.glb");
+    ASSERT_EQ(report.descriptor.hoses.size(), 1u);
+    const rig::RigHose& hose = report.descriptor.hoses[0];
+    EXPECT_TRUE(hose.isStatic);
+    EXPECT_EQ(report.jointCount, 0);
+    const Json json = readGltf(folder / "w.glb").json;
+    EXPECT_EQ(json["nodes"][0]["children"], Json::array({hose.meshNode}));
+    EXPECT_FALSE(json.contains("skins"));
+    const ValidationResult validation = validateFile(folder / "w.glb", roots());
+    EXPECT_TRUE(validation.valid()) << (validation.errors.empty() ? "" : validation.errors.front());
 }
 
 TEST(GltfExport, TheFiftyHoseEngineExportsEveryHoseWithItsJoints)

@@ -90,6 +90,36 @@ TEST(RigDescriptor, RejectsMalformedDocumentsNamingTheField)
     EXPECT_EQ(pointerOfError("{ not json"), "");
 }
 
+TEST(RigDescriptor, AStaticHoseMustBeAPlainMeshWithEveryPointFixedToOneNode)
+{
+    TemporaryFolder folder;
+    const rig::HoseRigDescriptor descriptor =
+        exportProjectFile(testDataDir() / "rig-options.ctproj", folder / "o.glb", roots())
+            .descriptor;
+    const Json good = Json::parse(rig::serialiseDescriptor(descriptor));
+    ASSERT_EQ(good["hoses"][0]["id"], "pipe-on-plate");
+    ASSERT_EQ(good["hoses"][0]["static"], true);
+    EXPECT_EQ(pointerOfError(good.dump()), "(parsed)");
+
+    Json bad = good;
+    bad["hoses"][1]["static"] = true; // valve-tail is skinned and has free points
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/1/skin");
+
+    bad = good;
+    bad["hoses"][0]["static"] = "yes";
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/static");
+
+    bad = good;
+    bad["hoses"][0]["attachments"][0]["points"][1] = 3; // points 4 … 8 no longer fixed
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/static");
+
+    // Version 1.0 documents have no "static": read as skinned.
+    bad = good;
+    bad["version"] = "1.0";
+    bad["hoses"][1].erase("static");
+    EXPECT_EQ(pointerOfError(bad.dump()), "(parsed)");
+}
+
 TEST(RigDescriptor, NodeIndicesOutsideTheGltfAreReported)
 {
     const rig::HoseRigDescriptor descriptor = exportedDescriptor("test-rig");

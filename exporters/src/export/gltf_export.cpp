@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <tiny_gltf.h>
 
@@ -372,6 +373,26 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         rigHose.baseColour = input.baseColour;
         rigHose.roughness = input.roughness;
 
+        // The distinct bodies the hose is fixed to (a scene node, or the world).
+        std::set<std::pair<int, int>> fixedTo;
+        for (const NodeRef& ref : input.attachedNodes)
+            fixedTo.insert(ref.scene >= 0 ? std::make_pair(ref.scene, ref.node)
+                                          : std::make_pair(-1, -1));
+        // Static: every point fixed, all to one body. Such a hose never deforms at run time:
+        // at most its one node moves it rigidly, which a plain mesh under that node does in
+        // every viewer.
+        const bool isStatic = options.plainMeshesForStaticHoses && fixedTo.size() == 1 &&
+                              hose.attachments().size() > 0 && [&] {
+                                  for (int i = 0; i < hose.pointCount(); ++i)
+                                      if (!hose.isFixed(i)) return false;
+                                  return true;
+                              }();
+        // Fixed to one scene node only: all joints hang under the hose's rig node below that
+        // node, so the skin's joints have a common root of their own (Blender: one armature
+        // per hose) and moving the node still carries the fixed segment.
+        const bool singleNode =
+            options.jointsUnderAttachedNodes && fixedTo.size() == 1 && fixedTo.begin()->first >= 0;
+
         // Which glTF node each axis point's joint hangs under (−1: the hose's rig node).
         std::vector<int> parentOfPoint(static_cast<size_t>(hose.pointCount()), -1);
         std::vector<const formats::Mat4*> parentWorld(static_cast<size_t>(hose.pointCount()),
@@ -390,7 +411,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                     gltfNodeOf[static_cast<size_t>(ref.scene)][static_cast<size_t>(ref.node)];
                 rigAttachment.offset = scene.worldFrame(ref.node).inverse() * attachment.frame;
                 attachedWorld[k] = scene.worldTransform(ref.node);
-                if (options.jointsUnderAttachedNodes)
+                if (options.jointsUnderAttachedNodes && !singleNode)
                     for (int i = attachment.first; i <= attachment.last; ++i) {
                         parentOfPoint[static_cast<size_t>(i)] = rigAttachment.node;
                         parentWorld[static_cast<size_t>(i)] = &attachedWorld[k];
@@ -414,7 +435,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         // viewer), or under the root for a free hose or attachments in different scenes.
         int rigParent = 0;
         formats::Mat4 rigWorld = formats::Mat4::Identity();
-        {
+        if (!isStatic) {
             int commonScene = -2, common = -1;
             for (const NodeRef& ref : input.attachedNodes) {
                 if (!options.jointsUnderAttachedNodes || ref.scene < 0 ||
@@ -445,50 +466,53 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                 }
             }
         }
-        tinygltf::Node rigNode;
-        rigNode.name = input.id + " joints";
-        rigHose.rigNode = static_cast<int>(model.nodes.size());
-        model.nodes.push_back(rigNode);
-        model.nodes[static_cast<size_t>(rigParent)].children.push_back(rigHose.rigNode);
+        if (!isStatic) {
+            tinygltf::Node rigNode;
+            rigNode.name = input.id + " joints";
+            rigHose.rigNode = static_cast<int>(model.nodes.size());
+            model.nodes.push_back(rigNode);
+            model.nodes[static_cast<size_t>(rigParent)].children.push_back(rigHose.rigNode);
 
-        tinygltf::Skin skin;
-        skin.name = label;
-        std::vector<float> inverseBind;
-        inverseBind.reserve(16 * frames.size());
-        for (size_t i = 0; i < frames.size(); ++i) {
-            Frame world;
-            world.translation = origin + frames[i].center;
-            world.rotation = frames[i].rotation();
-            const Affine worldMatrix = rig::detail::matrixOf(world);
-            const Affine inverse = rig::detail::matrixOf(world.inverse());
-            for (int k = 0; k < 16; ++k)
-                inverseBind.push_back(static_cast<float>(inverse.data()[k]));
-            // glTF wants the last row exactly 0 0 0 1.
-            for (int k = 3; k < 16; k += 4)
-                inverseBind[inverseBind.size() - 16 + static_cast<size_t>(k)] =
-                    k == 15 ? 1.0f : 0.0f;
+            tinygltf::Skin skin;
+            skin.name = label;
+            std::vector<float> inverseBind;
+            inverseBind.reserve(16 * frames.size());
+            for (size_t i = 0; i < frames.size(); ++i) {
+                Frame world;
+                world.translation = origin + frames[i].center;
+                world.rotation = frames[i].rotation();
+                const Affine worldMatrix = rig::detail::matrixOf(world);
+                const Affine inverse = rig::detail::matrixOf(world.inverse());
+                for (int k = 0; k < 16; ++k)
+                    inverseBind.push_back(static_cast<float>(inverse.data()[k]));
+                // glTF wants the last row exactly 0 0 0 1.
+                for (int k = 3; k < 16; k += 4)
+                    inverseBind[inverseBind.size() - 16 + static_cast<size_t>(k)] =
+                        k == 15 ? 1.0f : 0.0f;
 
-            tinygltf::Node joint;
-            joint.name =
-                input.id + " joint " + std::to_string(i); // ids are unique, names may repeat
-            const int parent = parentOfPoint[i];
-            const Affine local =
-                Affine(affineOf(parent >= 0 ? *parentWorld[i] : rigWorld).inverse() * worldMatrix);
-            setTransform(joint, local, false, "hose '" + input.id + "' joint " + std::to_string(i));
-            const int jointIndex = static_cast<int>(model.nodes.size());
-            model.nodes.push_back(joint);
-            model.nodes[static_cast<size_t>(parent >= 0 ? parent : rigHose.rigNode)]
-                .children.push_back(jointIndex);
-            skin.joints.push_back(jointIndex);
-            rigHose.jointNodes.push_back(jointIndex);
+                tinygltf::Node joint;
+                joint.name =
+                    input.id + " joint " + std::to_string(i); // ids are unique, names may repeat
+                const int parent = parentOfPoint[i];
+                const Affine local = Affine(
+                    affineOf(parent >= 0 ? *parentWorld[i] : rigWorld).inverse() * worldMatrix);
+                setTransform(joint, local, false,
+                             "hose '" + input.id + "' joint " + std::to_string(i));
+                const int jointIndex = static_cast<int>(model.nodes.size());
+                model.nodes.push_back(joint);
+                model.nodes[static_cast<size_t>(parent >= 0 ? parent : rigHose.rigNode)]
+                    .children.push_back(jointIndex);
+                skin.joints.push_back(jointIndex);
+                rigHose.jointNodes.push_back(jointIndex);
+            }
+            skin.inverseBindMatrices = buffer.accessor(
+                buffer.view(inverseBind.data(), inverseBind.size() * sizeof(float), 0),
+                TINYGLTF_COMPONENT_TYPE_FLOAT, frames.size(), TINYGLTF_TYPE_MAT4);
+            model.bufferViews[static_cast<size_t>(model.accessors.back().bufferView)].target = 0;
+            model.skins.push_back(skin);
+            rigHose.skin = static_cast<int>(model.skins.size()) - 1;
+            report.jointCount += static_cast<int>(frames.size());
         }
-        skin.inverseBindMatrices =
-            buffer.accessor(buffer.view(inverseBind.data(), inverseBind.size() * sizeof(float), 0),
-                            TINYGLTF_COMPONENT_TYPE_FLOAT, frames.size(), TINYGLTF_TYPE_MAT4);
-        model.bufferViews[static_cast<size_t>(model.accessors.back().bufferView)].target = 0;
-        model.skins.push_back(skin);
-        rigHose.skin = static_cast<int>(model.skins.size()) - 1;
-        report.jointCount += static_cast<int>(frames.size());
 
         // Vertices in world metres (the skinned node sits at the root with no transform).
         const FloatSpan local = surface.positions();
@@ -508,7 +532,9 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                 v, TINYGLTF_COMPONENT_TYPE_FLOAT, topology.uvs.size() / 2, TINYGLTF_TYPE_VEC2);
         }
         const size_t vertexCount = topology.vertexRing.size();
-        if (frames.size() <= 256) {
+        if (isStatic) {
+            // No skin: the vertices stay as they are (world metres, see the node below).
+        } else if (frames.size() <= 256) {
             std::vector<std::uint8_t> joints(4 * vertexCount, 0);
             for (size_t v = 0; v < vertexCount; ++v)
                 joints[4 * v] = static_cast<std::uint8_t>(topology.vertexRing[v]);
@@ -523,7 +549,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                 buffer.view(joints.data(), joints.size() * 2, kArrayBuffer),
                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, vertexCount, TINYGLTF_TYPE_VEC4);
         }
-        {
+        if (!isStatic) {
             std::vector<float> weights(4 * vertexCount, 0.0f);
             for (size_t v = 0; v < vertexCount; ++v)
                 weights[4 * v] = 1.0f;
@@ -551,10 +577,28 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         tinygltf::Node meshNode;
         meshNode.name = label;
         meshNode.mesh = static_cast<int>(model.meshes.size()) - 1;
-        meshNode.skin = rigHose.skin;
         rigHose.meshNode = static_cast<int>(model.nodes.size());
-        model.nodes.push_back(meshNode);
-        gltfScene.nodes.push_back(rigHose.meshNode); // skinned meshes live at the scene root
+        if (isStatic) {
+            // A plain mesh under the node it is fixed to (the project root for the world), with
+            // the inverse of that node's world transform: its world transform is the identity
+            // at export, so the world-metre vertices appear where the skinned hose would, and
+            // moving the node carries the mesh.
+            rigHose.isStatic = true;
+            const NodeRef& ref = input.attachedNodes.front();
+            int parent = 0;
+            if (ref.scene >= 0) {
+                const formats::ImportedScene& scene = *scenes[static_cast<size_t>(ref.scene)];
+                parent = gltfNodeOf[static_cast<size_t>(ref.scene)][static_cast<size_t>(ref.node)];
+                setTransform(meshNode, Affine(affineOf(scene.worldTransform(ref.node)).inverse()),
+                             true, "hose '" + input.id + "'");
+            }
+            model.nodes.push_back(meshNode);
+            model.nodes[static_cast<size_t>(parent)].children.push_back(rigHose.meshNode);
+        } else {
+            meshNode.skin = rigHose.skin;
+            model.nodes.push_back(meshNode);
+            gltfScene.nodes.push_back(rigHose.meshNode); // skinned meshes live at the scene root
+        }
 
         descriptor.hoses.push_back(std::move(rigHose));
         reportProgress(options,
@@ -699,6 +743,11 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
             }
             hoses.push_back(std::move(hose));
         }
+        // Moved parts (project.poses): the hoses were built at the file pose and followed the
+        // parts (buildHose); the scene is written with the posed node transforms.
+        imported = formats::posedScenes(project, std::move(imported));
+        for (size_t s = 0; s < project.scenes.size(); ++s)
+            scenes[s] = &imported.at(project.scenes[s].id);
     } catch (const formats::PathError& error) {
         throw formats::FileError(projectFile, error.what());
     } catch (const InvalidArgument& error) {

@@ -154,10 +154,10 @@ std::vector<float> floatsOf(const GltfFile& gltf, int index, const std::string& 
                     std::to_string(stride) + " is smaller than an element");
     // Checked without overflow: a hostile count or offset must not wrap around the test.
     const size_t size = buffer.size();
-    const bool fits = viewOffset <= size && accessorOffset <= size - viewOffset &&
-                      (count == 0 || (elementBytes <= size - viewOffset - accessorOffset &&
-                                      count - 1 <= (size - viewOffset - accessorOffset -
-                                                    elementBytes) / stride));
+    const bool fits =
+        viewOffset <= size && accessorOffset <= size - viewOffset &&
+        (count == 0 || (elementBytes <= size - viewOffset - accessorOffset &&
+                        count - 1 <= (size - viewOffset - accessorOffset - elementBytes) / stride));
     if (!fits)
         throw Error(where + ": accessor " + std::to_string(index) + " reaches beyond its buffer");
     const size_t start = viewOffset + accessorOffset;
@@ -201,6 +201,26 @@ void validateGltf(const fs::path& file, ValidationResult& result)
     for (int h = 0; h < runtime.hoseCount(); ++h) {
         const rig::RigHose& d = descriptor.hoses[static_cast<size_t>(h)];
         const std::string at = loadReport.descriptorSource + ": /hoses/" + std::to_string(h);
+        if (d.isStatic) {
+            // A plain mesh under its attachment node, placed so that it is where the hose is.
+            const Json& meshNode = nodes.at(static_cast<size_t>(d.meshNode));
+            if (meshNode.contains("skin") || meshNode.value("mesh", -1) < 0)
+                result.errors.push_back(at + "/mesh: node " + std::to_string(d.meshNode) +
+                                        " is not a plain (unskinned) mesh, as static says");
+            const int parent = runtime.node(d.meshNode).parent;
+            const int expectedParent = d.attachments.front().node;
+            if (expectedParent >= 0 ? parent != expectedParent : parent < 0)
+                result.errors.push_back(at + "/mesh: node " + std::to_string(d.meshNode) +
+                                        " should be a child of node " +
+                                        std::to_string(expectedParent) +
+                                        " (the node the static hose is fixed to)");
+            const Frame world = runtime.nodeWorldFrame(d.meshNode);
+            if (world.translation.norm() > 1e-6 ||
+                world.rotation.angularDistance(Quat::Identity()) > 1e-6)
+                result.errors.push_back(at + "/mesh: the static mesh's node is not at the world "
+                                             "origin at export (its vertices are world metres)");
+            continue;
+        }
         if (d.skin < 0) continue; // a plain mesh: nothing to pose
         const Json& meshNode = nodes.at(static_cast<size_t>(d.meshNode));
         if (meshNode.value("skin", -1) != d.skin || meshNode.value("mesh", -1) < 0)
@@ -276,23 +296,6 @@ std::string frameText(const Frame& frame)
     return out.str();
 }
 
-const char* shapeText(Profile::Shape shape)
-{
-    switch (shape) {
-    case Profile::Shape::Circle:
-        return "circle";
-    case Profile::Shape::Ellipse:
-        return "ellipse";
-    case Profile::Shape::Rectangle:
-        return "rectangle";
-    case Profile::Shape::RoundedRectangle:
-        return "rounded rectangle";
-    case Profile::Shape::Polygon:
-        return "polygon";
-    }
-    return "?";
-}
-
 /// One hose's description; returns its warnings.
 std::vector<std::string> describeHose(std::ostream& out, const std::string& id,
                                       const std::string& name, const Hose& hose,
@@ -309,7 +312,7 @@ std::vector<std::string> describeHose(std::ostream& out, const std::string& id,
     else
         out << "deflection limit " << hose.material().bendLimit.value << " rad per joint\n";
     out << "  outer diameter " << hose.spec().outerDiameter << " m, cross-section "
-        << shapeText(hose.profile().shape()) << " (" << hose.profile().vertexCount() - 1
+        << rig::shapeName(hose.profile().shape()) << " (" << hose.profile().vertexCount() - 1
         << " vertices per ring)\n"
         << "  colour (" << colour[0] << ", " << colour[1] << ", " << colour[2] << ", " << colour[3]
         << "), roughness " << roughness << "\n";

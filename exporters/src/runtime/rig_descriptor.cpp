@@ -19,23 +19,6 @@ DescriptorError::DescriptorError(std::string source, std::string pointer, std::s
 
 namespace {
 
-const char* shapeName(Profile::Shape shape)
-{
-    switch (shape) {
-    case Profile::Shape::Circle:
-        return "circle";
-    case Profile::Shape::Ellipse:
-        return "ellipse";
-    case Profile::Shape::Rectangle:
-        return "rectangle";
-    case Profile::Shape::RoundedRectangle:
-        return "roundedRectangle";
-    case Profile::Shape::Polygon:
-        return "polygon";
-    }
-    return "circle";
-}
-
 size_t parameterCount(Profile::Shape shape)
 {
     switch (shape) {
@@ -205,6 +188,12 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
     RigHose hose;
     hose.id = r.string(r.member(value, at, "id"), at + "/id");
     hose.name = r.string(r.member(value, at, "name"), at + "/name");
+    if (value.contains("static")) {
+        if (!value["static"].is_boolean())
+            r.fail(at + "/static",
+                   "expected true or false, got " + Reader::describe(value["static"]));
+        hose.isStatic = value["static"].get<bool>();
+    }
     hose.meshNode = r.integer(r.member(value, at, "mesh"), at + "/mesh", -1);
     hose.skin = r.integer(r.member(value, at, "skin"), at + "/skin", -1);
     hose.rigNode = r.integer(r.member(value, at, "rig"), at + "/rig", -1);
@@ -313,6 +302,22 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
                           " and cannot be grabbed");
         if (i > 0 && point <= hose.grabbablePoints[i - 1]) r.fail(p, "expected ascending indices");
     }
+    if (hose.isStatic) {
+        if (hose.skin != -1 || hose.rigNode != -1 || !hose.jointNodes.empty())
+            r.fail(at + (hose.skin != -1      ? "/skin"
+                         : hose.rigNode != -1 ? "/rig"
+                                              : "/joints"),
+                   "a static hose is a plain mesh: expected skin -1, rig -1 and no joints");
+        if (!hose.grabbablePoints.empty() || hose.attachments.empty() ||
+            std::count(owner.begin(), owner.end(), -1) > 0)
+            r.fail(at + "/static", "expected every axis point fixed by an attachment (a static "
+                                   "hose has no free points)");
+        for (size_t k = 1; k < hose.attachments.size(); ++k)
+            if (hose.attachments[k].node != hose.attachments[0].node)
+                r.fail(at + "/attachments/" + std::to_string(k) + "/node",
+                       "a static hose is fixed to one node: expected node " +
+                           std::to_string(hose.attachments[0].node));
+    }
     const Json& material = r.object(r.member(value, at, "material"), at + "/material");
     const Json& colour = r.array(r.member(material, at + "/material", "baseColorFactor"),
                                  at + "/material/baseColorFactor");
@@ -327,6 +332,23 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
 }
 
 } // namespace
+
+const char* shapeName(Profile::Shape shape)
+{
+    switch (shape) {
+    case Profile::Shape::Circle:
+        return "circle";
+    case Profile::Shape::Ellipse:
+        return "ellipse";
+    case Profile::Shape::Rectangle:
+        return "rectangle";
+    case Profile::Shape::RoundedRectangle:
+        return "roundedRectangle";
+    case Profile::Shape::Polygon:
+        return "polygon";
+    }
+    return "circle";
+}
 
 CrossSection CrossSection::of(const Profile& profile)
 {
@@ -379,6 +401,7 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor)
         Json h;
         h["id"] = hose.id;
         h["name"] = hose.name;
+        h["static"] = hose.isStatic;
         h["mesh"] = hose.meshNode;
         h["skin"] = hose.skin;
         h["rig"] = hose.rigNode;

@@ -265,6 +265,10 @@ int HoseRuntime::update()
 
 void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
 {
+    if (description.isStatic) { // a plain mesh, carried by its node: no joints to pose
+        running.poses.clear();
+        return;
+    }
     const std::vector<RingFrame>& frames = running.surface.frames();
     const Vec3& origin = running.hose.origin();
     running.poses.resize(frames.size());

@@ -4,10 +4,23 @@
 // meshes, plus every hose as a skinned mesh: one joint node (TRS, never matrix) per axis point
 // whose world transform is (ring centre, ring rotation), every ring's vertices weighted 1.0 to
 // their own joint, inverse bind matrices, the skinned-mesh node at the scene root. Joints of a
-// segment fixed to a scene node are children of that node, so moving the node in any viewer
-// carries the fixed segment; the other joints hang under a per-hose "<name> joints" node. All
-// joints share the single root node named after the project. Metres, +Y up. One PBR material
-// per hose (base colour, roughness, metallic 0).
+// segment fixed to a scene node are descendants of that node, so moving the node in any viewer
+// carries the fixed segment:
+//  * a hose fixed to one scene node only: every joint hangs under the hose's "<id> joints" node,
+//    a child of that node (the joints' deepest common ancestor is the hose's own node: Blender
+//    makes one armature per hose);
+//  * a hose fixed to several scene nodes: the joints of each attached segment are children of
+//    their node, the free joints hang under "<id> joints" below the deepest common ancestor of
+//    the attachment nodes (Blender's armature sits at that ancestor; hoses whose paths from
+//    their attachment nodes up to that ancestor share a node share one armature — no glTF
+//    hierarchy can avoid it while moving a node still carries the segment fixed to it);
+//  * a free hose (or one fixed to the world): "<id> joints" under the root node.
+// Static hoses (every axis point fixed, all to one scene node or all to the world) never
+// deform at run time: they are plain meshes (no skin, no joints) under that node (the root for
+// the world) whose transform undoes the node's world transform at export, so the file looks
+// the same and moving the node carries the mesh. All joints share the single root node named
+// after the project. Metres, +Y up. One PBR material per hose (base colour, roughness,
+// metallic 0).
 //
 // The runtime descriptor (rig_descriptor.h) is embedded as the root extension
 // CHAINTUBE_hose_rig (extensionsUsed only) and written beside as <name>.hoses.json.
@@ -59,6 +72,9 @@ struct ExportOptions
     /// armature per hose) but moving a scene node in a plain viewer leaves the hose behind;
     /// the descriptor still names the attachment nodes for a runtime.
     bool jointsUnderAttachedNodes = true;
+    /// Export static hoses (every axis point fixed, all to one scene node or all to the world)
+    /// as plain meshes; the descriptor marks them "static". Off: every hose is skinned.
+    bool plainMeshesForStaticHoses = true;
     /// Also write <name>.hoses.json beside the glTF.
     bool writeSidecarDescriptor = true;
     /// Called with the fraction done (0 … 1, non-decreasing) from the calling thread. Return

@@ -1,7 +1,7 @@
 // ChainTube runtime — the hose-rig descriptor: everything a runtime needs to run the hoses of an
 // exported glTF without the project file.
 //
-// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.0"). It is
+// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.1"). It is
 // embedded in the glTF as the root extension CHAINTUBE_hose_rig (listed in extensionsUsed only,
 // never in extensionsRequired, so viewers that do not know it still load the file) and written
 // beside the glTF as <name>.hoses.json. Node and skin indices refer to that glTF.
@@ -29,7 +29,7 @@ constexpr const char* kExtensionName = "CHAINTUBE_hose_rig";
 constexpr const char* kDescriptorFormat = "chaintube-hose-rig";
 /// Newest descriptor version this code reads, and the one it writes.
 constexpr int kDescriptorMajor = 1;
-constexpr int kDescriptorMinor = 0;
+constexpr int kDescriptorMinor = 1; ///< 1.1 added "static" (hoses exported as plain meshes)
 
 /// A glTF node transform: parent ← node = T · R · S.
 struct NodeTransform
@@ -38,6 +38,10 @@ struct NodeTransform
     Quat rotation = Quat::Identity();
     Vec3 scale = Vec3::Ones();
 };
+
+/// The descriptor's (and the project's) name of a cross-section shape: "circle", "ellipse",
+/// "rectangle", "roundedRectangle", "polygon". `chaintube info` prints the same names.
+const char* shapeName(Profile::Shape shape);
 
 /// The cross-section a hose was built with, in a form that rebuilds the same Profile.
 struct CrossSection
@@ -73,8 +77,12 @@ struct RigHose
 {
     std::string id;
     std::string name;
-    /// glTF node with the skinned mesh (at the scene root), its skin, and the node grouping the
-    /// joints that are not attached to a scene node. −1 when the hose is exported as a plain mesh.
+    /// Static: every axis point is fixed, all to one scene node (or all to the world), so the
+    /// hose never deforms at run time. It is exported as a plain mesh (skin, rig = −1, no
+    /// joints, no grabbable points) under that node; a runtime still moves it with the node.
+    bool isStatic = false;
+    /// glTF node with the mesh (skinned: at the scene root; static: a child of the attachment
+    /// node), its skin, and the node grouping the joints. −1 for skin and rig when static.
     int meshNode = -1;
     int skin = -1;
     int rigNode = -1;
@@ -106,7 +114,7 @@ struct RigHose
 
 struct HoseRigDescriptor
 {
-    std::string version = "1.0";
+    std::string version = "1.1";
     std::string generator;
     std::vector<RigHose> hoses;
 };

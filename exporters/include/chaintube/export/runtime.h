@@ -106,7 +106,8 @@ public:
     int update();
 
     /// Joint poses of a hose, in axis order, as of the last update(). Local poses are relative
-    /// to the joint node's current parent world transform.
+    /// to the joint node's current parent world transform. Empty for a static hose (a plain
+    /// mesh that its attachment node carries; hose() and worldPositions() still follow it).
     const std::vector<JointPose>& jointPoses(int hose) const
     {
         return m_hoses.at(static_cast<size_t>(hose)).poses;
