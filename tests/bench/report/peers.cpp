@@ -17,6 +17,8 @@ namespace chaintube::bench {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 double jointLimit(const RodSetup& setup, double meanLength)
 {
     if (setup.minBendRadius > 0.0)
@@ -34,7 +36,10 @@ struct FixedRuns
 class ChainTubeRod final : public RodSolver
 {
 public:
-    explicit ChainTubeRod(const RodSetup& setup) : m_hose(Hose::fromAxis(setup.axis, spec(setup))) {}
+    explicit ChainTubeRod(const RodSetup& setup)
+        : m_hose(Hose::fromAxis(setup.axis, spec(setup))), m_gravity(setup.gravity), m_sagRounds(setup.sagRoundsPerFrame)
+    {
+    }
     std::string name() const override { return "ChainTube"; }
     void fixStart(int count) override { m_start = m_hose.attach(0, count - 1, Frame::identity()); }
     void fixEnd(int count) override
@@ -49,6 +54,12 @@ public:
         if (r.moveEnd) ids.push_back(m_end), frames.push_back(r.end);
         if (!ids.empty()) m_hose.moveAttachments(ids, frames);
         for (const auto& [index, target] : r.grabs) m_hose.grab(index, target);
+        if (m_gravity != Vec3::Zero()) {
+            SagOptions options;
+            options.gravityDirection = m_gravity;
+            options.maxRounds = m_sagRounds;
+            m_hose.sag(options);
+        }
     }
     std::vector<Vec3> points() const override { return m_hose.points(); }
 
@@ -57,19 +68,24 @@ private:
     {
         HoseSpec spec;
         spec.material.expansionCoefficient = setup.expansionCoefficient;
-        spec.material.bendLimit = setup.minBendRadius > 0.0 ? BendLimit::minBendRadius(setup.minBendRadius)
-                                                            : BendLimit::deflectionAngle(setup.deflectionAngle);
+        spec.material.bendLimit = setup.noBendLimit           ? BendLimit::minBendRadius(0.0)
+                                  : setup.minBendRadius > 0.0 ? BendLimit::minBendRadius(setup.minBendRadius)
+                                                              : BendLimit::deflectionAngle(setup.deflectionAngle);
         return spec;
     }
     Hose m_hose;
+    Vec3 m_gravity;
+    int m_sagRounds;
     int m_start = 0, m_end = 0;
 };
 
 class XpbdRod final : public RodSolver
 {
 public:
-    XpbdRod(const RodSetup& setup, int iterations) : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations)
+    XpbdRod(const RodSetup& setup, int iterations)
+        : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations), m_gravity(setup.gravity), m_dt(setup.timeStep)
     {
+        m_velocity.assign(m_x.size(), Vec3::Zero());
         const size_t n = m_x.size();
         m_inverseMass.assign(n, 1.0);
         for (size_t s = 0; s + 1 < n; ++s) {
@@ -80,7 +96,7 @@ public:
         m_minChord.assign(n, 0.0);
         for (size_t j = 1; j + 1 < n; ++j) {
             const double a = (m_x[j] - m_x[j - 1]).norm(), b = (m_x[j + 1] - m_x[j]).norm();
-            const double turn = jointLimit(setup, 0.5 * (a + b));
+            const double turn = setup.noBendLimit ? kPi : jointLimit(setup, 0.5 * (a + b));
             // Law of cosines: the neighbours' distance when the joint turns by `turn`.
             m_minChord[j] = std::sqrt(std::max(0.0, a * a + b * b + 2 * a * b * std::cos(turn)));
         }
@@ -112,10 +128,22 @@ public:
             m_inverseMass[static_cast<size_t>(index)] = 0.0;
             m_x[static_cast<size_t>(index)] = target;
         }
+        const bool inertia = m_gravity != Vec3::Zero();
+        if (inertia) {
+            m_previous = m_x;
+            for (size_t i = 0; i < n; ++i)
+                if (m_inverseMass[i] > 0.0) {
+                    m_velocity[i] += m_dt * m_gravity;
+                    m_x[i] += m_dt * m_velocity[i];
+                }
+        }
         for (int it = 0; it < m_iterations; ++it) {
             for (size_t s = 0; s + 1 < n; ++s) project(s, s + 1, m_minLength[s], m_maxLength[s]);
-            for (size_t j = 1; j + 1 < n; ++j) project(j - 1, j + 1, m_minChord[j], 1e300);
+            for (size_t j = 1; j + 1 < n; ++j)
+                if (m_minChord[j] > 0.0) project(j - 1, j + 1, m_minChord[j], 1e300);
         }
+        if (inertia)
+            for (size_t i = 0; i < n; ++i) m_velocity[i] = (1.0 - kDamping) * (m_x[i] - m_previous[i]) / m_dt;
         for (size_t g = 0; g < r.grabs.size(); ++g) m_inverseMass[static_cast<size_t>(r.grabs[g].first)] = saved[g];
     }
     std::vector<Vec3> points() const override { return m_x; }
@@ -135,9 +163,12 @@ private:
         m_x[k] -= wk * correction;
     }
 
-    std::vector<Vec3> m_rest, m_x;
+    static constexpr double kDamping = 0.02; // velocity lost per frame (with gravity)
+    std::vector<Vec3> m_rest, m_x, m_previous, m_velocity;
     std::vector<double> m_inverseMass, m_minLength, m_maxLength, m_minChord;
     int m_iterations;
+    Vec3 m_gravity;
+    double m_dt;
     int m_startCount = 0, m_endCount = 0;
 };
 
@@ -145,12 +176,14 @@ private:
 class BulletRope final : public RodSolver
 {
 public:
-    BulletRope(const RodSetup& setup, int iterations) : m_rest(setup.axis), m_iterations(iterations)
+    BulletRope(const RodSetup& setup, int iterations, double bendStiffness)
+        : m_rest(setup.axis), m_iterations(iterations), m_dt(setup.timeStep)
     {
         m_world = std::make_unique<btSoftRigidDynamicsWorld>(&m_dispatcher, &m_broadphase, &m_solver,
                                                              &m_configuration, &m_softSolver);
-        m_world->setGravity(btVector3(0, 0, 0));
-        m_info.m_gravity.setValue(0, 0, 0);
+        const btVector3 gravity(setup.gravity.x(), setup.gravity.y(), setup.gravity.z());
+        m_world->setGravity(gravity);
+        m_info.m_gravity = gravity;
         m_info.m_broadphase = &m_broadphase;
         m_info.m_dispatcher = &m_dispatcher;
         m_info.m_sparsesdf.Initialize();
@@ -161,10 +194,17 @@ public:
             const Vec3& p = setup.axis[static_cast<size_t>(i)];
             m_rope->m_nodes[i].m_x = btVector3(p.x(), p.y(), p.z());
         }
+        m_rope->resetLinkRestLengths(); // CreateRope spaces the nodes evenly on the chord
         m_rope->m_cfg.piterations = iterations;
-        m_rope->m_cfg.kDP = 0.5; // damping: the scenarios are quasi-static
+        // Damping: the scenarios without gravity are quasi-static; with gravity, the same
+        // 2 % per frame as the XPBD peer.
+        m_rope->m_cfg.kDP = setup.gravity == Vec3::Zero() ? 0.5 : 0.02;
         m_rope->m_materials[0]->m_kLST = 1.0;
-        m_rope->generateBendingConstraints(2, m_rope->m_materials[0]);
+        if (!setup.noBendLimit) {
+            btSoftBody::Material* bending = m_rope->appendMaterial();
+            bending->m_kLST = bendStiffness;
+            m_rope->generateBendingConstraints(2, bending);
+        }
         m_rope->setTotalMass(1.0);
         m_world->addSoftBody(m_rope);
     }
@@ -196,14 +236,11 @@ public:
             for (int i = 0; i < m_startCount; ++i) place(i, r.start.apply(m_rest[static_cast<size_t>(i)]));
         if (r.moveEnd)
             for (int i = 0; i < m_endCount; ++i) place(n - 1 - i, r.end.apply(m_rest[static_cast<size_t>(n - 1 - i)]));
-        std::vector<btScalar> masses;
         for (const auto& [index, target] : r.grabs) {
-            masses.push_back(m_rope->getMass(index));
-            m_rope->setMass(index, 0);
+            if (m_rope->getMass(index) != 0) m_rope->setMass(index, 0); // kinematic from now on
             place(index, target);
         }
-        m_world->stepSimulation(1.0 / 60.0, 0);
-        for (size_t g = 0; g < r.grabs.size(); ++g) m_rope->setMass(r.grabs[g].first, masses[g]);
+        m_world->stepSimulation(static_cast<btScalar>(m_dt), 0);
     }
     std::vector<Vec3> points() const override
     {
@@ -218,6 +255,7 @@ public:
 private:
     std::vector<Vec3> m_rest;
     int m_iterations;
+    double m_dt;
     int m_startCount = 0, m_endCount = 0;
     btSoftBodyRigidBodyCollisionConfiguration m_configuration;
     btCollisionDispatcher m_dispatcher{&m_configuration};
@@ -240,9 +278,9 @@ std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations)
 }
 
 #ifdef CHAINTUBE_HAVE_BULLET
-std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations)
+std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations, double bendStiffness)
 {
-    return std::make_unique<BulletRope>(setup, iterations);
+    return std::make_unique<BulletRope>(setup, iterations, bendStiffness);
 }
 #endif
 

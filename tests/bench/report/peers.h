@@ -16,6 +16,13 @@ struct RodSetup
     double expansionCoefficient = 0.0;
     double minBendRadius = 0.0;   ///< metres; 0 = use deflectionAngle
     double deflectionAngle = 0.0; ///< radians per joint (the paper's parameter)
+    bool noBendLimit = false;     ///< no bend limit at all (the catenary): overrides both above
+    /// Gravity (m/s², world). Zero: the peers run quasi-static (no inertia). Non-zero: XPBD and
+    /// Bullet integrate with time step `timeStep` per frame (inertia, damping); ChainTube runs
+    /// `sagRoundsPerFrame` rounds of Hose::sag() per frame.
+    Vec3 gravity = Vec3::Zero();
+    double timeStep = 1.0 / 60.0;
+    int sagRoundsPerFrame = 25;
 };
 
 /// One frame of a scenario, solver-independent: optional frames for the fixed start and end
@@ -41,21 +48,27 @@ public:
     virtual std::vector<Vec3> points() const = 0;
 };
 
-/// ChainTube (the library) behind the common interface.
+/// ChainTube (the library) behind the common interface. With gravity each frame (after the
+/// frame's requests) runs Hose::sag() with maxRounds = sagRoundsPerFrame (warm-started).
 std::unique_ptr<RodSolver> makeChainTubeRod(const RodSetup& setup);
 
-/// Position-based rod: XPBD with zero compliance (hard constraints) and no inertia, i.e. a
-/// Gauss–Seidel constraint projection per frame: a stretch-band constraint per segment and a
-/// bend-limit constraint per joint on the distance of its neighbours (|p_{i+1} − p_{i−1}| ≥
-/// the chord of the limiting turn). `iterations` sweeps per frame.
+/// Position-based rod: XPBD with zero compliance (hard constraints): a stretch-band constraint
+/// per segment and a bend-limit constraint per joint on the distance of its neighbours
+/// (|p_{i+1} − p_{i−1}| ≥ the chord of the limiting turn), `iterations` Gauss–Seidel sweeps per
+/// frame. Without gravity no inertia (a quasi-static projection per frame); with gravity the
+/// usual PBD integration (predict with velocity and gravity, project, velocity from the
+/// positions, 2 % velocity damping per frame).
 std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations);
 
 #ifdef CHAINTUBE_HAVE_BULLET
-/// Bullet's soft-body rope (btSoftBodyHelpers::CreateRope) with bending links (distance-2
-/// links), no gravity; fixed and grabbed nodes get zero mass and are placed at their targets;
-/// one stepSimulation(1/60 s) per frame with `iterations` position iterations. Bullet has no
-/// bend limit, only bending stiffness.
-std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations);
+/// Bullet's soft-body rope (btSoftBodyHelpers::CreateRope), link rest lengths from the setup's
+/// axis, bending links (distance-2 links, stiffness `bendStiffness` in [0, 1]) unless
+/// noBendLimit; fixed nodes and grabbed nodes get zero mass and are placed at their targets
+/// every frame (kinematic). A grabbed node stays kinematic from its first grab on: toggling its
+/// mass back after each step (the first version of this peer) leaves the links' constants
+/// stale and the node then does not pull its neighbours. One stepSimulation(timeStep) per frame
+/// with `iterations` position iterations. Bullet has no bend limit, only bending stiffness.
+std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations, double bendStiffness = 1.0);
 #endif
 
 } // namespace chaintube::bench
