@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace chaintube {
 
@@ -31,10 +32,9 @@ struct FrameScratch
 {
     std::vector<double> x, y, z; // segment directions, then ring tangents
     std::vector<double> tx, ty, tz;
-    std::vector<double> ax, ay, az;
     void resize(size_t n)
     {
-        for (auto* v : {&x, &y, &z, &tx, &ty, &tz, &ax, &ay, &az}) v->resize(n);
+        for (auto* v : {&x, &y, &z, &tx, &ty, &tz}) v->resize(n);
     }
 };
 
@@ -89,46 +89,59 @@ void normalize(double* x, double* y, double* z, size_t count)
 }
 } // namespace
 
-void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
+namespace {
+/// Passes 1–2 of the ring frames (centres, bisector tangents) and the first alignment, carried
+/// over from the previous frame through `seed`. Returns the first alignment.
+Vec3 prepareRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
 {
     const std::vector<Vec3>& p = hose.localPoints();
     const size_t n = p.size();
     frames.resize(n);
-    thread_local FrameScratch s;
-    s.resize(n);
+    thread_local FrameScratch scratch;
+    scratch.resize(n);
+    // Raw pointers: the thread-local vectors' data pointers would otherwise be reloaded
+    // through the TLS block in every iteration.
+    double* const x = scratch.x.data();
+    double* const y = scratch.y.data();
+    double* const z = scratch.z.data();
+    double* const tx = scratch.tx.data();
+    double* const ty = scratch.ty.data();
+    double* const tz = scratch.tz.data();
+    const Vec3* const points = p.data();
+    RingFrame* const out = frames.data();
 
     // Pass 1: unit segment directions d_i (segments have positive length: Lmin > 0).
     for (size_t i = 0; i + 1 < n; ++i) {
-        s.x[i] = p[i + 1].x() - p[i].x();
-        s.y[i] = p[i + 1].y() - p[i].y();
-        s.z[i] = p[i + 1].z() - p[i].z();
+        x[i] = points[i + 1].x() - points[i].x();
+        y[i] = points[i + 1].y() - points[i].y();
+        z[i] = points[i + 1].z() - points[i].z();
     }
-    normalize(s.x.data(), s.y.data(), s.z.data(), n - 1);
+    normalize(x, y, z, n - 1);
 
     // Pass 2: ring plane normals, the bisectors normalize(d_{i−1} + d_i); end rings follow
     // their segment. Fold-backs (|d_{i−1} + d_i| ≈ 0) are mended afterwards, in order.
-    s.tx[0] = s.x[0], s.ty[0] = s.y[0], s.tz[0] = s.z[0];
-    s.tx[n - 1] = s.x[n - 2], s.ty[n - 1] = s.y[n - 2], s.tz[n - 1] = s.z[n - 2];
+    tx[0] = x[0], ty[0] = y[0], tz[0] = z[0];
+    tx[n - 1] = x[n - 2], ty[n - 1] = y[n - 2], tz[n - 1] = z[n - 2];
     bool foldBack = false;
     for (size_t i = 1; i + 1 < n; ++i) {
-        s.tx[i] = s.x[i - 1] + s.x[i];
-        s.ty[i] = s.y[i - 1] + s.y[i];
-        s.tz[i] = s.z[i - 1] + s.z[i];
-        foldBack |= s.tx[i] * s.tx[i] + s.ty[i] * s.ty[i] + s.tz[i] * s.tz[i] <= 1e-18;
+        tx[i] = x[i - 1] + x[i];
+        ty[i] = y[i - 1] + y[i];
+        tz[i] = z[i - 1] + z[i];
+        foldBack |= tx[i] * tx[i] + ty[i] * ty[i] + tz[i] * tz[i] <= 1e-18;
     }
-    if (n > 2) normalize(s.tx.data() + 1, s.ty.data() + 1, s.tz.data() + 1, n - 2);
+    if (n > 2) normalize(tx + 1, ty + 1, tz + 1, n - 2);
     for (size_t i = 0; i < n; ++i) {
-        frames[i].center = p[i];
-        frames[i].tangent = Vec3(s.tx[i], s.ty[i], s.tz[i]);
+        out[i].center = points[i];
+        out[i].tangent = Vec3(tx[i], ty[i], tz[i]);
     }
     if (foldBack) {
         for (size_t i = 1; i + 1 < n; ++i) {
-            const Vec3 in(s.x[i - 1], s.y[i - 1], s.z[i - 1]), out(s.x[i], s.y[i], s.z[i]);
-            if ((in + out).squaredNorm() > 1e-18) continue;
-            Vec3 t = perpendicularPart(frames[i - 1].tangent, out);
-            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitY(), out);
-            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitX(), out);
-            frames[i].tangent = t.normalized();
+            const Vec3 in(x[i - 1], y[i - 1], z[i - 1]), next(x[i], y[i], z[i]);
+            if ((in + next).squaredNorm() > 1e-18) continue;
+            Vec3 t = perpendicularPart(out[i - 1].tangent, next);
+            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitY(), next);
+            if (t.norm() < 1e-9) t = perpendicularPart(Vec3::UnitX(), next);
+            out[i].tangent = t.normalized();
         }
     }
 
@@ -149,53 +162,77 @@ void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
     }
     seed.tangent = t0;
     seed.alignment = a0;
+    return a0;
+}
 
-    // Pass 3, twist correction. Fast path, the paper's own: project the previous alignment
-    // onto this ring plane. Projection is linear, so the chain runs unnormalised (a short
-    // dependency chain) and is normalised in pass 4. Where consecutive ring planes turn by
-    // nearly 90° the projection degenerates; there the rotation-minimising double
-    // reflection (Wang et al. 2008) takes over.
+/// Where a ring's vertices go while its frame is computed (see alignRings).
+struct RingKernelInput
+{
+    size_t ringFloats; // 3 × vertices per ring
+    const float* x;
+    const float* y;
+    const float* nx;
+    const float* ny;
+    float* positions;
+    float* normals;
+};
+
+/// Pass 3, twist correction, fused with pass 4 (unit alignments and binormals) and, when
+/// `Sink` writes vertices, with the ring's vertices: the alignment chain is latency bound (one
+/// projection per ring depends on the last), so the independent per-ring work fills its gaps.
+/// Fast path, the paper's own: project the previous alignment onto this ring plane.
+/// Projection is linear, so the chain runs unnormalised (a short dependency chain) and each
+/// ring takes a normalised copy. Where consecutive ring planes turn by nearly 90° the
+/// projection degenerates; there the rotation-minimising double reflection (Wang et al. 2008)
+/// takes over.
+template <class WriteRing>
+[[gnu::always_inline]] inline void alignRings(std::vector<RingFrame>& frames, const Vec3& a0, WriteRing writeRing)
+{
+    const size_t n = frames.size();
     Vec3 u = a0;
     double u2 = 1.0;
-    s.ax[0] = u.x(), s.ay[0] = u.y(), s.az[0] = u.z();
-    for (size_t i = 1; i < n; ++i) {
-        const Vec3& t = frames[i].tangent;
-        const double along = u.dot(t);
-        const double remaining = u2 - along * along;
-        if (remaining > 1e-4 * u2) {
-            u -= along * t;
-            u2 = remaining;
-            if (u2 < 1e-200) { // rescale long chains of strong bends
-                u *= 1.0 / std::sqrt(u2);
-                u2 = 1.0;
-            }
-        } else {
-            const RingFrame& before = frames[i - 1];
-            const Vec3 v1 = frames[i].center - before.center;
-            const double b1 = v1.squaredNorm();
-            Vec3 alignment = Vec3(s.ax[i - 1], s.ay[i - 1], s.az[i - 1]).normalized();
-            Vec3 tangentL = before.tangent;
-            if (b1 > 0.0) {
-                alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
-                tangentL -= (2.0 / b1) * v1.dot(tangentL) * v1;
-            }
-            const Vec3 v2 = t - tangentL;
-            const double b2 = v2.squaredNorm();
-            if (b2 > 1e-30) alignment -= (2.0 / b2) * v2.dot(alignment) * v2;
-            alignment = perpendicularPart(alignment, t);
-            u = alignment.norm() > 1e-9 ? Vec3(alignment.normalized()) : defaultAlignment(t);
-            u2 = 1.0;
-        }
-        s.ax[i] = u.x(), s.ay[i] = u.y(), s.az[i] = u.z();
-    }
-
-    // Pass 4: unit alignments and binormals.
-    normalize(s.ax.data(), s.ay.data(), s.az.data(), n);
     for (size_t i = 0; i < n; ++i) {
         RingFrame& ring = frames[i];
-        ring.alignment = Vec3(s.ax[i], s.ay[i], s.az[i]);
-        ring.binormal = ring.tangent.cross(ring.alignment);
+        const Vec3& t = ring.tangent;
+        if (i > 0) {
+            const double along = u.dot(t);
+            const double remaining = u2 - along * along;
+            if (remaining > 1e-4 * u2) {
+                u -= along * t;
+                u2 = remaining;
+                if (u2 < 1e-200) { // rescale long chains of strong bends
+                    u *= 1.0 / std::sqrt(u2);
+                    u2 = 1.0;
+                }
+            } else {
+                const RingFrame& before = frames[i - 1];
+                const Vec3 v1 = ring.center - before.center;
+                const double b1 = v1.squaredNorm();
+                Vec3 alignment = before.alignment;
+                Vec3 tangentL = before.tangent;
+                if (b1 > 0.0) {
+                    alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
+                    tangentL -= (2.0 / b1) * v1.dot(tangentL) * v1;
+                }
+                const Vec3 v2 = t - tangentL;
+                const double b2 = v2.squaredNorm();
+                if (b2 > 1e-30) alignment -= (2.0 / b2) * v2.dot(alignment) * v2;
+                alignment = perpendicularPart(alignment, t);
+                u = alignment.norm() > 1e-9 ? Vec3(alignment.normalized()) : defaultAlignment(t);
+                u2 = 1.0;
+            }
+        }
+        ring.alignment = u * (1.0 / std::sqrt(u.squaredNorm()));
+        ring.binormal = t.cross(ring.alignment);
+        writeRing(i, ring);
     }
+}
+} // namespace
+
+void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
+{
+    const Vec3 a0 = prepareRingFrames(hose, seed, frames);
+    alignRings(frames, a0, [](size_t, const RingFrame&) {});
 }
 
 SurfaceTopology SurfaceTopology::build(const Hose& hose)
@@ -273,118 +310,99 @@ void HoseSurface::rebuildTopology(const Hose& hose)
     m_normals.assign(floats, 0.0f);
 }
 
+namespace {
+// Eight floats: GCC/Clang vector extensions, so one source serves every target (two SSE
+// halves by default, one AVX register in the AVX2 clone below).
+typedef float Float8 __attribute__((vector_size(32)));
+typedef int Int8 __attribute__((vector_size(32)));
+
+// (By reference: passing or returning 32-byte vectors by value changes the ABI with AVX.)
+[[gnu::always_inline]] inline void load8(Float8& v, const float* p) { std::memcpy(&v, p, sizeof v); }
+[[gnu::always_inline]] inline void store8(float* p, const Float8& v) { std::memcpy(p, &v, sizeof v); }
+
+/// Writes one ring's vertices and normals, eight floats at a time in the xyz-interleaved
+/// layout: the ring's centre and axes are permuted into the three phases of the xyz pattern
+/// (period 24 floats = 8 vertices). The last block spills up to 7 floats into the next ring
+/// (written after this one) or the buffers' slack.
+struct RingWriter
+{
+    RingKernelInput in;
+    [[gnu::always_inline]] inline void operator()(size_t i, const RingFrame& ring) const
+    {
+        const Float8 c = {static_cast<float>(ring.center.x()), static_cast<float>(ring.center.y()),
+                          static_cast<float>(ring.center.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        const Float8 a = {static_cast<float>(ring.alignment.x()), static_cast<float>(ring.alignment.y()),
+                          static_cast<float>(ring.alignment.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        const Float8 b = {static_cast<float>(ring.binormal.x()), static_cast<float>(ring.binormal.y()),
+                          static_cast<float>(ring.binormal.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+        const Int8 phase[3] = {{0, 1, 2, 0, 1, 2, 0, 1}, {2, 0, 1, 2, 0, 1, 2, 0}, {1, 2, 0, 1, 2, 0, 1, 2}};
+        Float8 cp[3], ap[3], bp[3];
+        for (int k = 0; k < 3; ++k) {
+            cp[k] = __builtin_shuffle(c, phase[k]);
+            ap[k] = __builtin_shuffle(a, phase[k]);
+            bp[k] = __builtin_shuffle(b, phase[k]);
+        }
+        float* pos = in.positions + i * in.ringFloats;
+        float* nrm = in.normals + i * in.ringFloats;
+        const size_t blocks = (in.ringFloats + 7) / 8;
+        for (size_t m = 0, k = 0; m < blocks; ++m, k = k == 2 ? 0 : k + 1) {
+            Float8 x, y, nx, ny;
+            load8(x, in.x + 8 * m);
+            load8(y, in.y + 8 * m);
+            load8(nx, in.nx + 8 * m);
+            load8(ny, in.ny + 8 * m);
+            const Float8 position = cp[k] + ap[k] * x + bp[k] * y, normal = ap[k] * nx + bp[k] * ny;
+            store8(pos + 8 * m, position);
+            store8(nrm + 8 * m, normal);
+        }
+    }
+};
+
+void alignAndWriteRings(std::vector<RingFrame>& frames, const Vec3& a0, const RingWriter& writer)
+{
+    alignRings(frames, a0, writer);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+bool cpuHasAvx2Fma()
+{
+    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return has;
+}
+__attribute__((target("avx2,fma"))) void alignAndWriteRingsAvx2(std::vector<RingFrame>& frames, const Vec3& a0,
+                                                               const RingWriter& writer)
+{
+    alignRings(frames, a0, writer);
+}
+#endif
+} // namespace
+
 bool HoseSurface::update(const Hose& hose)
 {
     if (m_seenRevision == hose.revision() && m_pointCount == hose.pointCount()) return false;
     if (m_pointCount != hose.pointCount() || !(m_profile == hose.profile()) ||
         m_profile.vertexCount() != hose.profile().vertexCount())
         rebuildTopology(hose);
-    computeRingFrames(hose, m_seed, m_frames);
-    writeVertices(hose);
+    const Vec3 a0 = prepareRingFrames(hose, m_seed, m_frames);
+    const RingWriter writer{{3 * static_cast<size_t>(m_topology.ringVertexCount), m_expandedX.data(),
+                             m_expandedY.data(), m_expandedNormalX.data(), m_expandedNormalY.data(),
+                             m_positions.data(), m_normals.data()}};
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpuHasAvx2Fma()) alignAndWriteRingsAvx2(m_frames, a0, writer);
+    else alignAndWriteRings(m_frames, a0, writer);
+#else
+    alignAndWriteRings(m_frames, a0, writer);
+#endif
+    writeCaps(hose);
     m_seenRevision = hose.revision();
     return true;
 }
 
-namespace {
-struct RingKernelInput
+void HoseSurface::writeCaps(const Hose& hose)
 {
-    const RingFrame* frames;
-    size_t ringCount;
-    size_t ringFloats; // 3 × vertices per ring
-    const float* x;
-    const float* y;
-    const float* nx;
-    const float* ny;
-    float* positions;
-    float* normals;
-};
-
-void writeRingsScalar(const RingKernelInput& in)
-{
-    for (size_t i = 0; i < in.ringCount; ++i) {
-        const RingFrame& ring = in.frames[i];
-        float c[3], a[3], b[3];
-        for (int k = 0; k < 3; ++k) {
-            c[k] = static_cast<float>(ring.center[k]);
-            a[k] = static_cast<float>(ring.alignment[k]);
-            b[k] = static_cast<float>(ring.binormal[k]);
-        }
-        float* pos = in.positions + i * in.ringFloats;
-        float* nrm = in.normals + i * in.ringFloats;
-        for (size_t k = 0; k < in.ringFloats; ++k) {
-            const size_t axis = k % 3;
-            pos[k] = c[axis] + a[axis] * in.x[k] + b[axis] * in.y[k];
-            nrm[k] = a[axis] * in.nx[k] + b[axis] * in.ny[k];
-        }
-    }
-}
-} // namespace
-
-#if defined(__x86_64__) && defined(__GNUC__)
-} // namespace chaintube
-#include <immintrin.h>
-namespace chaintube {
-namespace {
-__attribute__((target("avx2,fma"), always_inline)) inline void
-ringBlock(const RingKernelInput& in, float* pos, float* nrm, size_t m, __m256 c, __m256 a, __m256 b)
-{
-    const __m256 x = _mm256_loadu_ps(in.x + 8 * m), y = _mm256_loadu_ps(in.y + 8 * m);
-    const __m256 nx = _mm256_loadu_ps(in.nx + 8 * m), ny = _mm256_loadu_ps(in.ny + 8 * m);
-    _mm256_storeu_ps(pos + 8 * m, _mm256_fmadd_ps(b, y, _mm256_fmadd_ps(a, x, c)));
-    _mm256_storeu_ps(nrm + 8 * m, _mm256_fmadd_ps(b, ny, _mm256_mul_ps(a, nx)));
-}
-
-// Eight floats at a time in the xyz-interleaved layout: the ring's centre and axes are
-// permuted into the three phases of the xyz pattern (period 24 floats = 8 vertices).
-__attribute__((target("avx2,fma"))) void writeRingsAvx2(const RingKernelInput& in)
-{
-    const __m256i phase0 = _mm256_setr_epi32(0, 1, 2, 0, 1, 2, 0, 1);
-    const __m256i phase1 = _mm256_setr_epi32(2, 0, 1, 2, 0, 1, 2, 0);
-    const __m256i phase2 = _mm256_setr_epi32(1, 2, 0, 1, 2, 0, 1, 2);
-    const size_t blocks = (in.ringFloats + 7) / 8;
-    for (size_t i = 0; i < in.ringCount; ++i) {
-        const RingFrame& ring = in.frames[i];
-        const __m256 c = _mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_setr_pd(
-            ring.center.x(), ring.center.y(), ring.center.z(), 0.0)));
-        const __m256 a = _mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_setr_pd(
-            ring.alignment.x(), ring.alignment.y(), ring.alignment.z(), 0.0)));
-        const __m256 b = _mm256_castps128_ps256(_mm256_cvtpd_ps(_mm256_setr_pd(
-            ring.binormal.x(), ring.binormal.y(), ring.binormal.z(), 0.0)));
-        const __m256 cp[3] = {_mm256_permutevar8x32_ps(c, phase0), _mm256_permutevar8x32_ps(c, phase1),
-                              _mm256_permutevar8x32_ps(c, phase2)};
-        const __m256 ap[3] = {_mm256_permutevar8x32_ps(a, phase0), _mm256_permutevar8x32_ps(a, phase1),
-                              _mm256_permutevar8x32_ps(a, phase2)};
-        const __m256 bp[3] = {_mm256_permutevar8x32_ps(b, phase0), _mm256_permutevar8x32_ps(b, phase1),
-                              _mm256_permutevar8x32_ps(b, phase2)};
-        float* pos = in.positions + i * in.ringFloats;
-        float* nrm = in.normals + i * in.ringFloats;
-        size_t m = 0;
-        for (; m + 3 <= blocks; m += 3) {
-            ringBlock(in, pos, nrm, m, cp[0], ap[0], bp[0]);
-            ringBlock(in, pos, nrm, m + 1, cp[1], ap[1], bp[1]);
-            ringBlock(in, pos, nrm, m + 2, cp[2], ap[2], bp[2]);
-        }
-        if (m < blocks) ringBlock(in, pos, nrm, m, cp[0], ap[0], bp[0]);
-        if (m + 1 < blocks) ringBlock(in, pos, nrm, m + 1, cp[1], ap[1], bp[1]);
-    }
-}
-
-} // namespace
-#endif
-
-void HoseSurface::writeVertices(const Hose& hose)
-{
-    RingKernelInput in{m_frames.data(),      m_frames.size(),        3 * static_cast<size_t>(m_topology.ringVertexCount),
-                       m_expandedX.data(),   m_expandedY.data(),     m_expandedNormalX.data(),
-                       m_expandedNormalY.data(), m_positions.data(), m_normals.data()};
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (cpuHasAvx2()) writeRingsAvx2(in);
-    else writeRingsScalar(in);
-#else
-    writeRingsScalar(in);
-#endif
-    float* pos = m_positions.data() + m_frames.size() * in.ringFloats;
-    float* nrm = m_normals.data() + m_frames.size() * in.ringFloats;
+    const size_t ringFloats = 3 * static_cast<size_t>(m_topology.ringVertexCount);
+    float* pos = m_positions.data() + m_frames.size() * ringFloats;
+    float* nrm = m_normals.data() + m_frames.size() * ringFloats;
     const std::vector<Vec2>& corners = hose.profile().corners();
     for (int side = 0; side < 2; ++side) {
         const RingFrame& ring = side == 0 ? m_frames.front() : m_frames.back();

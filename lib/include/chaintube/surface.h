@@ -112,7 +112,7 @@ public:
 
 private:
     void rebuildTopology(const Hose& hose);
-    void writeVertices(const Hose& hose);
+    void writeCaps(const Hose& hose);
 
     SurfaceTopology m_topology;
     std::vector<RingFrame> m_frames;
