@@ -79,6 +79,9 @@ public:
         double distance = 0.0;  ///< ≥ 0
         Vec3 onMesh = Vec3::Zero();  ///< world point on the triangles
         Vec3 onQuery = Vec3::Zero(); ///< world point on the query (the point, or on the segment)
+        /// World, unit: from onMesh towards onQuery; where they coincide (a segment crossing
+        /// the mesh), the triangle's normal (as wound).
+        Vec3 normal = Vec3::UnitY();
         double segmentParameter = 0.0; ///< segment queries: onQuery = a + s (b − a), s ∈ [0, 1]
         int triangle = -1;      ///< index of the triangle (in the order given)
     };

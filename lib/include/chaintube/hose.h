@@ -50,8 +50,10 @@ struct UpdateResult
     /// passes through, status becomes Clamped), or the hose could not be brought outside every
     /// collider (e.g. an attachment moved into an object; penetration says how deep).
     bool blocked = false;
-    /// Collision: deepest remaining penetration of the hose surface into a collider (metres,
-    /// 0 = none beyond CollisionOptions::tolerance).
+    /// Collision: deepest remaining penetration (metres, 0 = none beyond
+    /// CollisionOptions::tolerance): outerRadius() − the axis's distance to a collider's
+    /// triangles, so at most outerRadius(). Collision works on surfaces: an axis point deep
+    /// inside a closed object shows only where the hose crosses the object's surface.
     double penetration = 0.0;
     /// Collision: axis points touching a collider after the update.
     int contacts = 0;
@@ -295,7 +297,8 @@ private:
     CollisionOptions m_collisionOptions;
     std::vector<Vec3> m_collisionStart; ///< last collision-resolved shape (local)
     std::vector<double> m_collisionFree; ///< per point: clearance left before a query is needed
-    std::vector<std::uint64_t> m_colliderRevisions; ///< collider frames m_collisionFree is for
+    std::vector<Frame> m_colliderFrames; ///< collider frames at the last resolve
+    std::uint64_t m_collisionRevision = 0; ///< m_revision when m_collisionStart was taken
 };
 
 } // namespace chaintube
