@@ -346,6 +346,49 @@ TEST(GltfExport, AHoseFixedWhollyToTheWorldIsAPlainMeshUnderTheRootNode)
     EXPECT_TRUE(validation.valid()) << (validation.errors.empty() ? "" : validation.errors.front());
 }
 
+TEST(GltfExport, ColliderNodesAreListedInTheDescriptorAndKeepTheirMeshesWithoutTheScene)
+{
+    TemporaryFolder folder;
+    const fs::path project = samplesDir() / "test-rig.ctproj";
+    formats::ProjectLoadOptions load;
+    load.roots = roots();
+    formats::Project loaded = formats::loadProject(project, load);
+    loaded.exportSettings.includeScene = false;
+    const formats::ImportedScenes scenes = formats::importProjectScenes(loaded, project, roots());
+    const formats::ImportedScene& rig = scenes.at("rig");
+    ExportOptions options;
+    options.colliders = {{0, rig.findNode("/test-rig/floor_plate")},
+                         {0, rig.findNode("/test-rig/valve")}};
+    const ExportReport report = exportProject(loaded, project, folder / "c.glb", roots(), options);
+    const Json json = readGltf(folder / "c.glb").json;
+    const std::vector<int> colliders = report.descriptor.colliders;
+    ASSERT_EQ(colliders.size(), 2u);
+    EXPECT_LT(colliders[0], colliders[1]);
+    std::set<std::string> names;
+    for (int node : colliders) {
+        names.insert(json["nodes"][static_cast<size_t>(node)]["name"].get<std::string>());
+        EXPECT_TRUE(json["nodes"][static_cast<size_t>(node)].contains("mesh")) << node;
+    }
+    EXPECT_EQ(names, (std::set<std::string>{"floor_plate", "valve"}));
+    EXPECT_EQ(json["extensions"][rig::kExtensionName]["colliders"], Json(colliders));
+    // Without the scene, the other parts (the brackets) carry no mesh.
+    for (const Json& node : json["nodes"]) {
+        if (node.value("name", "") == "bracket_left") {
+            EXPECT_FALSE(node.contains("mesh"));
+        }
+    }
+
+    options.colliders = {{0, rig.findNode("/test-rig/valve/valve_inlet")}};
+    try {
+        exportProject(loaded, project, folder / "d.glb", roots(), options);
+        FAIL() << "a collider without a mesh was accepted";
+    } catch (const InvalidArgument& error) {
+        EXPECT_NE(std::string(error.what()).find("/test-rig/valve/valve_inlet"), std::string::npos)
+            << error.what();
+    }
+    EXPECT_FALSE(fs::exists(folder / "d.glb"));
+}
+
 TEST(GltfExport, TheFiftyHoseEngineExportsEveryHoseWithItsJoints)
 {
     if (!haveScenes()) GTEST_SKIP() << "needs ../shared/scenes";

@@ -120,6 +120,67 @@ TEST(RigDescriptor, AStaticHoseMustBeAPlainMeshWithEveryPointFixedToOneNode)
     EXPECT_EQ(pointerOfError(bad.dump()), "(parsed)");
 }
 
+TEST(RigDescriptor, GravityTorsionAndCollidersRoundTripAndReachTheRebuiltHose)
+{
+    rig::HoseRigDescriptor descriptor = exportedDescriptor("test-rig");
+    descriptor.hoses[0].gravity = {true, Vec3(0.1, -2.0, 0.0)};
+    descriptor.hoses[1].torsion = {true, 0.25};
+    descriptor.colliders = {1, 3};
+    const std::string text = rig::serialiseDescriptor(descriptor);
+    const rig::HoseRigDescriptor parsed = rig::parseDescriptor(text, "x");
+    EXPECT_EQ(rig::serialiseDescriptor(parsed), text);
+    EXPECT_TRUE(parsed.hoses[0].gravity.enabled);
+    EXPECT_EQ(parsed.hoses[0].gravity.direction, Vec3(0.1, -2.0, 0.0));
+    EXPECT_FALSE(parsed.hoses[0].torsion.enabled);
+    EXPECT_TRUE(parsed.hoses[1].torsion.enabled);
+    EXPECT_EQ(parsed.hoses[1].torsion.twistLimit, 0.25);
+    EXPECT_EQ(parsed.colliders, (std::vector<int>{1, 3}));
+    const Hose rebuilt = rig::rebuildHose(parsed.hoses[0]);
+    EXPECT_TRUE(rebuilt.spec().gravity.enabled);
+    EXPECT_EQ(rebuilt.spec().gravity.direction, Vec3(0.1, -2.0, 0.0));
+    EXPECT_EQ(rig::rebuildHose(parsed.hoses[1]).spec().torsion.twistLimit, 0.25);
+
+    // Bad values name the member.
+    const Json good = Json::parse(text);
+    Json bad = good;
+    bad["hoses"][0]["gravity"]["direction"] = Json::array({0, 0, 0});
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/gravity/direction");
+    bad = good;
+    bad["hoses"][0]["gravity"]["enabled"] = 1;
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/gravity/enabled");
+    bad = good;
+    bad["hoses"][0]["gravity"]["strength"] = 9.81;
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/0/gravity/strength");
+    bad = good;
+    bad["hoses"][1]["torsion"]["twistLimit"] = 0;
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/1/torsion/twistLimit");
+    bad = good;
+    bad["hoses"][1]["torsion"]["twistLimit"] = 4.0;
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/1/torsion/twistLimit");
+    bad = good;
+    bad["hoses"][1]["torsion"].erase("enabled");
+    EXPECT_EQ(pointerOfError(bad.dump()), "/hoses/1/torsion/enabled");
+    bad = good;
+    bad["colliders"] = Json::array({3, 1});
+    EXPECT_EQ(pointerOfError(bad.dump()), "/colliders/1");
+    bad = good;
+    bad["colliders"] = Json::array({-1});
+    EXPECT_EQ(pointerOfError(bad.dump()), "/colliders/0");
+    // Collider nodes must exist in the glTF.
+    EXPECT_FALSE(rig::checkAgainstGltf(parsed, 3, 2).empty());
+
+    // A 1.1 document (no gravity, torsion, colliders) reads with all of them off.
+    bad = good;
+    bad["version"] = "1.1";
+    bad.erase("colliders");
+    bad["hoses"][0].erase("gravity");
+    bad["hoses"][1].erase("torsion");
+    const rig::HoseRigDescriptor old = rig::parseDescriptor(bad.dump(), "old");
+    EXPECT_FALSE(old.hoses[0].gravity.enabled);
+    EXPECT_FALSE(old.hoses[1].torsion.enabled);
+    EXPECT_TRUE(old.colliders.empty());
+}
+
 TEST(RigDescriptor, NodeIndicesOutsideTheGltfAreReported)
 {
     const rig::HoseRigDescriptor descriptor = exportedDescriptor("test-rig");

@@ -257,6 +257,24 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                                       " node " + std::to_string(ref.node) + " does not exist");
     }
 
+    for (size_t c = 0; c < options.colliders.size(); ++c) {
+        const NodeRef& ref = options.colliders[c];
+        const std::string label = "colliders[" + std::to_string(c) + "]";
+        if (ref.scene < 0 || ref.scene >= static_cast<int>(scenes.size()) ||
+            !scenes[static_cast<size_t>(ref.scene)] || ref.node < 0 ||
+            ref.node >= static_cast<int>(scenes[static_cast<size_t>(ref.scene)]->nodes.size()))
+            throw InvalidArgument(label + ": scene " + std::to_string(ref.scene) + " node " +
+                                  std::to_string(ref.node) + " does not exist");
+        const formats::ImportedScene& scene = *scenes[static_cast<size_t>(ref.scene)];
+        bool triangles = false;
+        for (int m : scene.nodes[static_cast<size_t>(ref.node)].meshes)
+            triangles = triangles || scene.meshes[static_cast<size_t>(m)].indices.size() >= 3;
+        if (!triangles)
+            throw InvalidArgument(label + ": node '" +
+                                  scene.nodes[static_cast<size_t>(ref.node)].path +
+                                  "' has no mesh with triangles to collide with");
+    }
+
     ExportReport report;
     tinygltf::Model model;
     model.asset.version = "2.0";
@@ -277,10 +295,23 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
     for (size_t s = 0; s < scenes.size(); ++s) {
         if (!scenes[s]) continue;
         const formats::ImportedScene& scene = *scenes[s];
-        std::vector<SceneMeshAccessors> meshAccessors;
-        if (options.includeSceneMeshes)
-            for (const formats::SceneMesh& mesh : scene.meshes)
-                meshAccessors.push_back(writeSceneMesh(buffer, mesh));
+        // Collider nodes keep their meshes even without the scene's meshes (a runtime builds
+        // its colliders from them).
+        std::vector<char> isCollider(scene.nodes.size(), 0);
+        std::vector<char> meshWanted(scene.meshes.size(), options.includeSceneMeshes ? 1 : 0);
+        for (const NodeRef& ref : options.colliders)
+            if (ref.scene == static_cast<int>(s)) {
+                isCollider[static_cast<size_t>(ref.node)] = 1;
+                for (int m : scene.nodes[static_cast<size_t>(ref.node)].meshes)
+                    meshWanted[static_cast<size_t>(m)] = 1;
+            }
+        std::vector<SceneMeshAccessors> meshAccessors(scene.meshes.size());
+        for (size_t m = 0; m < scene.meshes.size(); ++m)
+            if (meshWanted[m]) meshAccessors[m] = writeSceneMesh(buffer, scene.meshes[m]);
+        const auto exportsMesh = [&](size_t node, int m) {
+            return (options.includeSceneMeshes || isCollider[node]) &&
+                   !meshAccessors[static_cast<size_t>(m)].empty;
+        };
         std::map<std::vector<int>, int> gltfMeshOf;
         // Empty leaves (no exported mesh, no kept child, no hose attached) carry nothing and
         // make the validator report NODE_EMPTY: they are left out unless asked for.
@@ -292,8 +323,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
             const formats::SceneNode& source = scene.nodes[i];
             if (source.parent < 0) keep[i] = 1;
             for (int m : source.meshes)
-                if (options.includeSceneMeshes && !meshAccessors[static_cast<size_t>(m)].empty)
-                    keep[i] = 1;
+                if (exportsMesh(i, m)) keep[i] = 1;
             if (keep[i] && source.parent >= 0) keep[static_cast<size_t>(source.parent)] = 1;
         }
         gltfNodeOf[s].assign(scene.nodes.size(), -1);
@@ -314,8 +344,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
             if (source.parent < 0) model.nodes[0].children.push_back(gltfNodeOf[s][i]);
             std::vector<int> meshes;
             for (int m : source.meshes)
-                if (options.includeSceneMeshes && !meshAccessors[static_cast<size_t>(m)].empty)
-                    meshes.push_back(m);
+                if (exportsMesh(i, m)) meshes.push_back(m);
             if (meshes.empty()) continue;
             auto found = gltfMeshOf.find(meshes);
             if (found == gltfMeshOf.end()) {
@@ -372,6 +401,8 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         rigHose.crossSection = rig::CrossSection::of(hose.profile());
         rigHose.baseColour = input.baseColour;
         rigHose.roughness = input.roughness;
+        rigHose.gravity = hose.spec().gravity;
+        rigHose.torsion = hose.spec().torsion;
 
         // The distinct bodies the hose is fixed to (a scene node, or the world).
         std::set<std::pair<int, int>> fixedTo;
@@ -605,6 +636,13 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                        0.4 + 0.4 * static_cast<double>(h + 1) / static_cast<double>(hoses.size()),
                        output);
     }
+    for (const NodeRef& ref : options.colliders)
+        descriptor.colliders.push_back(
+            gltfNodeOf[static_cast<size_t>(ref.scene)][static_cast<size_t>(ref.node)]);
+    std::sort(descriptor.colliders.begin(), descriptor.colliders.end());
+    descriptor.colliders.erase(
+        std::unique(descriptor.colliders.begin(), descriptor.colliders.end()),
+        descriptor.colliders.end());
     model.scenes.push_back(gltfScene);
     model.defaultScene = 0;
     model.buffers[0].data = buffer.bytes();

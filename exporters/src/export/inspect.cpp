@@ -193,6 +193,12 @@ void validateGltf(const fs::path& file, ValidationResult& result)
     const rig::HoseRigDescriptor& descriptor = runtime.descriptor();
     checkDescriptorHoses(descriptor, loadReport.descriptorSource, result);
 
+    for (size_t c = 0; c < descriptor.colliders.size(); ++c)
+        if (nodes.at(static_cast<size_t>(descriptor.colliders[c])).value("mesh", -1) < 0)
+            result.errors.push_back(loadReport.descriptorSource + ": /colliders/" +
+                                    std::to_string(c) + ": node " +
+                                    std::to_string(descriptor.colliders[c]) +
+                                    " has no mesh to collide with");
     std::vector<int> isSceneRoot(nodes.size(), 0);
     for (const Json& scene : gltf.json.value("scenes", Json::array()))
         for (const Json& n : scene.value("nodes", Json::array()))

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -105,6 +106,19 @@ public:
         if (result < low || result > 1'000'000'000)
             fail(pointer, "expected an integer ≥ " + std::to_string(low) + ", got " + value.dump());
         return static_cast<int>(result);
+    }
+    bool boolean(const Json& value, const std::string& pointer) const
+    {
+        if (!value.is_boolean()) fail(pointer, "expected true or false, got " + describe(value));
+        return value.get<bool>();
+    }
+    void onlyKeys(const Json& object, const std::string& pointer,
+                  std::initializer_list<const char*> keys) const
+    {
+        for (auto it = object.begin(); it != object.end(); ++it)
+            if (std::none_of(keys.begin(), keys.end(),
+                             [&](const char* key) { return it.key() == key; }))
+                fail(pointer + "/" + it.key(), "unknown member");
     }
     std::string string(const Json& value, const std::string& pointer) const
     {
@@ -328,6 +342,25 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
             colour[c], at + "/material/baseColorFactor/" + std::to_string(c), 0.0, 1.0, "[0, 1]");
     hose.roughness = r.number(r.member(material, at + "/material", "roughness"),
                               at + "/material/roughness", 0.0, 1.0, "[0, 1]");
+    if (value.contains("gravity")) {
+        const std::string p = at + "/gravity";
+        const Json& gravity = r.object(value["gravity"], p);
+        hose.gravity.enabled = r.boolean(r.member(gravity, p, "enabled"), p + "/enabled");
+        hose.gravity.direction = r.vector3(r.member(gravity, p, "direction"), p + "/direction");
+        if (hose.gravity.direction.squaredNorm() == 0.0)
+            r.fail(p + "/direction", "expected a non-zero vector (world, need not be unit)");
+        r.onlyKeys(gravity, p, {"enabled", "direction"});
+    }
+    if (value.contains("torsion")) {
+        const std::string p = at + "/torsion";
+        const Json& torsion = r.object(value["torsion"], p);
+        hose.torsion.enabled = r.boolean(r.member(torsion, p, "enabled"), p + "/enabled");
+        hose.torsion.twistLimit = r.number(r.member(torsion, p, "twistLimit"), p + "/twistLimit");
+        if (!(hose.torsion.twistLimit > 0.0 && hose.torsion.twistLimit <= 3.141592653589793))
+            r.fail(p + "/twistLimit", "expected an angle in (0, π] rad per joint, got " +
+                                          torsion["twistLimit"].dump());
+        r.onlyKeys(torsion, p, {"enabled", "twistLimit"});
+    }
     return hose;
 }
 
@@ -442,9 +475,14 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor)
             Json{{"baseColorFactor", Json::array({hose.baseColour[0], hose.baseColour[1],
                                                   hose.baseColour[2], hose.baseColour[3]})},
                  {"roughness", hose.roughness}};
+        h["gravity"] =
+            Json{{"enabled", hose.gravity.enabled}, {"direction", vec3(hose.gravity.direction)}};
+        h["torsion"] =
+            Json{{"enabled", hose.torsion.enabled}, {"twistLimit", hose.torsion.twistLimit}};
         hoses.push_back(h);
     }
     document["hoses"] = hoses;
+    document["colliders"] = list(descriptor.colliders);
     return document.dump(2) + "\n";
 }
 
@@ -473,6 +511,12 @@ HoseRigDescriptor parseDescriptor(std::string_view text, const std::string& sour
     const Json& units = r.object(r.member(document, "", "units"), "/units");
     if (units.value("length", "") != "metre" || units.value("angle", "") != "radian")
         r.fail("/units", "expected {\"length\": \"metre\", \"angle\": \"radian\"}");
+    if (document.contains("colliders")) {
+        descriptor.colliders = r.integers(document["colliders"], "/colliders", 0);
+        for (size_t i = 1; i < descriptor.colliders.size(); ++i)
+            if (descriptor.colliders[i] <= descriptor.colliders[i - 1])
+                r.fail("/colliders/" + std::to_string(i), "expected ascending node indices");
+    }
     const Json& hoses = r.array(r.member(document, "", "hoses"), "/hoses");
     std::set<std::string> ids;
     for (size_t i = 0; i < hoses.size(); ++i) {
@@ -491,6 +535,8 @@ Hose rebuildHose(const RigHose& description, std::vector<int>* attachmentIds)
     spec.material = description.material();
     spec.segmentCount = description.pointCount() - 1;
     spec.profile = description.crossSection.build();
+    spec.gravity = description.gravity;
+    spec.torsion = description.torsion;
     // The exported shape with the exported rest lengths: a hose exported while deformed comes
     // back deformed, not relaxed at that shape.
     Hose hose = description.restLengths.size() + 1 == description.axis.size()
@@ -546,6 +592,8 @@ std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, i
             node(hose.attachments[k].node, at + "/attachments/" + std::to_string(k) + "/node",
                  true);
     }
+    for (size_t c = 0; c < descriptor.colliders.size(); ++c)
+        node(descriptor.colliders[c], "/colliders/" + std::to_string(c), false);
     return problems;
 }
 

@@ -51,6 +51,13 @@ enum class Container {
     Gltf, ///< JSON + <name>.bin beside it
 };
 
+/// A scene node a hose attachment is fixed to.
+struct NodeRef
+{
+    int scene = -1; ///< index into the scenes passed to exportRig(); −1: fixed in world
+    int node = -1;  ///< index into that scene's ImportedScene::nodes
+};
+
 struct ExportOptions
 {
     Container container = Container::FromExtension;
@@ -75,6 +82,10 @@ struct ExportOptions
     /// Export static hoses (every axis point fixed, all to one scene node or all to the world)
     /// as plain meshes; the descriptor marks them "static". Off: every hose is skinned.
     bool plainMeshesForStaticHoses = true;
+    /// Scene nodes flagged as colliders (descriptor "colliders", glTF node indices): these nodes
+    /// and their meshes are exported even when includeSceneMeshes is off, since a runtime
+    /// builds its colliders from them. Each must have a mesh with triangles (InvalidArgument).
+    std::vector<NodeRef> colliders;
     /// Also write <name>.hoses.json beside the glTF.
     bool writeSidecarDescriptor = true;
     /// Called with the fraction done (0 … 1, non-decreasing) from the calling thread. Return
@@ -82,13 +93,6 @@ struct ExportOptions
     std::function<bool(double fraction)> progress;
     /// asset.generator and the descriptor's generator.
     std::string generator = "ChainTube exporter";
-};
-
-/// A scene node a hose attachment is fixed to.
-struct NodeRef
-{
-    int scene = -1; ///< index into the scenes passed to exportRig(); −1: fixed in world
-    int node = -1;  ///< index into that scene's ImportedScene::nodes
 };
 
 /// One hose to export.

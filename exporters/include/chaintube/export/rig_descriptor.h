@@ -1,7 +1,7 @@
 // ChainTube runtime — the hose-rig descriptor: everything a runtime needs to run the hoses of an
 // exported glTF without the project file.
 //
-// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.1"). It is
+// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.2"). It is
 // embedded in the glTF as the root extension CHAINTUBE_hose_rig (listed in extensionsUsed only,
 // never in extensionsRequired, so viewers that do not know it still load the file) and written
 // beside the glTF as <name>.hoses.json. Node and skin indices refer to that glTF.
@@ -29,7 +29,7 @@ constexpr const char* kExtensionName = "CHAINTUBE_hose_rig";
 constexpr const char* kDescriptorFormat = "chaintube-hose-rig";
 /// Newest descriptor version this code reads, and the one it writes.
 constexpr int kDescriptorMajor = 1;
-constexpr int kDescriptorMinor = 1; ///< 1.1 added "static" (hoses exported as plain meshes)
+constexpr int kDescriptorMinor = 2; ///< 1.1 added "static"; 1.2 "gravity", "torsion", "colliders"
 
 /// A glTF node transform: parent ← node = T · R · S.
 struct NodeTransform
@@ -107,6 +107,12 @@ struct RigHose
     std::vector<int> grabbablePoints;
     std::array<double, 4> baseColour{0.2, 0.2, 0.2, 1.0}; ///< linear RGBA
     double roughness = 0.5;
+    /// Gravity sag while running (HoseSpec::gravity): on/off and the world direction (glTF
+    /// world, need not be unit; finite, non-zero). Absent in files before 1.2: off.
+    Gravity gravity;
+    /// Torsion (HoseSpec::torsion): on/off and the twist limit (radians per joint, (0, π]).
+    /// Absent in files before 1.2: off.
+    Torsion torsion;
 
     int pointCount() const { return static_cast<int>(axis.size()); }
     Material material() const;
@@ -114,9 +120,14 @@ struct RigHose
 
 struct HoseRigDescriptor
 {
-    std::string version = "1.1";
+    std::string version = "1.2";
     std::string generator;
     std::vector<RigHose> hoses;
+    /// glTF nodes flagged as colliders (1.2), ascending, each with a mesh: a runtime builds a
+    /// rigid MeshCollider from each node's mesh (world scale baked in, placed by the rigid part
+    /// of the node's world transform) and every hose stays outside the colliders except those
+    /// it is attached to.
+    std::vector<int> colliders;
 };
 
 /// The descriptor is malformed. what() is "<source>: <JSON pointer>: <what was expected>".
@@ -153,8 +164,9 @@ Hose rebuildHose(const RigHose& hose, std::vector<int>* attachmentIds = nullptr)
 /// reproduces the exported rest lengths.
 bool restLengthsMatch(const RigHose& hose);
 
-/// Problems a descriptor has in the context of its glTF: joint/mesh/attachment node indices
-/// outside [0, nodeCount), joints used twice. Empty when consistent. Messages carry a pointer.
+/// Problems a descriptor has in the context of its glTF: joint/mesh/attachment/collider node
+/// indices outside [0, nodeCount), joints used twice. Empty when consistent. Messages carry a
+/// pointer.
 std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, int nodeCount,
                                           int skinCount);
 
