@@ -64,6 +64,8 @@ public:
     bool maybeSave();
     /// Writes the autosave now if the document is modified; returns its path ("" if none).
     QString autosaveNow();
+    /// Autosave period (default 30 s); restarts the timer.
+    void setAutosaveInterval(int milliseconds) { m_autosaveTimer.start(milliseconds); }
     /// Where the autosave of the current document goes.
     QString autosavePath() const;
     QAction* action(const QString& objectName) const;
