@@ -299,6 +299,7 @@ bool Hose::detach(int id)
     if (it == m_attachments.end()) return false;
     for (int i = it->first; i <= it->last; ++i) m_fixed[static_cast<size_t>(i)] = 0;
     m_attachments.erase(it);
+    m_settledRevision = 0; // step(): the freed points may fall
     return true;
 }
 

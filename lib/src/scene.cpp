@@ -19,4 +19,11 @@ Scene::FrameStats Scene::updateSurfaces()
     return stats;
 }
 
+int Scene::step(int rounds)
+{
+    int moved = 0;
+    for (Hose& hose : m_hoses) moved += hose.step(rounds).movedPoints > 0 ? 1 : 0;
+    return moved;
+}
+
 } // namespace chaintube

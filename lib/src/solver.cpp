@@ -558,6 +558,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     result.status = status;
     result.grabError = (m_local[k] - localTarget).norm();
     result.movedPoints = moved;
+    m_held = index;
     ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
     return result;
@@ -610,7 +611,9 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     return result;
 }
 
-UpdateResult Hose::settle()
+UpdateResult Hose::settle() { return settleFrom(-1); }
+
+UpdateResult Hose::settleFrom(int held)
 {
     Solver solver(*this);
     std::vector<std::pair<int, int>> runs;
@@ -618,6 +621,11 @@ UpdateResult Hose::settle()
     for (const Attachment& a : m_attachments) {
         runs.emplace_back(a.first, a.last);
         oldEnds.emplace_back(m_local[static_cast<size_t>(a.first)], m_local[static_cast<size_t>(a.last)]);
+    }
+    if (held >= 0 && held < pointCount() && !m_fixed[static_cast<size_t>(held)]) {
+        solver.grabbed = held;
+        runs.emplace_back(held, held);
+        oldEnds.emplace_back(m_local[static_cast<size_t>(held)], m_local[static_cast<size_t>(held)]);
     }
     if (runs.empty()) {
         // Nothing fixed: hold point 0 and let the rest follow.

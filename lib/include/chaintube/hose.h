@@ -233,6 +233,25 @@ public:
     /// returns InvalidInput and leaves it unchanged. Non-finite or zero direction: InvalidInput.
     SagResult sag(const SagOptions& options = SagOptions());
 
+    /// Per-frame gravity (HoseSpec::gravity; beyond the paper). Advances the settling of the
+    /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
+    /// step to step, so the hose falls and swings out over a few dozen frames), then one exact
+    /// ChainTube pass from the fixed points: every constraint holds after every step. The held
+    /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
+    /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
+    /// projection can leave a tiny two-round flip-flop) the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
+    /// revision()), step() returns at once without touching the hose, so a settled hose never
+    /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
+    /// with nothing fixed and nothing held has nothing to hang from: it does not fall (Ok,
+    /// nothing moves). With bend limits each round does at most 16 constraint sweeps (the exact
+    /// pass restores the rest). Deterministic. Returns the constraint state; movedPoints is 0
+    /// when nothing was done.
+    UpdateResult step(int rounds = 4);
+    /// The point held by the last grab (−1: none). A held point is fixed for step() and
+    /// releaseGrab() frees it; a grab of another point moves the hold there.
+    int heldPoint() const { return m_held; }
+    void releaseGrab();
+
     /// Incremented whenever an axis point, the profile or the diameter changes; renderers and
     /// the scene use it to skip hoses whose inputs did not change.
     std::uint64_t revision() const { return m_revision; }
@@ -271,7 +290,11 @@ private:
     bool blendSide(int from, int side, const Vec3& displacement);
     bool blendTowardsPins(int index, const Vec3& displacement);
 
+    /// settle(), with `held` (≥ 0) pinned like a fixed point.
+    UpdateResult settleFrom(int held);
+
     friend class Solver;
+    friend class SagRounds;
     HoseSpec m_spec;
     Vec3 m_origin = Vec3::Zero();
     std::vector<Vec3> m_local;
@@ -287,6 +310,11 @@ private:
     std::vector<Attachment> m_attachments;
     std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs
     int m_nextAttachmentId = 1;
+    int m_held = -1;                      ///< see heldPoint()
+    std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one round back (velocity)
+    std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
+    std::vector<Vec3> m_gravityTwoBack;   ///< step(): positions two rounds back (settling test)
+    std::uint64_t m_settledRevision = 0;  ///< step(): revision at which the hose settled
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     std::uint64_t m_revision = 1;
 

@@ -28,6 +28,9 @@ public:
     };
     /// Bring every hose's surface up to date.
     FrameStats updateSurfaces();
+    /// One gravity step (Hose::step) of every hose with HoseSpec::gravity on; hoses with
+    /// gravity off or settled cost one comparison. Returns how many hoses moved.
+    int step(int rounds = 4);
 
 private:
     std::vector<Hose> m_hoses;
