@@ -22,7 +22,63 @@ Profile profileOf(const HoseDefinition& hose)
     throw InvalidArgument("hose '" + hose.id + "': unknown profile shape");
 }
 
+/// Node index of every pose of the project in scene `sceneId` (−1 entries never occur: an
+/// unknown node path throws).
+std::vector<std::pair<int, const NodePose*>> posesOfScene(const Project& project,
+                                                          const ImportedScenes& scenes,
+                                                          const std::string& sceneId)
+{
+    std::vector<std::pair<int, const NodePose*>> found;
+    for (size_t i = 0; i < project.poses.size(); ++i) {
+        const NodePose& pose = project.poses[i];
+        if (pose.scene != sceneId) continue;
+        const auto scene = scenes.find(pose.scene);
+        const int node = scene == scenes.end() ? -1 : scene->second.findNode(pose.node);
+        if (node < 0)
+            throw InvalidArgument("pose " + std::to_string(i) + " (/poses/" + std::to_string(i) +
+                                  "): scene '" + pose.scene + "' has no node '" + pose.node +
+                                  "'");
+        found.emplace_back(node, &pose);
+    }
+    return found;
+}
+
 } // namespace
+
+Mat4 posedWorldTransform(const Project& project, const ImportedScenes& scenes,
+                         const std::string& sceneId, int node)
+{
+    const auto scene = scenes.find(sceneId);
+    if (scene == scenes.end())
+        throw InvalidArgument("scene '" + sceneId + "' is not imported");
+    const std::vector<SceneNode>& nodes = scene->second.nodes;
+    if (node < 0 || node >= static_cast<int>(nodes.size()))
+        throw InvalidArgument("scene '" + sceneId + "' has no node " + std::to_string(node));
+    const auto poses = posesOfScene(project, scenes, sceneId);
+    Mat4 world = Mat4::Identity();
+    for (int n = node; n >= 0; n = nodes[static_cast<size_t>(n)].parent) {
+        Mat4 local = nodes[static_cast<size_t>(n)].localTransform;
+        for (const auto& [posedNode, pose] : poses)
+            if (posedNode == n) local = pose->localTransform;
+        world = local * world;
+    }
+    return world;
+}
+
+ImportedScenes posedScenes(const Project& project, ImportedScenes scenes)
+{
+    for (const SceneReference& reference : project.scenes) {
+        const auto poses = posesOfScene(project, scenes, reference.id);
+        for (const auto& [node, pose] : poses)
+            scenes.at(reference.id).nodes[static_cast<size_t>(node)].localTransform =
+                pose->localTransform;
+    }
+    for (size_t i = 0; i < project.poses.size(); ++i)
+        if (!project.findScene(project.poses[i].scene))
+            throw InvalidArgument("pose " + std::to_string(i) + ": unknown scene '" +
+                                  project.poses[i].scene + "'");
+    return scenes;
+}
 
 ImportedScenes importProjectScenes(const Project& project, const std::filesystem::path& projectFile,
                                    const NamedRoots& roots,
@@ -80,6 +136,30 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
         offset.rotation.normalize();
         hose.attach(attachment.firstPoint, attachment.lastPoint,
                     scene->second.worldFrame(node) * offset);
+    }
+    // Pose overrides: the attachments go to the posed frames in one update (the editor's
+    // Document does the same when it rebuilds a hose).
+    bool posed = false;
+    for (const HoseAttachment& attachment : definition.attachments) {
+        const ImportedScene& scene = scenes.at(attachment.scene);
+        for (const auto& [posedNode, pose] : posesOfScene(project, scenes, attachment.scene))
+            for (int n = scene.findNode(attachment.node); n >= 0 && !posed;
+                 n = scene.nodes[static_cast<size_t>(n)].parent)
+                posed = n == posedNode;
+    }
+    if (posed) {
+        std::vector<int> ids;
+        std::vector<Frame> frames;
+        for (size_t a = 0; a < definition.attachments.size(); ++a) {
+            const HoseAttachment& attachment = definition.attachments[a];
+            Frame offset = attachment.offset;
+            offset.rotation.normalize();
+            const int node = scenes.at(attachment.scene).findNode(attachment.node);
+            ids.push_back(hose.attachments()[a].id);
+            frames.push_back(
+                rigidPart(posedWorldTransform(project, scenes, attachment.scene, node)) * offset);
+        }
+        hose.moveAttachments(ids, frames);
     }
     return hose;
 }

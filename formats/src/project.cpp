@@ -93,7 +93,7 @@ Material Project::materialOf(const HoseDefinition& hose) const
 bool Project::operator==(const Project& o) const
 {
     return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
-           hoses == o.hoses && exportSettings == o.exportSettings;
+           hoses == o.hoses && poses == o.poses && exportSettings == o.exportSettings;
 }
 
 std::filesystem::path resolveScenePath(const SceneReference& scene,

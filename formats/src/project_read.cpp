@@ -364,7 +364,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         return readVersion(root.key("version")).second > kProjectFormatMinor;
     }();
     const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
-    root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "export"});
+    root.object(
+        {"format", "version", "name", "scenes", "materialPresets", "hoses", "poses", "export"});
 
     Project project;
     project.name = root.key("name").string(true);
@@ -506,6 +507,41 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         project.hoses.push_back(std::move(hose));
     }
 
+    // --- pose overrides (1.1) -----------------------------------------------------------------
+    if (const auto poses = root.optionalKey("poses")) {
+        std::set<std::pair<std::string, std::string>> posed;
+        for (size_t i = 0, n = poses->arraySize(); i < n; ++i) {
+            const Cursor entry = (*poses)[i];
+            entry.object({"scene", "node", "matrix"});
+            NodePose pose;
+            pose.scene = entry.key("scene").string();
+            if (!project.findScene(pose.scene))
+                entry.key("scene").fail("expected the id of a scene of this project, got \"" +
+                                        pose.scene + "\"");
+            pose.node = entry.key("node").string();
+            if (pose.node.front() != '/')
+                entry.key("node").fail("expected a node path starting with '/', got \"" +
+                                       pose.node + "\"");
+            if (!posed.insert({pose.scene, pose.node}).second)
+                entry.key("node").fail("expected one pose per node, \"" + pose.node +
+                                       "\" of scene \"" + pose.scene + "\" has two");
+            const Cursor matrix = entry.key("matrix");
+            matrix.arraySize(16, 16);
+            for (int k = 0; k < 16; ++k) // column-major, as glTF
+                pose.localTransform(k % 4, k / 4) = matrix[size_t(k)].anyFinite();
+            for (int column = 0; column < 4; ++column)
+                if (pose.localTransform(3, column) != (column == 3 ? 1.0 : 0.0))
+                    matrix[size_t(4 * column + 3)].fail(
+                        "expected an affine matrix: its last row (elements 3, 7, 11, 15 in "
+                        "column-major order) must be 0, 0, 0, 1");
+            const double determinant = pose.localTransform.topLeftCorner<3, 3>().determinant();
+            if (!(std::abs(determinant) > 1e-12))
+                matrix.fail("expected an invertible transform (|det| of the 3x3 block > 1e-12), "
+                            "got det " + json(determinant).dump());
+            project.poses.push_back(std::move(pose));
+        }
+    }
+
     // --- export -------------------------------------------------------------------------------
     const Cursor exportSettings = root.key("export");
     exportSettings.object({"format", "path", "includeScene"});
@@ -585,6 +621,8 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
         migrateFrom0_9(document, file);
         out.migrated = true;
     }
+    // 1.0 → 1.1 added only the optional "poses": nothing to rewrite.
+    if (major == 1 && minor == 0) out.migrated = true;
     return readProject(document, file, options, out);
 }
 

@@ -185,6 +185,15 @@ std::string serialiseProject(const Project& project)
     }
     document["hoses"] = hoses;
 
+    ordered poses = ordered::array();
+    for (const NodePose& pose : project.poses) {
+        ordered matrix = ordered::array();
+        for (int k = 0; k < 16; ++k) // column-major, as glTF
+            matrix.push_back(pose.localTransform(k % 4, k / 4));
+        poses.push_back(ordered{{"scene", pose.scene}, {"node", pose.node}, {"matrix", matrix}});
+    }
+    document["poses"] = poses;
+
     ordered exportSettings = ordered::object();
     exportSettings["format"] = project.exportSettings.format;
     exportSettings["path"] = project.exportSettings.path;

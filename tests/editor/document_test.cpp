@@ -7,14 +7,26 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <fstream>
 #include <functional>
 #include <memory>
+#include <sstream>
 
 namespace chaintube::editor {
 namespace {
 
 using test::roots;
 using test::samplesDir;
+
+std::string readFile(const std::filesystem::path& file)
+{
+    std::ifstream stream(file, std::ios::binary);
+    std::ostringstream text;
+    text << stream.rdbuf();
+    return text.str();
+}
 
 std::unique_ptr<Document> openTestRig()
 {
@@ -286,6 +298,71 @@ TEST(Document, SaveThenOpenGivesTheSameProject)
     EXPECT_EQ(formats::serialiseProject(document->project()),
               formats::serialiseProject(reopened.project()));
     EXPECT_EQ(document->hose(id)->points(), reopened.hose(id)->points());
+}
+
+TEST(Document, AMovedPartIsSavedAsAPoseAndRestoredOnOpen)
+{
+    auto document = openTestRig();
+    const int valve = document->scene("rig")->findNode("/test-rig/valve");
+    const auto& right = document->project().hoses[1]; // last point fixed to the valve
+    formats::Mat4 moved = document->nodeLocalTransform("rig", valve);
+    moved(0, 3) += 0.05;
+    moved.topLeftCorner<3, 3>() =
+        Eigen::AngleAxisd(0.5, Vec3::UnitY()).toRotationMatrix() * moved.topLeftCorner<3, 3>();
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
+    ASSERT_EQ(document->project().poses.size(), 1u) << "the override is part of the project";
+    EXPECT_EQ(document->project().poses[0].node, "/test-rig/valve");
+    EXPECT_EQ(document->project().poses[0].localTransform, moved);
+
+    const auto folder = test::outputDir() / "save-open-pose";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    const auto file = folder / "posed.ctproj";
+    document->save(file);
+    Document reopened(roots());
+    reopened.adopt(readProject(file, roots()));
+    EXPECT_EQ(reopened.nodeLocalTransform("rig", valve), moved) << "the pose is restored";
+    EXPECT_EQ(formats::serialiseProject(reopened.project()),
+              formats::serialiseProject(document->project()));
+    // A fresh build at the saved pose: the fixed end sits on the moved valve (the live hose in
+    // the first document got there by the same one-step move of its attachments).
+    const Hose* hose = reopened.hose(right.id);
+    ASSERT_TRUE(hose);
+    EXPECT_LT((hose->point(hose->pointCount() - 1) -
+               document->hose(right.id)->point(hose->pointCount() - 1))
+                  .norm(),
+              1e-12);
+    // Saving again without an edit writes the same bytes.
+    const auto again = folder / "posed-again.ctproj";
+    reopened.save(again);
+    EXPECT_EQ(readFile(again), readFile(file));
+
+    // Undo back to the file pose: nothing to save any more.
+    document->undoStack()->undo();
+    EXPECT_TRUE(document->project().poses.empty());
+}
+
+TEST(Document, APoseOfANodeTheSceneNoLongerHasIsAClearError)
+{
+    formats::Project project = formats::loadProject(samplesDir() / "test-rig.ctproj");
+    project.poses.push_back({"rig", "/test-rig/removed-part", formats::Mat4::Identity()});
+    const auto folder = test::outputDir() / "stale-pose";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    formats::saveProject(project, folder / "stale.ctproj");
+    try {
+        readProject(folder / "stale.ctproj", roots());
+        ADD_FAILURE() << "accepted";
+    } catch (const formats::ProjectFormatError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find("stale.ctproj"), std::string::npos) << message;
+        EXPECT_NE(message.find("/poses/0/node"), std::string::npos) << message;
+        EXPECT_NE(message.find("/test-rig/removed-part"), std::string::npos) << message;
+    }
 }
 
 TEST(Document, ChangeEventsNameWhatChanged)

@@ -200,7 +200,8 @@ TEST(ProjectMigration, Version0_9MillimetreDiameterAndHexColourBecome1_0)
     EXPECT_DOUBLE_EQ(project.hoses[0].colour.b, 0x99 / 255.0);
     EXPECT_DOUBLE_EQ(project.hoses[0].colour.a, 1.0);
     // Saving writes the current version.
-    EXPECT_EQ(json::parse(serialiseProject(project))["version"], "1.0");
+    EXPECT_EQ(json::parse(serialiseProject(project))["version"],
+              std::to_string(kProjectFormatMajor) + "." + std::to_string(kProjectFormatMinor));
 }
 
 TEST(ProjectMigration, BadOldValueIsReportedAtItsOldPointer)

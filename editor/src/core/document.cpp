@@ -23,6 +23,18 @@ LoadedProject readProject(const fs::path& file, const formats::NamedRoots& roots
                                   : formats::loadProject(file, options);
     loaded.file = file;
     loaded.scenes = formats::importProjectScenes(loaded.project, file, roots, progress);
+    // A saved pose must name a node the scene still has (the scene file may have changed).
+    for (size_t i = 0; i < loaded.project.poses.size(); ++i) {
+        const formats::NodePose& pose = loaded.project.poses[i];
+        const auto imported = loaded.scenes.find(pose.scene);
+        if (imported == loaded.scenes.end() || imported->second.findNode(pose.node) < 0)
+            throw formats::ProjectFormatError(
+                file, "/poses/" + std::to_string(i) + "/node",
+                "expected a node of scene '" + pose.scene + "' (" +
+                    (imported == loaded.scenes.end() ? std::string("not imported")
+                                                     : imported->second.file.string()) +
+                    "), got \"" + pose.node + "\"");
+    }
     return loaded;
 }
 
@@ -50,6 +62,12 @@ void Document::adopt(LoadedProject loaded)
     m_file = std::move(loaded.file);
     m_scenes = std::move(loaded.scenes);
     m_pose.clear();
+    for (const formats::NodePose& pose : m_project.poses) {
+        const formats::ImportedScene* imported = scene(pose.scene);
+        const int node = imported ? imported->findNode(pose.node) : -1;
+        if (node >= 0) // readProject checked; an untitled project has none
+            m_pose[{pose.scene, node}] = pose.localTransform;
+    }
     ++m_poseSerial;
     m_selection = {};
     m_forcedModified = false;
@@ -318,9 +336,27 @@ formats::HoseDefinition Document::removeHose(const std::string& hoseId)
     return removed;
 }
 
+void Document::syncProjectPoses()
+{
+    std::vector<formats::NodePose> poses;
+    for (const formats::SceneReference& reference : m_project.scenes) {
+        const formats::ImportedScene* imported = scene(reference.id);
+        if (!imported)
+            continue;
+        for (const auto& [key, transform] : m_pose)
+            if (key.first == reference.id && transform && key.second >= 0 &&
+                key.second < static_cast<int>(imported->nodes.size()))
+                poses.push_back({key.first,
+                                 imported->nodes[static_cast<size_t>(key.second)].path,
+                                 *transform});
+    }
+    m_project.poses = std::move(poses);
+}
+
 void Document::poseChanged(const NodeKey& node)
 {
     ++m_poseSerial;
+    syncProjectPoses();
     for (const formats::HoseDefinition& definition : m_project.hoses) {
         bool attachedHere = false;
         for (const formats::HoseAttachment& attachment : definition.attachments)
@@ -372,6 +408,7 @@ Document::removeScene(const std::string& id)
     m_scenes.erase(id);
     for (auto pose = m_pose.begin(); pose != m_pose.end();)
         pose = pose->first.first == id ? m_pose.erase(pose) : std::next(pose);
+    syncProjectPoses();
     if (m_selection.sceneId == id) {
         m_selection.sceneId.clear();
         m_selection.node = -1;
@@ -406,16 +443,9 @@ void Document::rebuildHose(const std::string& hoseId)
     live.buildSerial = ++m_buildCounter;
     live.metrics.reset();
     try {
-        Hose built = formats::buildHose(m_project, *definition, m_scenes);
-        if (hoseAffectedByPose(*definition)) {
-            std::vector<int> ids;
-            for (const Hose::Attachment& attachment : built.attachments())
-                ids.push_back(attachment.id);
-            const std::vector<Frame> frames = posedAttachmentFrames(*definition);
-            if (ids.size() == frames.size())
-                built.moveAttachments(ids, frames);
-        }
-        live.hose = std::move(built);
+        // m_project.poses mirrors the overrides: buildHose builds at the file pose and moves
+        // the attachments to the posed frames, exactly as the export and the CLI do.
+        live.hose = formats::buildHose(m_project, *definition, m_scenes);
         live.error.clear();
     } catch (const std::exception& error) {
         live.hose.reset();
@@ -453,7 +483,9 @@ Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
     for (const formats::HoseAttachment& attachment : definition.attachments) {
         const formats::ImportedScene* imported = scene(attachment.scene);
         const int node = imported ? imported->findNode(attachment.node) : -1;
-        frames.push_back(nodeWorldFrame(attachment.scene, node) * attachment.offset);
+        Frame offset = attachment.offset; // as formats::buildHose does
+        offset.rotation.normalize();
+        frames.push_back(nodeWorldFrame(attachment.scene, node) * offset);
     }
     return frames;
 }

@@ -9,9 +9,10 @@
 // State and what is saved:
 //  * project()        — the formats::Project; this is what Save writes.
 //  * scenes()         — the imported scenes at the pose their files give ("file pose").
-//  * pose overrides   — node transforms the author moved to try the rig (a part moved or
-//                       rotated; the hoses follow). The project format has no field for
-//                       them, so they are part of the undo history but not saved.
+//  * pose overrides   — node transforms the author moved (a part moved or rotated; the
+//                       hoses follow live). Undoable, and mirrored into project().poses
+//                       (formats::NodePose, per node path), so Save writes them and Open
+//                       restores them; export builds the hoses at them like the CLI.
 //  * live hoses       — one chaintube::Hose per project hose, built from its definition with
 //                       formats::buildHose at the file pose, then its attachments moved to the
 //                       posed node frames. A grab-drag changes only the live hose until it is
@@ -225,6 +226,9 @@ private:
         mutable std::uint64_t metricsRevision = 0;
     };
     void rebuildHose(const std::string& hoseId);
+    /// Writes the non-empty overrides into m_project.poses (project scene order, then node
+    /// order) after an override changed.
+    void syncProjectPoses();
     void rebuildAllHoses();
     bool hoseAffectedByPose(const formats::HoseDefinition& definition) const;
     /// Frames of the definition's attachments under the current pose.

@@ -13,7 +13,10 @@
 //                            "roughness", "attachments": [ { "scene", "node",
 //                            "offset": { "translation": [x,y,z], "rotation": [x,y,z,w] },
 //                            "points": [first, last] } ] } ],
+//     "poses":           [ { "scene", "node", "matrix": [16 numbers] } ],      (1.1)
 //     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
+//
+// Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -37,7 +40,7 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 0;
+constexpr int kProjectFormatMinor = 1; ///< 1.1 added "poses" (NodePose)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -149,6 +152,23 @@ struct HoseDefinition
     bool operator!=(const HoseDefinition& o) const { return !(*this == o); }
 };
 
+/// A scene node moved or rotated by the author (a pose override): the node's parent ← node
+/// transform replaces the one the scene file gives. Hoses are still defined at the file pose
+/// (routes, attachment offsets); buildHose() builds them there and then moves their
+/// attachments to the posed node frames, so the hoses follow the part as in the editor.
+struct NodePose
+{
+    std::string scene; ///< SceneReference::id
+    std::string node;  ///< SceneNode::path
+    /// parent ← node, metres; affine (last row 0 0 0 1), finite, invertible 3×3 block.
+    /// Written as "matrix": 16 numbers, column-major (glTF's order).
+    Mat4 localTransform = Mat4::Identity();
+    bool operator==(const NodePose& o) const
+    {
+        return scene == o.scene && node == o.node && localTransform == o.localTransform;
+    }
+};
+
 struct ExportSettings
 {
     std::string format = "glb"; ///< "glb" or "gltf"
@@ -167,6 +187,8 @@ struct Project
     std::vector<SceneReference> scenes;
     std::vector<MaterialPreset> materialPresets;
     std::vector<HoseDefinition> hoses;
+    /// Pose overrides, at most one per (scene, node), in the order written.
+    std::vector<NodePose> poses;
     ExportSettings exportSettings;
 
     /// An empty project with standardMaterialPresets().
@@ -193,6 +215,7 @@ struct ProjectLoadReport
 {
     std::string fileVersion; ///< as written, e.g. "0.9"
     bool migrated = false;   ///< an older layout was converted to the current one
+                             ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none)
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };

@@ -27,9 +27,23 @@ HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose);
 /// Builds hose `hose` of the project: Hose::alongRoute(route, spec), then every attachment
 /// fixed with Hose::attach(first, last, frame) where frame = scene node's rigid world frame ·
 /// offset (ImportedScene::worldFrame). The points keep their route positions (world metres).
-/// Throws InvalidArgument for an unknown scene id or node path, or a point range outside the
-/// built hose.
+/// `scenes` must be at their file pose (as importProjectScenes gives them). If project.poses
+/// moves an attached node (or one of its ancestors), the attachments are then moved together
+/// to the posed frames (Hose::moveAttachments, one update): the hose follows the part, as in
+/// the editor. Throws InvalidArgument for an unknown scene id or node path (of an attachment
+/// or a pose), or a point range outside the built hose.
 Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes);
+
+/// world ← node transform of `node` of scene `sceneId` with project.poses applied along the
+/// parent chain (`scenes` at their file pose). Throws InvalidArgument for an unknown scene, a
+/// node index out of range, or a pose naming a node the scene does not have.
+Mat4 posedWorldTransform(const Project& project, const ImportedScenes& scenes,
+                         const std::string& sceneId, int node);
+
+/// The scenes with project.poses written into their nodes' local transforms (what the export
+/// writes as the scene's node transforms). Throws InvalidArgument naming the pose for an
+/// unknown scene id or node path.
+ImportedScenes posedScenes(const Project& project, ImportedScenes scenes);
 
 /// buildHose() for every hose, in project order.
 std::vector<Hose> buildHoses(const Project& project, const ImportedScenes& scenes);
