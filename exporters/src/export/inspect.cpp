@@ -83,89 +83,9 @@ void validateProject(const fs::path& file, const formats::NamedRoots& roots,
 
 using Json = nlohmann::json;
 
-/// A glTF's JSON and its buffers, read without tinygltf's loader (Debian's libtinygltf.so
-/// disagrees with its header about the TinyGLTF class layout: loading corrupts the heap).
-struct GltfFile
-{
-    Json json;
-    std::vector<std::string> buffers;
-};
-
-GltfFile readGltf(const fs::path& file)
-{
-    GltfFile gltf;
-    const rig::detail::GltfContainer container =
-        rig::detail::splitGltf(file, rig::detail::readFileBytes(file));
-    const std::string& text = container.json;
-    const std::string& binChunk = container.binChunk;
-    try {
-        gltf.json = Json::parse(text);
-    } catch (const Json::exception& error) {
-        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
-    }
-    const Json& buffers = gltf.json.value("buffers", Json::array());
-    for (size_t b = 0; b < buffers.size(); ++b) {
-        const std::string where = file.string() + ": /buffers/" + std::to_string(b);
-        std::string data;
-        if (!buffers[b].contains("uri")) {
-            if (b != 0) throw Error(where + ": only buffer 0 may omit its uri (the GLB BIN chunk)");
-            data = binChunk;
-        } else {
-            if (!buffers[b]["uri"].is_string()) throw Error(where + "/uri: expected a string");
-            const std::string uri = buffers[b]["uri"].get<std::string>();
-            if (uri.rfind("data:", 0) == 0)
-                throw Error(where + "/uri: data URIs are not read by validate");
-            // A buffer is a file beside the glTF: never read what a hostile file points at
-            // elsewhere ("../../etc/passwd", "/dev/zero", a link out of the folder).
-            const fs::path folder = fs::absolute(file).parent_path();
-            const fs::path bufferFile = folder / uri;
-            if (uri.empty() || fs::path(uri).is_absolute() ||
-                !formats::isInsideFolder(bufferFile, folder))
-                throw Error(where + "/uri: \"" + uri +
-                            "\" is outside the glTF's folder (only files beside it are read)");
-            data = rig::detail::readFileBytes(bufferFile);
-        }
-        if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
-            throw Error(where + "/byteLength: the buffer has only " + std::to_string(data.size()) +
-                        " bytes");
-        gltf.buffers.push_back(std::move(data));
-    }
-    return gltf;
-}
-
-/// Reads float accessor `index` (tightly packed or strided).
-std::vector<float> floatsOf(const GltfFile& gltf, int index, const std::string& where)
-{
-    const Json& accessor = gltf.json.at("accessors").at(static_cast<size_t>(index));
-    if (accessor.value("componentType", 0) != 5126)
-        throw Error(where + ": expected a float accessor");
-    const std::map<std::string, size_t> componentsOf{
-        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
-    const size_t components = componentsOf.at(accessor.value("type", "SCALAR"));
-    const size_t count = accessor.value("count", std::size_t{0});
-    const Json& view = gltf.json.at("bufferViews").at(accessor.at("bufferView").get<size_t>());
-    const std::string& buffer = gltf.buffers.at(view.value("buffer", std::size_t{0}));
-    const size_t elementBytes = components * 4;
-    const size_t stride = view.value("byteStride", elementBytes);
-    const size_t viewOffset = view.value("byteOffset", std::size_t{0});
-    const size_t accessorOffset = accessor.value("byteOffset", std::size_t{0});
-    if (stride < elementBytes)
-        throw Error(where + ": accessor " + std::to_string(index) + ": byteStride " +
-                    std::to_string(stride) + " is smaller than an element");
-    // Checked without overflow: a hostile count or offset must not wrap around the test.
-    const size_t size = buffer.size();
-    const bool fits =
-        viewOffset <= size && accessorOffset <= size - viewOffset &&
-        (count == 0 || (elementBytes <= size - viewOffset - accessorOffset &&
-                        count - 1 <= (size - viewOffset - accessorOffset - elementBytes) / stride));
-    if (!fits)
-        throw Error(where + ": accessor " + std::to_string(index) + " reaches beyond its buffer");
-    const size_t start = viewOffset + accessorOffset;
-    std::vector<float> values(count * components);
-    for (size_t i = 0; i < count; ++i)
-        std::memcpy(&values[i * components], buffer.data() + start + i * stride, components * 4);
-    return values;
-}
+using rig::detail::floatsOf;
+using rig::detail::GltfFile;
+using rig::detail::readGltf;
 
 void validateGltf(const fs::path& file, ValidationResult& result)
 {
@@ -195,10 +115,9 @@ void validateGltf(const fs::path& file, ValidationResult& result)
 
     for (size_t c = 0; c < descriptor.colliders.size(); ++c)
         if (nodes.at(static_cast<size_t>(descriptor.colliders[c])).value("mesh", -1) < 0)
-            result.errors.push_back(loadReport.descriptorSource + ": /colliders/" +
-                                    std::to_string(c) + ": node " +
-                                    std::to_string(descriptor.colliders[c]) +
-                                    " has no mesh to collide with");
+            result.errors.push_back(
+                loadReport.descriptorSource + ": /colliders/" + std::to_string(c) + ": node " +
+                std::to_string(descriptor.colliders[c]) + " has no mesh to collide with");
     std::vector<int> isSceneRoot(nodes.size(), 0);
     for (const Json& scene : gltf.json.value("scenes", Json::array()))
         for (const Json& n : scene.value("nodes", Json::array()))

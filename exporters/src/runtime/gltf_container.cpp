@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
 
 namespace chaintube::rig::detail {
 
@@ -17,6 +18,25 @@ std::uint32_t readU32(const std::string& bytes, size_t at)
     std::memcpy(&value, bytes.data() + at, 4);
     return value; // GLB is little-endian, as every platform we build for
 }
+
+/// True if `path` lies inside `folder` after resolving links, dot-dot and symlinks (as
+/// formats::isInsideFolder; the runtime does not link formats).
+bool isInsideFolder(const std::filesystem::path& path, const std::filesystem::path& folder)
+{
+    std::error_code error;
+    const std::filesystem::path canonicalPath = std::filesystem::weakly_canonical(path, error);
+    if (error) return false;
+    const std::filesystem::path canonicalFolder = std::filesystem::weakly_canonical(folder, error);
+    if (error) return false;
+    auto p = canonicalPath.begin();
+    for (auto f = canonicalFolder.begin(); f != canonicalFolder.end(); ++f, ++p) {
+        if (f->empty()) continue; // trailing separator of the folder
+        if (p == canonicalPath.end() || *p != *f) return false;
+    }
+    return true;
+}
+
+using Json = nlohmann::json;
 
 } // namespace
 
@@ -52,6 +72,116 @@ GltfContainer splitGltf(const std::filesystem::path& file, const std::string& by
         container.binChunk = bytes.substr(binAt + 8, binLength);
     }
     return container;
+}
+
+GltfFile readGltf(const std::filesystem::path& file)
+{
+    GltfFile gltf;
+    const GltfContainer container = splitGltf(file, readFileBytes(file));
+    const std::string& text = container.json;
+    const std::string& binChunk = container.binChunk;
+    try {
+        gltf.json = Json::parse(text);
+    } catch (const Json::exception& error) {
+        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
+    }
+    const Json& buffers = gltf.json.value("buffers", Json::array());
+    for (size_t b = 0; b < buffers.size(); ++b) {
+        const std::string where = file.string() + ": /buffers/" + std::to_string(b);
+        std::string data;
+        if (!buffers[b].contains("uri")) {
+            if (b != 0) throw Error(where + ": only buffer 0 may omit its uri (the GLB BIN chunk)");
+            data = binChunk;
+        } else {
+            if (!buffers[b]["uri"].is_string()) throw Error(where + "/uri: expected a string");
+            const std::string uri = buffers[b]["uri"].get<std::string>();
+            if (uri.rfind("data:", 0) == 0)
+                throw Error(where + "/uri: data URIs are not read by validate");
+            // A buffer is a file beside the glTF: never read what a hostile file points at
+            // elsewhere ("../../etc/passwd", "/dev/zero", a link out of the folder).
+            const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
+            const std::filesystem::path bufferFile = folder / uri;
+            if (uri.empty() || std::filesystem::path(uri).is_absolute() ||
+                !isInsideFolder(bufferFile, folder))
+                throw Error(where + "/uri: \"" + uri +
+                            "\" is outside the glTF's folder (only files beside it are read)");
+            data = readFileBytes(bufferFile);
+        }
+        if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
+            throw Error(where + "/byteLength: the buffer has only " + std::to_string(data.size()) +
+                        " bytes");
+        gltf.buffers.push_back(std::move(data));
+    }
+    return gltf;
+}
+
+std::vector<float> floatsOf(const GltfFile& gltf, int index, const std::string& where)
+{
+    const Json& accessor = gltf.json.at("accessors").at(static_cast<size_t>(index));
+    if (accessor.value("componentType", 0) != 5126)
+        throw Error(where + ": expected a float accessor");
+    const std::map<std::string, size_t> componentsOf{
+        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}, {"MAT4", 16}};
+    const size_t components = componentsOf.at(accessor.value("type", "SCALAR"));
+    const size_t count = accessor.value("count", std::size_t{0});
+    const Json& view = gltf.json.at("bufferViews").at(accessor.at("bufferView").get<size_t>());
+    const std::string& buffer = gltf.buffers.at(view.value("buffer", std::size_t{0}));
+    const size_t elementBytes = components * 4;
+    const size_t stride = view.value("byteStride", elementBytes);
+    const size_t viewOffset = view.value("byteOffset", std::size_t{0});
+    const size_t accessorOffset = accessor.value("byteOffset", std::size_t{0});
+    if (stride < elementBytes)
+        throw Error(where + ": accessor " + std::to_string(index) + ": byteStride " +
+                    std::to_string(stride) + " is smaller than an element");
+    // Checked without overflow: a hostile count or offset must not wrap around the test.
+    const size_t size = buffer.size();
+    const bool fits =
+        viewOffset <= size && accessorOffset <= size - viewOffset &&
+        (count == 0 || (elementBytes <= size - viewOffset - accessorOffset &&
+                        count - 1 <= (size - viewOffset - accessorOffset - elementBytes) / stride));
+    if (!fits)
+        throw Error(where + ": accessor " + std::to_string(index) + " reaches beyond its buffer");
+    const size_t start = viewOffset + accessorOffset;
+    std::vector<float> values(count * components);
+    for (size_t i = 0; i < count; ++i)
+        std::memcpy(&values[i * components], buffer.data() + start + i * stride, components * 4);
+    return values;
+}
+
+std::vector<std::uint32_t> indicesOf(const GltfFile& gltf, int index, const std::string& where)
+{
+    const Json& accessor = gltf.json.at("accessors").at(static_cast<size_t>(index));
+    const int type = accessor.value("componentType", 0);
+    const size_t bytes = type == 5121 ? 1 : type == 5123 ? 2 : type == 5125 ? 4 : 0;
+    if (bytes == 0 || accessor.value("type", "") != "SCALAR")
+        throw Error(where + ": accessor " + std::to_string(index) +
+                    ": expected unsigned byte, short or int scalars");
+    const size_t count = accessor.value("count", std::size_t{0});
+    const Json& view = gltf.json.at("bufferViews").at(accessor.at("bufferView").get<size_t>());
+    const std::string& buffer = gltf.buffers.at(view.value("buffer", std::size_t{0}));
+    const size_t stride = view.value("byteStride", bytes);
+    const size_t viewOffset = view.value("byteOffset", std::size_t{0});
+    const size_t accessorOffset = accessor.value("byteOffset", std::size_t{0});
+    const size_t size = buffer.size();
+    const bool fits =
+        stride >= bytes && viewOffset <= size && accessorOffset <= size - viewOffset &&
+        (count == 0 || (bytes <= size - viewOffset - accessorOffset &&
+                        count - 1 <= (size - viewOffset - accessorOffset - bytes) / stride));
+    if (!fits)
+        throw Error(where + ": accessor " + std::to_string(index) + " reaches beyond its buffer");
+    const size_t start = viewOffset + accessorOffset;
+    std::vector<std::uint32_t> values(count);
+    for (size_t i = 0; i < count; ++i) {
+        const char* at = buffer.data() + start + i * stride;
+        if (bytes == 1) values[i] = static_cast<unsigned char>(*at);
+        if (bytes == 2) {
+            std::uint16_t v = 0;
+            std::memcpy(&v, at, 2);
+            values[i] = v;
+        }
+        if (bytes == 4) std::memcpy(&values[i], at, 4);
+    }
+    return values;
 }
 
 } // namespace chaintube::rig::detail
