@@ -229,10 +229,82 @@ template <class WriteRing>
 }
 } // namespace
 
-void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
+namespace {
+bool torsionActive(const Hose& hose) { return hose.spec().torsion.enabled && !hose.attachments().empty(); }
+
+/// Torsion on top of the torsion-free frames (see computeRingFrames in surface.h). Returns the
+/// largest twist per joint.
+double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
+{
+    constexpr double kPi = 3.14159265358979323846;
+    std::vector<const Hose::Attachment*> order;
+    for (const Hose::Attachment& a : hose.attachments()) order.push_back(&a);
+    std::sort(order.begin(), order.end(), [](auto* x, auto* y) { return x->first < y->first; });
+    std::vector<TwistSeed::AttachmentRoll> rolls;
+    std::vector<double> roll(order.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+        const Hose::Attachment& a = *order[k];
+        const RingFrame& ring = frames[static_cast<size_t>(a.first)];
+        auto known = std::find_if(seed.rolls.begin(), seed.rolls.end(),
+                                  [&](const TwistSeed::AttachmentRoll& r) { return r.id == a.id; });
+        TwistSeed::AttachmentRoll record;
+        if (known == seed.rolls.end()) {
+            record.id = a.id;
+            record.reference = a.frame.rotation.conjugate() * ring.alignment;
+        } else {
+            record = *known;
+            const Vec3 r = a.frame.rotation * record.reference;
+            const Vec3 across = r - r.dot(ring.tangent) * ring.tangent;
+            // A reference along the axis (the attachment turned the hose end-on to itself)
+            // has no roll: keep the last one.
+            if (across.norm() > 1e-9) {
+                const double raw = std::atan2(ring.tangent.dot(ring.alignment.cross(across)), ring.alignment.dot(across));
+                double delta = std::remainder(raw - record.roll, 2.0 * kPi);
+                record.roll += delta;
+            }
+        }
+        roll[k] = record.roll;
+        rolls.push_back(record);
+    }
+    seed.rolls = std::move(rolls);
+
+    const int n = static_cast<int>(frames.size());
+    double maxTwist = 0.0;
+    auto rollAt = [&](int i) {
+        if (i <= order.front()->last) return roll.front();
+        for (size_t k = 0; k + 1 < order.size(); ++k) {
+            const int from = order[k]->last, to = order[k + 1]->first;
+            if (i <= from) return roll[k];
+            if (i < to) return roll[k] + (roll[k + 1] - roll[k]) * (i - from) / double(to - from);
+        }
+        return roll.back();
+    };
+    for (size_t k = 0; k + 1 < order.size(); ++k) {
+        const int joints = order[k + 1]->first - order[k]->last;
+        if (joints > 0) maxTwist = std::max(maxTwist, std::abs(roll[k + 1] - roll[k]) / joints);
+    }
+    for (int i = 0; i < n; ++i) {
+        const double phi = rollAt(i);
+        if (phi == 0.0) continue;
+        RingFrame& ring = frames[static_cast<size_t>(i)];
+        const double c = std::cos(phi), sn = std::sin(phi);
+        const Vec3 a = ring.alignment, b = ring.binormal;
+        ring.alignment = c * a + sn * b;
+        ring.binormal = c * b - sn * a;
+    }
+    return maxTwist;
+}
+} // namespace
+
+double computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
 {
     const Vec3 a0 = prepareRingFrames(hose, seed, frames);
     alignRings(frames, a0, [](size_t, const RingFrame&) {});
+    if (!torsionActive(hose)) {
+        seed.rolls.clear();
+        return 0.0;
+    }
+    return applyTorsion(hose, seed, frames);
 }
 
 SurfaceTopology SurfaceTopology::build(const Hose& hose)
@@ -362,6 +434,10 @@ void alignAndWriteRings(std::vector<RingFrame>& frames, const Vec3& a0, const Ri
 {
     alignRings(frames, a0, writer);
 }
+void writeRings(const std::vector<RingFrame>& frames, const RingWriter& writer)
+{
+    for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
+}
 
 #if defined(__x86_64__) && defined(__GNUC__)
 bool cpuHasAvx2Fma()
@@ -374,6 +450,10 @@ __attribute__((target("avx2,fma"))) void alignAndWriteRingsAvx2(std::vector<Ring
 {
     alignRings(frames, a0, writer);
 }
+__attribute__((target("avx2,fma"))) void writeRingsAvx2(const std::vector<RingFrame>& frames, const RingWriter& writer)
+{
+    for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
+}
 #endif
 } // namespace
 
@@ -383,20 +463,42 @@ bool HoseSurface::update(const Hose& hose)
     if (m_pointCount != hose.pointCount() || !(m_profile == hose.profile()) ||
         m_profile.vertexCount() != hose.profile().vertexCount())
         rebuildTopology(hose);
-    const Vec3 a0 = prepareRingFrames(hose, m_seed, m_frames);
     const RingWriter writer{{3 * static_cast<size_t>(m_topology.ringVertexCount), m_expandedX.data(),
                              m_expandedY.data(), m_expandedNormalX.data(), m_expandedNormalY.data(),
                              m_positions.data(), m_normals.data()}};
+    m_twistLimit = hose.spec().torsion.twistLimit;
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpuHasAvx2Fma()) alignAndWriteRingsAvx2(m_frames, a0, writer);
-    else alignAndWriteRings(m_frames, a0, writer);
+    const bool avx2 = cpuHasAvx2Fma();
 #else
-    alignAndWriteRings(m_frames, a0, writer);
+    const bool avx2 = false;
 #endif
+    if (torsionActive(hose)) {
+        // The rolls depend on the frames at the attachments: frames first, then vertices.
+        m_maxTwist = computeRingFrames(hose, m_seed, m_frames);
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (avx2) writeRingsAvx2(m_frames, writer);
+        else writeRings(m_frames, writer);
+#else
+        writeRings(m_frames, writer);
+#endif
+    } else {
+        m_maxTwist = 0.0;
+        m_seed.rolls.clear();
+        const Vec3 a0 = prepareRingFrames(hose, m_seed, m_frames);
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (avx2) alignAndWriteRingsAvx2(m_frames, a0, writer);
+        else alignAndWriteRings(m_frames, a0, writer);
+#else
+        (void)avx2;
+        alignAndWriteRings(m_frames, a0, writer);
+#endif
+    }
     writeCaps(hose);
     m_seenRevision = hose.revision();
     return true;
 }
+
+double HoseSurface::twistViolation() const { return std::max(0.0, m_maxTwist - m_twistLimit); }
 
 void HoseSurface::writeCaps(const Hose& hose)
 {

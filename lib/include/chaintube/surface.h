@@ -28,6 +28,17 @@ struct TwistSeed
 {
     Vec3 tangent = Vec3::Zero();
     Vec3 alignment = Vec3::Zero();
+
+    /// Torsion (HoseSpec::torsion): per attachment, a direction fixed in the attachment's
+    /// frame and its roll about the hose axis, unwrapped from frame to frame so that turning an
+    /// attachment by several turns accumulates.
+    struct AttachmentRoll
+    {
+        int id = 0;
+        Vec3 reference = Vec3::Zero(); ///< in the attachment frame's coordinates
+        double roll = 0.0;             ///< radians, relative to when torsion first saw it
+    };
+    std::vector<AttachmentRoll> rolls;
 };
 
 /// Computes ring frames (centres in the hose's local coordinates, see Hose::localPoints()).
@@ -45,7 +56,19 @@ struct TwistSeed
 /// smallest rotation taking the old first tangent to the new one, so rings do not pop between
 /// frames; if the first tangent reversed exactly, the old alignment is projected instead. With
 /// no seed yet: world +Y projected onto the first ring plane, or +X if the hose starts along Y.
-void computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames);
+///
+/// Torsion (HoseSpec::torsion on; beyond the paper): the rings above are the torsion-free
+/// shape. Each attachment's roll is the angle about the hose axis between that shape's
+/// alignment at the attachment's first ring and a direction fixed in the attachment's frame
+/// (taken from that alignment when torsion first sees the attachment, so it starts at 0);
+/// turning an attachment about the hose axis changes it, bending it along with the hose barely
+/// does. Every ring of an attachment rolls by its roll; between two attachments the difference
+/// is spread evenly over the joints between them (the least largest twist per joint); beyond
+/// the outermost attachments the free ends roll with their nearest attachment (a free end
+/// does not twist). Twist per joint above HoseSpec::torsion.twistLimit cannot be met by
+/// spreading: it is kept (the attachments are fixed) and reported by twistViolation. Without
+/// attachments nothing rolls. Returns the largest twist per joint (radians).
+double computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames);
 
 /// Static part of a hose's triangle mesh: depends only on the point count and profile.
 ///
@@ -108,6 +131,10 @@ public:
     FloatSpan normals() const { return {m_normals.data(), 3 * vertexCount()}; }
     size_t vertexCount() const { return static_cast<size_t>(m_topology.vertexCount); }
     const TwistSeed& twistSeed() const { return m_seed; }
+    /// Torsion: the largest twist per joint (radians) and how far it exceeds the hose's
+    /// twist limit (0 = within; always 0 with torsion off). See computeRingFrames().
+    double maxTwistPerJoint() const { return m_maxTwist; }
+    double twistViolation() const;
     void setTwistSeed(const TwistSeed& seed) { m_seed = seed; }
 
 private:
@@ -125,6 +152,8 @@ private:
     std::vector<float> m_expandedX, m_expandedY, m_expandedNormalX, m_expandedNormalY;
     TwistSeed m_seed;
     std::uint64_t m_seenRevision = 0;
+    double m_maxTwist = 0.0;
+    double m_twistLimit = 0.0;
     int m_profileVertexCount = 0;
     int m_pointCount = 0;
     Profile m_profile;
