@@ -80,17 +80,20 @@ public:
             if ((v - *incoming).squaredNorm() > h.m_chordLimit2[joint]) {
                 const double c = incoming->dot(v);
                 Vec3 w = v - c * *incoming;
-                double wn = w.norm();
-                if (!(wn > 1e-12)) {
+                const double wn2 = w.squaredNorm();
+                // 1/|w| as sqrt(|w|²) · (1/|w|²): both in parallel (this is on the chain).
+                double wnInverse = std::sqrt(wn2) * (1.0 / wn2);
+                if (!(wn2 > 1e-24)) {
                     // Fold-back: take the bend plane from where the point was.
                     w = (point - anchorOld) - (point - anchorOld).dot(*incoming) * *incoming;
-                    wn = w.norm();
+                    const double wn = w.norm();
+                    wnInverse = 1.0 / wn;
                     if (!(wn > 1e-12 * lmin)) {
                         w = anyPerpendicular(*incoming);
-                        wn = 1.0;
+                        wnInverse = 1.0;
                     }
                 }
-                v = cosLimit * *incoming + (sinLimit / wn) * w;
+                v = cosLimit * *incoming + (sinLimit * wnInverse) * w;
                 moved = true;
             }
         }
