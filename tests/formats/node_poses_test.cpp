@@ -18,6 +18,8 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 const fs::path kSamples = CHAINTUBE_SAMPLES_DIR;
+const std::string kCurrentVersion =
+    std::to_string(kProjectFormatMajor) + "." + std::to_string(kProjectFormatMinor);
 
 /// A rigid transform: rotation by `angle` about `axis`, then translation.
 Mat4 rigid(const Vec3& axis, double angle, const Vec3& translation)
@@ -80,7 +82,7 @@ TEST(NodePoses, SaveThenLoadIsExactAndLoadThenSaveIsByteForByte)
     const Project reread = loadProject(copy, {}, &report);
     EXPECT_EQ(reread, project);
     EXPECT_FALSE(report.migrated);
-    EXPECT_EQ(report.fileVersion, "1.1");
+    EXPECT_EQ(report.fileVersion, kCurrentVersion);
     EXPECT_EQ(serialiseProject(reread), text) << "load → save must give the same bytes";
 }
 
@@ -95,7 +97,7 @@ TEST(NodePoses, Version1_0FilesHaveNoPosesAndAreMigrated)
     EXPECT_EQ(report.fileVersion, "1.0");
     EXPECT_TRUE(project.poses.empty());
     const json saved = json::parse(serialiseProject(project));
-    EXPECT_EQ(saved["version"], "1.1");
+    EXPECT_EQ(saved["version"], kCurrentVersion);
     EXPECT_EQ(saved["poses"], json::array());
     EXPECT_EQ(project, loadProject(kSamples / "test-rig.ctproj"));
 }
