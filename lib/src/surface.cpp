@@ -417,16 +417,28 @@ struct RingWriter
         float* pos = in.positions + i * in.ringFloats;
         float* nrm = in.normals + i * in.ringFloats;
         const size_t blocks = (in.ringFloats + 7) / 8;
-        for (size_t m = 0, k = 0; m < blocks; ++m, k = k == 2 ? 0 : k + 1) {
-            Float8 x, y, nx, ny;
-            load8(x, in.x + 8 * m);
-            load8(y, in.y + 8 * m);
-            load8(nx, in.nx + 8 * m);
-            load8(ny, in.ny + 8 * m);
-            const Float8 position = cp[k] + ap[k] * x + bp[k] * y, normal = ap[k] * nx + bp[k] * ny;
-            store8(pos + 8 * m, position);
-            store8(nrm + 8 * m, normal);
+        size_t m = 0;
+        // Unrolled by the xyz period (3 blocks) so the phase vectors stay in registers.
+        for (; m + 3 <= blocks; m += 3) {
+            block(pos, nrm, m, cp[0], ap[0], bp[0]);
+            block(pos, nrm, m + 1, cp[1], ap[1], bp[1]);
+            block(pos, nrm, m + 2, cp[2], ap[2], bp[2]);
         }
+        if (m < blocks) block(pos, nrm, m, cp[0], ap[0], bp[0]);
+        if (m + 1 < blocks) block(pos, nrm, m + 1, cp[1], ap[1], bp[1]);
+    }
+
+    [[gnu::always_inline]] inline void block(float* pos, float* nrm, size_t m, const Float8& c, const Float8& a,
+                                             const Float8& b) const
+    {
+        Float8 x, y, nx, ny;
+        load8(x, in.x + 8 * m);
+        load8(y, in.y + 8 * m);
+        load8(nx, in.nx + 8 * m);
+        load8(ny, in.ny + 8 * m);
+        const Float8 position = c + a * x + b * y, normal = a * nx + b * ny;
+        store8(pos + 8 * m, position);
+        store8(nrm + 8 * m, normal);
     }
 };
 
