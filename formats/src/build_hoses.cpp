@@ -111,6 +111,8 @@ HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose)
     spec.segmentCount = hose.segmentCount;
     spec.segmentLength = hose.segmentLength;
     spec.profile = profileOf(hose);
+    spec.gravity = hose.gravity;
+    spec.torsion = hose.torsion;
     return spec;
 }
 

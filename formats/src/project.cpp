@@ -54,7 +54,9 @@ bool HoseDefinition::operator==(const HoseDefinition& o) const
         segmentCount == o.segmentCount && (segmentCount > 0 || segmentLength == o.segmentLength);
     return id == o.id && name == o.name && route == o.route && material == o.material &&
            profile == o.profile && outerDiameter == o.outerDiameter && sameResolution &&
-           colour == o.colour && roughness == o.roughness && attachments == o.attachments;
+           colour == o.colour && roughness == o.roughness && attachments == o.attachments &&
+           gravity.enabled == o.gravity.enabled && gravity.direction == o.gravity.direction &&
+           torsion.enabled == o.torsion.enabled && torsion.twistLimit == o.torsion.twistLimit;
 }
 
 Project Project::withStandardPresets(std::string name)
@@ -93,7 +95,8 @@ Material Project::materialOf(const HoseDefinition& hose) const
 bool Project::operator==(const Project& o) const
 {
     return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
-           hoses == o.hoses && poses == o.poses && exportSettings == o.exportSettings;
+           hoses == o.hoses && poses == o.poses && colliders == o.colliders &&
+           exportSettings == o.exportSettings;
 }
 
 std::filesystem::path resolveScenePath(const SceneReference& scene,

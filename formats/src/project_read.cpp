@@ -364,8 +364,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         return readVersion(root.key("version")).second > kProjectFormatMinor;
     }();
     const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
-    root.object(
-        {"format", "version", "name", "scenes", "materialPresets", "hoses", "poses", "export"});
+    root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "poses",
+                 "colliders", "export"});
 
     Project project;
     project.name = root.key("name").string(true);
@@ -422,7 +422,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     for (size_t i = 0, n = hoses.arraySize(0, kMaxProjectHoses); i < n; ++i) {
         const Cursor entry = hoses[i];
         entry.object({"id", "name", "route", "material", "profile", "outerDiameter", "segmentCount",
-                      "segmentLength", "colour", "roughness", "attachments"});
+                      "segmentLength", "colour", "roughness", "attachments", "gravity", "torsion"});
         HoseDefinition hose;
         hose.id = entry.key("id").string();
         if (!hoseIds.insert(hose.id).second)
@@ -504,6 +504,20 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
                                 std::to_string(other.lastPoint) + "]");
             hose.attachments.push_back(std::move(attachment));
         }
+        if (const auto gravity = entry.optionalKey("gravity")) { // 1.2
+            gravity->object({"enabled", "direction"});
+            hose.gravity.enabled = gravity->key("enabled").boolean();
+            hose.gravity.direction = readVec3(gravity->key("direction"));
+            if (hose.gravity.direction.squaredNorm() == 0.0)
+                gravity->key("direction")
+                    .fail("expected a non-zero direction (world, need not be unit)");
+        }
+        if (const auto torsion = entry.optionalKey("torsion")) { // 1.2
+            torsion->object({"enabled", "twistLimit"});
+            hose.torsion.enabled = torsion->key("enabled").boolean();
+            hose.torsion.twistLimit =
+                torsion->key("twistLimit").number(0, false, 3.141592653589793, true);
+        }
         project.hoses.push_back(std::move(hose));
     }
 
@@ -539,6 +553,28 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
                 matrix.fail("expected an invertible transform (|det| of the 3x3 block > 1e-12), "
                             "got det " + json(determinant).dump());
             project.poses.push_back(std::move(pose));
+        }
+    }
+
+    // --- colliders (1.2) -----------------------------------------------------------------------
+    if (const auto colliders = root.optionalKey("colliders")) {
+        std::set<std::pair<std::string, std::string>> flagged;
+        for (size_t i = 0, n = colliders->arraySize(); i < n; ++i) {
+            const Cursor entry = (*colliders)[i];
+            entry.object({"scene", "node"});
+            ColliderNode collider;
+            collider.scene = entry.key("scene").string();
+            if (!project.findScene(collider.scene))
+                entry.key("scene").fail("expected the id of a scene of this project, got \"" +
+                                        collider.scene + "\"");
+            collider.node = entry.key("node").string();
+            if (collider.node.front() != '/')
+                entry.key("node").fail("expected a node path starting with '/', got \"" +
+                                       collider.node + "\"");
+            if (!flagged.insert({collider.scene, collider.node}).second)
+                entry.key("node").fail("expected each collider node once, \"" + collider.node +
+                                       "\" of scene \"" + collider.scene + "\" is listed twice");
+            project.colliders.push_back(std::move(collider));
         }
     }
 
@@ -621,8 +657,9 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
         migrateFrom0_9(document, file);
         out.migrated = true;
     }
-    // 1.0 → 1.1 added only the optional "poses": nothing to rewrite.
-    if (major == 1 && minor == 0) out.migrated = true;
+    // 1.0 → 1.1 added only the optional "poses", 1.1 → 1.2 the optional per-hose "gravity" and
+    // "torsion" (off when absent) and "colliders" (none): nothing to rewrite.
+    if (major == 1 && minor < kProjectFormatMinor) out.migrated = true;
     return readProject(document, file, options, out);
 }
 

@@ -181,6 +181,18 @@ std::string serialiseProject(const Project& project)
             attachments.push_back(item);
         }
         entry["attachments"] = attachments;
+        // Written only when they differ from the defaults (off, straight down, 0.1 rad): most
+        // hoses use neither, and the canonical file stays as short as before 1.2.
+        const Gravity noGravity;
+        if (hose.gravity.enabled != noGravity.enabled ||
+            hose.gravity.direction != noGravity.direction)
+            entry["gravity"] = ordered{{"enabled", hose.gravity.enabled},
+                                       {"direction", vec3(hose.gravity.direction)}};
+        const Torsion noTorsion;
+        if (hose.torsion.enabled != noTorsion.enabled ||
+            hose.torsion.twistLimit != noTorsion.twistLimit)
+            entry["torsion"] =
+                ordered{{"enabled", hose.torsion.enabled}, {"twistLimit", hose.torsion.twistLimit}};
         hoses.push_back(entry);
     }
     document["hoses"] = hoses;
@@ -193,6 +205,11 @@ std::string serialiseProject(const Project& project)
         poses.push_back(ordered{{"scene", pose.scene}, {"node", pose.node}, {"matrix", matrix}});
     }
     document["poses"] = poses;
+
+    ordered colliders = ordered::array();
+    for (const ColliderNode& collider : project.colliders)
+        colliders.push_back(ordered{{"scene", collider.scene}, {"node", collider.node}});
+    document["colliders"] = colliders;
 
     ordered exportSettings = ordered::object();
     exportSettings["format"] = project.exportSettings.format;

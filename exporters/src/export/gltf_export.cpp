@@ -759,6 +759,7 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
     formats::ImportedScenes imported;
     std::vector<const formats::ImportedScene*> scenes;
     std::vector<ExportHose> hoses;
+    std::vector<NodeRef> colliders = options.colliders;
     try {
         imported = formats::importProjectScenes(project, projectFile, roots, importProgress);
         std::map<std::string, int> sceneIndex;
@@ -781,6 +782,17 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
             }
             hoses.push_back(std::move(hose));
         }
+        for (size_t c = 0; c < project.colliders.size(); ++c) {
+            const formats::ColliderNode& collider = project.colliders[c];
+            const auto s = sceneIndex.find(collider.scene);
+            const int node = s == sceneIndex.end()
+                                 ? -1
+                                 : scenes[static_cast<size_t>(s->second)]->findNode(collider.node);
+            if (node < 0)
+                throw InvalidArgument("/colliders/" + std::to_string(c) + "/node: scene '" +
+                                      collider.scene + "' has no node '" + collider.node + "'");
+            colliders.push_back({s->second, node});
+        }
         // Moved parts (project.poses): the hoses were built at the file pose and followed the
         // parts (buildHose); the scene is written with the posed node transforms.
         imported = formats::posedScenes(project, std::move(imported));
@@ -794,6 +806,7 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
         throw InvalidArgument(projectFile.string() + ": " + what);
     }
     ExportOptions exportOptions = options;
+    exportOptions.colliders = colliders;
     exportOptions.includeSceneMeshes =
         options.includeSceneMeshes && project.exportSettings.includeScene;
     if (options.progress)

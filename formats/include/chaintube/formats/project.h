@@ -12,11 +12,17 @@
 //                            "segmentCount" | "segmentLength", "colour": [r,g,b,a],
 //                            "roughness", "attachments": [ { "scene", "node",
 //                            "offset": { "translation": [x,y,z], "rotation": [x,y,z,w] },
-//                            "points": [first, last] } ] } ],
+//                            "points": [first, last] } ],
+//                            "gravity": { "enabled", "direction": [x,y,z] },   (1.2)
+//                            "torsion": { "enabled", "twistLimit" } } ],       (1.2)
 //     "poses":           [ { "scene", "node", "matrix": [16 numbers] } ],      (1.1)
+//     "colliders":       [ { "scene", "node" } ],                               (1.2)
 //     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
 //
-// Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated).
+// Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated). Files before
+// 1.2 have no "gravity", "torsion" (read as off) and no "colliders" (read as none). A hose's
+// "gravity" / "torsion" is written only when it differs from the default (off, direction
+// [0, -1, 0], twist limit 0.1 rad), and read as that default when absent.
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -25,6 +31,7 @@
 #include "chaintube/formats/errors.h"
 #include "chaintube/formats/paths.h"
 #include "chaintube/formats/scene.h"
+#include "chaintube/hose.h"
 #include "chaintube/material.h"
 #include "chaintube/profile.h"
 #include "chaintube/types.h"
@@ -40,7 +47,8 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 1; ///< 1.1 added "poses" (NodePose)
+constexpr int kProjectFormatMinor = 2; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+                                       ///< "gravity" and "torsion", "colliders" (ColliderNode)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -148,6 +156,11 @@ struct HoseDefinition
     Rgba colour;
     double roughness = 0.5; ///< [0, 1], PBR
     std::vector<HoseAttachment> attachments;
+    /// Gravity sag while the hose runs (HoseSpec::gravity): on/off and the world direction
+    /// (need not be unit; finite, non-zero). Off unless the file says otherwise.
+    Gravity gravity;
+    /// Torsion (HoseSpec::torsion): on/off and the twist limit, radians per joint in (0, π].
+    Torsion torsion;
     bool operator==(const HoseDefinition& o) const;
     bool operator!=(const HoseDefinition& o) const { return !(*this == o); }
 };
@@ -167,6 +180,15 @@ struct NodePose
     {
         return scene == o.scene && node == o.node && localTransform == o.localTransform;
     }
+};
+
+/// A scene node flagged as a collider: hoses stay outside its mesh (issue 7). The export
+/// lists it in the runtime descriptor (glTF node index) with its mesh.
+struct ColliderNode
+{
+    std::string scene; ///< SceneReference::id
+    std::string node;  ///< SceneNode::path
+    bool operator==(const ColliderNode& o) const { return scene == o.scene && node == o.node; }
 };
 
 struct ExportSettings
@@ -189,6 +211,8 @@ struct Project
     std::vector<HoseDefinition> hoses;
     /// Pose overrides, at most one per (scene, node), in the order written.
     std::vector<NodePose> poses;
+    /// Collider nodes, at most one entry per (scene, node), in the order written.
+    std::vector<ColliderNode> colliders;
     ExportSettings exportSettings;
 
     /// An empty project with standardMaterialPresets().
@@ -215,7 +239,8 @@ struct ProjectLoadReport
 {
     std::string fileVersion; ///< as written, e.g. "0.9"
     bool migrated = false;   ///< an older layout was converted to the current one
-                             ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none)
+                             ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none;
+                             ///< before 1.2: gravity/torsion off, no colliders)
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };
