@@ -53,6 +53,22 @@ doc["scenes"] = [{"id": "s", "path": "loop.glb",
 write("scene-symlink-loop.ctproj", json.dumps(doc))
 write("unknown.txt", "hello")
 
+# Percent-encoded buffer URIs (RFC 3986): a valid one names the file beside the glTF and loads;
+# encoded dot-dot, slash or NUL and malformed escapes are refused on the decoded name.
+escaping = json.load(open(os.path.join(bad_dir, "gltf", "buffer-uri-escapes.gltf")))
+shutil.copy(os.path.join(bad_dir, "gltf", "single-hose.bin"),
+            os.path.join(generated, "single hose.bin"))
+with open(os.path.join(scratch, "secret.bin"), "wb") as f:  # exists, outside bad/generated
+    f.write(open(os.path.join(bad_dir, "gltf", "single-hose.bin"), "rb").read())
+for name, uri in [("uri-percent-valid", "single%20hose.bin"),
+                  ("uri-percent-dot-dot", "%2E%2E/%2E%2E/secret.bin"),
+                  ("uri-percent-slash", "..%2F..%2Fsecret.bin"),
+                  ("uri-percent-absolute", "%2Fetc%2Fpasswd"),
+                  ("uri-percent-malformed", "single%2hose.bin"),
+                  ("uri-percent-nul", "single-hose.bin%00.txt")]:
+    escaping["buffers"][0]["uri"] = uri
+    write(name + ".gltf", json.dumps(escaping))
+
 failures = []
 manifest = json.load(open(os.path.join(bad_dir, "expected.json")))
 for case in manifest["cases"]:
@@ -88,6 +104,104 @@ if not ok:
         result.returncode, result.stderr, before, after))
 if subprocess.run([chaintube, "validate", output], capture_output=True).returncode != 0:
     failures.append("disk-full export: the previous export no longer validates")
+
+
+def check(ok, name, detail):
+    print(("ok   " if ok else "FAIL ") + name)
+    if not ok:
+        failures.append(name + ": " + detail)
+
+
+# Unreadable files. CI runs as root, where chmod 000 does not stop reading, so the commands run
+# in a child that first drops to user and group nobody (65534); as any other user chmod 000 is
+# enough. A probe checks that the child really cannot read, else the cases would prove nothing.
+def run_unprivileged(args, cwd):
+    extra = dict(user=65534, group=65534, extra_groups=[]) if os.geteuid() == 0 else {}
+    return subprocess.run(args, cwd=cwd, capture_output=True, text=True, errors="replace",
+                          timeout=300, **extra)
+
+
+# In a fresh folder under /tmp with its own copy of the CLI: the checkout may sit in a folder
+# (e.g. /root) that user nobody cannot even enter.
+import atexit, tempfile
+locked = tempfile.mkdtemp(prefix="chaintube-unreadable-")
+atexit.register(shutil.rmtree, locked, True)
+os.chmod(locked, 0o777)  # the unprivileged child may write here: only the inputs are locked
+unprivileged_cli = os.path.join(locked, "chaintube")
+shutil.copy(chaintube, unprivileged_cli)
+locked_project = os.path.join(locked, "project.ctproj")
+shutil.copy(sample, locked_project)
+locked_glb = os.path.join(locked, "locked.glb")
+existing = os.path.join(locked, "existing.glb")
+subprocess.run([chaintube, "export", sample, "-o", locked_glb, "-q"], check=True)
+subprocess.run([chaintube, "export", sample, "-o", existing, "-q"], check=True)
+for name in os.listdir(locked):
+    os.chmod(os.path.join(locked, name), 0o755 if name == "chaintube" else 0o644)
+os.chmod(locked_project, 0)
+os.chmod(locked_glb, 0)
+probe = run_unprivileged(["cat", "project.ctproj"], locked)
+check(probe.returncode != 0, "unreadable: the unprivileged child cannot read a chmod 000 file",
+      "it could (exit %d): the unreadable cases below would prove nothing" % probe.returncode)
+for target, message in [("project.ctproj", "project.ctproj: cannot be opened for reading"),
+                        ("locked.glb", "locked.glb: cannot be read (missing or no permission)")]:
+    result = run_unprivileged([unprivileged_cli, "validate", target], locked)
+    check(result.returncode == 1 and message in result.stderr, "unreadable/" + target,
+          "expected exit 1 and %r, got exit %d and %r" % (message, result.returncode,
+                                                          result.stderr))
+def digest_of(folder, names):
+    return {n: hashlib.sha256(open(os.path.join(folder, n), "rb").read()).hexdigest()
+            for n in names}
+
+
+kept = ["existing.glb", "existing.hoses.json"]
+before = digest_of(locked, kept)
+result = run_unprivileged([unprivileged_cli, "export", "project.ctproj", "-o", "existing.glb"],
+                          locked)
+message = "project.ctproj: cannot be opened for reading"
+check(result.returncode == 1 and message in result.stderr and digest_of(locked, kept) == before,
+      "unreadable project exported over an existing export: exit 1, the export intact",
+      "exit %d, stderr %r, unchanged %s" % (result.returncode, result.stderr,
+                                            digest_of(locked, kept) == before))
+
+# A project file being written by another process while we read it: a writer process truncates
+# it, writes the first 60 % and holds it open (a non-atomic writer, e.g. another tool); our
+# commands see a truncated JSON document and say so, and an existing export is left intact.
+# When the writer has finished, the same file reads fine (nothing was cached or damaged).
+racing = os.path.join(scratch, "being-written")
+os.makedirs(racing)
+racing_project = os.path.join(racing, "project.ctproj")
+racing_output = os.path.join(racing, "rig.glb")
+shutil.copy(sample, racing_project)
+subprocess.run([chaintube, "export", racing_project, "-o", racing_output, "-q"], check=True)
+kept = ["rig.glb", "rig.hoses.json"]
+before = digest_of(racing, kept)
+text = open(sample, "rb").read()
+writer = subprocess.Popen(
+    [sys.executable, "-c",
+     "import sys; f = open(sys.argv[1], 'wb'); data = open(sys.argv[2], 'rb').read();"
+     "f.write(data[:int(len(data) * 0.6)]); f.flush(); print('half', flush=True);"
+     "sys.stdin.readline(); f.write(data[int(len(data) * 0.6):]); f.close()",
+     racing_project, sample], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+ready = writer.stdout.readline().strip() == "half"
+validate = subprocess.run([chaintube, "validate", racing_project], capture_output=True, text=True,
+                          errors="replace", timeout=300)
+export = subprocess.run([chaintube, "export", racing_project, "-o", racing_output],
+                        capture_output=True, text=True, errors="replace", timeout=300)
+writer.stdin.write("finish\n")
+writer.stdin.flush()
+writer.wait(timeout=60)
+message = "project.ctproj: not valid JSON: parse error at line"
+check(ready and validate.returncode == 1 and message in validate.stderr and
+      "unexpected end of input" in validate.stderr,
+      "project being written: validate says the JSON is truncated",
+      "exit %d, stderr %r" % (validate.returncode, validate.stderr))
+check(export.returncode == 1 and message in export.stderr and digest_of(racing, kept) == before,
+      "project being written: export exits 1 and leaves the existing export intact",
+      "exit %d, stderr %r" % (export.returncode, export.stderr))
+after = subprocess.run([chaintube, "validate", racing_project], capture_output=True, text=True)
+check(open(racing_project, "rb").read() == text and after.returncode == 0,
+      "project being written: once complete it validates", "exit %d, stderr %r, %d of %d bytes" % (
+          after.returncode, after.stderr, len(open(racing_project, "rb").read()), len(text)))
 
 for failure in failures:
     print(failure, file=sys.stderr)

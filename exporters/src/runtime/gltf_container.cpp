@@ -38,6 +38,37 @@ bool isInsideFolder(const std::filesystem::path& path, const std::filesystem::pa
 
 using Json = nlohmann::json;
 
+/// A buffer URI is an RFC 3986 relative reference: "rig%20v2.bin" names the file "rig v2.bin".
+/// Decodes %XX escapes; a '%' without two hex digits after it, or an escaped NUL byte, is
+/// refused (`where` names the buffer).
+std::string percentDecoded(const std::string& uri, const std::string& where)
+{
+    const auto hex = [](char c) -> int {
+        if (c >= '0' && c <= '9') return c - '0';
+        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+        return -1;
+    };
+    std::string decoded;
+    decoded.reserve(uri.size());
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] != '%') {
+            decoded += uri[i];
+            continue;
+        }
+        const int high = i + 2 < uri.size() ? hex(uri[i + 1]) : -1;
+        const int low = i + 2 < uri.size() ? hex(uri[i + 2]) : -1;
+        if (high < 0 || low < 0)
+            throw Error(where + "/uri: \"" + uri + "\": malformed percent-encoding at byte " +
+                        std::to_string(i) + " (expected % and two hex digits)");
+        if (high == 0 && low == 0)
+            throw Error(where + "/uri: \"" + uri + "\": %00 (a NUL byte) is not a file name");
+        decoded += static_cast<char>(high * 16 + low);
+        i += 2;
+    }
+    return decoded;
+}
+
 } // namespace
 
 std::string readFileBytes(const std::filesystem::path& file)
@@ -99,12 +130,15 @@ GltfFile readGltf(const std::filesystem::path& file)
                 throw Error(where + "/uri: data URIs are not read by validate");
             // A buffer is a file beside the glTF: never read what a hostile file points at
             // elsewhere ("../../etc/passwd", "/dev/zero", a link out of the folder).
+            // The check is on the decoded name: "%2E%2E/x" is "../x".
+            const std::string name = percentDecoded(uri, where);
             const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
-            const std::filesystem::path bufferFile = folder / uri;
-            if (uri.empty() || std::filesystem::path(uri).is_absolute() ||
+            const std::filesystem::path bufferFile = folder / name;
+            if (name.empty() || std::filesystem::path(name).is_absolute() ||
                 !isInsideFolder(bufferFile, folder))
-                throw Error(where + "/uri: \"" + uri +
-                            "\" is outside the glTF's folder (only files beside it are read)");
+                throw Error(where + "/uri: \"" + uri + "\"" +
+                            (name != uri ? " (decoded \"" + name + "\")" : std::string()) +
+                            " is outside the glTF's folder (only files beside it are read)");
             data = readFileBytes(bufferFile);
         }
         if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
