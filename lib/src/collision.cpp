@@ -437,6 +437,15 @@ MeshCollider::Closest MeshCollider::closestToSegment(const Vec3& a, const Vec3& 
         if (node.count > 0) {
             for (int i = node.first; i < node.first + node.count; ++i) {
                 const Triangle& tri = m_triangles[static_cast<std::size_t>(i)];
+                // Cheap rejection: the segment on one side of the triangle's plane, farther
+                // from it than the best so far, cannot be closer to the triangle.
+                const Vec3 n = (tri.b - tri.a).cross(tri.c - tri.a);
+                const double n2 = n.squaredNorm();
+                if (n2 > 0.0) {
+                    const double dp = n.dot(p - tri.a), dq = n.dot(q - tri.a);
+                    const double nearest = std::min(std::abs(dp), std::abs(dq));
+                    if (dp * dq > 0.0 && nearest * nearest > best2 * n2) continue;
+                }
                 double s = 0.0;
                 Vec3 onSegment = Vec3::Zero(), onTriangle = Vec3::Zero();
                 const double d2 = closestSegmentTriangle(p, q, tri.a, tri.b, tri.c, &s, &onSegment, &onTriangle);
@@ -490,6 +499,16 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
         if (node.count > 0) {
             for (int i = node.first; i < node.first + node.count; ++i) {
                 const Triangle& tri = m_triangles[static_cast<std::size_t>(i)];
+                // Cheap rejection: start and end on one side of the plane, both at least the
+                // radius from it (touching counts only when moving deeper, which this is not).
+                const Vec3 n = (tri.b - tri.a).cross(tri.c - tri.a);
+                const double n2 = n.squaredNorm();
+                if (n2 > 0.0) {
+                    const double dp = n.dot(p - tri.a), dq = n.dot(q - tri.a);
+                    const double nearest = std::min(std::abs(dp), std::abs(dq));
+                    const double reach = radius * (1.0 - 1e-9);
+                    if (dp * dq > 0.0 && nearest * nearest >= reach * reach * n2) continue;
+                }
                 double t = 0.0;
                 if (sweepSphereTriangle(p, v, radius, tri.a, tri.b, tri.c, &t) && t < best) {
                     best = t;
@@ -855,8 +874,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         for (std::size_t s = 0; s + 1 < n; ++s) {
             const double length = (m_local[s + 1] - m_local[s]).norm();
             if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + tolerance) continue;
-            const MeshCollider::Closest c =
-                contacts.closestToSegment(m_local[s] + m_origin, m_local[s + 1] + m_origin, radius);
+            const MeshCollider::Closest c = contacts.closestToSegment(m_local[s] + m_origin, m_local[s + 1] + m_origin,
+                                                                      radius - tolerance);
             if (!c.found || c.distance >= radius - tolerance) continue;
             const double depth = radius - c.distance;
             deepest = std::max(deepest, depth);
@@ -949,6 +968,11 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         m_dirtyViolation = violation.status != Status::Ok;
         if ((violation.lengthViolation > ctol || violation.angleViolation > ctol) && result.status != Status::InvalidInput)
             result.status = Status::Infeasible;
+        // Per-frame gravity (step()): a point a contact moved loses its velocity (the contact is
+        // inelastic), or the Verlet step would turn the push-back into a bounce.
+        if (m_gravityPrevious.size() == n)
+            for (std::size_t i = 0; i < n; ++i)
+                if (m_local[i] != solved[i]) m_gravityPrevious[i] = m_local[i];
         int moved = 0;
         for (std::size_t i = 0; i < n; ++i) moved += (m_local[i] - m_collisionStart[i]).squaredNorm() > 0.0;
         result.movedPoints = moved;
