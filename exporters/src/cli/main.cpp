@@ -1,4 +1,5 @@
 // The `chaintube` command-line tool: parse, call the library, print errors, return non-zero.
+#include "check.h"
 #include "commands.h"
 #include "demo.h"
 
@@ -15,6 +16,8 @@ int main(int argc, char** argv)
     ExportCommand exportCommand;
     FileCommand validateCommand, infoCommand;
     addCommands(app, exportCommand, validateCommand, infoCommand);
+    CheckCommand checkCommand;
+    addCheckCommand(app, checkCommand);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {
@@ -26,6 +29,7 @@ int main(int argc, char** argv)
         if (app.got_subcommand("validate"))
             return runValidate(validateCommand, std::cout, std::cerr);
         if (app.got_subcommand("info")) return runInfo(infoCommand, std::cout, std::cerr);
+        if (app.got_subcommand("check")) return runCheck(checkCommand, std::cout, std::cerr);
     } catch (const std::exception& error) {
         std::cerr << "chaintube: " << error.what() << "\n";
         return kExitFailed;

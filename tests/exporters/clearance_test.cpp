@@ -1,0 +1,185 @@
+// Clearance analysis of projects (issue 7, section 3) and `chaintube check`.
+#include "export_test_support.h"
+
+#include <chaintube/export/clearance.h>
+#include <chaintube/formats/project.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <sys/wait.h>
+
+namespace chaintube::exporting::testing {
+namespace {
+
+/// An OBJ with three boxes: "near" 10 mm from the hose's surface, "touching" crossing the
+/// hose, "far" 1 m away.
+void writeBoxes(const fs::path& file)
+{
+    std::ofstream out(file);
+    int base = 1;
+    auto box = [&](const char* name, Vec3 lo, Vec3 hi) {
+        out << "o " << name << "\n";
+        for (int i = 0; i < 8; ++i)
+            out << "v " << ((i & 1) ? hi.x() : lo.x()) << " " << ((i & 2) ? hi.y() : lo.y()) << " "
+                << ((i & 4) ? hi.z() : lo.z()) << "\n";
+        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (const auto& f : faces)
+            out << "f " << base + f[0] << " " << base + f[1] << " " << base + f[2] << " " << base + f[3] << "\n";
+        base += 8;
+    };
+    box("near", {0.4, 0.02, -0.1}, {0.6, 0.2, 0.1});   // axis 20 mm below: surface 10 mm
+    box("touching", {0.85, -0.005, -0.1}, {0.9, 0.2, 0.1}); // crosses the axis
+    box("far", {0.4, 1.0, -0.1}, {0.6, 1.2, 0.1});
+}
+
+/// A project with one scene (the boxes) and one straight 20 mm hose from (0,0,0) to (1,0,0).
+fs::path writeProject(const fs::path& folder, bool attachToNear = false)
+{
+    writeBoxes(folder / "boxes.obj");
+    formats::Project project = formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj");
+    formats::SceneReference scene;
+    scene.id = "boxes";
+    scene.path = "boxes.obj";
+    project.scenes = {scene};
+    project.hoses.resize(1);
+    formats::HoseDefinition& hose = project.hoses[0];
+    hose.id = "probe";
+    hose.route = {{0, 0, 0}, {1, 0, 0}};
+    hose.outerDiameter = 0.02;
+    hose.segmentCount = 20;
+    hose.attachments.clear();
+    if (attachToNear) {
+        const formats::ImportedScene imported = formats::importScene(folder / "boxes.obj", {});
+        const std::vector<int> nodes = imported.findNodesByName("near");
+        if (nodes.empty()) throw std::runtime_error("no node named near");
+        formats::HoseAttachment a;
+        a.scene = "boxes";
+        a.node = imported.nodes[static_cast<size_t>(nodes.front())].path;
+        a.offset = imported.worldFrame(nodes.front()).inverse();
+        a.firstPoint = a.lastPoint = 10;
+        hose.attachments = {a};
+    }
+    const fs::path file = folder / "probe.ctproj";
+    formats::saveProject(project, file);
+    return file;
+}
+
+TEST(Clearance, GeneratedSceneListsEachObjectCloserThanTheThreshold)
+{
+    TemporaryFolder folder;
+    const fs::path project = writeProject(folder.path());
+    ClearanceOptions options;
+    options.threshold = 0.015;
+    const std::vector<ClearanceFinding> found = checkProjectClearance(project, {}, options);
+    ASSERT_EQ(found.size(), 2u);
+    // Closest first: the box crossing the hose (inside by the full radius), then "near".
+    EXPECT_NE(found[0].objectPath.find("touching"), std::string::npos) << found[0].objectPath;
+    EXPECT_NEAR(found[0].distance, -0.01, 1e-9);
+    EXPECT_TRUE(found[0].axisPoint == 17 || found[0].axisPoint == 18);
+    EXPECT_NE(found[1].objectPath.find("near"), std::string::npos) << found[1].objectPath;
+    EXPECT_EQ(found[1].hoseId, "probe");
+    EXPECT_EQ(found[1].sceneId, "boxes");
+    EXPECT_NEAR(found[1].distance, 0.01, 1e-6); // float vertices
+    EXPECT_NEAR(found[1].onObject.y(), 0.02, 1e-6);
+    EXPECT_NEAR(found[1].onHose.y(), 0.01, 1e-6);
+    EXPECT_GE(found[1].onObject.x(), 0.4 - 1e-6);
+    EXPECT_LE(found[1].onObject.x(), 0.6 + 1e-6);
+    EXPECT_GE(found[1].axisPoint, 8);
+    EXPECT_LE(found[1].axisPoint, 12);
+    // Below the near box's clearance only the crossing box remains.
+    options.threshold = 0.005;
+    EXPECT_EQ(checkProjectClearance(project, {}, options).size(), 1u);
+}
+
+TEST(Clearance, AttachedNodesAreSkippedUnlessAsked)
+{
+    TemporaryFolder folder;
+    const fs::path project = writeProject(folder.path(), true);
+    ClearanceOptions options;
+    options.threshold = 0.015;
+    const std::vector<ClearanceFinding> skipped = checkProjectClearance(project, {}, options);
+    ASSERT_EQ(skipped.size(), 1u);
+    EXPECT_NE(skipped[0].objectPath.find("touching"), std::string::npos);
+    options.includeAttachedNodes = true;
+    EXPECT_EQ(checkProjectClearance(project, {}, options).size(), 2u);
+}
+
+TEST(Clearance, BadThresholdIsRefusedNamingIt)
+{
+    TemporaryFolder folder;
+    const fs::path project = writeProject(folder.path());
+    ClearanceOptions options;
+    options.threshold = -0.001;
+    try {
+        checkProjectClearance(project, {}, options);
+        FAIL() << "no error";
+    } catch (const InvalidArgument& e) {
+        EXPECT_NE(std::string(e.what()).find("clearance threshold"), std::string::npos) << e.what();
+    }
+}
+
+struct CliRun
+{
+    int exitCode = -1;
+    std::string output;
+};
+
+CliRun runCli(const std::string& arguments)
+{
+    CliRun run;
+    const std::string command = std::string("\"") + CHAINTUBE_CLI + "\" " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return run;
+    std::array<char, 4096> buffer{};
+    size_t got = 0;
+    while ((got = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
+    const int status = pclose(pipe);
+    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+}
+
+TEST(ClearanceCli, ListsEveryViolationAndExitsThree)
+{
+    TemporaryFolder folder;
+    const fs::path project = writeProject(folder.path());
+    const CliRun run = runCli("check \"" + project.string() + "\" --clearance 0.015");
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("violation: hose probe, object boxes:"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("near, distance 0.01"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("axis point"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("2 clearance violation(s) below 0.015 m"), std::string::npos) << run.output;
+}
+
+TEST(ClearanceCli, SampleTestRigFindsTheHoseRunningIntoTheValve)
+{
+    const fs::path sample = fs::path(CHAINTUBE_SAMPLES_DIR) / "test-rig.ctproj";
+    const CliRun run = runCli("check \"" + sample.string() + "\" --clearance 0.005");
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("violation: hose left-feed, object rig:/test-rig/valve"), std::string::npos)
+        << run.output;
+    const CliRun single = runCli("check \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() +
+                              "\" --clearance 0.005");
+    EXPECT_EQ(single.exitCode, 0) << single.output;
+    EXPECT_NE(single.output.find("0 clearance violation(s)"), std::string::npos) << single.output;
+}
+
+TEST(ClearanceCli, BadInputIsNamedWithItsExitCode)
+{
+    EXPECT_EQ(runCli("check --help").exitCode, 0);
+    const CliRun missing = runCli("check x.ctproj");
+    EXPECT_EQ(missing.exitCode, 2);
+    EXPECT_NE(missing.output.find("--clearance is required"), std::string::npos) << missing.output;
+    const CliRun negative = runCli("check x.ctproj --clearance -0.1");
+    EXPECT_EQ(negative.exitCode, 2);
+    EXPECT_NE(negative.output.find("expected a distance >= 0 in metres"), std::string::npos) << negative.output;
+    const CliRun absent = runCli("check /nonexistent/absent.ctproj --clearance 0.005");
+    EXPECT_EQ(absent.exitCode, 1);
+    EXPECT_NE(absent.output.find("/nonexistent/absent.ctproj"), std::string::npos) << absent.output;
+    const CliRun badRoot = runCli("check x.ctproj --clearance 0.005 --root nonsense");
+    EXPECT_EQ(badRoot.exitCode, 2);
+    EXPECT_NE(badRoot.output.find("--root 'nonsense': expected NAME=DIR"), std::string::npos) << badRoot.output;
+}
+
+} // namespace
+} // namespace chaintube::exporting::testing
