@@ -211,6 +211,19 @@ formats::Mat4 Document::nodeWorldTransform(const std::string& sceneId, int node)
     return world;
 }
 
+void Document::setClearanceMarkers(std::vector<ClearanceMarker> markers)
+{
+    const auto same = [](const ClearanceMarker& a, const ClearanceMarker& b) {
+        return a.hoseId == b.hoseId && a.axisPoint == b.axisPoint && a.onHose == b.onHose &&
+               a.onObject == b.onObject;
+    };
+    if (markers.size() == m_clearanceMarkers.size() &&
+        std::equal(markers.begin(), markers.end(), m_clearanceMarkers.begin(), same))
+        return;
+    m_clearanceMarkers = std::move(markers);
+    emit clearanceMarkersChanged();
+}
+
 Frame Document::nodeWorldFrame(const std::string& sceneId, int node) const
 {
     return formats::rigidPart(nodeWorldTransform(sceneId, node));

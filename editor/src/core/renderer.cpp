@@ -470,6 +470,15 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
             gl.drawLines({definition->route[static_cast<size_t>(selection.routePoint)]},
                          GL_POINTS, QColor(255, 60, 60), 14.0f, viewProjection);
     }
+    if (options.showProblems) {
+        // Clearance violations: a line from the hose surface to the object, dots at both ends.
+        for (const ClearanceMarker& marker : document.clearanceMarkers()) {
+            gl.drawLines({marker.onHose, marker.onObject}, GL_LINES, QColor(255, 170, 40), 1.0f,
+                         viewProjection);
+            gl.drawLines({marker.onHose, marker.onObject}, GL_POINTS, QColor(255, 170, 40), 9.0f,
+                         viewProjection);
+        }
+    }
     if (!options.pendingRoute.empty()) {
         gl.drawLines(options.pendingRoute, GL_LINE_STRIP, QColor(120, 255, 140), 1.0f,
                      viewProjection);

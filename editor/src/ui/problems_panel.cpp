@@ -1,5 +1,12 @@
 #include "problems_panel.h"
 
+#include <chaintube/export/clearance.h>
+
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QHBoxLayout>
+#include <QResizeEvent>
+
 #include <cmath>
 
 namespace chaintube::editor {
@@ -88,10 +95,55 @@ std::vector<Problem> findProblems(const Document& document)
     return problems;
 }
 
+/// The scene objects as colliders, kept while the scenes and poses stay the same.
+struct ProblemsPanel::ClearanceCache
+{
+    std::vector<std::pair<std::string, size_t>> scenes; ///< id, node count
+    std::vector<formats::NodePose> poses;
+    std::vector<exporting::SceneObject> objects;
+    bool matches(const Document& document) const
+    {
+        std::vector<std::pair<std::string, size_t>> now;
+        for (const auto& [id, scene] : document.scenes()) now.emplace_back(id, scene.nodes.size());
+        return now == scenes && document.project().poses == poses;
+    }
+};
+
+ProblemsPanel::~ProblemsPanel() = default;
+
+void ProblemsPanel::resizeEvent(QResizeEvent* event)
+{
+    QListWidget::resizeEvent(event);
+    const QRect inside = contentsRect();
+    m_clearanceBar->setGeometry(inside.left(), inside.top(), inside.width(), m_clearanceBar->sizeHint().height());
+}
+
 ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
     : QListWidget(parent), m_document(document)
 {
     setObjectName("problemsPanel");
+    // Clearance controls above the list: "[x] Clearance below [5.0 mm]".
+    m_clearanceBar = new QWidget(this);
+    auto* bar = new QHBoxLayout(m_clearanceBar);
+    bar->setContentsMargins(4, 2, 4, 2);
+    m_clearanceEnabled = new QCheckBox(tr("Clearance below"), m_clearanceBar);
+    m_clearanceEnabled->setObjectName("clearanceEnabled");
+    m_clearanceEnabled->setChecked(true);
+    m_clearanceThreshold = new QDoubleSpinBox(m_clearanceBar);
+    m_clearanceThreshold->setObjectName("clearanceThreshold");
+    m_clearanceThreshold->setRange(0.0, 1000.0);
+    m_clearanceThreshold->setDecimals(1);
+    m_clearanceThreshold->setSuffix(tr(" mm"));
+    m_clearanceThreshold->setValue(5.0);
+    m_clearanceThreshold->setToolTip(tr("Hoses closer than this to a scene object are listed and "
+                                        "marked in the viewport (nodes a hose is fixed to are skipped)"));
+    bar->addWidget(m_clearanceEnabled);
+    bar->addWidget(m_clearanceThreshold);
+    bar->addStretch(1);
+    setViewportMargins(0, m_clearanceBar->sizeHint().height(), 0, 0);
+    connect(m_clearanceEnabled, &QCheckBox::toggled, this, &ProblemsPanel::refreshNow);
+    connect(m_clearanceThreshold, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
+            [this] { m_throttle.start(); });
     m_throttle.setSingleShot(true);
     m_throttle.setInterval(100);
     connect(&m_throttle, &QTimer::timeout, this, &ProblemsPanel::refreshNow);
@@ -110,6 +162,10 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
         selection.rangeFirst = problem.firstPoint;
         selection.rangeLast = problem.lastPoint;
         selection.routePoint = -1;
+        if (!problem.sceneId.empty()) { // a clearance violation: select the object too
+            selection.sceneId = problem.sceneId;
+            selection.node = problem.node;
+        }
         m_document.setSelection(selection);
     });
     refreshNow();
@@ -118,6 +174,42 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
 void ProblemsPanel::refreshNow()
 {
     m_problems = findProblems(m_document);
+    std::vector<ClearanceMarker> markers;
+    if (m_clearanceEnabled->isChecked()) {
+        if (!m_clearanceCache || !m_clearanceCache->matches(m_document)) {
+            auto cache = std::make_unique<ClearanceCache>();
+            for (const auto& [id, scene] : m_document.scenes()) cache->scenes.emplace_back(id, scene.nodes.size());
+            cache->poses = m_document.project().poses;
+            try {
+                cache->objects = exporting::sceneObjects(m_document.project(), m_document.scenes());
+            } catch (const std::exception&) {
+                cache->objects.clear(); // a pose naming a missing node: reported elsewhere
+            }
+            m_clearanceCache = std::move(cache);
+        }
+        std::vector<const Hose*> hoses;
+        for (const formats::HoseDefinition& definition : m_document.project().hoses)
+            hoses.push_back(m_document.hose(definition.id));
+        exporting::ClearanceOptions options;
+        options.threshold = m_clearanceThreshold->value() / 1000.0;
+        for (const exporting::ClearanceFinding& finding :
+             exporting::clearanceViolations(m_document.project(), hoses, m_clearanceCache->objects, options)) {
+            const formats::HoseDefinition& definition = m_document.project().hoses[size_t(finding.hose)];
+            const QString name = QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+            Problem problem{definition.id, finding.axisPoint, finding.axisPoint,
+                            tr("%1: %2 mm from %3 at axis point %4 (clearance %5 mm)")
+                                .arg(name)
+                                .arg(finding.distance * 1000.0, 0, 'f', 1)
+                                .arg(QString::fromStdString(finding.objectPath))
+                                .arg(finding.axisPoint)
+                                .arg(m_clearanceThreshold->value(), 0, 'f', 1)};
+            problem.sceneId = finding.sceneId;
+            problem.node = m_clearanceCache->objects[size_t(finding.object)].node;
+            m_problems.push_back(std::move(problem));
+            markers.push_back({definition.id, finding.axisPoint, finding.onHose, finding.onObject});
+        }
+    }
+    m_document.setClearanceMarkers(std::move(markers));
     clear();
     for (const Problem& problem : m_problems) {
         auto* item = new QListWidgetItem(problem.text, this);

@@ -9,15 +9,29 @@
 #include <QListWidget>
 #include <QTimer>
 
+#include <memory>
+
+class QCheckBox;
+class QDoubleSpinBox;
+
 namespace chaintube::editor {
 
 /// One problem, as listed.
 struct Problem
 {
+    Problem() = default;
+    Problem(std::string hose, int first, int last, QString message, std::string scene = {}, int sceneNode = -1)
+        : hoseId(std::move(hose)), firstPoint(first), lastPoint(last), text(std::move(message)),
+          sceneId(std::move(scene)), node(sceneNode)
+    {
+    }
     std::string hoseId;
     int firstPoint = -1; ///< offending axis points (−1: the whole hose)
     int lastPoint = -1;
     QString text;
+    /// Clearance violations: the scene object (selected together with the hose on click).
+    std::string sceneId;
+    int node = -1;
 };
 
 /// All problems of a document, hose by hose (pure function; used by the panel and tests).
@@ -29,13 +43,27 @@ class ProblemsPanel : public QListWidget
 public:
     explicit ProblemsPanel(Document& document, QWidget* parent = nullptr);
     const std::vector<Problem>& problems() const { return m_problems; }
+    ~ProblemsPanel() override;
     /// Recomputes now (normally done at most every 100 ms after a change).
     void refreshNow();
+    /// Clearance check (issue 7): hoses closer than the threshold to a scene object (a node
+    /// with meshes other than the ones the hose is attached to) are listed and marked in the
+    /// viewport (Document::clearanceMarkers). The controls sit above the list.
+    QCheckBox* clearanceEnabled() const { return m_clearanceEnabled; }
+    QDoubleSpinBox* clearanceThreshold() const { return m_clearanceThreshold; } ///< millimetres
+
+protected:
+    void resizeEvent(QResizeEvent* event) override;
 
 private:
     Document& m_document;
     std::vector<Problem> m_problems;
     QTimer m_throttle;
+    QWidget* m_clearanceBar = nullptr;
+    QCheckBox* m_clearanceEnabled = nullptr;
+    QDoubleSpinBox* m_clearanceThreshold = nullptr;
+    struct ClearanceCache;
+    std::unique_ptr<ClearanceCache> m_clearanceCache; ///< scene colliders, rebuilt on change
 };
 
 } // namespace chaintube::editor

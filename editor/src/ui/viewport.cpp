@@ -37,6 +37,7 @@ Viewport::Viewport(Document& document, QWidget* parent)
     setMouseTracking(true);
     setMinimumSize(320, 240);
     connect(&m_document, &Document::changed, this, &Viewport::onDocumentChanged);
+    connect(&m_document, &Document::clearanceMarkersChanged, this, qOverload<>(&Viewport::update));
 }
 
 Viewport::~Viewport()

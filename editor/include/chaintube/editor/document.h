@@ -81,6 +81,16 @@ struct Selection
 /// A scene node: scene id and node index.
 using NodeKey = std::pair<std::string, int>;
 
+/// Where a hose comes closer to a scene object than the clearance threshold (issue 7): set by
+/// the problems panel, drawn by the renderer (a line from the hose surface to the object).
+struct ClearanceMarker
+{
+    std::string hoseId;
+    int axisPoint = -1;
+    Vec3 onHose = Vec3::Zero();   ///< world metres
+    Vec3 onObject = Vec3::Zero(); ///< world metres
+};
+
 /// A project read from disk with its scenes imported: made on a worker thread, adopted by a
 /// Document on the GUI thread.
 struct LoadedProject
@@ -213,10 +223,17 @@ public:
     void presetsChanged();
     void projectSettingsChanged();
 
+    /// Clearance violations to highlight (a view state, not an edit: no undo, no modified
+    /// flag). Emits clearanceMarkersChanged() when they differ.
+    void setClearanceMarkers(std::vector<ClearanceMarker> markers);
+    const std::vector<ClearanceMarker>& clearanceMarkers() const { return m_clearanceMarkers; }
+
 signals:
     void changed(const chaintube::editor::ChangeEvent& event);
+    void clearanceMarkersChanged();
 
 private:
+    std::vector<ClearanceMarker> m_clearanceMarkers;
     struct LiveHose
     {
         std::optional<Hose> hose;
