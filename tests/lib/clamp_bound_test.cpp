@@ -1,0 +1,54 @@
+// A grab between two fixed segments pulled out of reach: bounded by the stretch balls of both
+// sides, the clamp stops inside them, on the line towards the target, with every constraint.
+#include "test_util.h"
+
+using namespace chaintube;
+using namespace chaintube::test;
+
+TEST(ClampBetweenFixedPoints, StopsOnTheLineInsideBothStretchBallsWithEveryConstraint)
+{
+    HoseSpec spec;
+    spec.segmentLength = 0.02;
+    spec.material.expansionCoefficient = 0.05;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.06);
+    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.5, 0.3, 0), Vec3(1, 0, 0)}, spec);
+    const int n = hose.pointCount(), k = n / 2;
+    hose.attach(0, 1, Frame::identity());
+    hose.attach(n - 2, n - 1, Frame::identity());
+    double reachLeft = 0.0, reachRight = 0.0;
+    for (int s = 1; s < k; ++s) reachLeft += hose.maxLength(s);
+    for (int s = k; s < n - 2; ++s) reachRight += hose.maxLength(s);
+    for (int trial = 0; trial < 12; ++trial) {
+        const double phase = 0.5 * trial;
+        const Vec3 start = hose.point(k);
+        const Vec3 target(0.5 + 1.5 * std::cos(phase), 0.3 + 1.5 * std::sin(phase), 0.3 * std::sin(2 * phase));
+        const UpdateResult r = hose.grab(k, target);
+        ASSERT_EQ(r.status, Status::Clamped) << "trial " << trial;
+        EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+        const Vec3 p = hose.point(k);
+        EXPECT_LE((p - hose.point(1)).norm(), reachLeft * (1 + 1e-9));
+        EXPECT_LE((p - hose.point(n - 2)).norm(), reachRight * (1 + 1e-9));
+        // On the segment from where it was towards the target.
+        const Vec3 move = target - start;
+        const double t = (p - start).dot(move) / move.squaredNorm();
+        EXPECT_GE(t, 0.0);
+        EXPECT_LT(t, 1.0);
+        EXPECT_LT((start + t * move - p).norm(), 1e-9);
+        EXPECT_NEAR(r.grabError, (p - target).norm(), 1e-12);
+    }
+}
+
+TEST(ClampBetweenFixedPoints, IsDeterministic)
+{
+    HoseSpec spec = paperSpec(30);
+    Hose a = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    a.attach(0, 1, Frame::identity());
+    a.attach(29, 30, Frame::identity());
+    Hose b = a;
+    for (int trial = 0; trial < 5; ++trial) {
+        const Vec3 target(0.5, 2.0 + trial, 0.5 * trial);
+        a.grab(15, target);
+        b.grab(15, target);
+    }
+    EXPECT_EQ(a.points(), b.points());
+}
