@@ -11,7 +11,10 @@
 // within 4 MiB of its value then (memory flat).
 //
 // usage: chaintube-long-run [--steps N] [--seed S] [--rig self|engine-50-hoses]
-//                           [--samples DIR] [--scenes DIR] [--work DIR]
+//                           [--move METRES] [--samples DIR] [--scenes DIR] [--work DIR]
+//   --move M               scene objects move up to ±M metres and ±2.5·M radians from their
+//                          pose at load (default 0.005; 0.02 makes many hoses taut or their
+//                          attachments contradictory: Clamped / Infeasible results, slower)
 //   --rig self             50 hoses generated here from samples/test-rig.ctproj (25 copies of
 //                          each of its two hoses; needs no third-party scene)
 //   --rig engine-50-hoses  samples/engine-50-hoses.ctproj with --scenes (../shared/scenes);
@@ -64,6 +67,7 @@ struct Options
     long long steps = 200000;
     unsigned seed = 1;
     std::string rig = "self";
+    double move = 0.005; ///< objects move up to ±move metres and ±2.5·move radians from rest
     fs::path samples = CHAINTUBE_SAMPLES_DIR;
     fs::path scenes = CHAINTUBE_SCENES_DIR;
     fs::path work = fs::temp_directory_path() / ("chaintube-long-run-" + std::to_string(::getpid()));
@@ -126,7 +130,7 @@ int run(const Options& options)
     }
     std::vector<rig::NodeTransform> restPose;
     for (int node : movableNodes) restPose.push_back(runtime.node(node).local);
-    std::cout << "rig: " << options.rig << ", " << runtime.hoseCount() << " hoses, "
+    std::cout << "rig: " << options.rig << " (moves up to " << options.move << " m), " << runtime.hoseCount() << " hoses, "
               << grabbable.size() << " grabbable points, " << movableNodes.size()
               << " nodes with attachments; " << options.steps << " steps, seed " << options.seed
               << "\n";
@@ -191,10 +195,10 @@ int run(const Options& options)
         } else { // 10 % scene objects moved (each moves every hose fixed to it)
             const size_t k = std::uniform_int_distribution<size_t>(0, movableNodes.size() - 1)(random);
             rig::NodeTransform pose = restPose[k];
-            pose.translation += randomVector(0.02);
+            pose.translation += randomVector(options.move);
             const Vec3 axis = randomVector(1.0);
             if (axis.norm() > 1e-6)
-                pose.rotation = pose.rotation * Quat(Eigen::AngleAxisd(0.05 * unit(random),
+                pose.rotation = pose.rotation * Quat(Eigen::AngleAxisd(2.5 * options.move * unit(random),
                                                                        axis.normalized()));
             for (const rig::HoseUpdate& update : runtime.setNodeTransform(movableNodes[k], pose)) {
                 ++moves;
@@ -262,12 +266,13 @@ int main(int argc, char** argv)
         if (arg == "--steps") options.steps = std::atoll(value().c_str());
         else if (arg == "--seed") options.seed = static_cast<unsigned>(std::atol(value().c_str()));
         else if (arg == "--rig") options.rig = value();
+        else if (arg == "--move") options.move = std::atof(value().c_str());
         else if (arg == "--samples") options.samples = value();
         else if (arg == "--scenes") options.scenes = value();
         else if (arg == "--work") options.work = value();
         else {
             std::cerr << "usage: chaintube-long-run [--steps N] [--seed S] "
-                         "[--rig self|engine-50-hoses] [--samples DIR] [--scenes DIR]\n";
+                         "[--rig self|engine-50-hoses] [--move M] [--samples DIR] [--scenes DIR]\n";
             return 2;
         }
     }
