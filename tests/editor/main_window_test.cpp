@@ -5,6 +5,7 @@
 // prompt, autosave recovery, refusing invalid values, one undo step per slider drag, the
 // problems panel. Screenshots go to the test output folder (CHAINTUBE_UPDATE_SCREENSHOTS=1:
 // to editor/screenshots).
+#include "chaintube/editor/commands.h"
 #include "chaintube/editor/export_integration.h"
 #include "export_dialog.h"
 #include "main_window.h"
@@ -14,21 +15,35 @@
 #include "viewport.h"
 
 #include <QComboBox>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
+#include <QFileDialog>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QLineEdit>
+#include <QMenu>
+#include <QMouseEvent>
+#include <QProgressDialog>
 #include <QPushButton>
+#include <QSettings>
 #include <QSlider>
 #include <QSpinBox>
+#include <QStatusBar>
 #include <QTest>
+#include <QTimer>
 #include <QTreeWidget>
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <map>
+#include <set>
 
 namespace chaintube::editor {
 namespace {
@@ -118,6 +133,21 @@ protected:
     QMessageBox::StandardButton m_answer = QMessageBox::No;
     QStringList m_questions;
     QStringList m_errors;
+};
+
+/// Calls `drive` every 30 ms while alive (modal dialogs run their own event loops, which
+/// process the timer): the way these tests press buttons in real dialogs.
+class DialogDriver
+{
+public:
+    explicit DialogDriver(std::function<void()> drive)
+    {
+        QObject::connect(&m_timer, &QTimer::timeout, std::move(drive));
+        m_timer.start(30);
+    }
+
+private:
+    QTimer m_timer;
 };
 
 std::vector<std::vector<Vec3>> allPoints(const Document& document)
@@ -362,6 +392,416 @@ TEST_F(MainWindowTest, EngineSceneLayOutFixAndMove)
     while (document.undoStack()->canUndo())
         document.undoStack()->undo();
     EXPECT_EQ(initialState, document.stateFingerprint());
+}
+
+TEST_F(MainWindowTest, RotateGizmoTurnsAPartInSnappedStepsAndTheHosesFollow)
+{
+    const QString project = copyOfTestRig("rotate");
+    ASSERT_TRUE(m_window->openFile(project)) << m_errors.join('\n').toStdString();
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    settle();
+    const auto initialPoints = allPoints(document);
+    clickTreeItem("valve");
+    const int valve = document.scene("rig")->findNode("/test-rig/valve");
+    ASSERT_EQ(document.selection().node, valve);
+    settle();
+
+    // The valve's frame and the hose points fixed under it (right-return's last point is
+    // fixed to the valve, left-feed's points 15–16 to the valve's inlet child).
+    const Frame before = document.nodeWorldFrame("rig", valve);
+    const Vec3 rightEnd = document.hose("right-return")->points().back();
+    const Vec3 leftEnd = document.hose("left-feed")->point(16);
+    const Vec3 leftMiddle = document.hose("left-feed")->point(8);
+
+    // Drag along the ring about Y (the one lying flat) from one side of the centre over a
+    // quarter turn on screen, holding Ctrl: a snapped rotation about +Y or −Y.
+    const double radius = Renderer::gizmoRingRadius(viewport.camera());
+    const std::vector<Vec3> ring = Renderer::gizmoRing(before.translation, 1, radius, 64);
+    // Start on the ring where no arrow is near (between +X and +Z: index 8 of 64 = 45°).
+    std::vector<QPoint> path;
+    for (int i = 8; i <= 24; i += 2)
+        path.push_back(viewport.toWidget(ring[static_cast<size_t>(i)]));
+    const int stepsBefore = document.undoStack()->count();
+    // (No QTest::mouseMove before the press: without a button held it moves the real X
+    // pointer, whose motion event would arrive later and undo the drag's angle.)
+    QTest::mousePress(&viewport, Qt::LeftButton, Qt::ControlModifier, path.front());
+    for (const QPoint& p : path) {
+        // (QTest::mouseMove sends no modifiers: Ctrl is held through the whole drag.)
+        QMouseEvent move(QEvent::MouseMove, QPointF(p), viewport.mapToGlobal(QPointF(p)),
+                         Qt::NoButton, Qt::LeftButton, Qt::ControlModifier);
+        QApplication::sendEvent(&viewport, &move);
+    }
+    settle();
+    screenshot("editor-rotate.png"); // while the ring is held: highlighted
+    QTest::mouseRelease(&viewport, Qt::LeftButton, Qt::ControlModifier, path.back());
+    settle();
+
+    EXPECT_EQ(document.undoStack()->count(), stepsBefore + 1) << "a rotate drag is one step";
+    const Frame after = document.nodeWorldFrame("rig", valve);
+    EXPECT_NEAR((after.translation - before.translation).norm(), 0.0, 1e-9)
+        << "rotation about the part's own centre";
+    const Eigen::AngleAxisd turn(after.rotation * before.rotation.inverse());
+    const double degrees = turn.angle() * 180.0 / 3.14159265358979323846;
+    EXPECT_GT(degrees, 40.0) << "a quarter turn of the ring on screen turns the part";
+    EXPECT_NEAR(std::remainder(degrees, 15.0), 0.0, 1e-6) << degrees << "° is not a 15° step";
+    EXPECT_GT(std::abs(turn.axis().y()), 1.0 - 1e-9) << "about the Y axis";
+
+    // The fixed points turned rigidly with the valve, about its centre; the free middle of the
+    // left hose moved with them.
+    const Eigen::Matrix3d rotation = turn.toRotationMatrix();
+    const Vec3 centre = before.translation;
+    EXPECT_NEAR((document.hose("right-return")->points().back() -
+                 (centre + rotation * (rightEnd - centre)))
+                    .norm(),
+                0.0, 1e-9);
+    EXPECT_NEAR((document.hose("left-feed")->point(16) - (centre + rotation * (leftEnd - centre)))
+                    .norm(),
+                0.0, 1e-9);
+    EXPECT_GT((document.hose("left-feed")->point(16) - leftEnd).norm(), 0.02);
+    EXPECT_GT((document.hose("left-feed")->point(8) - leftMiddle).norm(), 1e-4)
+        << "the hose followed live, not only its fixed points";
+
+    // Saved as a pose override and restored on open.
+    ASSERT_TRUE(m_window->save()) << m_errors.join('\n').toStdString();
+    const auto turned = allPoints(document);
+    ASSERT_TRUE(m_window->openFile(project)) << m_errors.join('\n').toStdString();
+    ASSERT_EQ(document.project().poses.size(), 1u);
+    EXPECT_EQ(document.project().poses[0].node, "/test-rig/valve");
+    EXPECT_TRUE(document.nodeWorldFrame("rig", valve).rotation.isApprox(after.rotation, 1e-12));
+    EXPECT_NEAR((document.hose("right-return")->points().back() - turned[1].back()).norm(), 0.0,
+                1e-9);
+
+    // The export (exportProject, the CLI's code) writes the turned valve and the hoses built
+    // at the saved pose: the same axis points as the reopened project's hoses.
+    if (exportAvailable()) {
+        const fs::path output = test::outputDir() / "rotate" / "turned.glb";
+        fs::remove(output);
+        m_window->action("actionExport")->trigger();
+        m_window->exportDialog().setOutputPath(QString::fromStdString(output.string()));
+        ASSERT_TRUE(m_window->exportDialog().runExport())
+            << m_window->exportDialog().summaryText().toStdString();
+        m_window->exportDialog().hide();
+        const QJsonObject gltf = readGlb(output);
+        const Eigen::Quaterniond posedLocal(
+            Eigen::Matrix3d(document.nodeLocalTransform("rig", valve).topLeftCorner<3, 3>()));
+        int valves = 0;
+        for (const auto& node : gltf["nodes"].toArray()) {
+            const QJsonObject object = node.toObject();
+            if (object["name"].toString() != "valve")
+                continue;
+            ++valves;
+            const QJsonArray q = object["rotation"].toArray();
+            ASSERT_EQ(q.size(), 4);
+            const Eigen::Quaterniond written(q[3].toDouble(), q[0].toDouble(), q[1].toDouble(),
+                                             q[2].toDouble());
+            EXPECT_GT(std::abs(written.dot(posedLocal)), 1.0 - 1e-6) << "the valve is turned";
+        }
+        EXPECT_EQ(valves, 1);
+        const QJsonArray hoses =
+            gltf["extensions"].toObject()["CHAINTUBE_hose_rig"].toObject()["hoses"].toArray();
+        ASSERT_EQ(hoses.size(), 2);
+        for (const auto& entry : hoses) {
+            const QJsonObject hose = entry.toObject();
+            const Hose* live = document.hose(hose["id"].toString().toStdString());
+            ASSERT_TRUE(live);
+            const QJsonArray axis = hose["axis"].toArray();
+            ASSERT_EQ(axis.size(), live->pointCount());
+            for (int p = 0; p < live->pointCount(); ++p) {
+                const QJsonArray point = axis[p].toArray();
+                EXPECT_NEAR((Vec3(point[0].toDouble(), point[1].toDouble(), point[2].toDouble()) -
+                             live->point(p))
+                                .norm(),
+                            0.0, 1e-9)
+                    << hose["id"].toString().toStdString() << " point " << p;
+            }
+        }
+    }
+
+    // Undo after the reopen has nothing to undo; reset through the undo of a fresh edit.
+    EXPECT_FALSE(document.undoStack()->canUndo());
+    document.undoStack()->push(makeSetNodeTransform(document, {"rig", valve}, std::nullopt));
+    settle();
+    EXPECT_EQ(initialPoints, allPoints(document)) << "back at the file pose: the built shape";
+    EXPECT_TRUE(document.project().poses.empty());
+}
+
+TEST_F(MainWindowTest, AnUnknownNamedRootIsAskedForInADialogAndRemembered)
+{
+    // The test rig's project, its scene path naming a root "rigparts" nobody has defined.
+    const fs::path folder = test::outputDir() / "named-root";
+    fs::remove_all(folder);
+    fs::create_directories(folder / "project");
+    fs::create_directories(folder / "parts");
+    fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf", folder / "parts/test-rig.gltf");
+    formats::Project rig = formats::loadProject(test::samplesDir() / "test-rig.ctproj");
+    rig.scenes[0].path = "rigparts:test-rig.gltf";
+    const fs::path file = folder / "project/rig.ctproj";
+    formats::saveProject(rig, file);
+    QSettings().remove("roots/rigparts");
+    const QString parts = QString::fromStdString((folder / "parts").string());
+
+    // The wrong folder first (the project's own): asked again; then the right one.
+    std::vector<QString> titles;
+    auto driver = std::make_unique<DialogDriver>([&] {
+        auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget());
+        // (A property, not the address: the next dialog may reuse the same stack address.)
+        if (!dialog || dialog->objectName() != "rootFolderDialog" || !dialog->isVisible() ||
+            dialog->property("driven").toBool())
+            return;
+        dialog->setProperty("driven", true);
+        titles.push_back(dialog->windowTitle());
+        auto* name = dialog->findChild<QLineEdit*>("fileNameEdit");
+        ASSERT_TRUE(name);
+        name->setText(titles.size() == 1 ? QString::fromStdString((folder / "project").string())
+                                         : parts);
+        QTest::keyClick(name, Qt::Key_Return);
+    });
+    ASSERT_TRUE(m_window->openFile(QString::fromStdString(file.string())))
+        << m_errors.join('\n').toStdString();
+    ASSERT_EQ(titles.size(), 2u) << "a folder without the scene is not accepted";
+    EXPECT_TRUE(titles[0].contains("rigparts")) << titles[0].toStdString();
+    EXPECT_TRUE(titles[0].contains("rigparts:test-rig.gltf")) << titles[0].toStdString();
+    ASSERT_TRUE(m_window->document().scene("rig")) << "opened with the chosen folder";
+    EXPECT_EQ(m_window->document().hoseCount(), 2);
+    EXPECT_TRUE(m_errors.isEmpty()) << m_errors.join('\n').toStdString();
+
+    // Remembered in the settings: the next start knows the root without asking.
+    EXPECT_EQ(QSettings().value("roots/rigparts").toString(), parts);
+    QString error;
+    const formats::NamedRoots remembered = editorRoots({}, &error);
+    ASSERT_TRUE(remembered.count("rigparts"));
+    EXPECT_EQ(remembered.at("rigparts"), fs::path(parts.toStdString()));
+    m_window.reset();
+    auto restarted = std::make_unique<MainWindow>(remembered);
+    restarted->show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(restarted.get()));
+    ASSERT_TRUE(restarted->openFile(QString::fromStdString(file.string())));
+    EXPECT_EQ(titles.size(), 2u) << "not asked again";
+    EXPECT_TRUE(restarted->document().scene("rig"));
+    restarted.reset();
+    m_window = makeWindow();
+
+    // Cancelling the question: the project is not opened and the error names the root.
+    driver.reset();
+    QSettings().remove("roots/rigparts");
+    m_window.reset();
+    m_window = makeWindow();
+    DialogDriver canceller([&] {
+        auto* dialog = qobject_cast<QFileDialog*>(QApplication::activeModalWidget());
+        if (dialog && dialog->objectName() == "rootFolderDialog" && dialog->isVisible())
+            dialog->reject();
+    });
+    m_errors.clear();
+    EXPECT_FALSE(m_window->openFile(QString::fromStdString(file.string())));
+    ASSERT_EQ(m_errors.size(), 1);
+    EXPECT_TRUE(m_errors[0].contains("rigparts")) << m_errors[0].toStdString();
+    QSettings().remove("roots/rigparts");
+}
+
+/// Writes an OBJ grid of n × n quads (2 n² triangles): big enough that importing it takes a
+/// while (the progress dialog appears after 300 ms).
+fs::path writeGridObj(const fs::path& file, int n)
+{
+    std::ofstream out(file);
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            out << "v " << i * 0.001 << " " << 0.0001 * ((i * 7 + j * 13) % 5) << " " << j * 0.001
+                << "\n";
+    out << "o grid\n";
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
+            out << "f " << a << " " << c << " " << b << "\nf " << b << " " << c << " " << d
+                << "\n";
+        }
+    return file;
+}
+
+TEST_F(MainWindowTest, SceneImportShowsProgressAndCancelStopsIt)
+{
+    const fs::path folder = test::outputDir() / "import-progress";
+    fs::create_directories(folder);
+    const fs::path grid = writeGridObj(folder / "grid.obj", 450);
+    Document& document = m_window->document();
+    ASSERT_TRUE(document.scenes().empty());
+
+    // 1. Cancel: pressed with the mouse once the dialog shows.
+    QString label;
+    int dialogs = 0;
+    bool pressed = false;
+    DialogDriver cancel([&] {
+        for (QWidget* widget : QApplication::topLevelWidgets()) {
+            auto* progress = qobject_cast<QProgressDialog*>(widget);
+            if (!progress || progress->objectName() != "progressDialog" ||
+                !progress->isVisible() || pressed)
+                continue;
+            ++dialogs;
+            label = progress->labelText();
+            QPushButton* button = progress->findChild<QPushButton*>();
+            ASSERT_TRUE(button);
+            EXPECT_EQ(button->text(), "Cancel");
+            QTest::mouseClick(button, Qt::LeftButton);
+            pressed = true;
+        }
+    });
+    EXPECT_FALSE(m_window->importSceneFile(QString::fromStdString(grid.string())));
+    EXPECT_EQ(dialogs, 1) << "the progress dialog showed";
+    EXPECT_TRUE(label.contains("grid.obj")) << label.toStdString();
+    EXPECT_TRUE(document.scenes().empty()) << "a cancelled import adds nothing";
+    EXPECT_EQ(document.undoStack()->count(), 0);
+    EXPECT_TRUE(m_errors.isEmpty()) << "cancelling is not an error";
+    EXPECT_EQ(m_window->statusBar()->currentMessage(), "Import cancelled");
+}
+
+TEST_F(MainWindowTest, SceneImportProgressAdvancesToTheEnd)
+{
+    const fs::path folder = test::outputDir() / "import-progress";
+    fs::create_directories(folder);
+    const fs::path grid = writeGridObj(folder / "grid-whole.obj", 450);
+    std::vector<int> values;
+    DialogDriver watch([&] {
+        for (QWidget* widget : QApplication::topLevelWidgets())
+            if (auto* progress = qobject_cast<QProgressDialog*>(widget))
+                if (progress->objectName() == "progressDialog" && progress->isVisible())
+                    values.push_back(progress->value());
+    });
+    ASSERT_TRUE(m_window->importSceneFile(QString::fromStdString(grid.string())))
+        << m_errors.join('\n').toStdString();
+    ASSERT_FALSE(values.empty()) << "the progress dialog showed";
+    EXPECT_TRUE(std::is_sorted(values.begin(), values.end())) << "progress never goes back";
+    Document& document = m_window->document();
+    ASSERT_EQ(document.scenes().size(), 1u);
+    EXPECT_EQ(document.scenes().begin()->second.instancedTriangleCount(), 2u * 450 * 450);
+    EXPECT_EQ(document.undoStack()->count(), 1) << "an import is one undo step";
+    // The tree lists the imported node.
+    EXPECT_FALSE(m_window->sceneTree().findItems("grid", Qt::MatchExactly | Qt::MatchRecursive)
+                     .isEmpty());
+}
+
+TEST_F(MainWindowTest, RecentFilesAreListedNewestFirstAndOpenFromTheMenu)
+{
+    QSettings().remove("recentFiles");
+    m_window.reset();
+    m_window = makeWindow();
+    const QString first = copyOfTestRig("recent-a");
+    const QString second = copyOfTestRig("recent-b");
+    ASSERT_TRUE(m_window->openFile(first));
+    ASSERT_TRUE(m_window->openFile(second));
+    auto* menu = m_window->findChild<QMenu*>("recentMenu");
+    ASSERT_TRUE(menu);
+    auto tips = [](QMenu* m) {
+        QStringList list;
+        for (QAction* action : m->actions())
+            list << action->toolTip();
+        return list;
+    };
+    EXPECT_EQ(tips(menu), (QStringList{second, first})) << "newest first";
+
+    // A restart shows the same list; clicking the older entry opens it and moves it up.
+    m_window.reset();
+    m_window = makeWindow();
+    menu = m_window->findChild<QMenu*>("recentMenu");
+    ASSERT_TRUE(menu);
+    ASSERT_EQ(tips(menu), (QStringList{second, first}));
+    menu->popup(m_window->mapToGlobal(QPoint(40, 40)));
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(menu));
+    QAction* older = menu->actions().at(1);
+    QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(older).center());
+    settle();
+    EXPECT_EQ(QString::fromStdString(m_window->document().fileName().string()), first);
+    EXPECT_EQ(tips(menu), (QStringList{first, second}));
+
+    // At most 8 entries.
+    for (int i = 0; i < 9; ++i)
+        ASSERT_TRUE(m_window->openFile(copyOfTestRig("recent-" + std::to_string(i))));
+    EXPECT_EQ(menu->actions().size(), 8);
+    QSettings().remove("recentFiles");
+}
+
+TEST_F(MainWindowTest, TheUnsavedChangesPromptIsARealDialogThatCanCancelOrDiscard)
+{
+    // A window with its own question box (not the fixture's answering function).
+    m_window.reset();
+    auto window = std::make_unique<MainWindow>(test::roots());
+    window->resize(1280, 800);
+    window->show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(window.get()));
+    ASSERT_TRUE(window->openFile(copyOfTestRig("prompt")));
+    Document& document = window->document();
+    Selection selection;
+    selection.hoseId = "left-feed";
+    document.setSelection(selection);
+    window->findChild<QDoubleSpinBox*>("diameter")->setValue(31.0);
+    ASSERT_TRUE(document.isModified());
+    const std::string edited = document.stateFingerprint();
+
+    QMessageBox::StandardButton press = QMessageBox::Cancel;
+    QStringList texts;
+    DialogDriver driver([&] {
+        auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+        if (!box || !box->isVisible() || box->property("driven").toBool())
+            return;
+        box->setProperty("driven", true);
+        texts << box->text();
+        ASSERT_TRUE(box->button(press));
+        QTest::mouseClick(box->button(press), Qt::LeftButton);
+    });
+    // New → Cancel: nothing lost.
+    window->action("actionNew")->trigger();
+    ASSERT_EQ(texts.size(), 1);
+    EXPECT_TRUE(texts[0].contains("unsaved changes")) << texts[0].toStdString();
+    EXPECT_EQ(document.stateFingerprint(), edited);
+    // Closing the window → Cancel: the window stays.
+    window->close();
+    EXPECT_EQ(texts.size(), 2);
+    EXPECT_TRUE(window->isVisible());
+    EXPECT_EQ(document.stateFingerprint(), edited);
+    // New → Discard: an untitled project.
+    press = QMessageBox::Discard;
+    window->action("actionNew")->trigger();
+    EXPECT_EQ(texts.size(), 3);
+    EXPECT_TRUE(window->document().fileName().empty());
+    EXPECT_EQ(window->document().hoseCount(), 0);
+    EXPECT_FALSE(window->document().isModified());
+    window.reset();
+    m_window = makeWindow();
+}
+
+TEST_F(MainWindowTest, TheWindowLayoutIsRememberedAcrossRestarts)
+{
+    // A layout unlike the default: problems docked left, history hidden, wireframe on, a
+    // smaller window.
+    auto* problems = m_window->findChild<QDockWidget*>("problemsDock");
+    auto* history = m_window->findChild<QDockWidget*>("historyDock");
+    ASSERT_TRUE(problems && history);
+    ASSERT_NE(m_window->dockWidgetArea(problems), Qt::LeftDockWidgetArea);
+    m_window->addDockWidget(Qt::LeftDockWidgetArea, problems);
+    history->hide();
+    m_window->action("actionWireframe")->setChecked(true);
+    m_window->resize(1100, 700);
+    settle();
+    const QSize size = m_window->size();
+    ASSERT_TRUE(m_window->close()) << "closing saves the layout";
+    m_window.reset();
+
+    // A restart (a new window; no resize by the test this time).
+    auto restarted = std::make_unique<MainWindow>(test::roots());
+    restarted->show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(restarted.get()));
+    auto* problemsAgain = restarted->findChild<QDockWidget*>("problemsDock");
+    auto* historyAgain = restarted->findChild<QDockWidget*>("historyDock");
+    EXPECT_EQ(restarted->dockWidgetArea(problemsAgain), Qt::LeftDockWidgetArea);
+    EXPECT_FALSE(historyAgain->isVisible());
+    EXPECT_TRUE(restarted->action("actionWireframe")->isChecked());
+    EXPECT_TRUE(restarted->viewport().wireframe());
+    EXPECT_EQ(restarted->size(), size);
+    restarted.reset();
+    // The other tests start from the default layout.
+    QSettings settings;
+    settings.remove("window");
+    settings.remove("view");
+    m_window = makeWindow();
 }
 
 TEST_F(MainWindowTest, UnsavedChangesPromptAndAutosaveRecovery)

@@ -348,6 +348,21 @@ void Renderer::releaseResources()
 
 double Renderer::gizmoLength(const Camera& camera) { return 0.18 * camera.distance; }
 
+double Renderer::gizmoRingRadius(const Camera& camera) { return 0.65 * gizmoLength(camera); }
+
+std::vector<Vec3> Renderer::gizmoRing(const Vec3& centre, int axis, double radius, int segments)
+{
+    const Vec3 u = Vec3::Unit((axis + 1) % 3);
+    const Vec3 v = Vec3::Unit((axis + 2) % 3);
+    std::vector<Vec3> ring;
+    ring.reserve(static_cast<size_t>(segments) + 1);
+    for (int i = 0; i <= segments; ++i) {
+        const double angle = 2.0 * 3.14159265358979323846 * (i % segments) / segments;
+        ring.push_back(centre + radius * (std::cos(angle) * u + std::sin(angle) * v));
+    }
+    return ring;
+}
+
 void Renderer::render(const Document& document, const Camera& camera, int width, int height,
                       const RenderOptions& options)
 {
@@ -495,6 +510,17 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
                                                                   : colours[axis];
             gl.drawLines({frame.translation, tip}, GL_LINES, colour, 1.0f, viewProjection);
             gl.drawLines({tip}, GL_POINTS, colour, 12.0f, viewProjection);
+        }
+        // Rotate rings, one per axis; dotted with small points so they read thicker than the
+        // one-pixel lines a core profile allows.
+        const double radius = gizmoRingRadius(camera);
+        for (int axis = 0; axis < 3; ++axis) {
+            const QColor colour = axis == options.activeGizmoRing ? QColor(255, 255, 80)
+                                                                  : colours[axis];
+            const std::vector<Vec3> ring = gizmoRing(frame.translation, axis, radius);
+            gl.drawLines(ring, GL_LINE_STRIP, colour, 1.0f, viewProjection);
+            gl.drawLines(ring, GL_POINTS, colour, axis == options.activeGizmoRing ? 4.0f : 3.0f,
+                         viewProjection);
         }
     }
     gl.glEnable(GL_DEPTH_TEST);

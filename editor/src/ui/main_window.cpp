@@ -104,8 +104,12 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
     QSettings settings;
     restoreGeometry(settings.value("window/geometry").toByteArray());
     restoreState(settings.value("window/state").toByteArray());
-    if (settings.contains("view/wireframe"))
-        action("actionWireframe")->setChecked(settings.value("view/wireframe").toBool());
+    if (settings.contains("view/wireframe")) {
+        // (setChecked does not trigger the action: the viewport is told directly.)
+        const bool wireframe = settings.value("view/wireframe").toBool();
+        action("actionWireframe")->setChecked(wireframe);
+        m_viewport->setWireframe(wireframe);
+    }
     if (!settings.contains("window/geometry"))
         resize(1280, 800);
     rebuildSceneTree();
@@ -210,6 +214,7 @@ void MainWindow::createActions()
             openFile(path);
     }));
     m_recentMenu = file->addMenu(tr("Open &Recent"));
+    m_recentMenu->setObjectName("recentMenu");
     file->addAction(make(tr("&Save"), "actionSave", QKeySequence::Save, [this] { save(); }));
     file->addAction(make(tr("Save &As…"), "actionSaveAs", QKeySequence::SaveAs, [this] {
         const QString path = QFileDialog::getSaveFileName(this, tr("Save project as"), QString(),
@@ -512,6 +517,8 @@ bool MainWindow::openFile(const QString& path)
     LoadedProject loaded;
     QString error;
     bool cancelled = false;
+    if (!resolveNamedRoots(absolute))
+        statusBar()->showMessage(tr("A scene folder is still unknown"), 8000);
     const formats::NamedRoots roots = m_document->roots();
     if (!runWithProgress(
             this, tr("Opening %1…").arg(QFileInfo(path).fileName()),
@@ -527,6 +534,67 @@ bool MainWindow::openFile(const QString& path)
     addRecentFile(absolute);
     statusBar()->showMessage(tr("Opened %1").arg(absolute), 5000);
     return true;
+}
+
+bool MainWindow::resolveNamedRoots(const QString& projectPath)
+{
+    const std::filesystem::path file = projectPath.toStdString();
+    formats::Project project;
+    formats::NamedRoots roots = m_document->roots();
+    try {
+        formats::ProjectLoadOptions options;
+        options.roots = roots;
+        project = formats::loadProject(file, options);
+    } catch (const std::exception&) {
+        return true; // opening reports what is wrong with the file
+    }
+    bool answered = true;
+    for (const formats::SceneReference& scene : project.scenes) {
+        if (formats::classifyProjectPath(scene.path) != formats::PathKind::NamedRoot)
+            continue;
+        const std::string name = scene.path.substr(0, scene.path.find(':'));
+        const auto found = [&] {
+            std::error_code error;
+            try {
+                return std::filesystem::exists(formats::resolveScenePath(scene, file, roots),
+                                               error);
+            } catch (const std::exception&) {
+                return false; // unknown root
+            }
+        };
+        while (!found()) {
+            const QString folder = askRootFolder(QString::fromStdString(name),
+                                                 QString::fromStdString(scene.path));
+            if (folder.isEmpty()) {
+                answered = false;
+                break;
+            }
+            roots[name] = folder.toStdString();
+            if (found()) {
+                QSettings().setValue("roots/" + QString::fromStdString(name), folder);
+                statusBar()->showMessage(
+                    tr("Scene folder '%1' is %2 (remembered)").arg(QString::fromStdString(name),
+                                                                   folder),
+                    8000);
+            }
+        }
+    }
+    m_document->setRoots(roots);
+    return answered;
+}
+
+QString MainWindow::askRootFolder(const QString& rootName, const QString& scenePath)
+{
+    QFileDialog dialog(this, tr("Where is the scene folder '%1'? (for %2)").arg(rootName, scenePath));
+    dialog.setObjectName("rootFolderDialog");
+    dialog.setFileMode(QFileDialog::Directory);
+    dialog.setOption(QFileDialog::ShowDirsOnly);
+    // Qt's own dialog: the same on every desktop, and tests can drive it.
+    dialog.setOption(QFileDialog::DontUseNativeDialog);
+    dialog.setLabelText(QFileDialog::Accept, tr("Use this folder"));
+    if (dialog.exec() != QDialog::Accepted || dialog.selectedFiles().isEmpty())
+        return QString();
+    return dialog.selectedFiles().first();
 }
 
 bool MainWindow::save()
@@ -629,7 +697,9 @@ void MainWindow::rebuildRecentMenu()
     for (const QString& file : files) {
         QAction* a = m_recentMenu->addAction(QFileInfo(file).fileName());
         a->setToolTip(file);
-        connect(a, &QAction::triggered, this, [this, file] { openFile(file); });
+        // Opening rebuilds this menu: not while the menu is still handling the click.
+        connect(a, &QAction::triggered, this,
+                [this, file] { QTimer::singleShot(0, this, [this, file] { openFile(file); }); });
     }
     m_recentMenu->setEnabled(!files.isEmpty());
 }

@@ -88,6 +88,13 @@ private:
     void deleteSelection();
     void insertRoutePoint();
     void removeAutosave();
+    /// Before opening: every "root:path" scene of the project whose root is unknown (or does
+    /// not hold the scene) gets its folder from the author (askRootFolder); the answer is kept
+    /// in the settings (roots/<name>) and in the document's roots. Returns false if the author
+    /// cancelled a question.
+    bool resolveNamedRoots(const QString& projectPath);
+    /// The folder dialog (object name "rootFolderDialog"); "" if cancelled.
+    QString askRootFolder(const QString& rootName, const QString& scenePath);
     bool offerRecovery(const QString& projectPath, const QString& autosave);
 
     std::unique_ptr<Document> m_document;

@@ -8,6 +8,9 @@
 #include <QSurfaceFormat>
 #include <QWheelEvent>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -18,6 +21,9 @@ namespace {
 /// default hose radius) along the surface normal.
 constexpr double kRouteLift = 0.01;
 constexpr double kHandlePixels = 9.0;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMoveSnapMetres = 0.01;          ///< Ctrl while moving a part
+constexpr double kRotateSnapRadians = kPi / 12.0; ///< Ctrl while rotating a part: 15°
 } // namespace
 
 Viewport::Viewport(Document& document, QWidget* parent)
@@ -184,7 +190,7 @@ void Viewport::onDocumentChanged(const ChangeEvent& event)
     update();
 }
 
-int Viewport::gizmoAxisAt(const QPointF& position) const
+int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
 {
     const Selection& selection = m_document.selection();
     if (!m_document.scene(selection.sceneId) || selection.node < 0)
@@ -208,7 +214,52 @@ int Viewport::gizmoAxisAt(const QPointF& position) const
             best = axis;
         }
     }
+    if (pixels)
+        *pixels = bestDistance;
     return best;
+}
+
+int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
+{
+    const Selection& selection = m_document.selection();
+    if (!m_document.scene(selection.sceneId) || selection.node < 0)
+        return -1;
+    const Vec3 origin = m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+    int best = -1;
+    double bestDistance = kHandlePixels;
+    for (int axis = 0; axis < 3; ++axis) {
+        const std::vector<Vec3> ring =
+            Renderer::gizmoRing(origin, axis, Renderer::gizmoRingRadius(m_camera));
+        QPointF previous = toWidget(ring.front());
+        for (size_t i = 1; i < ring.size(); ++i) {
+            const QPointF next = toWidget(ring[i]);
+            const QPointF ab = next - previous;
+            const double length2 = QPointF::dotProduct(ab, ab);
+            const double s =
+                length2 > 0 ? std::clamp(QPointF::dotProduct(position - previous, ab) / length2,
+                                         0.0, 1.0)
+                            : 0.0;
+            const QPointF closest = previous + s * ab;
+            const double distance =
+                std::hypot(position.x() - closest.x(), position.y() - closest.y());
+            if (distance < bestDistance) {
+                bestDistance = distance;
+                best = axis;
+            }
+            previous = next;
+        }
+    }
+    if (pixels)
+        *pixels = bestDistance;
+    return best;
+}
+
+double Viewport::gizmoScreenAngle(const QPointF& position) const
+{
+    const Selection& selection = m_document.selection();
+    const QPointF centre =
+        toWidget(m_document.nodeWorldFrame(selection.sceneId, selection.node).translation);
+    return std::atan2(position.y() - centre.y(), position.x() - centre.x());
 }
 
 int Viewport::routePointAt(const QPointF& position) const
@@ -274,8 +325,24 @@ void Viewport::mousePressEvent(QMouseEvent* event)
     }
 
     Selection selection = m_document.selection();
-    // 1. The gizmo of the selected part.
-    const int axis = gizmoAxisAt(position);
+    // 1. The gizmo of the selected part: an arrow moves it, a ring rotates it (the nearer
+    // handle wins where they cross).
+    double arrowPixels = 0.0, ringPixels = 0.0;
+    const int axis = gizmoAxisAt(position, &arrowPixels);
+    const int ring = gizmoRingAt(position, &ringPixels);
+    if (ring >= 0 && (axis < 0 || ringPixels < arrowPixels)) {
+        m_drag = Drag::GizmoRotate;
+        m_gizmoAxis = ring;
+        m_options.activeGizmoRing = ring;
+        m_gizmoStartLocal = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        m_gizmoStartOrigin =
+            m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+        m_gizmoLastScreenAngle = gizmoScreenAngle(position);
+        m_gizmoAngle = 0.0;
+        m_document.closeMerge();
+        update();
+        return;
+    }
     if (axis >= 0) {
         m_drag = Drag::Gizmo;
         m_gizmoAxis = axis;
@@ -389,7 +456,10 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         const double b = ray.direction.dot(a);
         const double parameter =
             (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
-        const Vec3 shift = (parameter - m_gizmoStartParameter) * a;
+        Vec3 shift = (parameter - m_gizmoStartParameter) * a;
+        // Ctrl snaps the move to whole centimetres.
+        if (event->modifiers() & Qt::ControlModifier)
+            shift = a * (std::round(shift.dot(a) / kMoveSnapMetres) * kMoveSnapMetres);
         // newLocal = parentWorld⁻¹ · T(shift) · parentWorld · startLocal.
         const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
         const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
@@ -401,11 +471,51 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
             makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
         break;
     }
+    case Drag::GizmoRotate: {
+        // The angle follows the mouse around the gizmo centre on screen, unwrapped so that
+        // several turns add up; its sign depends on whether the axis faces the viewer.
+        const Selection& selection = m_document.selection();
+        const double screenAngle = gizmoScreenAngle(position);
+        double step = screenAngle - m_gizmoLastScreenAngle;
+        step -= 2 * kPi * std::round(step / (2 * kPi));
+        m_gizmoLastScreenAngle = screenAngle;
+        const Vec3 a = Vec3::Unit(m_gizmoAxis);
+        const bool facesViewer = a.dot(m_camera.eye() - m_gizmoStartOrigin) > 0;
+        m_gizmoAngle += facesViewer ? -step : step;
+        double angle = m_gizmoAngle;
+        // Ctrl snaps to 15° steps.
+        if (event->modifiers() & Qt::ControlModifier)
+            angle = std::round(angle / kRotateSnapRadians) * kRotateSnapRadians;
+        // newLocal = parentWorld⁻¹ · T(o) · R(angle about a) · T(−o) · parentWorld · startLocal.
+        const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
+        const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 parentWorld = world * current.inverse();
+        formats::Mat4 rotation = formats::Mat4::Identity();
+        rotation.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle, a).toRotationMatrix();
+        rotation.topRightCorner<3, 1>() =
+            m_gizmoStartOrigin - rotation.topLeftCorner<3, 3>() * m_gizmoStartOrigin;
+        const formats::Mat4 local =
+            parentWorld.inverse() * rotation * parentWorld * m_gizmoStartLocal;
+        m_document.undoStack()->push(
+            makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
+        emit statusMessage(tr("Rotate about %1: %2°%3")
+                               .arg(QChar("XYZ"[m_gizmoAxis]))
+                               .arg(angle * 180.0 / kPi, 0, 'f', 1)
+                               .arg(event->modifiers() & Qt::ControlModifier
+                                        ? QString()
+                                        : tr(" (hold Ctrl to snap to 15°)")));
+        break;
+    }
     case Drag::None:
         if (m_mode == Mode::Select) {
-            const int axis = gizmoAxisAt(position);
-            if (axis != m_options.activeGizmoAxis) {
+            double arrowPixels = 0.0, ringPixels = 0.0;
+            int axis = gizmoAxisAt(position, &arrowPixels);
+            int ring = gizmoRingAt(position, &ringPixels);
+            if (ring >= 0 && axis >= 0)
+                (ringPixels < arrowPixels ? axis : ring) = -1;
+            if (axis != m_options.activeGizmoAxis || ring != m_options.activeGizmoRing) {
                 m_options.activeGizmoAxis = axis;
+                m_options.activeGizmoRing = ring;
                 update();
             }
         }
@@ -418,6 +528,7 @@ void Viewport::mouseReleaseEvent(QMouseEvent*)
     const Drag drag = m_drag;
     m_drag = Drag::None;
     m_options.activeGizmoAxis = -1;
+    m_options.activeGizmoRing = -1;
     if (drag == Drag::HosePoint) {
         const Hose* hose = m_document.hose(m_dragHose);
         const bool moved = hose && (hose->point(m_dragIndex) - m_dragAnchor).norm() > 1e-12;

@@ -75,9 +75,13 @@ protected:
     void wheelEvent(QWheelEvent* event) override;
 
 private:
-    enum class Drag { None, Orbit, Pan, HosePoint, RoutePoint, Gizmo };
+    enum class Drag { None, Orbit, Pan, HosePoint, RoutePoint, Gizmo, GizmoRotate };
     void onDocumentChanged(const ChangeEvent& event);
-    int gizmoAxisAt(const QPointF& position) const;
+    int gizmoAxisAt(const QPointF& position, double* pixels = nullptr) const;
+    /// The rotate ring (0 x, 1 y, 2 z) within a few pixels of `position`, or −1.
+    int gizmoRingAt(const QPointF& position, double* pixels = nullptr) const;
+    /// Screen angle (radians, widget coordinates) of `position` around the gizmo centre.
+    double gizmoScreenAngle(const QPointF& position) const;
     int routePointAt(const QPointF& position) const;
     /// Where the mouse ray meets the plane through `anchor` facing the camera.
     Vec3 onViewPlane(const QPointF& position, const Vec3& anchor) const;
@@ -103,6 +107,8 @@ private:
     formats::Mat4 m_gizmoStartLocal;
     Vec3 m_gizmoStartOrigin = Vec3::Zero();
     double m_gizmoStartParameter = 0.0;
+    double m_gizmoLastScreenAngle = 0.0; ///< rotate drag: unwrapped through every move
+    double m_gizmoAngle = 0.0;           ///< rotate drag: total angle about the axis, radians
 
     double m_lastFrameMilliseconds = 0.0;
     bool m_finishEachFrame = false;

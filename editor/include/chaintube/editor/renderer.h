@@ -26,6 +26,7 @@ struct RenderOptions
     bool showProblems = true;  ///< tint rings of problem regions red
     bool showGizmo = true;     ///< axis arrows at the selected node
     int activeGizmoAxis = -1;  ///< 0 x, 1 y, 2 z drawn highlighted (being dragged/hovered)
+    int activeGizmoRing = -1;  ///< rotate ring about x/y/z (0/1/2) drawn highlighted
     std::vector<Vec3> pendingRoute; ///< route points of a hose being laid out (world)
     QColor background = QColor(58, 62, 70);
 };
@@ -64,6 +65,14 @@ public:
 
     /// Length (metres) of the gizmo arrows for a camera: a fixed fraction of the view.
     static double gizmoLength(const Camera& camera);
+    /// Radius (metres) of the rotate gizmo's rings: inside the arrows, so that the arrow tips
+    /// stay apart from the rings.
+    static double gizmoRingRadius(const Camera& camera);
+    /// The closed polyline of the rotate ring about world axis `axis` (0 x, 1 y, 2 z) centred
+    /// at `centre` (world metres): `segments` + 1 points, the last equal to the first. The
+    /// viewport picks against the same points.
+    static std::vector<Vec3> gizmoRing(const Vec3& centre, int axis, double radius,
+                                       int segments = 64);
 
 private:
     struct Private;
