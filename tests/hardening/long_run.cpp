@@ -6,7 +6,8 @@
 // reported length and bend violations are within the library's 1e-9 (relative / radians); for
 // Infeasible results (attachments moved apart further than a hose stretches) the residual is
 // reported and finite. Every 1,000 steps the touched hose is measured independently
-// (chaintube::measure) and must agree with the last result's status. Resident memory (RSS,
+// (chaintube::measure) and must agree with the last result's status, and its segments must
+// lie within the stretch band of the exported descriptor. Resident memory (RSS,
 // /proc/self/statm) is sampled every 1 % of the run; after a warm-up of 10 % it must stay
 // within 4 MiB of its value then (memory flat).
 //
@@ -145,6 +146,8 @@ int run(const Options& options)
         return Vec3(unit(random), unit(random), unit(random)) * size;
     };
     long long grabs = 0, moves = 0, clamped = 0, infeasible = 0, invalid = 0, measured = 0;
+    long long movedPoints = 0;
+    double worstGrabError = 0;
     double worstLength = 0, worstAngle = 0, infeasibleLength = 0, infeasibleAngle = 0;
     std::vector<Status> lastStatus(static_cast<size_t>(runtime.hoseCount()), Status::Ok);
     std::vector<std::pair<long long, double>> rss;
@@ -158,6 +161,8 @@ int run(const Options& options)
     };
     const auto check = [&](long long step, int hose, const UpdateResult& result) -> bool {
         lastStatus[static_cast<size_t>(hose)] = result.status;
+        movedPoints += result.movedPoints;
+        worstGrabError = std::max(worstGrabError, result.grabError);
         if (!allFinite(runtime.hose(hose)) || !std::isfinite(result.lengthViolation) ||
             !std::isfinite(result.angleViolation))
             return fail(step, "hose " + std::to_string(hose) + " has a non-finite value"), false;
@@ -189,7 +194,8 @@ int run(const Options& options)
             const Grabbable& g = grabbable[std::uniform_int_distribution<size_t>(
                 0, grabbable.size() - 1)(random)];
             // A hand near the point's place at load: the hose is pulled about but not away.
-            const UpdateResult result = runtime.grab(g.hose, g.point, g.rest + randomVector(0.04));
+            const Vec3 target = g.rest + randomVector(0.04);
+            const UpdateResult result = runtime.grab(g.hose, g.point, target);
             ++grabs;
             if (!check(step, g.hose, result)) return 1;
         } else { // 10 % scene objects moved (each moves every hose fixed to it)
@@ -218,6 +224,22 @@ int run(const Options& options)
                                       " finds a violation the runtime did not report: length " +
                                       std::to_string(metrics.lengthViolation) + ", angle " +
                                       std::to_string(metrics.angleViolation));
+            // Against the exported descriptor, not the hose's own parameters: every segment
+            // within the stretch band the file gives.
+            const rig::RigHose& exported = runtime.description(h);
+            if (lastStatus[static_cast<size_t>(h)] != Status::Infeasible)
+                for (size_t segment = 0; segment < exported.restLengths.size(); ++segment) {
+                    const double length = (runtime.hose(h).point(static_cast<int>(segment) + 1) -
+                                           runtime.hose(h).point(static_cast<int>(segment)))
+                                              .norm();
+                    const double strain = std::abs(length / exported.restLengths[segment] - 1.0);
+                    if (strain > exported.expansionCoefficient + 1e-9)
+                        return fail(step, "hose " + std::to_string(h) + " segment " +
+                                              std::to_string(segment) + " strained " +
+                                              std::to_string(strain) + ", beyond the exported "
+                                              "expansion coefficient " +
+                                              std::to_string(exported.expansionCoefficient));
+                }
             for (float v : runtime.worldPositions(h))
                 if (!std::isfinite(v)) return fail(step, "non-finite surface vertex");
         }
@@ -240,6 +262,9 @@ int run(const Options& options)
                 "%lld measured\n",
                 options.steps, seconds, 1e6 * seconds / static_cast<double>(options.steps), grabs,
                 moves, "object", clamped, infeasible, infeasibleLength, infeasibleAngle, measured);
+    std::printf("%lld axis points moved in all (%.1f per update), worst grab error %.3g m\n",
+                movedPoints, static_cast<double>(movedPoints) / static_cast<double>(grabs + moves),
+                worstGrabError);
     std::printf("worst violation with status Ok/Clamped: length %.3g (relative), angle %.3g rad "
                 "(bound 1e-9)\n",
                 worstLength, worstAngle);
