@@ -24,7 +24,78 @@ struct LibraryReference
     std::vector<HoseSurface> surfaces;
     /// Per hose, per attachment: scene id and node index.
     std::vector<std::vector<std::pair<std::string, int>>> attachedNodes;
+    /// The project's colliders (scene id, node index) and the library's MeshColliders.
+    std::vector<std::pair<std::string, int>> colliderNodes;
+    std::vector<std::shared_ptr<MeshCollider>> colliders;
 };
+
+formats::Mat4 matrixOf(const rig::NodeTransform& trs);
+
+/// The collider mesh of glTF node `node` of the export (its triangle primitives, node frame).
+rig::ColliderMesh colliderMeshOf(const GltfDocument& exported, int node)
+{
+    rig::ColliderMesh mesh;
+    const Json& meshJson =
+        exported.json["meshes"]
+                     [exported.json["nodes"][static_cast<size_t>(node)]["mesh"].get<size_t>()];
+    for (const Json& primitive : meshJson["primitives"]) {
+        const std::vector<float> positions =
+            floatAccessor(exported, primitive["attributes"]["POSITION"].get<int>());
+        const auto first = static_cast<std::uint32_t>(mesh.positions.size() / 3);
+        const Json& accessor = exported.json["accessors"][primitive["indices"].get<size_t>()];
+        const Json& view = exported.json["bufferViews"][accessor["bufferView"].get<size_t>()];
+        const size_t start =
+            view.value("byteOffset", size_t{0}) + accessor.value("byteOffset", size_t{0});
+        const bool narrow = accessor["componentType"].get<int>() == 5123;
+        for (size_t i = 0; i < accessor["count"].get<size_t>(); ++i) {
+            std::uint32_t index = 0;
+            if (narrow) {
+                std::uint16_t v = 0;
+                std::memcpy(&v, exported.bin.data() + start + 2 * i, 2);
+                index = v;
+            } else {
+                std::memcpy(&index, exported.bin.data() + start + 4 * i, 4);
+            }
+            mesh.indices.push_back(first + index);
+        }
+        mesh.positions.insert(mesh.positions.end(), positions.begin(), positions.end());
+    }
+    return mesh;
+}
+
+/// Gives the library's hoses the project's colliders, as the runtime does: one MeshCollider per
+/// collider node (the exported mesh, placed by the scene's world transform of the node, or by
+/// the runtime's with sameFrames), used by every hose not attached to that node.
+void attachColliders(LibraryReference& reference, const GltfDocument& exported,
+                     const rig::HoseRuntime& runtime, bool sameFrames)
+{
+    const std::vector<int>& colliderNodes = runtime.descriptor().colliders;
+    ASSERT_EQ(colliderNodes.size(), reference.project.colliders.size());
+    for (size_t c = 0; c < colliderNodes.size(); ++c) {
+        const formats::ColliderNode& node = reference.project.colliders[c];
+        const formats::ImportedScene& scene = reference.scenes.at(node.scene);
+        const int index = scene.findNode(node.node);
+        reference.colliderNodes.emplace_back(node.scene, index);
+        Eigen::Matrix4d world = scene.worldTransform(index);
+        if (sameFrames) {
+            world = Eigen::Matrix4d::Identity();
+            for (int n = colliderNodes[c]; n >= 0; n = runtime.node(n).parent)
+                world = matrixOf(runtime.node(n).local) * world;
+        }
+        reference.colliders.push_back(
+            rig::HoseRuntime::buildCollider(colliderMeshOf(exported, colliderNodes[c]), world));
+    }
+    for (size_t h = 0; h < reference.hoses.size(); ++h) {
+        std::vector<std::shared_ptr<const MeshCollider>> used;
+        for (size_t c = 0; c < reference.colliders.size(); ++c) {
+            bool attached = false;
+            for (const auto& a : reference.attachedNodes[h])
+                attached = attached || a == reference.colliderNodes[c];
+            if (!attached) used.push_back(reference.colliders[c]);
+        }
+        if (!used.empty()) reference.hoses[h].setColliders(std::move(used));
+    }
+}
 
 LibraryReference buildReference(const fs::path& projectFile)
 {
@@ -180,6 +251,8 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
     EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
     ASSERT_EQ(runtime.hoseCount(), static_cast<int>(reference.hoses.size()));
     const GltfDocument exported = readGltf(output);
+    attachColliders(reference, exported, runtime, sameFrames);
+    EXPECT_EQ(runtime.colliders().size(), reference.colliders.size());
 
     Deviation worst = compare(runtime, reference, exported);
 
@@ -216,6 +289,20 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
 
             formats::ImportedScene& scene = reference.scenes.at(moved.scene);
             scene.nodes[static_cast<size_t>(moved.sceneNode)].localTransform = matrixOf(local);
+            // Colliders on the moved node or below it follow it.
+            std::vector<const MeshCollider*> movedColliders;
+            for (size_t c = 0; c < reference.colliders.size(); ++c) {
+                const auto& [colliderScene, colliderNode] = reference.colliderNodes[c];
+                bool under = false;
+                for (int n = colliderNode; n >= 0;
+                     n = reference.scenes.at(colliderScene).nodes[static_cast<size_t>(n)].parent)
+                    under = under || (colliderScene == moved.scene && n == moved.sceneNode);
+                if (!under) continue;
+                reference.colliders[c]->setFrame(
+                    sameFrames ? runtime.nodeWorldFrame(runtime.descriptor().colliders[c])
+                               : reference.scenes.at(colliderScene).worldFrame(colliderNode));
+                movedColliders.push_back(reference.colliders[c].get());
+            }
             for (size_t h = 0; h < reference.hoses.size(); ++h) {
                 std::vector<int> ids;
                 std::vector<Frame> frames;
@@ -238,10 +325,18 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                         frames.push_back(reference.scenes.at(sceneId).worldFrame(node) * offset);
                     }
                 }
-                if (ids.size() == 1)
+                if (ids.size() == 1) {
                     reference.hoses[h].moveAttachment(ids[0], frames[0]);
-                else if (!ids.empty())
+                } else if (!ids.empty()) {
                     reference.hoses[h].moveAttachments(ids, frames);
+                } else {
+                    bool nearMovedCollider = false;
+                    for (const auto& collider : reference.hoses[h].colliders())
+                        nearMovedCollider = nearMovedCollider ||
+                                            std::find(movedColliders.begin(), movedColliders.end(),
+                                                      collider.get()) != movedColliders.end();
+                    if (nearMovedCollider) reference.hoses[h].resolveCollisions();
+                }
             }
             ++steps;
         }
@@ -259,8 +354,10 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
             ++steps;
         }
         runtime.update();
-        for (size_t h = 0; h < reference.hoses.size(); ++h)
+        for (size_t h = 0; h < reference.hoses.size(); ++h) {
+            if (reference.hoses[h].spec().gravity.enabled) reference.hoses[h].step();
             reference.surfaces[h].update(reference.hoses[h]);
+        }
         const Deviation d = compare(runtime, reference, exported);
         worst.axis = std::max(worst.axis, d.axis);
         worst.surface = std::max(worst.surface, d.surface);
@@ -319,6 +416,44 @@ TEST(HoseRuntime, JointLocalPosesUnderAMovedNodeStayConsistentWithTheirWorldPose
             const Vec3 recomposed = parentWorld.apply(pose.local.translation);
             EXPECT_LT((recomposed - pose.world.translation).norm(), 1e-9);
         }
+}
+
+TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)
+{
+    TemporaryFolder folder;
+    const fs::path output = folder / "options.glb";
+    exportProjectFile(testDataDir() / "rig-options.ctproj", output, roots());
+    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    const int tail = runtime.findHose("valve-tail");
+    const int loop = runtime.findHose("bracket-loop");
+    const int pipe = runtime.findHose("pipe-on-plate");
+    ASSERT_GE(tail, 0);
+    ASSERT_GE(loop, 0);
+    ASSERT_GE(pipe, 0);
+    EXPECT_TRUE(runtime.hose(tail).spec().gravity.enabled);
+    EXPECT_TRUE(runtime.hose(loop).spec().torsion.enabled);
+    EXPECT_EQ(runtime.hose(loop).spec().torsion.twistLimit, 0.2);
+    ASSERT_EQ(runtime.colliders().size(), 2u); // floor_plate and valve
+    // The tail is attached to the valve: it collides with the floor plate only; the loop with
+    // both; the static pipe lies on the plate (attached to it): only the valve.
+    EXPECT_EQ(runtime.hose(tail).colliders().size(), 1u);
+    EXPECT_EQ(runtime.hose(loop).colliders().size(), 2u);
+    EXPECT_EQ(runtime.hose(pipe).colliders().size(), 1u);
+
+    // Gravity: the free end sinks over a few updates (nothing else moves it).
+    const int end = runtime.hose(tail).pointCount() - 1;
+    const double before = runtime.hose(tail).point(end).y();
+    for (int frame = 0; frame < 30; ++frame)
+        runtime.update();
+    EXPECT_LT(runtime.hose(tail).point(end).y(), before - 1e-3);
+    // The plate is a collider of the tail: its surface is not inside the plate by more than
+    // the collision tolerance (CollisionOptions::tolerance, 1e-4 m; 1e-6 m of slack).
+    const Clearance toPlate = clearance(runtime.hose(tail), *runtime.colliders()[0]);
+    ASSERT_TRUE(toPlate.found);
+    EXPECT_GT(toPlate.distance, -1e-4 - 1e-6);
+    std::cout << "[ options ] valve-tail: free end sank "
+              << before - runtime.hose(tail).point(end).y()
+              << " m in 30 updates; clearance to the floor plate " << toPlate.distance << " m\n";
 }
 
 TEST(HoseRuntime, RejectsGrabsOfFixedPointsAndUnknownNodes)

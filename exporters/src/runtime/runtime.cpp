@@ -114,12 +114,69 @@ HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
     const std::vector<std::string> problems =
         checkAgainstGltf(descriptor, static_cast<int>(nodes.size()), skins);
     if (!problems.empty()) throw Error(r.descriptorSource + problems.front());
-    return fromDescriptor(std::move(descriptor), std::move(nodes), &r);
+    // Collider meshes: every triangle primitive of each collider node's mesh.
+    std::vector<ColliderMesh> colliderMeshes;
+    if (!descriptor.colliders.empty()) {
+        const detail::GltfFile withBuffers = detail::readGltf(file);
+        for (size_t c = 0; c < descriptor.colliders.size(); ++c) {
+            const int node = descriptor.colliders[c];
+            const std::string where = r.descriptorSource + ": /colliders/" + std::to_string(c);
+            ColliderMesh mesh;
+            try {
+                const Json& jsonNode = withBuffers.json.at("nodes").at(static_cast<size_t>(node));
+                if (!jsonNode.contains("mesh"))
+                    throw Error(where + ": node " + std::to_string(node) + " has no mesh");
+                const Json& primitives = withBuffers.json.at("meshes")
+                                             .at(jsonNode["mesh"].get<size_t>())
+                                             .at("primitives");
+                for (const Json& primitive : primitives) {
+                    if (primitive.value("mode", 4) != 4) continue; // only triangles collide
+                    const std::vector<float> positions = detail::floatsOf(
+                        withBuffers, primitive.at("attributes").at("POSITION").get<int>(), where);
+                    const auto first = static_cast<std::uint32_t>(mesh.positions.size() / 3);
+                    std::vector<std::uint32_t> indices;
+                    if (primitive.contains("indices"))
+                        indices =
+                            detail::indicesOf(withBuffers, primitive["indices"].get<int>(), where);
+                    else
+                        for (std::uint32_t v = 0; v < positions.size() / 3; ++v)
+                            indices.push_back(v);
+                    for (std::uint32_t index : indices)
+                        mesh.indices.push_back(first + index);
+                    mesh.positions.insert(mesh.positions.end(), positions.begin(), positions.end());
+                }
+            } catch (const Json::exception& error) {
+                throw Error(where + ": the node's mesh cannot be read: " + error.what());
+            }
+            colliderMeshes.push_back(std::move(mesh));
+        }
+    }
+    return fromDescriptor(std::move(descriptor), std::move(nodes), &r, colliderMeshes);
+}
+
+std::shared_ptr<MeshCollider> HoseRuntime::buildCollider(const ColliderMesh& mesh,
+                                                         const Eigen::Matrix4d& nodeWorld)
+{
+    const Frame frame = detail::rigidPart(nodeWorld);
+    // What the rigid frame leaves of the node's world transform (scale, shear) goes into the
+    // vertices, so that frame.apply(vertex) is the vertex's world position.
+    const Eigen::Matrix4d baked = detail::matrixOf(frame).inverse() * nodeWorld;
+    std::vector<Vec3> positions(mesh.positions.size() / 3);
+    for (size_t v = 0; v < positions.size(); ++v)
+        positions[v] = (baked * Eigen::Vector4d(mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                                                mesh.positions[3 * v + 2], 1.0))
+                           .head<3>();
+    return MeshCollider::fromArrays(positions, mesh.indices, frame);
 }
 
 HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vector<RigNode> nodes,
-                                        RuntimeLoadReport* report)
+                                        RuntimeLoadReport* report,
+                                        const std::vector<ColliderMesh>& colliderMeshes)
 {
+    if (colliderMeshes.size() != descriptor.colliders.size())
+        throw Error("descriptor/colliders: " + std::to_string(descriptor.colliders.size()) +
+                    " collider node(s) but " + std::to_string(colliderMeshes.size()) +
+                    " collider mesh(es) given");
     const std::vector<std::string> problems =
         checkAgainstGltf(descriptor, static_cast<int>(nodes.size()), 1 << 30);
     if (!problems.empty()) throw Error("descriptor" + problems.front());
@@ -155,7 +212,29 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
             running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
         runtime.m_hoses.push_back(std::move(running));
     }
-    runtime.update();
+    for (size_t c = 0; c < runtime.m_descriptor.colliders.size(); ++c) {
+        const int node = runtime.m_descriptor.colliders[c];
+        try {
+            runtime.m_colliders.push_back(
+                buildCollider(colliderMeshes[c], runtime.m_world[static_cast<size_t>(node)]));
+        } catch (const InvalidArgument& error) {
+            throw Error("descriptor/colliders/" + std::to_string(c) + ": node " +
+                        std::to_string(node) + ": " + error.what());
+        }
+    }
+    // Every hose stays outside the colliders it is not attached to (its ends sit in those).
+    for (size_t h = 0; h < runtime.m_hoses.size() && !runtime.m_colliders.empty(); ++h) {
+        const RigHose& d = runtime.m_descriptor.hoses[h];
+        std::vector<std::shared_ptr<const MeshCollider>> used;
+        for (size_t c = 0; c < runtime.m_colliders.size(); ++c)
+            if (std::none_of(d.attachments.begin(), d.attachments.end(),
+                             [&](const RigAttachment& a) {
+                                 return a.node == runtime.m_descriptor.colliders[c];
+                             }))
+                used.push_back(runtime.m_colliders[c]);
+        if (!used.empty()) runtime.m_hoses[h].hose.setColliders(std::move(used));
+    }
+    runtime.refresh(); // surfaces and poses as exported: gravity starts with the first update()
     return runtime;
 }
 
@@ -216,6 +295,12 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
             if (n == node) return true;
         return false;
     };
+    std::vector<const MeshCollider*> movedColliders;
+    for (size_t c = 0; c < m_colliders.size(); ++c)
+        if (isUnder(m_descriptor.colliders[c])) {
+            m_colliders[c]->setFrame(nodeWorldFrame(m_descriptor.colliders[c]));
+            movedColliders.push_back(m_colliders[c].get());
+        }
     std::vector<HoseUpdate> updates;
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         const RigHose& d = m_descriptor.hoses[h];
@@ -226,7 +311,16 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
                 ids.push_back(m_hoses[h].attachmentIds[k]);
                 frames.push_back(nodeWorldFrame(d.attachments[k].node) * d.attachments[k].offset);
             }
-        if (ids.empty()) continue;
+        if (ids.empty()) {
+            bool nearMovedCollider = false;
+            for (const auto& collider : m_hoses[h].hose.colliders())
+                nearMovedCollider =
+                    nearMovedCollider || std::find(movedColliders.begin(), movedColliders.end(),
+                                                   collider.get()) != movedColliders.end();
+            if (nearMovedCollider)
+                updates.push_back({static_cast<int>(h), m_hoses[h].hose.resolveCollisions()});
+            continue;
+        }
         HoseUpdate update;
         update.hose = static_cast<int>(h);
         update.result = ids.size() == 1 ? m_hoses[h].hose.moveAttachment(ids[0], frames[0])
@@ -248,6 +342,13 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
 }
 
 int HoseRuntime::update()
+{
+    for (size_t h = 0; h < m_hoses.size(); ++h)
+        if (m_descriptor.hoses[h].gravity.enabled) m_hoses[h].hose.step();
+    return refresh();
+}
+
+int HoseRuntime::refresh()
 {
     int recomputed = 0;
     for (size_t h = 0; h < m_hoses.size(); ++h) {

@@ -10,12 +10,14 @@
 // centre, ring rotation with columns alignment, binormal, tangent).
 #pragma once
 
+#include "chaintube/collision.h"
 #include "chaintube/export/rig_descriptor.h"
 #include "chaintube/hose.h"
 #include "chaintube/surface.h"
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +30,14 @@ struct RigNode
     std::string name;
     int parent = -1;
     NodeTransform local; ///< parent ← node (a glTF `matrix` is decomposed)
+};
+
+/// A collider node's triangles in the node's own frame (glTF mesh data: metres before the
+/// node's world transform), all triangle primitives of its mesh concatenated.
+struct ColliderMesh
+{
+    std::vector<float> positions;       ///< x, y, z per vertex
+    std::vector<std::uint32_t> indices; ///< three per triangle
 };
 
 /// A joint's pose: in its glTF parent's frame (what to write into the node's TRS) and in world.
@@ -58,14 +68,27 @@ public:
     /// Loads an exported .glb or .gltf (+ .bin): the node hierarchy, and the descriptor from the
     /// CHAINTUBE_hose_rig extension, or from the sidecar <name>.hoses.json when the glTF has no
     /// extension (e.g. after a tool that drops unknown extensions). Rebuilds every hose with
-    /// its attachments as exported. Throws DescriptorError (file + JSON pointer) or
+    /// its attachments as exported, its gravity and torsion (HoseSpec), and its colliders: a
+    /// MeshCollider per descriptor collider node, built from the node's glTF mesh, which every
+    /// hose not attached to that node stays outside of. The exported shape is the starting
+    /// state (no push-out at load). Throws DescriptorError (file + JSON pointer) or
     /// chaintube::Error naming the file for unreadable or inconsistent input.
     static HoseRuntime load(const std::filesystem::path& file, RuntimeLoadReport* report = nullptr);
 
-    /// For a platform that parses glTF itself: the descriptor and the glTF's nodes (index order,
-    /// parents, local transforms). Throws as load() does.
+    /// For a platform that parses glTF itself: the descriptor, the glTF's nodes (index order,
+    /// parents, local transforms) and, per descriptor collider (same order), its node's mesh.
+    /// Throws as load() does; also when colliderMeshes does not match descriptor.colliders.
     static HoseRuntime fromDescriptor(HoseRigDescriptor descriptor, std::vector<RigNode> nodes,
-                                      RuntimeLoadReport* report = nullptr);
+                                      RuntimeLoadReport* report = nullptr,
+                                      const std::vector<ColliderMesh>& colliderMeshes = {});
+
+    /// The collider of a node, placed in the world: the node's world scale (and shear) baked
+    /// into the vertices, the rigid part of `nodeWorld` (world ← node) as its frame. Throws
+    /// InvalidArgument for an empty or inconsistent mesh. The runtime builds its colliders so.
+    static std::shared_ptr<MeshCollider> buildCollider(const ColliderMesh& mesh,
+                                                       const Eigen::Matrix4d& nodeWorld);
+    /// The colliders, in descriptor order (their frames follow setNodeTransform).
+    const std::vector<std::shared_ptr<MeshCollider>>& colliders() const { return m_colliders; }
 
     int hoseCount() const { return static_cast<int>(m_hoses.size()); }
     /// Index of the hose with this descriptor id, or −1.
@@ -89,8 +112,10 @@ public:
     /// Rigid part of the node's current world transform.
     Frame nodeWorldFrame(int node) const;
 
-    /// A scene object moved: sets node's local transform (glTF parent space) and moves every
-    /// attachment on this node or a descendant, one Hose::moveAttachments() per affected hose.
+    /// A scene object moved: sets node's local transform (glTF parent space), moves the
+    /// colliders on this node or a descendant (MeshCollider::setFrame), and moves every
+    /// attachment on this node or a descendant, one Hose::moveAttachments() per affected hose;
+    /// a hose with a moved collider and no moved attachment gets Hose::resolveCollisions().
     /// Returns the affected hoses' results (look at status). A node index out of range or a
     /// non-finite transform returns one entry with hose −1 and Status::InvalidInput, and
     /// changes nothing.
@@ -101,8 +126,9 @@ public:
     /// that is not in grabbablePoints.
     UpdateResult grab(int hose, int point, const Vec3& target);
 
-    /// Brings every changed hose's surface and joint poses up to date. Returns how many hoses
-    /// were recomputed.
+    /// Advances every hose with gravity by one Hose::step() (a settled hose costs one
+    /// comparison), then brings every changed hose's surface and joint poses up to date.
+    /// Returns how many hoses were recomputed.
     int update();
 
     /// Joint poses of a hose, in axis order, as of the last update(). Local poses are relative
@@ -129,12 +155,14 @@ private:
     };
     HoseRuntime() = default;
     void recomputeWorld();
+    int refresh(); ///< update() without the gravity step
     void poseJoints(RunningHose& running, const RigHose& description);
 
     HoseRigDescriptor m_descriptor;
     std::vector<RigNode> m_nodes;
     std::vector<Eigen::Matrix<double, 4, 4, Eigen::DontAlign>> m_world; ///< per node, world ← node
     std::vector<RunningHose> m_hoses;
+    std::vector<std::shared_ptr<MeshCollider>> m_colliders; ///< per descriptor collider
     bool m_nodesMoved = false;
 };
 
