@@ -11,8 +11,6 @@ namespace chaintube::editor {
 
 namespace {
 
-constexpr int kLeafSize = 4;
-
 bool rayBox(const Vec3& origin, const Vec3& inverseDirection, const Box& box, double maxT,
             double* entry)
 {
@@ -62,132 +60,29 @@ Box transformBox(const Eigen::Matrix4d& m, const Box& box)
 
 MeshBvh::MeshBvh(const formats::SceneMesh& mesh)
 {
-    const size_t triangleCount = mesh.triangleCount();
-    m_triangles.reserve(triangleCount);
-    std::vector<Vec3> centroids;
-    centroids.reserve(triangleCount);
-    auto vertex = [&](std::uint32_t index) {
-        return Vec3(mesh.positions[3 * index], mesh.positions[3 * index + 1],
-                    mesh.positions[3 * index + 2]);
-    };
-    for (size_t t = 0; t < triangleCount; ++t) {
-        Triangle tri{vertex(mesh.indices[3 * t]), vertex(mesh.indices[3 * t + 1]),
-                     vertex(mesh.indices[3 * t + 2])};
-        centroids.push_back((tri.a + tri.b + tri.c) / 3.0);
-        m_triangles.push_back(tri);
+    if (mesh.triangleCount() == 0)
+        return;
+    try {
+        m_collider = MeshCollider::fromArrays(mesh.positions.data(), mesh.vertexCount(),
+                                              mesh.indices.data(), mesh.triangleCount() * 3);
+    } catch (const InvalidArgument&) {
+        return; // non-finite positions or indices out of range: the mesh is not pickable
     }
-    m_order.resize(triangleCount);
-    std::iota(m_order.begin(), m_order.end(), 0);
-    m_nodes.reserve(2 * triangleCount / kLeafSize + 2);
-    if (triangleCount > 0) {
-        m_nodes.emplace_back();
-        build(0, static_cast<int>(triangleCount), centroids);
-        m_bounds = m_nodes[0].box;
-    }
-}
-
-int MeshBvh::build(int first, int count, std::vector<Vec3>& centroids)
-{
-    // Iterative over a stack to stay safe on degenerate (very deep) inputs.
-    struct Task
-    {
-        int node, first, count;
-    };
-    std::vector<Task> stack{{0, first, count}};
-    while (!stack.empty()) {
-        const Task task = stack.back();
-        stack.pop_back();
-        Box box, centroidBox;
-        for (int i = task.first; i < task.first + task.count; ++i) {
-            const Triangle& tri = m_triangles[static_cast<size_t>(m_order[static_cast<size_t>(i)])];
-            box.extend(tri.a);
-            box.extend(tri.b);
-            box.extend(tri.c);
-            centroidBox.extend(centroids[static_cast<size_t>(m_order[static_cast<size_t>(i)])]);
-        }
-        m_nodes[static_cast<size_t>(task.node)].box = box;
-        const Vec3 extent = centroidBox.max - centroidBox.min;
-        int axis = 0;
-        extent.maxCoeff(&axis);
-        if (task.count <= kLeafSize || extent[axis] <= 0.0) {
-            m_nodes[static_cast<size_t>(task.node)].first = task.first;
-            m_nodes[static_cast<size_t>(task.node)].count = task.count;
-            continue;
-        }
-        const int half = task.count / 2;
-        auto begin = m_order.begin() + task.first;
-        std::nth_element(begin, begin + half, begin + task.count, [&](int a, int b) {
-            return centroids[static_cast<size_t>(a)][axis] < centroids[static_cast<size_t>(b)][axis];
-        });
-        const int left = static_cast<int>(m_nodes.size());
-        m_nodes.emplace_back();
-        m_nodes.emplace_back();
-        m_nodes[static_cast<size_t>(task.node)].first = left;
-        m_nodes[static_cast<size_t>(task.node)].count = 0;
-        stack.push_back({left, task.first, half});
-        stack.push_back({left + 1, task.first + half, task.count - half});
-    }
-    return 0;
+    const Aabb& bounds = m_collider->localBounds();
+    m_bounds.extend(bounds.min);
+    m_bounds.extend(bounds.max);
 }
 
 bool MeshBvh::intersect(const Vec3& origin, const Vec3& direction, double maxT, Hit* hit) const
 {
-    if (m_nodes.empty())
+    if (!m_collider)
         return false;
-    const Vec3 inverse(1.0 / direction.x(), 1.0 / direction.y(), 1.0 / direction.z());
-    double best = maxT;
-    int bestTriangle = -1;
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = m_nodes[static_cast<size_t>(stack[--top])];
-        double entry = 0.0;
-        if (!rayBox(origin, inverse, node.box, best, &entry))
-            continue;
-        if (node.count > 0) {
-            for (int i = node.first; i < node.first + node.count; ++i) {
-                const int index = m_order[static_cast<size_t>(i)];
-                const Triangle& tri = m_triangles[static_cast<size_t>(index)];
-                // Möller–Trumbore, both faces.
-                const Vec3 e1 = tri.b - tri.a, e2 = tri.c - tri.a;
-                const Vec3 p = direction.cross(e2);
-                const double det = e1.dot(p);
-                if (std::abs(det) < 1e-300)
-                    continue;
-                const double invDet = 1.0 / det;
-                const Vec3 s = origin - tri.a;
-                const double u = s.dot(p) * invDet;
-                if (u < 0.0 || u > 1.0)
-                    continue;
-                const Vec3 q = s.cross(e1);
-                const double v = direction.dot(q) * invDet;
-                if (v < 0.0 || u + v > 1.0)
-                    continue;
-                const double t = e2.dot(q) * invDet;
-                if (t > 1e-9 && t < best) {
-                    best = t;
-                    bestTriangle = index;
-                }
-            }
-        } else if (top + 2 <= 128) {
-            stack[top++] = node.first;
-            stack[top++] = node.first + 1;
-        }
-    }
-    if (bestTriangle < 0)
+    const MeshCollider::RayHit found = m_collider->raycast(origin, direction, maxT);
+    if (!found.hit || !(found.t > 1e-9))
         return false;
-    const Triangle& tri = m_triangles[static_cast<size_t>(bestTriangle)];
-    Vec3 normal = (tri.b - tri.a).cross(tri.c - tri.a);
-    if (normal.norm() > 0)
-        normal.normalize();
-    else
-        normal = Vec3::UnitY();
-    if (normal.dot(direction) > 0)
-        normal = -normal;
-    hit->t = best;
-    hit->triangle = bestTriangle;
-    hit->normal = normal;
+    hit->t = found.t;
+    hit->triangle = found.triangle;
+    hit->normal = found.normal;
     return true;
 }
 
