@@ -31,14 +31,14 @@ IDENTITY = {"translation": [0.0, 0.0, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0]}
 
 
 def project(name, scenes, hoses, export_path):
-    return {"format": "chaintube-project", "version": "1.0", "name": name, "scenes": scenes,
-            "materialPresets": PRESETS, "hoses": hoses,
+    return {"format": "chaintube-project", "version": "1.2", "name": name, "scenes": scenes,
+            "materialPresets": PRESETS, "hoses": hoses, "poses": [], "colliders": [],
             "export": {"format": "glb", "path": export_path, "includeScene": bool(scenes)}}
 
 
 def hose(hose_id, name, route, material, diameter, colour, attachments=(), segments=None,
          segment_length=None, profile=None, roughness=0.6):
-    h = {"id": hose_id, "name": name, "route": [[round(c, 4) for c in p] for p in route],
+    h = {"id": hose_id, "name": name, "route": [[round(c, 7) for c in p] for p in route],
          "material": material, "profile": profile or {"shape": "circle", "sides": 16},
          "outerDiameter": diameter}
     if segments is not None:
@@ -84,22 +84,56 @@ ENGINE_SCENE = [{"id": "engine", "path": "scenes:2CylinderEngine.glb",
 PRESET_NAMES = [p["name"] for p in PRESETS]
 
 
-def arc_route(a, b, lift, points=4):
-    """A route from a to b bulging upwards by `lift` metres."""
+MIN_BEND_RADIUS = {p["name"]: p["bendLimit"]["minBendRadius"] for p in PRESETS}
+# Routes bend this much more gently than the material allows, so that the built hoses (corners
+# filleted, then resampled to the axis resolution) stay within the limit: `chaintube validate`
+# reports no joint below the minimum bend radius.
+BEND_MARGIN = 1.3
+
+
+def arc_route(a, b, lift, min_bend_radius, points):
+    """A route from a to b along a circular arc bulging upwards by at most `lift` metres, whose
+    radius is at least BEND_MARGIN × min_bend_radius (a gentler bulge where the parts are close
+    together), sampled at `points` points equally spaced along the arc."""
+    d = [b[k] - a[k] for k in range(3)]
+    chord = math.sqrt(sum(c * c for c in d))
+    unit = [c / chord for c in d]
+    # Bulge direction: "up" made perpendicular to the chord (x if the chord is vertical).
+    up = [0.0, 1.0, 0.0]
+    if abs(unit[1]) > 0.99:
+        up = [1.0, 0.0, 0.0]
+    dot = sum(up[k] * unit[k] for k in range(3))
+    normal = [up[k] - dot * unit[k] for k in range(3)]
+    length = math.sqrt(sum(c * c for c in normal))
+    normal = [c / length for c in normal]
+    radius_needed = BEND_MARGIN * min_bend_radius
+    half = chord / 2
+    largest_lift = half if half >= radius_needed else radius_needed - math.sqrt(
+        radius_needed ** 2 - half ** 2)
+    sagitta = min(lift, largest_lift)
+    radius = (half ** 2 + sagitta ** 2) / (2 * sagitta)   # circle through a and b
+    centre_offset = radius - sagitta                      # centre below the chord's middle
+    middle = [(a[k] + b[k]) / 2 for k in range(3)]
+    centre = [middle[k] - centre_offset * normal[k] for k in range(3)]
+    half_angle = math.asin(min(1.0, half / radius))
+    if sagitta > radius:  # more than a half circle (cannot happen: sagitta <= half)
+        half_angle = math.pi - half_angle
     route = []
     for i in range(points):
-        t = i / (points - 1)
-        p = [a[k] + (b[k] - a[k]) * t for k in range(3)]
-        p[1] += lift * math.sin(math.pi * t)
-        route.append(p)
+        angle = -half_angle + 2 * half_angle * i / (points - 1)
+        route.append([centre[k] + radius * (math.sin(angle) * unit[k] + math.cos(angle) * normal[k])
+                      for k in range(3)])
+    route[0], route[-1] = list(a), list(b)
     return route
 
 
 def engine_hose(index, start, end, rng, segments):
     a, b = ENGINE_NODES[start], ENGINE_NODES[end]
     colour = [round(rng.uniform(0.05, 0.95), 3) for _ in range(3)] + [1.0]
+    material = PRESET_NAMES[index % 4]
     return hose(f"hose-{index + 1}", f"{start.rsplit('/', 1)[1]} to {end.rsplit('/', 1)[1]}",
-                arc_route(a, b, rng.uniform(0.08, 0.25)), PRESET_NAMES[index % 4],
+                arc_route(a, b, rng.uniform(0.08, 0.25), MIN_BEND_RADIUS[material], segments + 1),
+                material,
                 round(rng.uniform(0.008, 0.025), 3), colour,
                 [attachment("engine", start, 0, 1), attachment("engine", end, segments - 1, segments)],
                 segments=segments)
@@ -111,7 +145,7 @@ pairs = [(nodes[0], nodes[2]), (nodes[1], nodes[3]), (nodes[4], nodes[10]), (nod
          (nodes[6], nodes[7]), (nodes[8], nodes[9])]
 engine_hoses = [engine_hose(i, s, e, rng, 16) for i, (s, e) in enumerate(pairs)]
 # One hose with an inline material and a rectangular cable-duct profile, free at one end.
-engine_hoses.append(hose("duct-1", "cable duct", arc_route(ENGINE_NODES[nodes[7]], [0.0, 0.35, 0.3], 0.1),
+engine_hoses.append(hose("duct-1", "cable duct", arc_route(ENGINE_NODES[nodes[7]], [0.0, 0.35, 0.3], 0.1, 0.05, 25),
                          {"expansionCoefficient": 0.03, "bendLimit": {"minBendRadius": 0.05}}, 0.03,
                          [0.1, 0.1, 0.1, 1.0], [attachment("engine", nodes[7], 0, 0)],
                          segment_length=0.02,
@@ -199,13 +233,13 @@ RIG_SCENE = [{"id": "rig", "path": "scenes/test-rig.gltf",
               "import": {"chordalTolerance": 0.0001, "angularTolerance": 0.5}}]
 write("test-rig.ctproj", project("Test rig: two brackets and a valve", RIG_SCENE, [
     hose("left-feed", "left bracket to valve",
-         [[-0.3, 0.21, 0.0], [-0.3, 0.3, 0.05], [-0.1, 0.25, 0.15], [0.0283, 0.04, 0.1217]],
+         arc_route([-0.3, 0.21, 0.0], [0.0283, 0.04, 0.1217], 0.12, MIN_BEND_RADIUS["rubber hose"], 17),
          "rubber hose", 0.02, [0.1, 0.1, 0.1, 1.0],
          [attachment("rig", "/test-rig/bracket_left", 0, 1,
                      {"translation": [0.0, 0.1, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0]}),
           attachment("rig", "/test-rig/valve/valve_inlet", 15, 16)], segments=16),
     hose("right-return", "right bracket to valve",
-         [[0.3, 0.21, 0.0], [0.3, 0.35, 0.0], [0.1, 0.3, 0.2], [0.0, 0.07, 0.15]],
+         arc_route([0.3, 0.21, 0.0], [0.0, 0.07, 0.15], 0.12, MIN_BEND_RADIUS["braided steel hose"], 21),
          "braided steel hose", 0.016, [0.75, 0.75, 0.78, 1.0],
          [attachment("rig", "/test-rig/bracket_right", 0, 0),
           attachment("rig", "/test-rig/valve", 20, 20)], segments=20, roughness=0.3),
