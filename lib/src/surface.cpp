@@ -409,11 +409,25 @@ struct RingWriter
                           static_cast<float>(ring.binormal.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
         const Int8 phase[3] = {{0, 1, 2, 0, 1, 2, 0, 1}, {2, 0, 1, 2, 0, 1, 2, 0}, {1, 2, 0, 1, 2, 0, 1, 2}};
         Float8 cp[3], ap[3], bp[3];
+#if defined(__clang__)
+        // clang has no __builtin_shuffle (GCC's, with a mask vector); the phases are constants.
+        (void)phase;
+        cp[0] = __builtin_shufflevector(c, c, 0, 1, 2, 0, 1, 2, 0, 1);
+        cp[1] = __builtin_shufflevector(c, c, 2, 0, 1, 2, 0, 1, 2, 0);
+        cp[2] = __builtin_shufflevector(c, c, 1, 2, 0, 1, 2, 0, 1, 2);
+        ap[0] = __builtin_shufflevector(a, a, 0, 1, 2, 0, 1, 2, 0, 1);
+        ap[1] = __builtin_shufflevector(a, a, 2, 0, 1, 2, 0, 1, 2, 0);
+        ap[2] = __builtin_shufflevector(a, a, 1, 2, 0, 1, 2, 0, 1, 2);
+        bp[0] = __builtin_shufflevector(b, b, 0, 1, 2, 0, 1, 2, 0, 1);
+        bp[1] = __builtin_shufflevector(b, b, 2, 0, 1, 2, 0, 1, 2, 0);
+        bp[2] = __builtin_shufflevector(b, b, 1, 2, 0, 1, 2, 0, 1, 2);
+#else
         for (int k = 0; k < 3; ++k) {
             cp[k] = __builtin_shuffle(c, phase[k]);
             ap[k] = __builtin_shuffle(a, phase[k]);
             bp[k] = __builtin_shuffle(b, phase[k]);
         }
+#endif
         float* pos = in.positions + i * in.ringFloats;
         float* nrm = in.normals + i * in.ringFloats;
         const size_t blocks = (in.ringFloats + 7) / 8;
