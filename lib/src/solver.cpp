@@ -505,8 +505,9 @@ double Hose::reachableFraction(int index, const Vec3& start, const Vec3& target)
         for (int s = from; s < to; ++s) reach += m_maxLength[static_cast<size_t>(s)];
         // |start − pin + t·move|² ≤ reach²: the larger root of a t² + 2 b t + c = 0.
         const Vec3 offset = start - m_local[static_cast<size_t>(pin)];
+        // Already out of reach (an infeasible hose): the grab may not pull it farther.
+        reach = std::max(reach, offset.norm());
         const double b = offset.dot(move), c = offset.squaredNorm() - reach * reach;
-        if (c > 0.0) return 1.0; // already out of reach (an infeasible hose): no bound
         const double root = (-b + std::sqrt(std::max(0.0, b * b - a * c))) / a;
         fraction = std::min(fraction, root);
     }
@@ -561,9 +562,15 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         m_local = m_scratch;
         int movedAtStart = 0;
         if (!attempt(start, movedAtStart)) {
-            // The hose was already infeasible before this grab: keep the full request.
+            // The hose was already infeasible before this grab: keep the request as far as
+            // it pulls no span beyond its stretch (or beyond how far it already was), and lay
+            // spans that stay overlong straight with the least worst overstretch.
             m_local = m_scratch;
-            attempt(localTarget, moved);
+            if (!attempt(start + reachable * (localTarget - start), moved)) {
+                Solver solver(*this);
+                solver.grabbed = index;
+                solver.straightenOverlongSpans();
+            }
             status = Status::Infeasible;
         } else if (const int side = pinnedSide(index); side != 0) {
             // Reach towards the target as far as the hose allows (closest reachable point).

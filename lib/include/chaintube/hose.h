@@ -31,7 +31,9 @@ enum class Status {
                   ///< farther apart than the hose between them can stretch: the free points lie
                   ///< on the straight line between them, every segment stretched by the same
                   ///< fraction of its maximum length (the least worst overstretch). Other
-                  ///< contradictions (bends): the bounded relaxation's last state.
+                  ///< contradictions (bends): the bounded relaxation's last state. A grab on a
+                  ///< hose that was already infeasible moves the point only as far as it pulls
+                  ///< no span beyond its stretch (or farther than it already was).
     InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
                   ///< hose is unchanged.
 };
