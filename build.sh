@@ -2,7 +2,9 @@
 # ChainTube set-up, build and run — the two commands of the README.
 #
 #   ./build.sh run    install missing Debian packages, build, run the main job
-#   ./build.sh test   install missing Debian packages, build, run the whole test suite
+#   ./build.sh test   install missing Debian packages, build, run the whole test suite, then the
+#                     hardening jobs: the suite under ASan + UBSan (preset asan) and a short run
+#                     of every fuzz target (preset fuzz; CHAINTUBE_FUZZ_SECONDS each, default 25)
 #   ./build.sh sanitize  build the test suite with ASan + UBSan (preset asan, build-asan/), run it
 #   ./build.sh fuzz [SECONDS]  build the libFuzzer targets with clang (preset fuzz, build-fuzz/)
 #                     and run each for SECONDS (default 60) from its seed corpus
@@ -82,6 +84,41 @@ build() {
   cmake --build --preset default
 }
 
+# Prints how long a phase took and the CPU it used (user + sys of every process it waited for),
+# so the CI budget can be estimated on a loaded machine, where wall time overstates.
+timed() {
+  local phase=$1
+  shift
+  local TIMEFORMAT="build.sh: $phase: %0R s wall, %0U s user + %0S s sys CPU"
+  time "$@"
+}
+
+sanitize() {
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan
+  ctest --preset asan
+}
+
+build_fuzzers() {
+  cmake --preset fuzz >/dev/null
+  cmake --build --preset fuzz
+}
+
+# Runs every fuzz target for $1 seconds from its seeds; a crash, sanitizer report, leak outside
+# tests/hardening/lsan.supp, input slower than 10 s or allocation over 2 GB fails the run.
+run_fuzzers() {
+  local seconds=$1
+  for target in project descriptor gltf scene_import; do
+    # New inputs go to build-fuzz/corpus/<target>; the committed seeds are only read.
+    mkdir -p "build-fuzz/corpus/$target" "build-fuzz/artifacts/$target"
+    echo "build.sh: fuzzing $target for ${seconds} s" >&2
+    LSAN_OPTIONS="suppressions=$PWD/tests/hardening/lsan.supp:print_suppressions=0" \
+      "build-fuzz/tests/fuzz/${target}_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 \
+      -timeout=10 -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$target/" \
+      "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target"
+  done
+}
+
 case "${1:-}" in
   run)
     install_missing_packages
@@ -89,31 +126,23 @@ case "${1:-}" in
     export_samples
     ;;
   test)
-    install_missing_packages
+    install_missing_packages "${fuzz_packages[@]}"
     install_test_clients
-    build
-    ctest --preset default
+    timed "build (default)" build
+    timed "tests (default)" ctest --preset default
+    # The hardening jobs of CI (issue 8; budget in README, "Hardening").
+    timed "build + tests (asan)" sanitize
+    timed "build (fuzz)" build_fuzzers
+    timed "fuzzing" run_fuzzers "${CHAINTUBE_FUZZ_SECONDS:-25}"
     ;;
   sanitize)
     install_missing_packages
-    cmake --preset asan >/dev/null
-    cmake --build --preset asan
-    ctest --preset asan
+    sanitize
     ;;
   fuzz)
     install_missing_packages "${fuzz_packages[@]}"
-    cmake --preset fuzz >/dev/null
-    cmake --build --preset fuzz
-    seconds="${2:-60}"
-    for target in project descriptor gltf scene_import; do
-      # New inputs go to build-fuzz/corpus/<target>; the committed seeds are only read.
-      mkdir -p "build-fuzz/corpus/$target" "build-fuzz/artifacts/$target"
-      echo "build.sh: fuzzing $target for ${seconds} s" >&2
-      LSAN_OPTIONS="suppressions=$PWD/tests/hardening/lsan.supp:print_suppressions=0" \
-        "build-fuzz/tests/fuzz/${target}_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 \
-        -timeout=10 -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$target/" \
-        "build-fuzz/corpus/$target" "tests/fuzz/corpus/$target"
-    done
+    build_fuzzers
+    run_fuzzers "${2:-60}"
     ;;
   *)
     echo "usage: $0 run|test|sanitize|fuzz [SECONDS]" >&2
