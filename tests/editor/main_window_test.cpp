@@ -438,6 +438,7 @@ TEST_F(MainWindowTest, RotateGizmoTurnsAPartInSnappedStepsAndTheHosesFollow)
     settle();
 
     EXPECT_EQ(document.undoStack()->count(), stepsBefore + 1) << "a rotate drag is one step";
+    EXPECT_EQ(document.undoStack()->undoText(), "Rotate part");
     const Frame after = document.nodeWorldFrame("rig", valve);
     EXPECT_NEAR((after.translation - before.translation).norm(), 0.0, 1e-9)
         << "rotation about the part's own centre";

@@ -122,10 +122,10 @@ QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int inde
 }
 
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
-                                   std::optional<formats::Mat4> localTransform)
+                                   std::optional<formats::Mat4> localTransform, const QString& text)
 {
     return new ChangeValue<std::optional<formats::Mat4>>(
-        document, tr("Move part"),
+        document, text.isEmpty() ? tr("Move part") : text,
         [node](Document& d) { return d.mutablePoseOverride(node); },
         [node](Document& d) { d.poseChanged(node); }, std::move(localTransform),
         MergeId::NodeTransform, node.first + "#" + std::to_string(node.second));

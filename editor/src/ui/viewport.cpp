@@ -496,8 +496,8 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
             m_gizmoStartOrigin - rotation.topLeftCorner<3, 3>() * m_gizmoStartOrigin;
         const formats::Mat4 local =
             parentWorld.inverse() * rotation * parentWorld * m_gizmoStartLocal;
-        m_document.undoStack()->push(
-            makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
+        m_document.undoStack()->push(makeSetNodeTransform(
+            m_document, {selection.sceneId, selection.node}, local, tr("Rotate part")));
         emit statusMessage(tr("Rotate about %1: %2°%3")
                                .arg(QChar("XYZ"[m_gizmoAxis]))
                                .arg(angle * 180.0 / kPi, 0, 'f', 1)

@@ -165,9 +165,11 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
 /// Removes attachment `index` (in the definition's order).
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index);
 
-/// Sets (or with nullopt clears) a node's transform override; merges while dragging.
+/// Sets (or with nullopt clears) a node's transform override; merges while dragging. `text`
+/// names the step in the history ("" = "Move part").
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
-                                   std::optional<formats::Mat4> localTransform);
+                                   std::optional<formats::Mat4> localTransform,
+                                   const QString& text = QString());
 
 /// Replaces the project's material presets (saving an own preset).
 QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPreset> presets,
