@@ -8,6 +8,7 @@
 #include <map>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 namespace chaintube::formats {
 
@@ -74,6 +75,39 @@ void checkPlyHeader(const std::filesystem::path& file)
                               std::string(consumed >= headerLimit ? " in its first 1 MiB" : ""));
 }
 
+/// assimp 5.2.5's OFF reader allocates the vertex array for the count the header declares
+/// before reading any vertex: a 115-byte file declaring 10^31 vertices asked for 5.7 GB
+/// (scene_import_fuzzer). A header whose vertex or face count exceeds the file's size in bytes
+/// (every vertex and face takes several bytes) is refused before assimp sees it.
+void checkOffHeader(const std::filesystem::path& file)
+{
+    std::error_code error;
+    const auto size = std::filesystem::file_size(file, error);
+    if (error) return; // checkReadableFile already judged the file
+    std::ifstream stream(file, std::ios::binary);
+    std::string word;
+    std::vector<std::string> words;
+    while (words.size() < 4 && stream >> word) {
+        if (word[0] == '#') { // a comment runs to the end of its line
+            std::string rest;
+            std::getline(stream, rest);
+            continue;
+        }
+        words.push_back(word);
+    }
+    if (words.empty() || words[0].size() < 3 ||
+        words[0].compare(words[0].size() - 3, 3, "OFF") != 0)
+        return; // not the header assimp reads counts after: assimp decides
+    for (size_t k = 1; k < words.size() && k <= 2; ++k) {
+        const std::string& count = words[k];
+        if (count.empty() || count.find_first_not_of("0123456789") != std::string::npos) return;
+        if (count.size() > 19 || std::stoull(count) > size)
+            throw FileError(file, "malformed OFF: the header declares " + count + " " +
+                                      (k == 1 ? "vertices" : "faces") + ", more than a file of " +
+                                      std::to_string(size) + " bytes can hold");
+    }
+}
+
 /// Rotation taking +Z up to +Y up (−90° about X): (x, y, z) → (x, z, −y).
 Mat4 zUpToYUp()
 {
@@ -135,6 +169,7 @@ ImportedScene importScene(const std::filesystem::path& file, const ImportOptions
     }
     checkReadableFile(file);
     if (extension == ".ply") checkPlyHeader(file);
+    if (extension == ".off") checkOffHeader(file);
 
     // The parser gets 85 % of the bar, our conversion the rest.
     detail::ProgressStage parsing(options, file, 0.0, 0.85);

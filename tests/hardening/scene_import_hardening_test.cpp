@@ -105,6 +105,34 @@ TEST(SceneImportHardening, PlyHeadersThatStopEarlyAreRefusedNotHung)
         << notPly.child.message;
 }
 
+TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAllocating)
+{
+    // The fuzzer's finding: 115 bytes declaring 4.4e31 vertices made assimp 5.2.5 ask for
+    // 5.7 GB.
+    const fs::path file = badScenes / "off-vertex-count-too-large.off";
+    const ImportOutcome outcome = importWithin(file, std::chrono::seconds(20));
+    ASSERT_TRUE(outcome.child.finished) << "importScene did not return within 20 s";
+    EXPECT_TRUE(outcome.refused()) << "exit " << outcome.child.exitCode;
+    EXPECT_NE(outcome.child.message.find(file.string() + ": malformed OFF: the header declares "),
+              std::string::npos)
+        << outcome.child.message;
+    EXPECT_NE(outcome.child.message.find("vertices, more than a file of 114 bytes can hold"),
+              std::string::npos)
+        << outcome.child.message;
+
+    ScratchFolder folder;
+    const ImportOutcome faces = importWithin(
+        folder.write("faces.off", "OFF\n# comment\n3 99999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        std::chrono::seconds(20));
+    EXPECT_TRUE(faces.refused());
+    EXPECT_NE(faces.child.message.find("declares 99999 faces"), std::string::npos)
+        << faces.child.message;
+    const ImportOutcome fine = importWithin(
+        folder.write("triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        std::chrono::seconds(20));
+    EXPECT_TRUE(fine.imported()) << fine.child.message;
+}
+
 TEST(SceneImportHardening, WellFormedPlyStillImports)
 {
     ScratchFolder folder;
