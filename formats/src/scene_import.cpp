@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <map>
 #include <system_error>
 #include <utility>
@@ -48,13 +49,50 @@ void checkReadableFile(const std::filesystem::path& file)
 /// (tests/fuzz/findings/assimp-ply-hang.bin). Such a file is refused here, before assimp sees
 /// it: the header must start with the magic line and contain an `end_header` line within the
 /// first 1 MiB (real headers are a few hundred bytes).
+///
+/// Its post-processing also aborts (an ai_assert compiled into Debian's libassimp, in
+/// TriangulateProcess) on a body shorter than the header declares (scene_import_fuzzer, seed 1):
+/// the body must hold at least the declared elements — one value per scalar property and the
+/// count of each list (ASCII: whitespace-separated values; binary: bytes) — or the file is
+/// refused too.
+void checkPlyBody(const std::filesystem::path& file, std::ifstream& stream, const std::string& format,
+                  unsigned long long minimumValues, unsigned long long minimumBytes)
+{
+    if (format == "ascii") {
+        unsigned long long values = 0;
+        std::string value;
+        while (values < minimumValues && stream >> value) ++values;
+        if (values < minimumValues)
+            throw FileError(file, "malformed PLY: the header declares " + std::to_string(minimumValues) +
+                                      " or more values, the body holds " + std::to_string(values));
+    } else {
+        const std::streampos bodyStart = stream.tellg();
+        stream.seekg(0, std::ios::end);
+        const auto bytes = static_cast<unsigned long long>(stream.tellg() - bodyStart);
+        if (bodyStart >= 0 && bytes < minimumBytes)
+            throw FileError(file, "malformed PLY: the header declares " + std::to_string(minimumBytes) +
+                                      " or more bytes of data, the body has " + std::to_string(bytes));
+    }
+}
+
+unsigned long long plyTypeSize(const std::string& type)
+{
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "double" || type == "float64") return 8;
+    return 4; // int, uint, float and their sized names
+}
+
 void checkPlyHeader(const std::filesystem::path& file)
 {
     constexpr std::size_t headerLimit = 1 << 20;
+    constexpr unsigned long long kCap = 1ull << 40; // keeps the sums below from overflowing
     std::ifstream stream(file, std::ios::binary);
     std::string line;
     std::size_t consumed = 0;
     bool first = true;
+    std::string format;
+    unsigned long long elementCount = 0, minimumValues = 0, minimumBytes = 0;
     while (consumed < headerLimit && std::getline(stream, line)) {
         consumed += line.size() + 1;
         if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -68,7 +106,23 @@ void checkPlyHeader(const std::filesystem::path& file)
                 throw FileError(file, "malformed PLY: the first line must be 'ply'");
             first = false;
         } else if (token == "end_header") {
+            checkPlyBody(file, stream, format, minimumValues, minimumBytes);
             return;
+        } else {
+            std::istringstream words(line);
+            std::string keyword, a, b;
+            words >> keyword >> a >> b;
+            if (keyword == "format") {
+                format = a;
+            } else if (keyword == "element") {
+                elementCount = 0;
+                if (!b.empty() && b.size() < 13 && b.find_first_not_of("0123456789") == std::string::npos)
+                    elementCount = std::min(kCap, std::stoull(b));
+            } else if (keyword == "property") {
+                // A scalar takes one value; a list at least its count.
+                minimumValues = std::min(kCap, minimumValues + elementCount);
+                minimumBytes = std::min(kCap, minimumBytes + elementCount * plyTypeSize(a == "list" ? b : a));
+            }
         }
     }
     throw FileError(file, "malformed PLY: the header has no 'end_header' line" +

@@ -105,6 +105,29 @@ TEST(SceneImportHardening, PlyHeadersThatStopEarlyAreRefusedNotHung)
         << notPly.child.message;
 }
 
+TEST(SceneImportHardening, PlyBodyShorterThanItsHeaderIsRefusedBeforeAssimpAborts)
+{
+    // scene_import_fuzzer, seed 1: assimp 5.2.5's TriangulateProcess aborts (ai_assert) on it.
+    ScratchFolder folder;
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                               "property float y\nproperty float z\nelement face 1\n"
+                               "property list uchar int vertex_indices\nend_header\n";
+    const ImportOutcome ascii = importWithin(folder.write("short.ply", header + "00 1 2\n"), std::chrono::seconds(20));
+    ASSERT_TRUE(ascii.child.finished);
+    EXPECT_TRUE(ascii.refused()) << "exit " << ascii.child.exitCode;
+    EXPECT_NE(ascii.child.message.find("malformed PLY: the header declares 10 or more values, the body holds 3"),
+              std::string::npos)
+        << ascii.child.message;
+    const std::string binaryHeader = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+                                     "property float x\nproperty float y\nproperty float z\nend_header\n";
+    const ImportOutcome binary =
+        importWithin(folder.write("short-binary.ply", binaryHeader + std::string(20, '\0')), std::chrono::seconds(20));
+    ASSERT_TRUE(binary.child.finished);
+    EXPECT_TRUE(binary.refused());
+    EXPECT_NE(binary.child.message.find("declares 36 or more bytes of data, the body has 20"), std::string::npos)
+        << binary.child.message;
+}
+
 TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAllocating)
 {
     // The fuzzer's finding: 115 bytes declaring 4.4e31 vertices made assimp 5.2.5 ask for
