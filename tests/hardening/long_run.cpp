@@ -155,8 +155,11 @@ int run(const Options& options)
 
     std::mt19937_64 random(options.seed);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto randomVector = [&](double size) {
-        return Vec3(unit(random), unit(random), unit(random)) * size;
+    // Returns a Vec3, not `auto`: an Eigen product expression would refer to a dead temporary
+    // (AddressSanitizer: stack-buffer-overflow in the asan preset).
+    const auto randomVector = [&](double size) -> Vec3 {
+        const double x = unit(random), y = unit(random), z = unit(random);
+        return Vec3(x, y, z) * size;
     };
     long long grabs = 0, moves = 0, clamped = 0, infeasible = 0, invalid = 0, measured = 0;
     long long movedPoints = 0;
