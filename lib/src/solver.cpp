@@ -582,27 +582,20 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         } else {
             // Largest reachable fraction of the move, by bisection (deterministic, bounded).
             // Where only the stretch limits bind, the bound above is the answer: try it first.
-            // Each attempt starts from the last reachable state found (warm start: its move is
-            // short); the answer is that state, not a recomputation.
+            // Bisection up to that bound, each attempt from the state before the grab with 40
+            // relaxation sweeps, then the chosen fraction recomputed with the full budget.
             double good = 0.0, bad = reachable;
-            std::vector<Vec3> goodState = m_scratch;
-            int goodMoved = 0;
-            const double bound = reachable * (1.0 - 1e-9);
-            auto tryFraction = [&](double t) {
-                m_local = goodState;
-                if (!attempt(start + t * (localTarget - start), moved, kBisectionSweeps)) return false;
-                good = t;
-                goodState = m_local;
-                goodMoved = moved;
-                return true;
-            };
-            if (reachable < 1.0 && tryFraction(bound)) bad = bound;
             for (int step = 0; step < kBisectionSteps && bad - good > 1e-9; ++step) {
                 const double mid = 0.5 * (good + bad);
-                if (!tryFraction(mid)) bad = mid;
+                m_local = m_scratch;
+                if (attempt(start + mid * (localTarget - start), moved, kBisectionSweeps)) good = mid;
+                else bad = mid;
             }
-            m_local = goodState;
-            moved = goodMoved;
+            m_local = m_scratch;
+            if (!attempt(start + good * (localTarget - start), moved)) {
+                m_local = m_scratch; // keep the valid shape from before the grab
+                moved = 0;
+            }
             status = Status::Clamped;
         }
     }

@@ -23,9 +23,11 @@ enum class Status {
                   ///< straight line from where it was towards the target and stops at the last
                   ///< reachable position: bounded first by the balls the hose can stretch to
                   ///< from the fixed points on either side, then bisection (16 steps: to 1.5e-5
-                  ///< of the move), each step warm-started from the last reachable state and
-                  ///< given 40 relaxation sweeps (a fraction that needs more counts as out of
-                  ///< reach, so the clamp may stop slightly short of the true boundary).
+                  ///< of the move), each step from the state before the grab and given 40
+                  ///< relaxation sweeps (a fraction that needs more counts as out of reach, so
+                  ///< the clamp may stop slightly short of the true boundary); the fraction found
+                  ///< is recomputed with the full budget (if even that fails, the hose keeps its
+                  ///< shape from before the grab).
     Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
                   ///< frame put it and the residual violation is reported. Two attachments
                   ///< farther apart than the hose between them can stretch: the free points lie
