@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 
 namespace chaintube {
+
 namespace {
 constexpr double kLengthTolerance = 1e-12;   // relative, when deciding whether to correct
 constexpr double kConvergedLength = 1e-10;   // relative, phase 2 success
@@ -15,10 +15,6 @@ constexpr int kMaxSweeps = 200;
 constexpr double kMomentum = 0.9;
 constexpr int kStallWindow = 32; // give up when a window of sweeps gains less than half
 constexpr int kBisectionSteps = 16;
-// Sweeps an attempt of the clamp's bisection may take: a fraction that needs more counts as out
-// of reach (near the boundary the sweeps converge slowly; the full budget made one clamped grab
-// of a 59-point hose cost ~6 ms).
-constexpr int kBisectionSweeps = 40;
 
 Vec3 anyPerpendicular(const Vec3& u)
 {
@@ -313,7 +309,7 @@ public:
         // dropping it for one round whenever the violation grows, cut those cases ~10x. The
         // sweeps restore every constraint; the state returned is never an extrapolated one.
         const double momentum = kMomentum;
-        for (int iteration = 0; iteration < maxSweeps; ++iteration) {
+        for (int iteration = 0; iteration < kMaxSweeps; ++iteration) {
             for (int pass = 0; pass < 2; ++pass) {
                 const int step = pass == 0 ? +1 : -1;
                 const int begin = pass == 0 ? 1 : n - 2;
@@ -436,7 +432,6 @@ public:
     Hose& h;
     std::vector<Vec3>& p;
     int grabbed = -1;
-    int maxSweeps = kMaxSweeps; ///< relax() budget (bisection attempts use less)
     bool hitPin = false;
     bool measured = false;
     int movedPoints = 0;
@@ -489,31 +484,6 @@ bool Hose::blendTowardsPins(int index, const Vec3& displacement)
     return left || right;
 }
 
-double Hose::reachableFraction(int index, const Vec3& start, const Vec3& target) const
-{
-    const int n = pointCount();
-    int left = index - 1, right = index + 1;
-    while (left >= 0 && !m_fixed[static_cast<size_t>(left)]) --left;
-    while (right < n && !m_fixed[static_cast<size_t>(right)]) ++right;
-    if (left < 0 || right >= n) return 1.0;
-    const Vec3 move = target - start;
-    const double a = move.squaredNorm();
-    if (!(a > 0.0)) return 1.0;
-    double fraction = 1.0;
-    for (const auto& [pin, from, to] : {std::tuple<int, int, int>{left, left, index}, {right, index, right}}) {
-        double reach = 0.0;
-        for (int s = from; s < to; ++s) reach += m_maxLength[static_cast<size_t>(s)];
-        // |start − pin + t·move|² ≤ reach²: the larger root of a t² + 2 b t + c = 0.
-        const Vec3 offset = start - m_local[static_cast<size_t>(pin)];
-        // Already out of reach (an infeasible hose): the grab may not pull it farther.
-        reach = std::max(reach, offset.norm());
-        const double b = offset.dot(move), c = offset.squaredNorm() - reach * reach;
-        const double root = (-b + std::sqrt(std::max(0.0, b * b - a * c))) / a;
-        fraction = std::min(fraction, root);
-    }
-    return std::max(0.0, fraction);
-}
-
 int Hose::pinnedSide(int index) const
 {
     bool left = false, right = false;
@@ -536,10 +506,9 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     if (mayHitPins) m_scratch = m_local;
 
     bool measured = false;
-    auto attempt = [&](const Vec3& where, int& moved, int maxSweeps = kMaxSweeps) {
+    auto attempt = [&](const Vec3& where, int& moved) {
         Solver solver(*this);
         solver.grabbed = index;
-        solver.maxSweeps = maxSweeps;
         const std::pair<int, int> run(index, index);
         const std::pair<Vec3, Vec3> oldEnds(m_local[k], m_local[k]);
         // The blend moves points the propagation may not reach: check the whole hose after it.
@@ -551,26 +520,15 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         return converged;
     };
 
-    // Between two fixed points the target is out of reach for certain where the straight line
-    // from the start leaves either ball of the length the hose can stretch to on that side:
-    // then skip the doomed full attempt and bisect only up to that fraction.
-    double reachable = 1.0;
-    if (mayHitPins) reachable = reachableFraction(index, start, localTarget);
     int moved = 0;
     Status status = Status::Ok;
-    if (reachable < 1.0 || !attempt(localTarget, moved)) {
+    if (!attempt(localTarget, moved)) {
         m_local = m_scratch;
         int movedAtStart = 0;
         if (!attempt(start, movedAtStart)) {
-            // The hose was already infeasible before this grab: keep the request as far as
-            // it pulls no span beyond its stretch (or beyond how far it already was), and lay
-            // spans that stay overlong straight with the least worst overstretch.
+            // The hose was already infeasible before this grab: keep the full request.
             m_local = m_scratch;
-            if (!attempt(start + reachable * (localTarget - start), moved)) {
-                Solver solver(*this);
-                solver.grabbed = index;
-                solver.straightenOverlongSpans();
-            }
+            attempt(localTarget, moved);
             status = Status::Infeasible;
         } else if (const int side = pinnedSide(index); side != 0) {
             // Reach towards the target as far as the hose allows (closest reachable point).
@@ -581,21 +539,15 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             status = Status::Clamped;
         } else {
             // Largest reachable fraction of the move, by bisection (deterministic, bounded).
-            // Where only the stretch limits bind, the bound above is the answer: try it first.
-            // Bisection up to that bound, each attempt from the state before the grab with 40
-            // relaxation sweeps, then the chosen fraction recomputed with the full budget.
-            double good = 0.0, bad = reachable;
-            for (int step = 0; step < kBisectionSteps && bad - good > 1e-9; ++step) {
+            double good = 0.0, bad = 1.0;
+            for (int step = 0; step < kBisectionSteps; ++step) {
                 const double mid = 0.5 * (good + bad);
                 m_local = m_scratch;
-                if (attempt(start + mid * (localTarget - start), moved, kBisectionSweeps)) good = mid;
+                if (attempt(start + mid * (localTarget - start), moved)) good = mid;
                 else bad = mid;
             }
             m_local = m_scratch;
-            if (!attempt(start + good * (localTarget - start), moved)) {
-                m_local = m_scratch; // keep the valid shape from before the grab
-                moved = 0;
-            }
+            attempt(start + good * (localTarget - start), moved);
             status = Status::Clamped;
         }
     }

@@ -21,21 +21,13 @@ enum class Status {
                   ///< 64 rounds, each ending with a pass from the fixed side that leaves every
                   ///< constraint exact. If it is fixed on both sides, it moves along the
                   ///< straight line from where it was towards the target and stops at the last
-                  ///< reachable position: bounded first by the balls the hose can stretch to
-                  ///< from the fixed points on either side, then bisection (16 steps: to 1.5e-5
-                  ///< of the move), each step from the state before the grab and given 40
-                  ///< relaxation sweeps (a fraction that needs more counts as out of reach, so
-                  ///< the clamp may stop slightly short of the true boundary); the fraction found
-                  ///< is recomputed with the full budget (if even that fails, the hose keeps its
-                  ///< shape from before the grab).
+                  ///< reachable position (bisection, 16 steps: to 1.5e-5 of the move).
     Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
                   ///< frame put it and the residual violation is reported. Two attachments
                   ///< farther apart than the hose between them can stretch: the free points lie
                   ///< on the straight line between them, every segment stretched by the same
                   ///< fraction of its maximum length (the least worst overstretch). Other
-                  ///< contradictions (bends): the bounded relaxation's last state. A grab on a
-                  ///< hose that was already infeasible moves the point only as far as it pulls
-                  ///< no span beyond its stretch (or farther than it already was).
+                  ///< contradictions (bends): the bounded relaxation's last state.
     InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
                   ///< hose is unchanged.
 };
@@ -295,9 +287,6 @@ private:
     void recomputeLimits();
     /// −1: fixed points only before `index`; +1: only after it; 0: on both sides or none.
     int pinnedSide(int index) const;
-    /// Largest t in [0, 1] for which start + t (target − start) is within the stretched reach of
-    /// the fixed points on both sides of `index` (1 when not fixed on both sides).
-    double reachableFraction(int index, const Vec3& start, const Vec3& target) const;
     bool blendSide(int from, int side, const Vec3& displacement);
     bool blendTowardsPins(int index, const Vec3& displacement);
 
