@@ -87,7 +87,9 @@ void addCommands(CLI::App& app, ExportCommand& exportCommand, FileCommand& valid
 
     CLI::App* info = app.add_subcommand(
         "info", "Describe the hoses of a project, descriptor or export: lengths, materials, "
-                "attachments and warnings (overstretch, bend below minimum, self-intersection)");
+                "attachments, gravity (on/off, direction), torsion (on/off, twist limit per "
+                "joint), the collider objects, and warnings (overstretch, bend below minimum, "
+                "self-intersection)");
     info->footer(kExitCodes);
     info->add_option("file", infoCommand.file, "*.ctproj, *.hoses.json, *.glb or *.gltf")
         ->required();

@@ -241,6 +241,20 @@ std::vector<std::string> describeHose(std::ostream& out, const std::string& id,
         << " vertices per ring)\n"
         << "  colour (" << colour[0] << ", " << colour[1] << ", " << colour[2] << ", " << colour[3]
         << "), roughness " << roughness << "\n";
+    const Gravity& gravity = hose.spec().gravity;
+    out << "  gravity: ";
+    if (gravity.enabled)
+        out << "on, direction (" << gravity.direction.x() << ", " << gravity.direction.y() << ", "
+            << gravity.direction.z() << ")\n";
+    else
+        out << "off\n";
+    const Torsion& torsion = hose.spec().torsion;
+    out << "  torsion: ";
+    if (torsion.enabled)
+        out << "on, twist limit " << torsion.twistLimit << " rad ("
+            << torsion.twistLimit * 180.0 / 3.14159265358979323846 << "°) per joint\n";
+    else
+        out << "off\n";
     if (hose.attachments().empty()) out << "  attachments: none (free hose)\n";
     for (size_t k = 0; k < hose.attachments().size(); ++k) {
         const Hose::Attachment& a = hose.attachments()[k];
@@ -304,6 +318,10 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
         const formats::Project project = formats::loadProject(file, load);
         out << file.string() << ": project '" << project.name << "', " << project.scenes.size()
             << " scene(s), " << project.hoses.size() << " hose(s)\n";
+        out << "colliders: " << project.colliders.size() << (project.colliders.empty() ? "\n" : "");
+        for (size_t k = 0; k < project.colliders.size(); ++k)
+            out << (k == 0 ? " — " : ", ") << "scene '" << project.colliders[k].scene << "' node "
+                << project.colliders[k].node << (k + 1 == project.colliders.size() ? "\n" : "");
         const formats::ImportedScenes scenes = formats::importProjectScenes(project, file, roots);
         for (const formats::HoseDefinition& definition : project.hoses) {
             std::vector<std::string> attachedTo;
@@ -332,6 +350,13 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
         out << file.string() << ": hose rig " << descriptor.version << " ("
             << (descriptor.generator.empty() ? "unknown generator" : descriptor.generator) << "), "
             << descriptor.hoses.size() << " hose(s)\n";
+        out << "colliders: " << descriptor.colliders.size() << (descriptor.colliders.empty() ? "\n" : "");
+        for (size_t k = 0; k < descriptor.colliders.size(); ++k) {
+            const int node = descriptor.colliders[k];
+            out << (k == 0 ? " — " : ", ") << "node " << node;
+            if (runtime && node >= 0 && node < runtime->nodeCount()) out << " '" << runtime->node(node).name << "'";
+            out << (k + 1 == descriptor.colliders.size() ? "\n" : "");
+        }
         for (const rig::RigHose& d : descriptor.hoses) {
             std::vector<std::string> attachedTo;
             for (const rig::RigAttachment& a : d.attachments) {

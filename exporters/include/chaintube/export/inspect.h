@@ -46,9 +46,12 @@ struct ValidationResult
 ///    embedded descriptor.
 ValidationResult validateFile(const std::filesystem::path& file, const formats::NamedRoots& roots);
 
-/// Writes a human-readable description of a file: per hose its name, points, rest and current
-/// length, material, diameter and cross-section, colour, attachments, and the warnings
-/// (overstretch, bend below minimum, ring self-intersection). Returns the number of warnings.
+/// Writes a human-readable description of a file: the collider objects (project: scene and
+/// node path; descriptor/glTF: node index and name), then per hose its name, points, rest and
+/// current length, material, diameter and cross-section, colour, gravity (on/off, world
+/// direction), torsion (on/off, twist limit in radians and degrees per joint), attachments,
+/// and the warnings (overstretch, bend below minimum, ring self-intersection). Returns the
+/// number of warnings.
 /// Throws chaintube::Error (naming the file) if the file cannot be read or is invalid.
 int describeFile(const std::filesystem::path& file, const formats::NamedRoots& roots,
                  std::ostream& out);
