@@ -17,6 +17,13 @@ ProjectFormatError::ProjectFormatError(std::filesystem::path file, std::string j
 {
 }
 
+ImportError::ImportError(std::filesystem::path file, std::string reason, int signal,
+                         int exitStatus, std::string readerOutput)
+    : FileError(std::move(file), std::move(reason)), m_signal(signal), m_exitStatus(exitStatus),
+      m_readerOutput(std::move(readerOutput))
+{
+}
+
 Cancelled::Cancelled(const std::filesystem::path& file)
     : Error(file.string() + ": cancelled by the caller")
 {

@@ -83,7 +83,9 @@ bool isAssimpGltfIndexName(const std::string& name)
     return true;
 }
 
-std::string formatName(const std::string& extension)
+} // namespace
+
+std::string assimpFormatName(const std::string& extension)
 {
     if (extension == ".gltf" || extension == ".glb") return "glTF";
     if (extension == ".dae") return "COLLADA";
@@ -92,6 +94,8 @@ std::string formatName(const std::string& extension)
         c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     return name;
 }
+
+namespace {
 
 /// What each format says about units and up axis (before looking at the file's metadata).
 void conventionalUnits(const std::string& extension, SourceUnits& units)
@@ -148,15 +152,15 @@ ReaderResult importWithAssimp(const std::filesystem::path& file, const std::stri
     if (!source) {
         std::string reason = importer.GetErrorString();
         if (reason.empty()) reason = "the reader gave no reason";
-        throw FileError(file, "cannot read " + formatName(extension) + " file: " + reason);
+        throw FileError(file, "cannot read " + assimpFormatName(extension) + " file: " + reason);
     }
     if ((source->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !source->mRootNode)
-        throw FileError(file, "the " + formatName(extension) +
+        throw FileError(file, "the " + assimpFormatName(extension) +
                                   " file is incomplete (no scene graph or no geometry)");
 
     ReaderResult result;
     ImportedScene& scene = result.scene;
-    scene.format = formatName(extension);
+    scene.format = assimpFormatName(extension);
     conventionalUnits(extension, scene.sourceUnits);
 
     // FBX: UnitScaleFactor is centimetres per file unit; UpAxis 0/1/2 = X/Y/Z.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <string>
 
 namespace chaintube::formats::detail {
 
@@ -68,6 +69,18 @@ struct ReaderResult
 /// Reads with assimp. Progress 0…1 of the stage.
 ReaderResult importWithAssimp(const std::filesystem::path& file, const std::string& extension,
                               const ImportOptions& options, ProgressStage& progress);
+
+/// Runs `reader` in a forked child process and hands back what it read (see "Process
+/// isolation" in scene_import.h). The reader's progress is forwarded to `progress` as it comes;
+/// a cancel from the caller kills the child and throws Cancelled. A FileError the reader throws
+/// is rethrown here with its reason; a child that dies by a signal or exits without an answer
+/// becomes an ImportError naming `readerName` ("PLY importer (assimp)") and the signal.
+ReaderResult readInChildProcess(const std::filesystem::path& file, const std::string& readerName,
+                                const ImportOptions& options, ProgressStage& progress,
+                                const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader);
+
+/// The human-readable name of an assimp-read format: "glTF", "COLLADA", "PLY", …
+std::string assimpFormatName(const std::string& extension);
 
 /// Reads STEP with OpenCASCADE XCAF; same contract as importWithAssimp().
 ReaderResult importStep(const std::filesystem::path& file, const ImportOptions& options,

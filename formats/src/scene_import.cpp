@@ -228,9 +228,16 @@ ImportedScene importScene(const std::filesystem::path& file, const ImportOptions
     // The parser gets 85 % of the bar, our conversion the rest.
     detail::ProgressStage parsing(options, file, 0.0, 0.85);
     parsing.report(0.0);
-    detail::ReaderResult read = isStep(extension)
-                                    ? detail::importStep(file, options, parsing)
-                                    : detail::importWithAssimp(file, extension, options, parsing);
+    detail::ReaderResult read =
+        isStep(extension)
+            ? detail::importStep(file, options, parsing)
+            : detail::readInChildProcess(
+                  file, detail::assimpFormatName(extension) + " importer (assimp)", options,
+                  parsing,
+                  [&](const ImportOptions& childOptions, detail::ProgressStage& childProgress) {
+                      return detail::importWithAssimp(file, extension, childOptions,
+                                                      childProgress);
+                  });
     detail::ProgressStage converting(options, file, 0.85, 1.0);
     ImportedScene scene = detail::finaliseScene(std::move(read), file, options);
     converting.report(1.0);

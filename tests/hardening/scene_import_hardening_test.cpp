@@ -1,14 +1,18 @@
 // Scene files that made a third-party reader hang are refused by formats::importScene with a
 // clear error within a bounded time (each import runs in a forked child that is killed after
-// the limit, so a regression fails this test instead of blocking the suite).
+// the limit, so a regression fails this test instead of blocking the suite). Files that make
+// assimp crash are an ImportError and the calling program goes on (importScene runs assimp in
+// a child process of its own).
 #include "bounded_child.h"
 
 #include <chaintube/formats/scene_import.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
 #include <random>
+#include <thread>
 
 namespace chaintube::hardening {
 namespace {
@@ -154,6 +158,75 @@ TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAl
         folder.write("triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
         std::chrono::seconds(20));
     EXPECT_TRUE(fine.imported()) << fine.child.message;
+}
+
+TEST(SceneImportHardening, PlyFaceWithoutIndicesThatAbortsAssimpIsAnImportErrorAndTheProgramGoesOn)
+{
+    // The fuzzer's finding (tests/fuzz/findings/assimp-ply-triangulate-abort.bin without its
+    // format byte): the face line "FF" gives a face with no indices, on which an ai_assert in
+    // Debian's assimp 5.2.5 (TriangulateProcess) aborts. Imported in this very process: the
+    // abort ends the importer's child process, not this one.
+    const fs::path file = badScenes / "ply-face-without-indices.ply";
+    try {
+        (void)formats::importScene(file);
+        FAIL() << "importScene accepted " << file;
+    } catch (const formats::ImportError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  file.string() + ": the PLY importer (assimp) crashed on malformed data (signal " +
+                      std::to_string(SIGABRT) +
+                      ", SIGABRT: Aborted); it wrote: ai_assert failure in "
+                      "./code/PostProcessing/TriangulateProcess.cpp(238): numOut != "
+                      "pMesh->mNumFaces");
+        EXPECT_EQ(error.file(), file);
+        EXPECT_EQ(error.signal(), SIGABRT);
+        EXPECT_EQ(error.exitStatus(), -1);
+        EXPECT_NE(error.readerOutput().find("ai_assert failure"), std::string::npos)
+            << error.readerOutput();
+    }
+    // The same process imports the next file as if nothing had happened.
+    ScratchFolder folder;
+    const formats::ImportedScene scene =
+        formats::importScene(folder.write("triangle.obj", "o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    EXPECT_EQ(scene.meshTriangleCount(), 1u);
+}
+
+TEST(SceneImportHardening, ImportsFromSeveralThreadsAtOnceEachGetTheirOwnAnswer)
+{
+    // The editor imports on a worker thread while others run: every import forks its own
+    // reader, and no import's pipe may stay open in another's child (it would hold back that
+    // import's end of file) or hand it the wrong answer.
+    ScratchFolder folder;
+    const fs::path good = folder.write("quad.obj", "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+    const fs::path crashing = badScenes / "ply-face-without-indices.ply";
+    constexpr int kThreads = 4, kRounds = 10;
+    std::vector<std::string> failures(kThreads);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t) {
+        threads.emplace_back([&, t] {
+            for (int round = 0; round < kRounds; ++round) {
+                if ((t + round) % 2 == 0) {
+                    try {
+                        const formats::ImportedScene scene = formats::importScene(good);
+                        if (scene.meshTriangleCount() != 2)
+                            failures[t] += "quad.obj: " + std::to_string(scene.meshTriangleCount()) +
+                                           " triangles, expected 2; ";
+                    } catch (const std::exception& error) {
+                        failures[t] += std::string("quad.obj: ") + error.what() + "; ";
+                    }
+                } else {
+                    try {
+                        (void)formats::importScene(crashing);
+                        failures[t] += "the crashing PLY was accepted; ";
+                    } catch (const formats::ImportError& error) {
+                        if (error.signal() != SIGABRT)
+                            failures[t] += std::string("crashing PLY: ") + error.what() + "; ";
+                    }
+                }
+            }
+        });
+    }
+    for (std::thread& thread : threads) thread.join();
+    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(failures[t], "") << "thread " << t;
 }
 
 TEST(SceneImportHardening, WellFormedPlyStillImports)

@@ -43,6 +43,30 @@ private:
     std::string m_expected;
 };
 
+/// The third-party reader of a scene file did not come back: its process was ended by a signal
+/// (it crashed, e.g. an assertion inside assimp aborted on malformed data) or exited without an
+/// answer. importScene() runs assimp in a child process so that this is an error and not the
+/// end of the program. what() is "<file>: the <format> importer crashed on malformed data
+/// (signal 6, SIGABRT: Aborted); it wrote: <its last line>".
+class ImportError : public FileError
+{
+public:
+    ImportError(std::filesystem::path file, std::string reason, int signal, int exitStatus,
+                std::string readerOutput);
+    /// The signal that ended the reader's process, 0 if it was not ended by a signal.
+    int signal() const { return m_signal; }
+    /// The reader process's exit status when it exited without an answer, −1 otherwise.
+    int exitStatus() const { return m_exitStatus; }
+    /// What the reader process wrote to stderr and stdout (its first 64 KiB), e.g. assimp's
+    /// "ai_assert failure in …" or a sanitizer report.
+    const std::string& readerOutput() const { return m_readerOutput; }
+
+private:
+    int m_signal;
+    int m_exitStatus;
+    std::string m_readerOutput;
+};
+
 /// The caller's progress callback asked to stop. Nothing was returned; no state was changed.
 class Cancelled : public Error
 {

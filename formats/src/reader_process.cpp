@@ -1,0 +1,535 @@
+// Running a third-party scene reader in a child process (see readInChildProcess in
+// import_internal.h and the "Process isolation" note in scene_import.h).
+#include "import_internal.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstring>
+#include <fcntl.h>
+#include <malloc.h>
+#include <new>
+#include <poll.h>
+#include <string>
+#include <sys/mman.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <type_traits>
+#include <unistd.h>
+#include <utility>
+#include <vector>
+
+namespace chaintube::formats::detail {
+
+namespace {
+
+// --- the child's answer -----------------------------------------------------------------------
+// The message pipe carries messages: one type byte, a 64-bit payload length, the payload. The
+// scene itself is written into a memory file (memfd) the parent made before the fork and maps
+// afterwards: no copying through the pipe for a scene of many megabytes. Both ends are the
+// same program image, so numbers travel in native representation.
+constexpr char kProgress = 'P'; ///< payload: the stage fraction, a double
+constexpr char kResult = 'R';   ///< payload: the answer's size in the memory file, a uint64
+constexpr char kRefusal = 'E';  ///< payload: the FileError reason (the last message)
+constexpr std::size_t kHeaderSize = 1 + sizeof(std::uint64_t);
+constexpr std::size_t kOutputLimit = 64 * 1024; ///< of the child's stderr kept for the error
+
+/// Writes values into `out` if given, else only counts the bytes (the first of two passes:
+/// the answer's size is known before its buffer is made).
+class Serialiser
+{
+public:
+    explicit Serialiser(char* out = nullptr) : m_out(out) {}
+    template <typename T> void value(const T& v)
+    {
+        static_assert(std::is_trivially_copyable_v<T>);
+        put(&v, sizeof v);
+    }
+    void text(const std::string& s)
+    {
+        value(static_cast<std::uint64_t>(s.size()));
+        put(s.data(), s.size());
+    }
+    template <typename T> void array(const std::vector<T>& v)
+    {
+        static_assert(std::is_trivially_copyable_v<T>);
+        value(static_cast<std::uint64_t>(v.size()));
+        put(v.data(), v.size() * sizeof(T));
+    }
+    std::size_t size() const { return m_size; }
+
+private:
+    void put(const void* data, std::size_t size)
+    {
+        if (m_out && size > 0) std::memcpy(m_out + m_size, data, size);
+        m_size += size;
+    }
+    char* m_out;
+    std::size_t m_size = 0;
+};
+
+/// Reads what Serialiser wrote; every read is bounds-checked, so a truncated or inconsistent
+/// answer is an error and never a read past the buffer.
+class Deserialiser
+{
+public:
+    Deserialiser(const char* data, std::size_t size, const std::filesystem::path& file)
+        : m_data(data), m_size(size), m_file(file)
+    {
+    }
+    template <typename T> T value()
+    {
+        T v;
+        std::memcpy(&v, take(sizeof v), sizeof v);
+        return v;
+    }
+    std::string text()
+    {
+        const std::size_t size = count(1);
+        return std::string(take(size), size);
+    }
+    template <typename T> std::vector<T> array()
+    {
+        const std::size_t size = count(sizeof(T));
+        std::vector<T> v(size);
+        if (size > 0) std::memcpy(v.data(), take(size * sizeof(T)), size * sizeof(T));
+        return v;
+    }
+    /// An element count that the remaining bytes can hold at `elementSize` bytes each.
+    std::size_t count(std::size_t elementSize)
+    {
+        const auto n = value<std::uint64_t>();
+        if (n > (m_size - m_at) / elementSize) fail();
+        return static_cast<std::size_t>(n);
+    }
+    bool atEnd() const { return m_at == m_size; }
+    [[noreturn]] void fail() const
+    {
+        throw FileError(m_file, "internal error: the importer process's answer is inconsistent");
+    }
+
+private:
+    const char* take(std::size_t size)
+    {
+        if (size > m_size - m_at) fail();
+        const char* at = m_data + m_at;
+        m_at += size;
+        return at;
+    }
+    const char* m_data;
+    std::size_t m_size;
+    std::size_t m_at = 0;
+    const std::filesystem::path& m_file;
+};
+
+void serialise(const ReaderResult& result, Serialiser& out)
+{
+    out.value(result.metresPerReaderUnit);
+    out.value(result.sourceUnitsPerReaderUnit);
+    const ImportedScene& scene = result.scene;
+    out.text(scene.format);
+    out.value(scene.sourceUnits.metresPerUnit);
+    out.text(scene.sourceUnits.unitName);
+    out.value(scene.sourceUnits.unitSource);
+    out.value(scene.sourceUnits.upAxis);
+    out.value(scene.sourceUnits.upAxisSource);
+    out.value(static_cast<std::uint64_t>(scene.meshes.size()));
+    for (const SceneMesh& mesh : scene.meshes) {
+        out.text(mesh.name);
+        out.array(mesh.positions);
+        out.array(mesh.normals);
+        out.array(mesh.indices);
+    }
+    out.value(static_cast<std::uint64_t>(scene.nodes.size()));
+    for (const SceneNode& node : scene.nodes) {
+        out.text(node.name);
+        out.value(node.generatedName);
+        out.text(node.path);
+        out.value(node.parent);
+        out.array(node.children);
+        for (int k = 0; k < 16; ++k) out.value(node.localTransform.data()[k]);
+        out.array(node.meshes);
+    }
+}
+
+/// The inverse of serialise(), checking the invariants finaliseScene() relies on (parents
+/// before children, indices in range, whole triangles), so that even a corrupted answer cannot
+/// make the caller index out of bounds.
+ReaderResult deserialise(const char* data, std::size_t size, const std::filesystem::path& file)
+{
+    Deserialiser in(data, size, file);
+    ReaderResult result;
+    result.metresPerReaderUnit = in.value<double>();
+    result.sourceUnitsPerReaderUnit = in.value<double>();
+    ImportedScene& scene = result.scene;
+    scene.format = in.text();
+    scene.sourceUnits.metresPerUnit = in.value<double>();
+    scene.sourceUnits.unitName = in.text();
+    scene.sourceUnits.unitSource = in.value<UnitSource>();
+    scene.sourceUnits.upAxis = in.value<UpAxis>();
+    scene.sourceUnits.upAxisSource = in.value<UnitSource>();
+    const auto isUnitSource = [](UnitSource source) {
+        return source == UnitSource::FileHeader || source == UnitSource::FormatConvention ||
+               source == UnitSource::Assumed || source == UnitSource::UserOverride;
+    };
+    if (!isUnitSource(scene.sourceUnits.unitSource) ||
+        !isUnitSource(scene.sourceUnits.upAxisSource) ||
+        (scene.sourceUnits.upAxis != UpAxis::PositiveY &&
+         scene.sourceUnits.upAxis != UpAxis::PositiveZ))
+        in.fail();
+    scene.meshes.resize(in.count(1));
+    for (SceneMesh& mesh : scene.meshes) {
+        mesh.name = in.text();
+        mesh.positions = in.array<float>();
+        mesh.normals = in.array<float>();
+        mesh.indices = in.array<std::uint32_t>();
+        if (mesh.positions.size() % 3 != 0 || mesh.normals.size() != mesh.positions.size() ||
+            mesh.indices.size() % 3 != 0)
+            in.fail();
+        for (const std::uint32_t index : mesh.indices)
+            if (index >= mesh.vertexCount()) in.fail();
+    }
+    scene.nodes.resize(in.count(1));
+    for (std::size_t i = 0; i < scene.nodes.size(); ++i) {
+        SceneNode& node = scene.nodes[i];
+        node.name = in.text();
+        node.generatedName = in.value<bool>();
+        node.path = in.text();
+        node.parent = in.value<int>();
+        node.children = in.array<int>();
+        for (int k = 0; k < 16; ++k) node.localTransform.data()[k] = in.value<double>();
+        node.meshes = in.array<int>();
+        if ((i == 0) != (node.parent < 0) || node.parent >= static_cast<int>(i)) in.fail();
+        for (const int child : node.children)
+            if (child <= static_cast<int>(i) || child >= static_cast<int>(scene.nodes.size()))
+                in.fail();
+        for (const int mesh : node.meshes)
+            if (mesh < 0 || mesh >= static_cast<int>(scene.meshes.size())) in.fail();
+    }
+    if (!in.atEnd()) in.fail();
+    return result;
+}
+
+// --- the child ----------------------------------------------------------------------------
+
+/// Writes all of `bytes` to `fd`; false if the parent is gone.
+bool writeAll(int fd, const char* bytes, std::size_t size)
+{
+    while (size > 0) {
+        const ssize_t n = ::write(fd, bytes, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        bytes += n;
+        size -= static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+bool sendMessage(int fd, char type, const std::string& payload)
+{
+    char header[kHeaderSize];
+    header[0] = type;
+    const auto length = static_cast<std::uint64_t>(payload.size());
+    std::memcpy(header + 1, &length, sizeof length);
+    return writeAll(fd, header, sizeof header) && writeAll(fd, payload.data(), payload.size());
+}
+
+constexpr int kResultFd = 3;           ///< the message pipe's write end in the child
+constexpr int kSceneFd = 4;            ///< the memory file in the child
+constexpr int kExitParentGone = 120;   ///< the child's exit status when the parent died first
+constexpr int kExitCannotAnswer = 121; ///< … when writing the answer failed
+
+/// The child's whole life: it ends in _exit and never returns into the caller's code, so no
+/// destructor, atexit handler or stdio flush of the parent's state runs twice.
+/// Serialises the result into the memory file; the answer's size, or an error message.
+std::string writeScene(const ReaderResult& result, std::uint64_t& size)
+{
+    Serialiser counter;
+    serialise(result, counter);
+    size = counter.size();
+    if (size == 0) return {};
+    // fallocate (not ftruncate): a full tmpfs or memory limit is an error here, not a SIGBUS
+    // when a page is first written.
+    if (::fallocate(kSceneFd, 0, 0, static_cast<off_t>(size)) != 0)
+        return std::string("cannot hand over the scene (") + std::strerror(errno) + ")";
+    void* mapping = ::mmap(nullptr, size, PROT_WRITE, MAP_SHARED, kSceneFd, 0);
+    if (mapping == MAP_FAILED)
+        return std::string("cannot hand over the scene (") + std::strerror(errno) + ")";
+    Serialiser writer(static_cast<char*>(mapping));
+    serialise(result, writer);
+    ::munmap(mapping, size);
+    return {};
+}
+
+[[noreturn]] void runChild(int resultFd, int sceneFd, int outputFd, pid_t parent,
+                           const std::filesystem::path& file,
+                           const ImportOptions& options,
+                           const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader)
+{
+    // Die with the parent (a killed editor or a timed-out fuzzer leaves no reader behind).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(kExitParentGone);
+    // A crash must end this process by its signal, not run the parent's handlers (a crash
+    // reporter, libFuzzer's or a sanitizer's) in it.
+    sigset_t crashSignals;
+    sigemptyset(&crashSignals);
+    for (const int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGSYS, SIGPIPE}) {
+        std::signal(signal, SIG_DFL);
+        sigaddset(&crashSignals, signal);
+    }
+    ::pthread_sigmask(SIG_UNBLOCK, &crashSignals, nullptr);
+    // stdout and stderr go to the parent (assimp's ai_assert messages end up in the error);
+    // messages go to fd 3, the scene to fd 4; every other descriptor of the parent is closed,
+    // so that another import's pipe does not stay open in this process.
+    const int resultCopy = ::fcntl(resultFd, F_DUPFD, 10);
+    const int sceneCopy = ::fcntl(sceneFd, F_DUPFD, 10);
+    const int outputCopy = ::fcntl(outputFd, F_DUPFD, 10);
+    if (resultCopy < 0 || sceneCopy < 0 || outputCopy < 0 ||
+        ::dup2(outputCopy, STDOUT_FILENO) < 0 || ::dup2(outputCopy, STDERR_FILENO) < 0 ||
+        ::dup2(resultCopy, kResultFd) < 0 || ::dup2(sceneCopy, kSceneFd) < 0)
+        ::_exit(kExitCannotAnswer);
+    ::close_range(kSceneFd + 1, ~0U, 0);
+
+    // Large blocks from fresh mappings: the parent's freed heap, which malloc would otherwise
+    // hand out (its mmap threshold rises as large blocks are freed), is shared copy-on-write
+    // with this process, and every page written there would be copied first.
+    ::mallopt(M_MMAP_THRESHOLD, 256 * 1024);
+
+    ImportOptions childOptions;
+    childOptions.metresPerUnit = options.metresPerUnit;
+    childOptions.upAxis = options.upAxis;
+    childOptions.chordalTolerance = options.chordalTolerance;
+    childOptions.angularTolerance = options.angularTolerance;
+    if (options.progress) { // the parent decides about cancelling (it kills this process)
+        childOptions.progress = [](double fraction) {
+            std::string payload(sizeof fraction, '\0');
+            std::memcpy(payload.data(), &fraction, sizeof fraction);
+            return sendMessage(kResultFd, kProgress, payload);
+        };
+    }
+    bool sent = false;
+    try {
+        ProgressStage stage(childOptions, file, 0.0, 1.0);
+        const ReaderResult result = reader(childOptions, stage);
+        std::uint64_t size = 0;
+        const std::string failure = writeScene(result, size);
+        if (failure.empty()) {
+            std::string payload(sizeof size, '\0');
+            std::memcpy(payload.data(), &size, sizeof size);
+            sent = sendMessage(kResultFd, kResult, payload);
+        } else {
+            sent = sendMessage(kResultFd, kRefusal, failure);
+        }
+    } catch (const FileError& error) {
+        sent = sendMessage(kResultFd, kRefusal, error.reason());
+    } catch (const std::bad_alloc&) {
+        sent = sendMessage(kResultFd, kRefusal, "out of memory while reading the file");
+    } catch (const std::exception& error) {
+        sent = sendMessage(kResultFd, kRefusal, std::string("the reader failed: ") + error.what());
+    } catch (...) {
+        sent = sendMessage(kResultFd, kRefusal, "the reader failed with an unknown exception");
+    }
+    ::_exit(sent ? 0 : kExitCannotAnswer);
+}
+
+// --- the parent -----------------------------------------------------------------------------
+
+class Descriptor
+{
+public:
+    Descriptor() = default;
+    Descriptor(const Descriptor&) = delete;
+    Descriptor& operator=(const Descriptor&) = delete;
+    ~Descriptor() { reset(); }
+    int get() const { return m_fd; }
+    void reset(int fd = -1)
+    {
+        if (m_fd >= 0) ::close(m_fd);
+        m_fd = fd;
+    }
+
+private:
+    int m_fd = -1;
+};
+
+/// The child until it has been waited for; on any early exit of the parent's loop (Cancelled,
+/// an exception from the caller's callback) it is killed and reaped.
+class ChildProcess
+{
+public:
+    explicit ChildProcess(pid_t pid) : m_pid(pid) {}
+    ChildProcess(const ChildProcess&) = delete;
+    ChildProcess& operator=(const ChildProcess&) = delete;
+    ~ChildProcess()
+    {
+        if (m_pid <= 0) return;
+        ::kill(m_pid, SIGKILL);
+        waitStatus();
+    }
+    /// Waits for the child to end; its wait status, or −1 if it cannot be had (someone else
+    /// reaped it, e.g. with SIGCHLD ignored).
+    int waitStatus()
+    {
+        int status = 0;
+        pid_t waited;
+        do {
+            waited = ::waitpid(m_pid, &status, 0);
+        } while (waited < 0 && errno == EINTR);
+        m_pid = -1;
+        return waited < 0 ? -1 : status;
+    }
+
+private:
+    pid_t m_pid;
+};
+
+std::string signalName(int signal)
+{
+    const char* abbreviation = ::sigabbrev_np(signal);
+    const char* description = ::strsignal(signal);
+    std::string name = "signal " + std::to_string(signal);
+    if (abbreviation) name += std::string(", SIG") + abbreviation;
+    if (description) name += std::string(": ") + description;
+    return name;
+}
+
+/// The last non-empty line of the child's output, at most 300 characters.
+std::string lastLine(const std::string& output)
+{
+    std::size_t end = output.find_last_not_of(" \t\r\n");
+    if (end == std::string::npos) return {};
+    const std::size_t begin = output.rfind('\n', end);
+    std::string line = output.substr(begin == std::string::npos ? 0 : begin + 1,
+                                     end + 1 - (begin == std::string::npos ? 0 : begin + 1));
+    if (line.size() > 300) line = line.substr(0, 297) + "...";
+    return line;
+}
+
+/// Reads what is available on `fd` onto the end of `into`, keeping at most `limit` bytes
+/// there (the rest is read and dropped); false at end of file.
+bool readAvailable(int fd, std::string& into, std::size_t limit, const std::filesystem::path& file)
+{
+    char chunk[16 * 1024];
+    ssize_t n;
+    do {
+        n = ::read(fd, chunk, sizeof chunk);
+    } while (n < 0 && errno == EINTR);
+    if (n < 0)
+        throw FileError(file, std::string("cannot read from the importer process: ") +
+                                  std::strerror(errno));
+    into.append(chunk, std::min(static_cast<std::size_t>(n), limit - std::min(limit, into.size())));
+    return n > 0;
+}
+
+} // namespace
+
+ReaderResult readInChildProcess(const std::filesystem::path& file, const std::string& readerName,
+                                const ImportOptions& options, ProgressStage& progress,
+                                const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader)
+{
+    const auto cannotStart = [&](const char* what) {
+        return FileError(file, "cannot start the importer process (" + std::string(what) +
+                                   "): " + std::strerror(errno));
+    };
+    int resultPipe[2], outputPipe[2];
+    if (::pipe2(resultPipe, O_CLOEXEC) != 0) throw cannotStart("pipe");
+    Descriptor resultRead, resultWrite, outputRead, outputWrite;
+    resultRead.reset(resultPipe[0]);
+    resultWrite.reset(resultPipe[1]);
+    if (::pipe2(outputPipe, O_CLOEXEC) != 0) throw cannotStart("pipe");
+    outputRead.reset(outputPipe[0]);
+    outputWrite.reset(outputPipe[1]);
+    Descriptor sceneFile;
+    sceneFile.reset(::memfd_create("chaintube-imported-scene", MFD_CLOEXEC));
+    if (sceneFile.get() < 0) throw cannotStart("memfd_create");
+
+    const pid_t parent = ::getpid();
+    const pid_t pid = ::fork();
+    if (pid < 0) throw cannotStart("fork");
+    if (pid == 0)
+        runChild(resultWrite.get(), sceneFile.get(), outputWrite.get(), parent, file, options,
+                 reader);
+    ChildProcess child(pid);
+    resultWrite.reset();
+    outputWrite.reset();
+
+    // Read both pipes until the child closes them: the messages (progress, then the answer)
+    // and its output. Progress is forwarded as it comes; a cancel from the caller
+    // throws Cancelled here and ~ChildProcess kills the child.
+    std::string messages, output;
+    std::size_t parsed = 0;
+    std::size_t finalAt = 0, finalSize = 0;
+    char finalType = 0;
+    bool messagesOpen = true, outputOpen = true;
+    while (messagesOpen || outputOpen) {
+        pollfd descriptors[2] = {{messagesOpen ? resultRead.get() : -1, POLLIN, 0},
+                                 {outputOpen ? outputRead.get() : -1, POLLIN, 0}};
+        if (::poll(descriptors, 2, -1) < 0) {
+            if (errno == EINTR) continue;
+            throw FileError(file, std::string("cannot wait for the importer process: ") +
+                                      std::strerror(errno));
+        }
+        if (descriptors[1].revents != 0)
+            outputOpen = readAvailable(outputRead.get(), output, kOutputLimit, file);
+        if (descriptors[0].revents == 0) continue;
+        messagesOpen = readAvailable(resultRead.get(), messages, SIZE_MAX, file);
+        while (finalType == 0 && messages.size() - parsed >= kHeaderSize) {
+            std::uint64_t length;
+            std::memcpy(&length, messages.data() + parsed + 1, sizeof length);
+            if (length > messages.size() - parsed - kHeaderSize) break; // not all here yet
+            const char type = messages[parsed];
+            const char* payload = messages.data() + parsed + kHeaderSize;
+            if (type == kProgress && length == sizeof(double)) {
+                double fraction;
+                std::memcpy(&fraction, payload, sizeof fraction);
+                progress.report(fraction);
+            } else if (type == kResult || type == kRefusal) {
+                finalType = type;
+                finalAt = parsed + kHeaderSize;
+                finalSize = static_cast<std::size_t>(length);
+            }
+            parsed += kHeaderSize + static_cast<std::size_t>(length);
+        }
+    }
+    const int status = child.waitStatus();
+
+    if (status != -1 && WIFSIGNALED(status)) {
+        const std::string said = lastLine(output);
+        throw ImportError(file,
+                          "the " + readerName + " crashed on malformed data (" +
+                              signalName(WTERMSIG(status)) + ")" +
+                              (said.empty() ? std::string() : "; it wrote: " + said),
+                          WTERMSIG(status), -1, output);
+    }
+    const int exitStatus = status == -1 ? 0 : (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    if (exitStatus != 0 || finalType == 0) {
+        const std::string said = lastLine(output);
+        throw ImportError(file,
+                          "the " + readerName + " ended without an answer (exit status " +
+                              std::to_string(exitStatus) + ")" +
+                              (said.empty() ? std::string() : "; it wrote: " + said),
+                          0, exitStatus, output);
+    }
+    if (finalType == kRefusal) throw FileError(file, messages.substr(finalAt, finalSize));
+    std::uint64_t size = 0;
+    struct stat sceneStatus{};
+    if (finalSize != sizeof size) Deserialiser(nullptr, 0, file).fail();
+    std::memcpy(&size, messages.data() + finalAt, sizeof size);
+    if (size == 0 || ::fstat(sceneFile.get(), &sceneStatus) != 0 ||
+        size > static_cast<std::uint64_t>(sceneStatus.st_size))
+        Deserialiser(nullptr, 0, file).fail();
+    void* mapping = ::mmap(nullptr, size, PROT_READ, MAP_SHARED | MAP_POPULATE, sceneFile.get(), 0);
+    if (mapping == MAP_FAILED)
+        throw FileError(file, std::string("cannot map the imported scene: ") + std::strerror(errno));
+    struct Unmap
+    {
+        void* at;
+        std::size_t size;
+        ~Unmap() { ::munmap(at, size); }
+    } unmap{mapping, static_cast<std::size_t>(size)};
+    return deserialise(static_cast<const char*>(mapping), static_cast<std::size_t>(size), file);
+}
+
+} // namespace chaintube::formats::detail
