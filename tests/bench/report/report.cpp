@@ -642,14 +642,18 @@ void writeFile(const std::filesystem::path& path, const std::string& text)
 int main(int argc, char** argv)
 {
     bool quick = false;
+    std::string only, onlyPeer; // --scenario, --peer: one scenario / solver (while working on it)
     std::filesystem::path outDir = "bench-report";
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--quick")) quick = true;
         else if (!std::strcmp(argv[i], "-o") && i + 1 < argc) outDir = argv[++i];
+        else if (!std::strcmp(argv[i], "--scenario") && i + 1 < argc) only = argv[++i];
+        else if (!std::strcmp(argv[i], "--peer") && i + 1 < argc) onlyPeer = argv[++i];
         else {
-            std::cerr << "usage: chaintube-bench-report [--quick] [-o DIR]\n"
+            std::cerr << "usage: chaintube-bench-report [--quick] [-o DIR] [--scenario NAME] [--peer NAME]\n"
                          "Writes report.md, report.csv, speed-vs-error-<scenario>.svg and convergence.svg to DIR\n"
-                         "(default ./bench-report). --quick: fewer resolutions and repeats (CI).\n";
+                         "(default ./bench-report). --quick: fewer resolutions and repeats (CI).\n"
+                         "--scenario, --peer: measure only that scenario / solver (a partial report).\n";
             return std::strcmp(argv[i], "--help") == 0 ? 0 : 2;
         }
     }
@@ -688,8 +692,10 @@ int main(int argc, char** argv)
     // Per scenario: every solver's (error, axis time) runs, for the equal-error tables.
     std::map<std::string, std::map<std::string, std::vector<Front::Point>>> runsOf;
     for (const Scenario& scenario : scenarios()) {
+        if (!only.empty() && scenario.name != only) continue;
         std::cerr << "scenario " << scenario.name << "\n";
         for (const Peer& peer : peers) {
+            if (!onlyPeer.empty() && peer.name != onlyPeer) continue;
             for (int n : resolutions) {
                 const Run run = runScenario(scenario, peer.factory, n, repeats);
                 const RodSetup setup = scenario.setup(n);
@@ -704,6 +710,26 @@ int main(int argc, char** argv)
                 }
             }
         }
+    }
+
+    if (!only.empty() || !onlyPeer.empty()) {
+        // A partial run: the rows only (the report's cross-scenario sections need them all).
+        if (rows.empty()) {
+            std::cerr << "chaintube-bench-report: no scenario/solver matches --scenario '" << only << "' --peer '"
+                      << onlyPeer << "'; scenarios:";
+            for (const Scenario& scenario : scenarios()) std::cerr << " " << scenario.name;
+            std::cerr << "; solvers:";
+            for (const Peer& peer : peers) std::cerr << " '" << peer.name << "'";
+            std::cerr << "\n";
+            return 2;
+        }
+        std::cout << "| scenario | solver | segments | sides | axis µs/update | centreline error | stretch % | bend excess |\n";
+        for (const Row& row : rows)
+            if (row.sides == ringSides.front())
+                std::cout << "| " << row.scenario << " | " << row.solver << " | " << row.segments << " | " << row.sides
+                          << " | " << fmt(row.axisMicroseconds) << " | " << fmt(row.centreline) << " | "
+                          << fmt(row.violation.stretchPercent) << " | " << fmt(row.violation.bendExcess) << " |\n";
+        return 0;
     }
 
     // Wrap (closed form): lay the hose round a cylinder; and convergence of the datasheet
