@@ -1,5 +1,6 @@
 #include "gltf_container.h"
 
+#include "chaintube/formats/paths.h"
 #include "chaintube/types.h"
 
 #include <cstdint>
@@ -17,23 +18,6 @@ std::uint32_t readU32(const std::string& bytes, size_t at)
     std::uint32_t value = 0;
     std::memcpy(&value, bytes.data() + at, 4);
     return value; // GLB is little-endian, as every platform we build for
-}
-
-/// True if `path` lies inside `folder` after resolving links, dot-dot and symlinks (as
-/// formats::isInsideFolder; the runtime does not link formats).
-bool isInsideFolder(const std::filesystem::path& path, const std::filesystem::path& folder)
-{
-    std::error_code error;
-    const std::filesystem::path canonicalPath = std::filesystem::weakly_canonical(path, error);
-    if (error) return false;
-    const std::filesystem::path canonicalFolder = std::filesystem::weakly_canonical(folder, error);
-    if (error) return false;
-    auto p = canonicalPath.begin();
-    for (auto f = canonicalFolder.begin(); f != canonicalFolder.end(); ++f, ++p) {
-        if (f->empty()) continue; // trailing separator of the folder
-        if (p == canonicalPath.end() || *p != *f) return false;
-    }
-    return true;
 }
 
 using Json = nlohmann::json;
@@ -135,7 +119,7 @@ GltfFile readGltf(const std::filesystem::path& file)
             const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
             const std::filesystem::path bufferFile = folder / name;
             if (name.empty() || std::filesystem::path(name).is_absolute() ||
-                !isInsideFolder(bufferFile, folder))
+                !formats::isInsideFolder(bufferFile, folder))
                 throw Error(where + "/uri: \"" + uri + "\"" +
                             (name != uri ? " (decoded \"" + name + "\")" : std::string()) +
                             " is outside the glTF's folder (only files beside it are read)");
