@@ -5,6 +5,7 @@
 #include <chaintube/formats/project.h>
 
 #include <array>
+#include <set>
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
@@ -105,6 +106,44 @@ TEST(Clearance, AttachedNodesAreSkippedUnlessAsked)
     EXPECT_EQ(checkProjectClearance(project, {}, options).size(), 2u);
 }
 
+TEST(Clearance, AncestorsOfAnAttachedNodeAreSkippedButItsSiblingsAndChildrenAreNot)
+{
+    // Four objects crossing the hose, named like a scene graph; the hose is attached to
+    // "/rig/valve/inlet". Its ancestors "/rig/valve" (the part the fitting belongs to) and
+    // "/rig" are skipped with it; the sibling "/rig/valve/outlet", the child
+    // "/rig/valve/inlet/seal" and "/rig/valveX" (a name prefix, not an ancestor) are reported.
+    formats::Project project = formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj");
+    project.hoses.resize(1);
+    formats::HoseAttachment attachment;
+    attachment.scene = "rig";
+    attachment.node = "/rig/valve/inlet";
+    project.hoses[0].attachments = {attachment};
+    project.hoses[0].id = "probe";
+    HoseSpec spec;
+    spec.segmentCount = 20;
+    const std::vector<Hose> hoses{Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec)};
+    std::vector<SceneObject> objects;
+    const char* paths[] = {"/rig", "/rig/valve", "/rig/valve/inlet", "/rig/valve/outlet", "/rig/valve/inlet/seal",
+                           "/rig/valveX"};
+    for (int o = 0; o < 6; ++o) {
+        const double x = 0.1 + 0.15 * o;
+        const std::vector<Vec3> corners{{x, -0.1, -0.1}, {x, 0.1, -0.1}, {x, 0.1, 0.1}, {x, -0.1, 0.1}};
+        objects.push_back({"rig", o, paths[o], MeshCollider::fromArrays(corners, {0, 1, 2, 0, 2, 3})});
+    }
+    ClearanceOptions options;
+    options.threshold = 0.005;
+    std::vector<ClearanceFinding> found = clearanceViolations(project, hoses, objects, options);
+    std::set<std::string> reported;
+    for (const ClearanceFinding& f : found) reported.insert(f.objectPath);
+    EXPECT_EQ(reported, (std::set<std::string>{"/rig/valve/outlet", "/rig/valve/inlet/seal", "/rig/valveX"}));
+    // The same node in another scene is not the attached one.
+    for (SceneObject& object : objects) object.sceneId = "other";
+    EXPECT_EQ(clearanceViolations(project, hoses, objects, options).size(), 6u);
+    for (SceneObject& object : objects) object.sceneId = "rig";
+    options.includeAttachedNodes = true;
+    EXPECT_EQ(clearanceViolations(project, hoses, objects, options).size(), 6u);
+}
+
 TEST(Clearance, BadThresholdIsRefusedNamingIt)
 {
     TemporaryFolder folder;
@@ -151,13 +190,20 @@ TEST(ClearanceCli, ListsEveryViolationAndExitsThree)
     EXPECT_NE(run.output.find("2 clearance violation(s) below 0.015 m"), std::string::npos) << run.output;
 }
 
-TEST(ClearanceCli, SampleTestRigFindsTheHoseRunningIntoTheValve)
+TEST(ClearanceCli, SampleTestRigSkipsThePartsTheHosesAreFittedToAndListsTheRest)
 {
+    // left-feed is attached to /test-rig/valve/valve_inlet: its end sits in the valve body,
+    // the inlet's parent, by design. That used to be reported (the ancestor was not skipped);
+    // at 5 mm nothing else is close, at 50 mm the floor plate under the hose is.
     const fs::path sample = fs::path(CHAINTUBE_SAMPLES_DIR) / "test-rig.ctproj";
     const CliRun run = runCli("check \"" + sample.string() + "\" --clearance 0.005");
-    EXPECT_EQ(run.exitCode, 3) << run.output;
-    EXPECT_NE(run.output.find("violation: hose left-feed, object rig:/test-rig/valve"), std::string::npos)
-        << run.output;
+    EXPECT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_EQ(run.output.find("/test-rig/valve"), std::string::npos) << run.output;
+    const CliRun wide = runCli("check \"" + sample.string() + "\" --clearance 0.05");
+    EXPECT_EQ(wide.exitCode, 3) << wide.output;
+    EXPECT_NE(wide.output.find("violation: hose left-feed, object rig:/test-rig/floor_plate"), std::string::npos)
+        << wide.output;
+    EXPECT_EQ(wide.output.find("/test-rig/valve"), std::string::npos) << wide.output;
     const CliRun single = runCli("check \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() +
                               "\" --clearance 0.005");
     EXPECT_EQ(single.exitCode, 0) << single.output;

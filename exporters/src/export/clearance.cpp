@@ -10,6 +10,15 @@
 
 namespace chaintube::exporting {
 
+namespace {
+/// "/a/b/c" → "/a/b"; "/a" → "" (the scene root's path is "/" + its name, it has no parent).
+std::string parentPath(const std::string& path)
+{
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos || slash == 0 ? std::string() : path.substr(0, slash);
+}
+} // namespace
+
 std::vector<SceneObject> sceneObjects(const formats::Project& project, const formats::ImportedScenes& scenes)
 {
     std::vector<SceneObject> objects;
@@ -64,9 +73,12 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
         if (!hoses[h]) continue;
         const Hose& hose = *hoses[h];
         const formats::HoseDefinition& definition = project.hoses[h];
+        // A hose end sits in the part it is attached to by design: skip that node and every
+        // ancestor of it (an attachment on "/rig/valve/inlet" sits in "/rig/valve" too).
         std::set<std::pair<std::string, std::string>> attached;
         if (!options.includeAttachedNodes)
-            for (const formats::HoseAttachment& a : definition.attachments) attached.insert({a.scene, a.node});
+            for (const formats::HoseAttachment& a : definition.attachments)
+                for (std::string path = a.node; !path.empty(); path = parentPath(path)) attached.insert({a.scene, path});
         // Objects whose bounds are farther than threshold + radius from the hose's box are skipped.
         Aabb hoseBox;
         for (int i = 0; i < hose.pointCount(); ++i) hoseBox.extend(hose.point(i));

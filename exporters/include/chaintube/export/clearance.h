@@ -48,8 +48,10 @@ struct ClearanceFinding
 struct ClearanceOptions
 {
     double threshold = 0.005; ///< metres ≥ 0: a pair closer than this is a violation
-    /// Also check a hose against the nodes it is attached to (a hose end sits in its fitting
-    /// by design, so these are skipped unless asked for).
+    /// Also check a hose against the nodes it is attached to and their ancestors (a hose end
+    /// sits in its fitting by design, and the fitting in the part it belongs to: an attachment
+    /// on "/rig/valve/inlet" skips "/rig/valve/inlet", "/rig/valve" and "/rig" unless asked
+    /// for). Children of the attached node are objects of their own and are checked.
     bool includeAttachedNodes = false;
 };
 
