@@ -2,7 +2,8 @@
 //
 // The triangle hierarchy: median split on the longest centroid axis, ≤ 4 triangles per leaf,
 // built iteratively (degenerate inputs cannot overflow a recursion), triangles stored in leaf
-// order. Queries run in the mesh's local frame; the Frame only transforms the query and the
+// order. Every query goes through MeshCollider::traverse (one traversal, a visitor per query)
+// whose stack is sized from the depth recorded at build time. Queries run in the mesh's local frame; the Frame only transforms the query and the
 // answer, so moving a collider costs nothing.
 #include "chaintube/collision.h"
 
@@ -298,12 +299,14 @@ void MeshCollider::build()
     m_nodes.emplace_back();
     struct Task
     {
-        int node, first, count;
+        int node, first, count, depth;
     };
-    std::vector<Task> stack{{0, 0, count}};
+    m_depth = 0;
+    std::vector<Task> stack{{0, 0, count, 0}};
     while (!stack.empty()) {
         const Task task = stack.back();
         stack.pop_back();
+        m_depth = std::max(m_depth, task.depth);
         Aabb box, centroidBox;
         for (int i = task.first; i < task.first + task.count; ++i) {
             const Triangle& tri = m_triangles[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
@@ -316,23 +319,27 @@ void MeshCollider::build()
         const Vec3 extent = centroidBox.max - centroidBox.min;
         int axis = 0;
         extent.maxCoeff(&axis);
-        if (task.count <= kLeafSize || !(extent[axis] > 0.0)) {
+        if (task.count <= kLeafSize) {
             m_nodes[static_cast<std::size_t>(task.node)].first = task.first;
             m_nodes[static_cast<std::size_t>(task.node)].count = task.count;
             continue;
         }
+        // Always split in halves, so leaves stay small and the depth is ⌈log2(count / 4)⌉
+        // whatever the input: triangles whose centroids coincide (many at one spot) are split
+        // in the order given; their boxes then overlap, which costs time, never an answer.
         const int half = task.count / 2;
         auto begin = order.begin() + task.first;
-        std::nth_element(begin, begin + half, begin + task.count, [&](int x, int y) {
-            return centroids[static_cast<std::size_t>(x)][axis] < centroids[static_cast<std::size_t>(y)][axis];
-        });
+        if (extent[axis] > 0.0)
+            std::nth_element(begin, begin + half, begin + task.count, [&](int x, int y) {
+                return centroids[static_cast<std::size_t>(x)][axis] < centroids[static_cast<std::size_t>(y)][axis];
+            });
         const int left = static_cast<int>(m_nodes.size());
         m_nodes.emplace_back();
         m_nodes.emplace_back();
         m_nodes[static_cast<std::size_t>(task.node)].first = left;
         m_nodes[static_cast<std::size_t>(task.node)].count = 0;
-        stack.push_back({left, task.first, half});
-        stack.push_back({left + 1, task.first + half, task.count - half});
+        stack.push_back({left, task.first, half, task.depth + 1});
+        stack.push_back({left + 1, task.first + half, task.count - half, task.depth + 1});
     }
     // Store triangles in leaf order (locality); remember each one's index as given.
     std::vector<Triangle> sorted(m_triangles.size());
@@ -363,23 +370,82 @@ Aabb MeshCollider::worldBounds() const
     return out;
 }
 
+/// The one traversal of the hierarchy behind every query: depth first, children in the order
+/// the visitor prefers. The visitor supplies
+///   bool enter(const Aabb& box, double& key)  — false: nothing in this box can matter; key: a
+///                                               lower bound of what the box can give (smaller
+///                                               keys are visited first);
+///   bool worth(double key) const              — re-checked when a node is popped (the best
+///                                               answer may have improved since it was pushed);
+///   void leaf(int first, int count)           — the triangles first … first + count − 1.
+/// The stack holds at most depth + 1 entries (each inner node pops itself and pushes two), and
+/// build() records the depth, so no subtree is ever skipped: a small array up to depth 62, a
+/// heap buffer beyond (not reachable with the median split below 2^60 triangles, but correct).
+template <class Visitor>
+void MeshCollider::traverse(Visitor& visitor) const
+{
+    if (m_nodes.empty()) return;
+    struct Entry
+    {
+        int node;
+        double key;
+    };
+    constexpr int kInline = 64;
+    std::array<Entry, kInline> inlineStack;
+    std::vector<Entry> heapStack;
+    Entry* stack = inlineStack.data();
+    if (m_depth + 2 > kInline) {
+        heapStack.resize(static_cast<std::size_t>(m_depth) + 2);
+        stack = heapStack.data();
+    }
+    int top = 0;
+    double rootKey = 0.0;
+    if (!visitor.enter(m_nodes[0].box, rootKey)) return;
+    stack[top++] = {0, rootKey};
+    while (top > 0) {
+        const Entry entry = stack[--top];
+        if (!visitor.worth(entry.key)) continue;
+        const Node& node = m_nodes[static_cast<std::size_t>(entry.node)];
+        if (node.count > 0) {
+            visitor.leaf(node.first, node.count);
+            continue;
+        }
+        const int left = node.first, right = node.first + 1;
+        double leftKey = 0.0, rightKey = 0.0;
+        const bool enterLeft = visitor.enter(m_nodes[static_cast<std::size_t>(left)].box, leftKey);
+        const bool enterRight = visitor.enter(m_nodes[static_cast<std::size_t>(right)].box, rightKey);
+        // The preferred child is pushed last, so it is popped first.
+        if (enterLeft && enterRight && leftKey < rightKey) {
+            stack[top++] = {right, rightKey};
+            stack[top++] = {left, leftKey};
+        } else {
+            if (enterLeft) stack[top++] = {left, leftKey};
+            if (enterRight) stack[top++] = {right, rightKey};
+        }
+    }
+}
+
 MeshCollider::Closest MeshCollider::closestToPoint(const Vec3& point, double maxDistance) const
 {
     Closest result;
     if (!point.allFinite() || m_nodes.empty() || !(maxDistance >= 0.0)) return result;
-    const Vec3 p = m_frame.applyInverse(point);
-    double best2 = maxDistance == kInf ? kInf : maxDistance * maxDistance;
-    int bestTriangle = -1;
-    Vec3 bestPoint = Vec3::Zero();
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = m_nodes[static_cast<std::size_t>(stack[--top])];
-        if (boxDistance2(node.box, p) > best2) continue;
-        if (node.count > 0) {
-            for (int i = node.first; i < node.first + node.count; ++i) {
-                const Triangle& tri = m_triangles[static_cast<std::size_t>(i)];
+    struct Visitor
+    {
+        const MeshCollider& mesh;
+        Vec3 p;
+        double best2;
+        int bestTriangle = -1;
+        Vec3 bestPoint = Vec3::Zero();
+        bool enter(const Aabb& box, double& key) const
+        {
+            key = boxDistance2(box, p);
+            return key <= best2;
+        }
+        bool worth(double key) const { return key <= best2; }
+        void leaf(int first, int count)
+        {
+            for (int i = first; i < first + count; ++i) {
+                const Triangle& tri = mesh.m_triangles[static_cast<std::size_t>(i)];
                 const Vec3 on = closestOnTriangle(p, tri.a, tri.b, tri.c);
                 const double d2 = (on - p).squaredNorm();
                 if (d2 <= best2) {
@@ -388,29 +454,18 @@ MeshCollider::Closest MeshCollider::closestToPoint(const Vec3& point, double max
                     bestPoint = on;
                 }
             }
-            continue;
         }
-        // Nearer child last so it is popped first.
-        const int left = node.first, right = node.first + 1;
-        const double dl = boxDistance2(m_nodes[static_cast<std::size_t>(left)].box, p);
-        const double dr = boxDistance2(m_nodes[static_cast<std::size_t>(right)].box, p);
-        if (top + 2 > 128) continue; // cannot happen with a median split below 2^60 triangles
-        if (dl < dr) {
-            stack[top++] = right;
-            stack[top++] = left;
-        } else {
-            stack[top++] = left;
-            stack[top++] = right;
-        }
-    }
-    if (bestTriangle < 0) return result;
-    const Triangle& tri = m_triangles[static_cast<std::size_t>(bestTriangle)];
+    } visitor{*this, m_frame.applyInverse(point), maxDistance == kInf ? kInf : maxDistance * maxDistance};
+    traverse(visitor);
+    if (visitor.bestTriangle < 0) return result;
+    const Vec3& p = visitor.p;
+    const Triangle& tri = m_triangles[static_cast<std::size_t>(visitor.bestTriangle)];
     result.found = true;
-    result.distance = std::sqrt(best2);
-    result.onMesh = m_frame.apply(bestPoint);
+    result.distance = std::sqrt(visitor.best2);
+    result.onMesh = m_frame.apply(visitor.bestPoint);
     result.onQuery = point;
-    result.triangle = m_originalIndex[static_cast<std::size_t>(bestTriangle)];
-    Vec3 n = p - bestPoint;
+    result.triangle = m_originalIndex[static_cast<std::size_t>(visitor.bestTriangle)];
+    Vec3 n = p - visitor.bestPoint;
     if (!(n.norm() > 1e-15)) n = (tri.b - tri.a).cross(tri.c - tri.a);
     if (n.norm() > 0.0) result.normal = m_frame.rotation * n.normalized();
     return result;
@@ -420,23 +475,25 @@ MeshCollider::Closest MeshCollider::closestToSegment(const Vec3& a, const Vec3& 
 {
     Closest result;
     if (!a.allFinite() || !b.allFinite() || m_nodes.empty() || !(maxDistance >= 0.0)) return result;
-    const Vec3 p = m_frame.applyInverse(a), q = m_frame.applyInverse(b);
-    Aabb segmentBox;
-    segmentBox.extend(p);
-    segmentBox.extend(q);
-    double best2 = maxDistance == kInf ? kInf : maxDistance * maxDistance;
-    int bestTriangle = -1;
-    Vec3 bestOnSegment = Vec3::Zero(), bestOnMesh = Vec3::Zero();
-    double bestS = 0.0;
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = m_nodes[static_cast<std::size_t>(stack[--top])];
-        if (boxBoxDistance2(node.box, segmentBox) > best2) continue;
-        if (node.count > 0) {
-            for (int i = node.first; i < node.first + node.count; ++i) {
-                const Triangle& tri = m_triangles[static_cast<std::size_t>(i)];
+    struct Visitor
+    {
+        const MeshCollider& mesh;
+        Vec3 p, q;
+        Aabb segmentBox;
+        double best2;
+        int bestTriangle = -1;
+        Vec3 bestOnSegment = Vec3::Zero(), bestOnMesh = Vec3::Zero();
+        double bestS = 0.0;
+        bool enter(const Aabb& box, double& key) const
+        {
+            key = boxBoxDistance2(box, segmentBox);
+            return key <= best2;
+        }
+        bool worth(double key) const { return key <= best2; }
+        void leaf(int first, int count)
+        {
+            for (int i = first; i < first + count; ++i) {
+                const Triangle& tri = mesh.m_triangles[static_cast<std::size_t>(i)];
                 // Cheap rejection: the segment on one side of the triangle's plane, farther
                 // from it than the best so far, cannot be closer to the triangle.
                 const Vec3 n = (tri.b - tri.a).cross(tri.c - tri.a);
@@ -457,21 +514,21 @@ MeshCollider::Closest MeshCollider::closestToSegment(const Vec3& a, const Vec3& 
                     bestOnMesh = onTriangle;
                 }
             }
-            continue;
         }
-        if (top + 2 > 128) continue;
-        stack[top++] = node.first + 1;
-        stack[top++] = node.first;
-    }
-    if (bestTriangle < 0) return result;
-    const Triangle& tri = m_triangles[static_cast<std::size_t>(bestTriangle)];
+    } visitor{*this, m_frame.applyInverse(a), m_frame.applyInverse(b), Aabb(),
+              maxDistance == kInf ? kInf : maxDistance * maxDistance};
+    visitor.segmentBox.extend(visitor.p);
+    visitor.segmentBox.extend(visitor.q);
+    traverse(visitor);
+    if (visitor.bestTriangle < 0) return result;
+    const Triangle& tri = m_triangles[static_cast<std::size_t>(visitor.bestTriangle)];
     result.found = true;
-    result.distance = std::sqrt(best2);
-    result.onMesh = m_frame.apply(bestOnMesh);
-    result.onQuery = m_frame.apply(bestOnSegment);
-    result.segmentParameter = bestS;
-    result.triangle = m_originalIndex[static_cast<std::size_t>(bestTriangle)];
-    Vec3 n = bestOnSegment - bestOnMesh;
+    result.distance = std::sqrt(visitor.best2);
+    result.onMesh = m_frame.apply(visitor.bestOnMesh);
+    result.onQuery = m_frame.apply(visitor.bestOnSegment);
+    result.segmentParameter = visitor.bestS;
+    result.triangle = m_originalIndex[static_cast<std::size_t>(visitor.bestTriangle)];
+    Vec3 n = visitor.bestOnSegment - visitor.bestOnMesh;
     if (!(n.norm() > 1e-15)) n = (tri.b - tri.a).cross(tri.c - tri.a);
     if (n.norm() > 0.0) result.normal = m_frame.rotation * n.normalized();
     return result;
@@ -481,24 +538,24 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
 {
     Sweep result;
     if (!from.allFinite() || !to.allFinite() || !(radius >= 0.0) || m_nodes.empty()) return result;
-    const Vec3 p = m_frame.applyInverse(from), q = m_frame.applyInverse(to);
-    const Vec3 v = q - p;
-    Aabb swept;
-    swept.extend(p);
-    swept.extend(q);
-    swept.min.array() -= radius;
-    swept.max.array() += radius;
-    double best = kInf;
-    int bestTriangle = -1;
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = m_nodes[static_cast<std::size_t>(stack[--top])];
-        if (boxBoxDistance2(node.box, swept) > 0.0) continue;
-        if (node.count > 0) {
-            for (int i = node.first; i < node.first + node.count; ++i) {
-                const Triangle& tri = m_triangles[static_cast<std::size_t>(i)];
+    struct Visitor
+    {
+        const MeshCollider& mesh;
+        Vec3 p, q, v;
+        double radius;
+        Aabb swept;
+        double best = kInf;
+        int bestTriangle = -1;
+        bool enter(const Aabb& box, double& key) const
+        {
+            key = 0.0;
+            return boxBoxDistance2(box, swept) <= 0.0;
+        }
+        bool worth(double) const { return true; }
+        void leaf(int first, int count)
+        {
+            for (int i = first; i < first + count; ++i) {
+                const Triangle& tri = mesh.m_triangles[static_cast<std::size_t>(i)];
                 // Cheap rejection: start and end on one side of the plane, both at least the
                 // radius from it (touching counts only when moving deeper, which this is not).
                 const Vec3 n = (tri.b - tri.a).cross(tri.c - tri.a);
@@ -515,22 +572,24 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
                     bestTriangle = i;
                 }
             }
-            continue;
         }
-        if (top + 2 > 128) continue;
-        stack[top++] = node.first + 1;
-        stack[top++] = node.first;
-    }
-    if (bestTriangle < 0) return result;
-    const Triangle& tri = m_triangles[static_cast<std::size_t>(bestTriangle)];
+    } visitor{*this, m_frame.applyInverse(from), m_frame.applyInverse(to), Vec3::Zero(), radius, Aabb()};
+    visitor.v = visitor.q - visitor.p;
+    visitor.swept.extend(visitor.p);
+    visitor.swept.extend(visitor.q);
+    visitor.swept.min.array() -= radius;
+    visitor.swept.max.array() += radius;
+    traverse(visitor);
+    if (visitor.bestTriangle < 0) return result;
+    const Triangle& tri = m_triangles[static_cast<std::size_t>(visitor.bestTriangle)];
     result.hit = true;
-    result.fraction = best;
-    result.triangle = m_originalIndex[static_cast<std::size_t>(bestTriangle)];
-    const Vec3 centre = p + best * v;
+    result.fraction = visitor.best;
+    result.triangle = m_originalIndex[static_cast<std::size_t>(visitor.bestTriangle)];
+    const Vec3 centre = visitor.p + visitor.best * visitor.v;
     Vec3 n = centre - closestOnTriangle(centre, tri.a, tri.b, tri.c);
     if (!(n.norm() > 1e-15 * std::max(1.0, radius))) {
         n = (tri.b - tri.a).cross(tri.c - tri.a);
-        if (n.dot(v) > 0.0) n = -n;
+        if (n.dot(visitor.v) > 0.0) n = -n;
     }
     if (n.norm() > 0.0) result.normal = m_frame.rotation * n.normalized();
     return result;
@@ -540,49 +599,48 @@ MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direc
 {
     RayHit result;
     if (!origin.allFinite() || !direction.allFinite() || !(direction.norm() > 0.0) || m_nodes.empty()) return result;
-    const Vec3 o = m_frame.applyInverse(origin);
-    const Vec3 d = m_frame.rotation.conjugate() * direction;
-    const Vec3 inverse(1.0 / d.x(), 1.0 / d.y(), 1.0 / d.z());
-    double best = maxT;
-    int bestTriangle = -1;
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = m_nodes[static_cast<std::size_t>(stack[--top])];
-        double tmin = 0.0, tmax = best;
-        bool miss = false;
-        for (int axis = 0; axis < 3 && !miss; ++axis) {
-            double t0 = (node.box.min[axis] - o[axis]) * inverse[axis];
-            double t1 = (node.box.max[axis] - o[axis]) * inverse[axis];
-            if (t0 > t1) std::swap(t0, t1);
-            if (t0 > tmin) tmin = t0; // NaN (0·inf) compares false: inside the slab
-            if (t1 < tmax) tmax = t1;
-            miss = tmin > tmax;
+    struct Visitor
+    {
+        const MeshCollider& mesh;
+        Vec3 o, d, inverse;
+        double best;
+        int bestTriangle = -1;
+        bool enter(const Aabb& box, double& key) const
+        {
+            double tmin = 0.0, tmax = best;
+            for (int axis = 0; axis < 3; ++axis) {
+                double t0 = (box.min[axis] - o[axis]) * inverse[axis];
+                double t1 = (box.max[axis] - o[axis]) * inverse[axis];
+                if (t0 > t1) std::swap(t0, t1);
+                if (t0 > tmin) tmin = t0; // NaN (0·inf) compares false: inside the slab
+                if (t1 < tmax) tmax = t1;
+                if (tmin > tmax) return false;
+            }
+            key = tmin;
+            return true;
         }
-        if (miss) continue;
-        if (node.count > 0) {
-            for (int i = node.first; i < node.first + node.count; ++i) {
-                const Triangle& tri = m_triangles[static_cast<std::size_t>(i)];
+        bool worth(double key) const { return key <= best; }
+        void leaf(int first, int count)
+        {
+            for (int i = first; i < first + count; ++i) {
+                const Triangle& tri = mesh.m_triangles[static_cast<std::size_t>(i)];
                 double t = 0.0;
                 if (rayTriangle(o, d, tri.a, tri.b, tri.c, best, &t)) {
                     best = t;
                     bestTriangle = i;
                 }
             }
-            continue;
         }
-        if (top + 2 > 128) continue;
-        stack[top++] = node.first + 1;
-        stack[top++] = node.first;
-    }
-    if (bestTriangle < 0) return result;
-    const Triangle& tri = m_triangles[static_cast<std::size_t>(bestTriangle)];
+    } visitor{*this, m_frame.applyInverse(origin), m_frame.rotation.conjugate() * direction, Vec3::Zero(), maxT};
+    visitor.inverse = Vec3(1.0 / visitor.d.x(), 1.0 / visitor.d.y(), 1.0 / visitor.d.z());
+    traverse(visitor);
+    if (visitor.bestTriangle < 0) return result;
+    const Triangle& tri = m_triangles[static_cast<std::size_t>(visitor.bestTriangle)];
     result.hit = true;
-    result.t = best;
-    result.triangle = m_originalIndex[static_cast<std::size_t>(bestTriangle)];
+    result.t = visitor.best;
+    result.triangle = m_originalIndex[static_cast<std::size_t>(visitor.bestTriangle)];
     Vec3 n = (tri.b - tri.a).cross(tri.c - tri.a);
-    if (n.dot(d) > 0.0) n = -n;
+    if (n.dot(visitor.d) > 0.0) n = -n;
     if (n.norm() > 0.0) result.normal = m_frame.rotation * n.normalized();
     return result;
 }

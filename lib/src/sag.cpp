@@ -3,13 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace chaintube {
 
 namespace {
 constexpr double kDamping = 0.9;
 constexpr int kNewtonSteps = 4;
-constexpr double kProjectionTolerance = 1e-9;
+constexpr double kUnlimited = 1e300; // SagRounds::limitAngle of a joint without a bend limit
 } // namespace
 
 /// The damped rounds behind Hose::sag() and Hose::step(): a small gravity step, then the
@@ -18,8 +19,8 @@ class SagRounds
 {
 public:
     SagRounds(Hose& hose, const Vec3& direction, int held)
-        : h(hose), n(hose.m_local.size()), inverseMass(n, 0.0), minChord(n, 0.0), sub(n), diag(n), super(n),
-          rhs(n), lambda(n), target(n), gradient(n)
+        : h(hose), n(hose.m_local.size()), inverseMass(n, 0.0), limitAngle(n, kUnlimited), sub(n), diag(n),
+          super(n), rhs(n), lambda(n), target(n), gradient(n)
     {
         meanRest = h.restLengthTotal() / static_cast<double>(n - 1);
         // Inverse masses: each point carries half of its adjacent rest lengths.
@@ -29,22 +30,18 @@ public:
                 0.5 * ((i > 0 ? h.m_restLength[i - 1] : 0.0) + (i + 1 < n ? h.m_restLength[i] : 0.0));
             inverseMass[i] = 1.0 / mass;
         }
-        // Bend limit as a lower bound on the neighbours' distance (law of cosines at rest lengths).
+        // Joints with a bend limit below π take part in the joint projection.
         for (size_t j = 1; j + 1 < n; ++j) {
-            const double e = h.m_spec.material.expansionCoefficient;
-            const double a = h.m_restLength[j - 1] * (1.0 - e), b = h.m_restLength[j] * (1.0 - e);
-            // No limit (θ = π) means no constraint: |a − b| would otherwise pin unequal segments.
-            minChord[j] = h.m_cosLimit[j] <= -1.0 + 1e-12
-                              ? 0.0
-                              : std::sqrt(std::max(0.0, a * a + b * b + 2.0 * a * b * h.m_cosLimit[j]));
+            if (h.m_cosLimit[j] <= -1.0 + 1e-12) continue; // unlimited
+            limitAngle[j] = std::atan2(h.m_sinLimit[j], h.m_cosLimit[j]);
+            bendLimited = true;
         }
-        bendLimited = std::any_of(minChord.begin(), minChord.end(), [](double c) { return c > 0.0; });
         step = direction.normalized() * (0.01 * meanRest);
     }
 
-    /// One round: Verlet step against `previous` (updated), then the constraints. Gauss–Seidel
-    /// (bend-limited hoses) runs at most maxSweeps sweeps.
-    void round(std::vector<Vec3>& previous, int maxSweeps)
+    /// One round: Verlet step against `previous` (updated), then the constraints (bend-limited
+    /// hoses: at most maxNewtonSteps steps of the joint projection).
+    void round(std::vector<Vec3>& previous, int maxNewtonSteps)
     {
         std::vector<Vec3>& p = h.m_local;
         for (size_t i = 0; i < n; ++i) {
@@ -56,45 +53,301 @@ public:
             previous[i] = p[i];
             p[i] += kDamping * velocity + step;
         }
-        // Restore the constraints (bounded): the length band by the direct projection, the
-        // bend limits by Gauss–Seidel on the neighbours' distance. An under-converged
-        // projection acts as a soft spring and lets the chain stretch under load: Gauss–Seidel
-        // alone, 500 sweeps a round, left the 1.05 m catenary 0.3 % too deep after 0.35 s; the
-        // direct projection gives +0.05 % in about 50 ms. With bend limits the two constraint
-        // sets conflict and alternating the direct projection with Gauss–Seidel on the bends
-        // did not converge; there Gauss–Seidel runs on both (slower, but it settles).
-        if (!bendLimited) {
+        // Restore the constraints: without bend limits the length band by the direct
+        // tridiagonal projection (an under-converged projection acts as a soft spring and lets
+        // the chain stretch under load: Gauss–Seidel alone, 500 sweeps a round, left the 1.05 m
+        // catenary 0.3 % too deep; the direct projection gives +0.05 %). With bend limits the
+        // two sets conflict (Gauss–Seidel on both, or alternating the direct length projection
+        // with bend sweeps, never converged, and the exact ChainTube pass from the fixed side
+        // then undid the sag every step): lengths and bends are projected jointly, one banded
+        // Newton system (see projectJointly).
+        const bool touching = gatherContacts(previous);
+        if (!bendLimited && !touching) {
             projectLengths(kNewtonSteps);
             return;
         }
-        for (int sweep = 0; sweep < maxSweeps; ++sweep) {
-            double worst = 0.0;
-            for (size_t s = 0; s + 1 < n; ++s)
-                worst = std::max(worst, project(s, s + 1, h.m_minLength[s], h.m_maxLength[s]) / h.m_restLength[s]);
-            for (size_t j = 1; j + 1 < n; ++j)
-                worst = std::max(worst, project(j - 1, j + 1, minChord[j], 1e300) / meanRest);
-            if (worst <= kProjectionTolerance) break;
+        entryWorst = 0.0;
+        const double left = projectJointly(maxNewtonSteps);
+        bool finite = true;
+        for (size_t i = 0; i < n && finite; ++i) finite = p[i].allFinite();
+        if (!finite || !(left <= std::max(2.0 * entryWorst, 1e-6))) {
+            // Diverged (a shape far from valid, e.g. a route that already breaks the bend
+            // limits): the round is undone and leaves no velocity; finish() decides.
+            for (size_t i = 0; i < n; ++i)
+                if (inverseMass[i] != 0.0) p[i] = previous[i];
+            ++failedRounds;
+            return;
         }
+        // A contact is inelastic and sticks (no sliding on while it holds): a point touching
+        // its plane after the projection keeps no velocity. Without this a hose lying on a
+        // floor slid on frictionlessly, pulled by the part hanging off the edge, for hundreds
+        // of frames.
+        for (size_t i = 0; touching && i < n; ++i)
+            if (hasContact[i] && contactNormal[i].dot(p[i] - contactPoint[i]) - radius <= 1e-9 * meanRest)
+                previous[i] = p[i];
+    }
+
+    /// Contacts inside the rounds (Hose::setColliders): each free point within reach of a
+    /// collider gets the tangent plane at its closest point on the mesh (normal towards the
+    /// point, or for a centre on the surface towards where it was) for the projection to keep
+    /// it `radius` above. Returns whether any point has a contact. Planes are taken at the
+    /// predicted positions, once per round; applyCollisions after the step still sweeps every
+    /// move and checks the segments (sharp edges).
+    bool gatherContacts(const std::vector<Vec3>& previous)
+    {
+        if (h.m_colliders.empty()) return false;
+        const std::vector<Vec3>& p = h.m_local;
+        // The contact keeps a skin of a tenth of the collision tolerance: applyCollisions then
+        // sweeps each move from a resting position that does not touch (a point held exactly
+        // at the radius was stopped by its sweep on rounding noise, and its contact rounds left
+        // the band and bend limits off by up to 1e-6 instead of 1e-9).
+        radius = h.outerRadius() + 0.1 * h.m_collisionOptions.tolerance;
+        const double reach = radius + h.m_collisionOptions.tolerance + meanRest;
+        Aabb box;
+        for (const Vec3& point : p) box.extend(point + h.m_origin);
+        box.min.array() -= reach;
+        box.max.array() += reach;
+        hasContact.assign(n, 0);
+        contactNormal.assign(n, Vec3::Zero());
+        contactPoint.assign(n, Vec3::Zero());
+        bool any = false;
+        for (const auto& collider : h.m_colliders) {
+            const Aabb bounds = collider->worldBounds();
+            if ((bounds.min.array() > box.max.array()).any() || (bounds.max.array() < box.min.array()).any()) continue;
+            for (size_t i = 0; i < n; ++i) {
+                if (inverseMass[i] == 0.0) continue;
+                const double within = hasContact[i] ? (contactNormal[i].dot(p[i] - contactPoint[i])) : reach;
+                const MeshCollider::Closest c = collider->closestToPoint(p[i] + h.m_origin, within);
+                if (!c.found) continue;
+                Vec3 normal = c.normal;
+                const Vec3 onMesh = c.onMesh - h.m_origin;
+                if (c.distance < 1e-12 * meanRest && normal.dot(previous[i] - onMesh) < 0.0) normal = -normal;
+                if (!normal.allFinite()) continue;
+                hasContact[i] = 1;
+                contactNormal[i] = normal;
+                contactPoint[i] = onMesh;
+                any = true;
+            }
+        }
+        return any;
+    }
+
+    /// The end of sag() and step(): when the rounds left every constraint within
+    /// Hose::measureViolation()'s 1e-9 (after up to `extraSteps` more projection steps), their
+    /// state is the answer. The exact ChainTube pass from the fixed points (settleFrom) is only
+    /// the fallback: run on a shape the rounds already made valid it re-propagates from the
+    /// fixed side and, between two clamps, undid the sag every step (issue 7).
+    UpdateResult finish(int held, int extraSteps, const std::vector<Vec3>& before)
+    {
+        for (const Vec3& point : h.m_local)
+            if (!point.allFinite()) {
+                h.m_local = before; // never reached (the rounds keep finite states); kept as a guard
+                break;
+            }
+        UpdateResult result = h.measureViolation();
+        if (result.status != Status::Ok) {
+            if (bendLimited) projectJointly(extraSteps);
+            else projectLengths(extraSteps);
+            result = h.measureViolation();
+        }
+        if (result.status != Status::Ok) return h.settleFrom(held);
+        h.m_dirtyViolation = false;
+        ++h.m_revision;
+        return result;
     }
 
     double meanRest = 0.0;
+    int failedRounds = 0; ///< rounds undone because the projection diverged
 
 private:
-    // Mass-weighted projection of lower ≤ |p_k − p_i| ≤ upper; returns the violation it removed.
-    double project(size_t i, size_t k, double lower, double upper)
+    // Joint projection of the length band, the bend limits and the contacts: the mass-weighted
+    // closest point to the predicted positions y (the state on entry) that satisfies all of
+    // them, by sequential quadratic programming. Three constraints per point i: 3i the contact
+    // of point i with its plane (n·(p_i − c) ≥ radius), 3i + 1 the turn φ_i at joint i
+    // (φ_i ≤ limit), 3i + 2 the length of segment i (inside its band). Each Newton step solves
+    //   (J M⁻¹ Jᵀ) λ = −C − J (y − x),   x ← y + M⁻¹ Jᵀ λ
+    // for the active set; a constraint touches at most three consecutive points, so the matrix
+    // is banded (half-bandwidth 6) and a banded LDLᵀ solves it in O(n). Active: violated, an
+    // equality (a band of width 0), or active in the last step with a multiplier of the right
+    // sign (a constraint held at its bound whose multiplier would pull, not push, is
+    // released). With "violated only" and each step the smallest move from the last iterate
+    // (the plain fast projection) the result was a feasible point but not the closest one, and
+    // the damped rounds never came to rest (a 40-point bend-limited hose between two clamps
+    // kept moving 1–5 mm per step, with no inertia at all too). Known limit: the iteration
+    // leaves out the constraints' curvature, and under high tension (near the pinned ends of
+    // a long hanging hose) it can end its steps oscillating by ~1e-4 m; step() then settles by
+    // its frame-to-frame test. Returns the largest violation left (relative length, radians,
+    // contact depth relative to the mean rest length).
+    double projectJointly(int newtonSteps)
     {
         std::vector<Vec3>& p = h.m_local;
-        const double wi = inverseMass[i], wk = inverseMass[k];
-        if (wi + wk == 0.0) return 0.0;
-        const Vec3 d = p[k] - p[i];
-        const double length = d.norm();
-        if (!(length > 0.0)) return 0.0;
-        const double clamped = std::clamp(length, lower, upper);
-        if (clamped == length) return 0.0;
-        const Vec3 correction = d * ((length - clamped) / (length * (wi + wk)));
-        p[i] += wi * correction;
-        p[k] -= wk * correction;
-        return std::abs(length - clamped);
+        const size_t m = 3 * n;
+        band.assign(m * kBand, 0.0);
+        value.assign(m, 0.0);
+        multiplier.assign(m, 0.0);
+        predicted.assign(p.begin(), p.end());
+        jointGradient.assign(3 * m, Vec3::Zero());
+        activeRow.assign(m, 0);
+        boundSide.assign(m, 0);
+        double worst = 0.0;
+        auto firstPoint = [](size_t c) { return c % 3 == 1 ? c / 3 - 1 : c / 3; };
+        auto blocks = [](size_t c) { return c % 3 == 0 ? 1 : (c % 3 == 1 ? 3 : 2); };
+        for (int it = 0; it < newtonSteps; ++it) {
+            worst = 0.0;
+            double largestStep = 0.0;
+            // Keeps c active when it is violated (`violation` > 0) or was held at its bound
+            // with a multiplier of the right sign; side: +1 for g ≤ 0, −1 for g ≥ 0, 0 equality.
+            auto decide = [&](size_t c, double violation, int side) {
+                const bool held = activeRow[c] && boundSide[c] == side &&
+                                  (side == 0 || (side > 0 ? multiplier[c] <= 0.0 : multiplier[c] >= 0.0));
+                activeRow[c] = (violation > 0.0 || held || side == 0) ? 1 : 0;
+                boundSide[c] = static_cast<signed char>(side);
+                return activeRow[c] != 0;
+            };
+            for (size_t k = 0; k + 1 < n; ++k) {
+                const size_t c = 3 * k + 2;
+                const Vec3 d = p[k + 1] - p[k];
+                const double length = d.norm();
+                const double lo = h.m_minLength[k], hi = h.m_maxLength[k];
+                const double excess = std::max(length - hi, lo - length);
+                worst = std::max(worst, excess / h.m_restLength[k]);
+                const int side = lo == hi ? 0 : (length - lo < hi - length ? -1 : +1);
+                if (!(length > 0.0) || inverseMass[k] + inverseMass[k + 1] == 0.0 || !decide(c, excess, side)) {
+                    activeRow[c] = 0;
+                    continue;
+                }
+                const Vec3 unit = d / length;
+                value[c] = length - (side < 0 ? lo : hi);
+                jointGradient[3 * c] = -unit;
+                jointGradient[3 * c + 1] = unit;
+            }
+            for (size_t j = 1; j + 1 < n; ++j) {
+                if (!(limitAngle[j] < kUnlimited)) continue;
+                const size_t c = 3 * j + 1;
+                const Vec3 u = p[j] - p[j - 1], v = p[j + 1] - p[j];
+                const double lu = u.norm(), lv = v.norm();
+                const double sine = u.cross(v).norm(), cosine = u.dot(v);
+                const double turn = std::atan2(sine, cosine);
+                worst = std::max(worst, turn - limitAngle[j]);
+                const double sinTurn = sine / (lu * lv);
+                // A fold (φ near π) or a straight joint has no usable gradient: a fold is left to
+                // the length rows and the next step (or the exact pass); straight is far inside.
+                if (!(sinTurn > 1e-6) || inverseMass[j - 1] + inverseMass[j] + inverseMass[j + 1] == 0.0 ||
+                    !decide(c, turn - limitAngle[j], +1)) {
+                    activeRow[c] = 0;
+                    continue;
+                }
+                const Vec3 uh = u / lu, vh = v / lv;
+                const double c0 = uh.dot(vh);
+                const Vec3 dPhiDu = -(vh - c0 * uh) / (lu * sinTurn);
+                const Vec3 dPhiDv = -(uh - c0 * vh) / (lv * sinTurn);
+                value[c] = turn - limitAngle[j];
+                jointGradient[3 * c] = -dPhiDu;
+                jointGradient[3 * c + 1] = dPhiDu - dPhiDv;
+                jointGradient[3 * c + 2] = dPhiDv;
+            }
+            for (size_t i = 0; i < n && !contactNormal.empty(); ++i) {
+                const size_t c = 3 * i;
+                if (!hasContact[i] || inverseMass[i] == 0.0) continue;
+                const double gap = contactNormal[i].dot(p[i] - contactPoint[i]) - radius;
+                worst = std::max(worst, -gap / meanRest);
+                if (!decide(c, -gap, -1)) continue;
+                value[c] = gap;
+                jointGradient[3 * c] = contactNormal[i];
+            }
+            if (worst <= 1e-12 && it > 0 && lastStep <= 1e-12 * meanRest) break;
+            // Assemble the band: A(a, a + d) for d = 0 … 6, summed over the points both touch.
+            std::fill(band.begin(), band.end(), 0.0);
+            for (size_t i = 0; i < n; ++i) {
+                if (inverseMass[i] == 0.0) continue;
+                // Rows touching point i: 3i − 2 (turn at i − 1) … 3i + 4 (turn at i + 1).
+                size_t touching[7];
+                Vec3 grad[7];
+                int count = 0;
+                const long centre = 3 * static_cast<long>(i);
+                for (long c = centre - 2; c <= centre + 4; ++c) {
+                    if (c < 0 || c >= static_cast<long>(m) || !activeRow[static_cast<size_t>(c)]) continue;
+                    const size_t row = static_cast<size_t>(c);
+                    const size_t first = firstPoint(row);
+                    if (i < first || i >= first + static_cast<size_t>(blocks(row))) continue;
+                    touching[count] = row;
+                    grad[count] = jointGradient[3 * row + (i - first)];
+                    ++count;
+                }
+                for (int x = 0; x < count; ++x)
+                    for (int y = x; y < count; ++y)
+                        band[touching[x] * kBand + (touching[y] - touching[x])] +=
+                            inverseMass[i] * grad[x].dot(grad[y]);
+            }
+            // Right-hand side −C; inactive rows are identity rows with λ = 0.
+            for (size_t c = 0; c < m; ++c) {
+                if (!activeRow[c]) {
+                    band[c * kBand] = 1.0;
+                    multiplier[c] = 0.0;
+                    continue;
+                }
+                double rhsValue = -value[c];
+                const size_t first = firstPoint(c);
+                for (int b = 0; b < blocks(c); ++b)
+                    rhsValue -= jointGradient[3 * c + static_cast<size_t>(b)].dot(predicted[first + static_cast<size_t>(b)] -
+                                                                                p[first + static_cast<size_t>(b)]);
+                multiplier[c] = rhsValue;
+            }
+            // Banded LDLᵀ (no pivoting: the matrix is symmetric positive semi-definite); a pivot
+            // that vanishes (dependent constraints) drops its constraint for this step.
+            for (size_t i = 0; i < m; ++i) {
+                double& pivot = band[i * kBand];
+                if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
+                    pivot = std::numeric_limits<double>::infinity();
+                    multiplier[i] = 0.0;
+                    for (size_t d = 1; d < kBand; ++d) band[i * kBand + d] = 0.0;
+                    continue;
+                }
+                for (size_t d = 1; d < kBand && i + d < m; ++d) {
+                    const double factor = band[i * kBand + d] / pivot;
+                    if (factor == 0.0) continue;
+                    for (size_t e = d; e < kBand && i + e < m; ++e)
+                        band[(i + d) * kBand + (e - d)] -= factor * band[i * kBand + e];
+                    multiplier[i + d] -= factor * multiplier[i];
+                }
+            }
+            for (size_t i = m; i-- > 0;) {
+                const double pivot = band[i * kBand];
+                double x = multiplier[i];
+                for (size_t d = 1; d < kBand && i + d < m; ++d) x -= band[i * kBand + d] * multiplier[i + d];
+                multiplier[i] = std::isfinite(pivot) ? x / pivot : 0.0;
+            }
+            // x ← x + M⁻¹ Jᵀ Δλ; the multipliers add up over the steps (for the sign test).
+            scratch.assign(predicted.begin(), predicted.end());
+            for (size_t c = 0; c < m; ++c) {
+                if (!activeRow[c] || multiplier[c] == 0.0) continue;
+                const size_t first = firstPoint(c);
+                for (int b = 0; b < blocks(c); ++b) {
+                    const size_t i = first + static_cast<size_t>(b);
+                    if (inverseMass[i] == 0.0) continue;
+                    scratch[i] += (inverseMass[i] * multiplier[c]) * jointGradient[3 * c + static_cast<size_t>(b)];
+                }
+            }
+            // Damped Newton: no point moves more than a quarter of the mean rest length per
+            // step (a round starts within a gravity step of a valid state, so this only acts
+            // on shapes far from valid, where the full step overshot and diverged).
+            for (size_t i = 0; i < n; ++i) {
+                if (inverseMass[i] == 0.0) continue;
+                const double step2 = (scratch[i] - p[i]).squaredNorm();
+                largestStep = std::max(largestStep, std::isfinite(step2) ? step2 : kUnlimited);
+            }
+            const double limit = 0.25 * meanRest;
+            const double fullStep = std::sqrt(largestStep);
+            const double fraction = largestStep > limit * limit ? limit / fullStep : 1.0;
+            for (size_t i = 0; i < n; ++i) {
+                if (inverseMass[i] == 0.0) continue;
+                const Vec3 next = p[i] + fraction * (scratch[i] - p[i]);
+                if (next.allFinite()) p[i] = next;
+            }
+            lastStep = fraction * std::sqrt(largestStep);
+            if (it == 0) entryWorst = worst;
+        }
+        return worst;
     }
 
     // Direct projection of the length band (Goldenthal et al. 2007, "fast projection"): the
@@ -151,10 +404,22 @@ private:
 
     Hose& h;
     size_t n;
-    std::vector<double> inverseMass, minChord;
+    std::vector<double> inverseMass;
+    std::vector<double> limitAngle; ///< per joint, radians; kUnlimited where there is none
     bool bendLimited = false;
     Vec3 step = Vec3::Zero();
     std::vector<double> sub, diag, super, rhs, lambda, target;
+    static constexpr size_t kBand = 7; // half-bandwidth 6 plus the diagonal
+    std::vector<double> band, value, multiplier;
+    std::vector<Vec3> jointGradient, scratch, predicted;
+    std::vector<unsigned char> activeRow;
+    std::vector<signed char> boundSide;
+    double lastStep = 0.0;
+    double entryWorst = 0.0; ///< projectJointly: violation of the predicted positions
+    // Contacts (colliders): per point, the plane it must stay above for this round.
+    double radius = 0.0;
+    std::vector<unsigned char> hasContact;
+    std::vector<Vec3> contactNormal, contactPoint;
     std::vector<Vec3> gradient;
 };
 
@@ -170,10 +435,11 @@ SagResult Hose::sag(const SagOptions& options)
         return result;
     }
     SagRounds rounds(*this, direction, -1);
-    constexpr int kMaxSweepsPerRound = 500;
+    const std::vector<Vec3> before = m_local;
+    constexpr int kNewtonStepsPerRound = 50; // the joint projection stops at 1e-12 long before
     std::vector<Vec3> previous = m_local, twoBack = m_local;
     for (result.rounds = 0; result.rounds < options.maxRounds; ++result.rounds) {
-        rounds.round(previous, kMaxSweepsPerRound);
+        rounds.round(previous, kNewtonStepsPerRound);
         // Settled when the shape no longer changes over two rounds (a tiny two-round
         // flip-flop of single points has been seen with the exact projection; comparing with
         // the state two rounds back ignores it, and the exact pass below ends it).
@@ -185,8 +451,8 @@ SagResult Hose::sag(const SagOptions& options)
             break;
         }
     }
-    // Exact finish: the ChainTube propagation from the fixed points.
-    result.update = settle();
+    // The rounds' state when it holds every constraint, else the exact ChainTube pass.
+    result.update = rounds.finish(-1, 4 * kNewtonStepsPerRound, before);
     return result;
 }
 
@@ -217,7 +483,7 @@ UpdateResult Hose::step(int rounds)
             if (m_gravityTwoBack.size() == n) m_gravityTwoBack[i] += m_local[i] - m_gravityLast[i];
         }
     }
-    constexpr int kMaxSweepsPerStepRound = 16;
+    constexpr int kNewtonStepsPerStepRound = 16; // each O(n); 2–4 are typical once falling slowly
     constexpr double kSettledMotion = 1e-6; // of the mean rest length, in the last round
     SagRounds engine(*this, m_spec.gravity.direction, m_held);
     const std::vector<Vec3> start = m_local;
@@ -226,17 +492,26 @@ UpdateResult Hose::step(int rounds)
     if (m_gravityTwoBack.size() != n) m_gravityTwoBack = m_local;
     double moved = 0.0;
     for (int r = 0; r < rounds; ++r) {
-        engine.round(m_gravityPrevious, kMaxSweepsPerStepRound);
+        engine.round(m_gravityPrevious, kNewtonStepsPerStepRound);
         moved = 0.0;
         for (size_t i = 0; i < n; ++i) moved = std::max(moved, (m_local[i] - m_gravityTwoBack[i]).squaredNorm());
         m_gravityTwoBack = m_gravityPrevious; // the state before this round
     }
-    // Exact pass from the fixed points and the held point.
-    result = settleFrom(m_held);
+    // The rounds' state if it holds the constraints, else the exact pass from the fixed points
+    // and the held point.
+    result = engine.finish(m_held, 4 * kNewtonStepsPerStepRound, start);
     if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     result.movedPoints = 0;
-    for (size_t i = 0; i < n; ++i) result.movedPoints += m_local[i] != start[i] ? 1 : 0;
-    if (std::sqrt(moved) <= kSettledMotion * engine.meanRest) {
+    double stepMotion = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        result.movedPoints += m_local[i] != start[i] ? 1 : 0;
+        stepMotion = std::max(stepMotion, (m_local[i] - start[i]).squaredNorm());
+    }
+    // Also settled when the frame did not change: the joint projection can end its rounds in
+    // a cycle that returns to the same state every step (see projectJointly); nothing visible
+    // moves, and from here on nothing does.
+    if (std::sqrt(moved) <= kSettledMotion * engine.meanRest ||
+        (rounds >= 2 && std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest)) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }

@@ -52,6 +52,10 @@ public:
     /// indices are null with a non-zero count, vertexCount or indexCount is 0, indexCount is
     /// not a multiple of 3, an index is out of range, a position is not finite, or the frame is
     /// not finite. Building a 1-million-triangle mesh takes about a second (README).
+    /// Degenerate meshes (many triangles at one spot, long thin strips, all coplanar) are
+    /// answered exactly like any other: the hierarchy always halves its triangles (≤ 4 per leaf,
+    /// depth ⌈log2(count / 4)⌉) and its traversal never drops a subtree; coincident triangles
+    /// only cost time.
     static std::shared_ptr<MeshCollider> fromArrays(const float* positions, std::size_t vertexCount,
                                                     const std::uint32_t* indices, std::size_t indexCount,
                                                     const Frame& frame = Frame::identity());
@@ -131,10 +135,14 @@ public:
 private:
     MeshCollider() = default;
     void build();
+    /// Depth-first traversal shared by every query (collision.cpp documents the visitor).
+    template <class Visitor>
+    void traverse(Visitor& visitor) const;
     std::vector<Triangle> m_triangles; ///< in the BVH's leaf order
     std::vector<int> m_originalIndex;  ///< triangle index as given, per stored triangle
     std::vector<Node> m_nodes;
     Aabb m_localBounds;
+    int m_depth = 0; ///< deepest node (root 0): the traversal stack needs depth + 1 entries
     Frame m_frame;
     std::uint64_t m_revision = 1;
 };

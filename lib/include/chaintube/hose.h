@@ -225,26 +225,38 @@ public:
     /// the quasi-static equilibrium of a chain with mass spread evenly along its rest length
     /// (each point carries half of its adjacent rest lengths), found by damped position-based
     /// rounds: a small gravity step, then a mass-weighted projection of the length band (a
-    /// direct tridiagonal solve, Goldenthal et al. 2007) and of the bend limit (a lower bound on
-    /// the distance between a joint's neighbours), then one exact ChainTube pass from the fixed
-    /// points. `settled` is false when maxRounds ran out first (the shape is then still the
+    /// direct tridiagonal solve, Goldenthal et al. 2007) or, with bend limits or colliders, of
+    /// the length band, the bend limits and the contacts together (one banded Newton system per
+    /// step, sag.cpp). The rounds' final state is kept when it holds every constraint to 1e-9;
+    /// only otherwise one exact ChainTube pass from the fixed points re-imposes them.
+    /// `settled` is false when maxRounds ran out first (the shape is then still the
     /// best found; the constraints hold either way). Deterministic; a settled hose stays where it is (calling again
     /// changes nothing beyond the tolerance). Without fixed points the hose falls without end:
     /// returns InvalidInput and leaves it unchanged. Non-finite or zero direction: InvalidInput.
+    /// With colliders (setColliders) the contacts are constraints of the rounds too.
     SagResult sag(const SagOptions& options = SagOptions());
 
     /// Per-frame gravity (HoseSpec::gravity; beyond the paper). Advances the settling of the
     /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
-    /// step to step, so the hose falls and swings out over a few dozen frames), then one exact
-    /// ChainTube pass from the fixed points: every constraint holds after every step. The held
+    /// step to step, so the hose falls and swings out over a few dozen frames); the rounds'
+    /// state is kept when it holds every constraint to 1e-9 (as sag()), else one exact ChainTube
+    /// pass from the fixed points re-imposes them: every constraint holds after every step.
+    /// With colliders, contacts are projection constraints inside the rounds (each free point
+    /// keeps outerRadius() + tolerance/10 from the tangent plane at its closest point on a
+    /// collider; a touching point keeps no velocity, i.e. it sticks), then the sweeps of
+    /// setColliders run as for any update. The held
     /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
     /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
-    /// projection can leave a tiny two-round flip-flop) the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
+    /// projection can leave a tiny two-round flip-flop), or (rounds ≥ 2) over the whole step,
+    /// the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
     /// revision()), step() returns at once without touching the hose, so a settled hose never
     /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
     /// with nothing fixed and nothing held has nothing to hang from: it does not fall (Ok,
-    /// nothing moves). With bend limits each round does at most 16 constraint sweeps (the exact
-    /// pass restores the rest). Deterministic. Returns the constraint state; movedPoints is 0
+    /// nothing moves). With bend limits or contacts each round does at most 16 Newton steps of
+    /// the joint projection; a round whose projection diverges is undone (no NaN or Inf ever
+    /// leaves it). Known limit: a hose hanging between two pinned points with its bottom at the
+    /// bend limit and steep ends under high tension can keep cycling by ~0.6 mm per step near
+    /// the pins (README). Deterministic. Returns the constraint state; movedPoints is 0
     /// when nothing was done.
     UpdateResult step(int rounds = 4);
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
