@@ -384,5 +384,191 @@ TEST(Document, ChangeEventsNameWhatChanged)
     EXPECT_EQ(document->hose(id)->pointCount(), 25);
 }
 
+
+// --- live gravity and colliders (issue 7) -----------------------------------------------------
+
+/// Steps gravity as the editor's timer does until nothing moves; returns the steps that moved
+/// something (bounded by the document's step budget).
+int stepUntilSettled(Document& document)
+{
+    int moving = 0;
+    while (document.gravityActive())
+        moving += document.stepGravity() > 0 ? 1 : 0;
+    return moving;
+}
+
+QUndoCommand* gravityOn(Document& document, const std::string& id)
+{
+    Gravity gravity = document.hoseDefinition(id)->gravity;
+    gravity.enabled = true;
+    return makeChangeHoseField(document, id, &formats::HoseDefinition::gravity, gravity,
+                               MergeId::HoseDefinition, "Gravity on");
+}
+
+TEST(DocumentGravity, AHoseFixedAtOneEndSagsToTheLowestShapeItsConstraintsAllowThenStops)
+{
+    auto document = openTestRig();
+    const std::string id = test::addCantilever(*document);
+    const std::vector<Vec3> authored = document->hose(id)->points();
+    EXPECT_EQ(document->stepGravity(), 0) << "gravity is off by default: nothing steps";
+    EXPECT_FALSE(document->gravityActive());
+
+    document->undoStack()->push(gravityOn(*document, id));
+    const int steps = document->undoStack()->count();
+    const std::string definitionState = document->stateFingerprint();
+    EXPECT_TRUE(document->gravityActive()) << "turning gravity on starts the settling";
+    const int moving = stepUntilSettled(*document);
+    EXPECT_GT(moving, 0);
+    ASSERT_EQ(document->gravityState(id), Document::GravityState::Settled)
+        << "still moving after " << document->gravitySteps(id) << " steps";
+    const Hose& hose = *document->hose(id);
+    const double expected = test::lowestReachableY(hose);
+    const double lowest = test::lowestY(hose.points());
+    const double drop = authored[1].y() - expected;
+    std::printf("cantilever: settled after %d steps; lowest point %.6f m, model equilibrium "
+                "%.6f m (drop %.4f m, off by %.2f %% of it)\n",
+                document->gravitySteps(id), lowest, expected, drop,
+                100.0 * (lowest - expected) / drop);
+    EXPECT_GT(drop, 0.1) << "the expected shape hangs well below the clamp";
+    EXPECT_NEAR(lowest, expected, 0.02 * drop) << "sagged to the constrained equilibrium";
+    EXPECT_EQ(hose.measureViolation().status, Status::Ok) << "constraints hold after settling";
+    EXPECT_EQ(hose.point(0), authored[0]) << "fixed points stay";
+    EXPECT_EQ(hose.point(1), authored[1]);
+
+    // Settled: no further motion, no events, nothing on the undo stack, the route as authored.
+    const std::vector<Vec3> settled = hose.points();
+    int shapeEvents = 0;
+    QObject::connect(document.get(), &Document::changed, [&](const ChangeEvent& e) {
+        shapeEvents += e.kind == ChangeEvent::Kind::HoseShapeChanged ? 1 : 0;
+    });
+    for (int i = 0; i < 10; ++i)
+        EXPECT_EQ(document->stepGravity(), 0);
+    EXPECT_EQ(shapeEvents, 0);
+    EXPECT_EQ(document->hose(id)->points(), settled);
+    EXPECT_EQ(document->undoStack()->count(), steps) << "simulation steps are not edits";
+    EXPECT_EQ(document->stateFingerprint(), definitionState) << "the route stays as authored";
+
+    // Undo: gravity off, the authored shape exactly.
+    document->undoStack()->undo();
+    EXPECT_FALSE(document->hoseDefinition(id)->gravity.enabled);
+    EXPECT_EQ(document->hose(id)->points(), authored);
+    EXPECT_FALSE(document->gravityActive());
+}
+
+TEST(DocumentGravity, SettlingAnOpenedProjectDoesNotMarkItModified)
+{
+    auto document = openTestRig();
+    const std::string id = test::addCantilever(*document);
+    document->undoStack()->push(gravityOn(*document, id));
+    const auto folder = test::outputDir() / "gravity-open";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    document->save(folder / "cantilever.ctproj");
+
+    Document reopened(roots());
+    reopened.adopt(readProject(folder / "cantilever.ctproj", roots()));
+    EXPECT_TRUE(reopened.gravityActive()) << "a loaded hose with gravity on settles";
+    EXPECT_GT(stepUntilSettled(reopened), 0);
+    EXPECT_FALSE(reopened.isModified());
+    EXPECT_EQ(reopened.undoStack()->count(), 0);
+}
+
+TEST(DocumentGravity, SaveSettlesFirstAndAReloadReproducesTheShapeOnScreen)
+{
+    auto document = openTestRig();
+    const std::string id = test::addCantilever(*document);
+    document->undoStack()->push(gravityOn(*document, id));
+    const std::vector<Vec3> authored = document->hose(id)->points();
+    for (int i = 0; i < 3; ++i) // a half-way frame, as when the author saves at once
+        document->stepGravity();
+    ASSERT_EQ(document->gravityState(id), Document::GravityState::Settling);
+    const auto folder = test::outputDir() / "gravity-save";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    document->save(folder / "saved.ctproj");
+    EXPECT_EQ(document->gravityState(id), Document::GravityState::Settled)
+        << "saving shows the settled shape the file reproduces";
+    const std::vector<Vec3> onScreen = document->hose(id)->points();
+    EXPECT_LT(test::lowestY(onScreen), test::lowestY(authored) - 0.1);
+    EXPECT_EQ(document->hoseDefinition(id)->route,
+              (std::vector<Vec3>{Vec3(-0.3, 0.21, -0.06), Vec3(-0.55, 0.21, -0.06)}))
+        << "the file keeps the authored route";
+
+    Document reopened(roots());
+    reopened.adopt(readProject(folder / "saved.ctproj", roots()));
+    EXPECT_TRUE(reopened.hoseDefinition(id)->gravity.enabled);
+    EXPECT_EQ(reopened.hose(id)->points(), authored) << "built from the route";
+    stepUntilSettled(reopened);
+    EXPECT_EQ(reopened.hose(id)->points(), onScreen) << "deterministic: the same sag";
+}
+
+TEST(DocumentColliders, FlaggingAPartIsAnUndoStepThatIsSavedAndReloaded)
+{
+    auto document = openTestRig();
+    const int floor = document->scene("rig")->findNode("/test-rig/floor_plate");
+    ASSERT_GE(floor, 0);
+    EXPECT_FALSE(document->isCollider("rig", floor));
+    std::vector<ChangeEvent> events;
+    QObject::connect(document.get(), &Document::changed,
+                     [&](const ChangeEvent& event) { events.push_back(event); });
+    expectExactUndo(*document, makeSetCollider(*document, {"rig", floor}, true));
+    EXPECT_TRUE(document->isCollider("rig", floor));
+    ASSERT_EQ(document->project().colliders.size(), 1u);
+    EXPECT_EQ(document->project().colliders[0].node, "/test-rig/floor_plate");
+    int colliderEvents = 0; // push, undo and redo each tell the views
+    for (const ChangeEvent& event : events)
+        colliderEvents += event.kind == ChangeEvent::Kind::CollidersChanged &&
+                          event.sceneId == "rig" && event.node == floor;
+    EXPECT_EQ(colliderEvents, 3);
+    const int steps = document->undoStack()->count();
+    document->undoStack()->push(makeSetCollider(*document, {"rig", floor}, true));
+    EXPECT_EQ(document->project().colliders.size(), 1u) << "flagging twice lists it once";
+    document->undoStack()->setIndex(steps);
+
+    const auto folder = test::outputDir() / "colliders";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    document->save(folder / "colliders.ctproj");
+    Document reopened(roots());
+    reopened.adopt(readProject(folder / "colliders.ctproj", roots()));
+    EXPECT_TRUE(reopened.isCollider("rig", floor));
+    expectExactUndo(reopened, makeSetCollider(reopened, {"rig", floor}, false));
+    EXPECT_FALSE(reopened.isCollider("rig", floor));
+}
+
+TEST(DocumentGravity, TorsionAndGravityDirectionAreSavedAndReloaded)
+{
+    auto document = openTestRig();
+    const std::string id = document->project().hoses[1].id;
+    Torsion torsion;
+    torsion.enabled = true;
+    torsion.twistLimit = 10.0 * 3.14159265358979323846 / 180.0;
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &formats::HoseDefinition::torsion,
+                                                   torsion, MergeId::HoseDefinition, "t"));
+    Gravity gravity;
+    gravity.direction = Vec3(0.0, 0.0, -1.0);
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &formats::HoseDefinition::gravity,
+                                                   gravity, MergeId::HoseDefinition, "g"));
+    EXPECT_TRUE(document->hose(id)->spec().torsion.enabled) << "the live hose has it";
+    const auto folder = test::outputDir() / "torsion";
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf",
+                               std::filesystem::copy_options::overwrite_existing);
+    document->save(folder / "torsion.ctproj");
+    Document reopened(roots());
+    reopened.adopt(readProject(folder / "torsion.ctproj", roots()));
+    EXPECT_EQ(reopened.hoseDefinition(id)->torsion.twistLimit, torsion.twistLimit);
+    EXPECT_TRUE(reopened.hoseDefinition(id)->torsion.enabled);
+    EXPECT_EQ(reopened.hoseDefinition(id)->gravity.direction, gravity.direction);
+    EXPECT_FALSE(reopened.hoseDefinition(id)->gravity.enabled);
+}
+
 } // namespace
 } // namespace chaintube::editor

@@ -14,19 +14,23 @@
 #include "test_support.h"
 #include "viewport.h"
 
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
 #include <QFileDialog>
+#include <QGroupBox>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QLabel>
 #include <QLineEdit>
 #include <QMenu>
 #include <QMouseEvent>
 #include <QProgressDialog>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSettings>
 #include <QSlider>
 #include <QSpinBox>
@@ -906,6 +910,152 @@ TEST_F(MainWindowTest, ProblemsPanelListsAnOverstretchAndSelectsItOnClick)
     EXPECT_EQ(document.selection().rangeLast, problem.lastPoint);
     m_window->viewport().frameSelection();
     screenshot("editor-problems.png");
+}
+
+
+/// Clicks a check box where a person would (its indicator), after scrolling it into view.
+void clickCheckBox(QCheckBox* box)
+{
+    for (QWidget* w = box->parentWidget(); w; w = w->parentWidget())
+        if (auto* scroll = qobject_cast<QScrollArea*>(w)) {
+            scroll->ensureWidgetVisible(box);
+            break;
+        }
+    QApplication::processEvents();
+    QTest::mouseClick(box, Qt::LeftButton, {}, QPoint(8, box->height() / 2));
+}
+
+TEST_F(MainWindowTest, GravityTorsionAndColliderControlsEditThroughTheUndoStack)
+{
+    // The test rig plus a hose fixed at one end (prepared through the document and saved, so
+    // that the window starts from a clean undo stack like after opening any project).
+    const QString project = copyOfTestRig("gravity");
+    ASSERT_TRUE(m_window->openFile(project));
+    Document& document = m_window->document();
+    const std::string id = test::addCantilever(document);
+    ASSERT_TRUE(m_window->save());
+    ASSERT_TRUE(m_window->openFile(project)) << m_errors.join('\n').toStdString();
+    settle();
+    Viewport& viewport = m_window->viewport();
+    auto* gravity = m_window->findChild<QCheckBox*>("gravity");
+    auto* torsion = m_window->findChild<QCheckBox*>("torsion");
+    auto* twistLimit = m_window->findChild<QDoubleSpinBox*>("twistLimit");
+    auto* collider = m_window->findChild<QCheckBox*>("collider");
+    ASSERT_TRUE(gravity && torsion && twistLimit && collider);
+
+    // Nothing selected: every hose group and the part group are greyed out.
+    for (const char* group : {"hoseGroup", "materialGroup", "profileGroup", "physicsGroup",
+                              "fixGroup", "partGroup"}) {
+        auto* box = m_window->findChild<QGroupBox*>(group);
+        ASSERT_TRUE(box) << group;
+        EXPECT_FALSE(box->isEnabled()) << group << " enabled with nothing selected";
+    }
+
+    // Select the hose by clicking it in the viewport; gravity on by clicking the check box.
+    QTest::mouseClick(&viewport, Qt::LeftButton, {},
+                      viewport.toWidget(document.hose(id)->point(12)));
+    ASSERT_EQ(document.selection().hoseId, id);
+    EXPECT_TRUE(m_window->findChild<QGroupBox*>("physicsGroup")->isEnabled());
+    EXPECT_FALSE(m_window->findChild<QGroupBox*>("partGroup")->isEnabled());
+    const std::vector<Vec3> authored = document.hose(id)->points();
+    clickCheckBox(gravity);
+    EXPECT_TRUE(gravity->isChecked());
+    ASSERT_TRUE(document.hoseDefinition(id)->gravity.enabled);
+    EXPECT_EQ(document.hoseDefinition(id)->gravity.direction, Vec3(0.0, -1.0, 0.0));
+    EXPECT_EQ(document.undoStack()->count(), 1);
+    EXPECT_TRUE(m_window->gravityTimerActive()) << "the hose sags live";
+    // The timer stops by itself: when the hose settles, or at the latest after
+    // Document::kGravityStepBudget steps.
+    while (m_window->gravityTimerActive())
+        QTest::qWait(20);
+    settle();
+    ASSERT_EQ(document.gravityState(id), Document::GravityState::Settled);
+    const std::vector<Vec3> sagged = document.hose(id)->points();
+    const double expected = test::lowestReachableY(*document.hose(id));
+    const double drop = authored[1].y() - expected;
+    EXPECT_NEAR(test::lowestY(sagged), expected, 0.02 * drop);
+    EXPECT_LT(test::lowestY(sagged), test::lowestY(authored) - 0.1);
+    EXPECT_EQ(document.undoStack()->count(), 1) << "the sag itself is no undo step";
+    EXPECT_TRUE(m_window->findChild<QLabel*>("gravityState")->text().contains("settled"));
+    // From the side, so that the sag shows against the authored route (the straight line).
+    viewport.frameSelection();
+    viewport.camera().yaw = 0.2;
+    viewport.camera().pitch = -0.2;
+    viewport.camera().distance *= 1.6;
+    viewport.update();
+    screenshot("editor-gravity.png");
+
+    // Ctrl+Z: gravity off, the hose exactly as laid out, the document clean again.
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    settle();
+    EXPECT_FALSE(document.hoseDefinition(id)->gravity.enabled);
+    EXPECT_FALSE(gravity->isChecked());
+    EXPECT_EQ(document.hose(id)->points(), authored);
+    EXPECT_FALSE(document.isModified());
+    EXPECT_FALSE(m_window->gravityTimerActive());
+
+    // Torsion on and a twist limit typed in degrees (the model holds radians).
+    EXPECT_FALSE(twistLimit->isEnabled()) << "no limit to set while torsion is off";
+    clickCheckBox(torsion);
+    ASSERT_TRUE(document.hoseDefinition(id)->torsion.enabled);
+    ASSERT_TRUE(twistLimit->isEnabled());
+    QTest::mouseClick(twistLimit, Qt::LeftButton, {}, QPoint(10, twistLimit->height() / 2));
+    QTest::keyClick(twistLimit, Qt::Key_A, Qt::ControlModifier);
+    QTest::keyClicks(twistLimit, "12.5");
+    QTest::keyClick(twistLimit, Qt::Key_Return);
+    EXPECT_NEAR(document.hoseDefinition(id)->torsion.twistLimit, 12.5 * 3.14159265358979323846 / 180.0,
+                1e-15);
+    EXPECT_EQ(document.undoStack()->count(), 2);
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    EXPECT_NEAR(document.hoseDefinition(id)->torsion.twistLimit, 0.1, 1e-15);
+    EXPECT_TRUE(document.hoseDefinition(id)->torsion.enabled);
+
+    // A part as collider: choose the floor plate in the scene tree, tick "Collider".
+    clickTreeItem("floor_plate");
+    const int floor = document.scene("rig")->findNode("/test-rig/floor_plate");
+    ASSERT_EQ(document.selection().node, floor);
+    ASSERT_TRUE(collider->isEnabled());
+    EXPECT_FALSE(collider->isChecked());
+    clickCheckBox(collider);
+    EXPECT_TRUE(document.isCollider("rig", floor));
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    EXPECT_FALSE(document.isCollider("rig", floor));
+    EXPECT_FALSE(collider->isChecked());
+    clickCheckBox(collider);
+    ASSERT_TRUE(document.isCollider("rig", floor));
+
+    // Gravity on again, save, reopen: the flags come back and the hose sags to the same shape.
+    Selection selection;
+    selection.hoseId = id;
+    document.setSelection(selection);
+    clickCheckBox(gravity);
+    ASSERT_TRUE(document.hoseDefinition(id)->gravity.enabled);
+    ASSERT_TRUE(m_window->save());
+    EXPECT_EQ(document.hose(id)->points(), sagged) << "save settles: the same shape as before";
+    ASSERT_TRUE(m_window->openFile(project));
+    EXPECT_TRUE(document.hoseDefinition(id)->gravity.enabled);
+    EXPECT_TRUE(document.hoseDefinition(id)->torsion.enabled);
+    EXPECT_TRUE(document.isCollider("rig", floor));
+    while (m_window->gravityTimerActive())
+        QTest::qWait(20);
+    EXPECT_EQ(document.hose(id)->points(), sagged) << "a reload reproduces the sag";
+
+    // Another direction: one undo step, and the hose settles along it.
+    document.setSelection(selection);
+    settle();
+    auto* direction = m_window->findChild<QComboBox*>("gravityDirection");
+    ASSERT_TRUE(direction && direction->isEnabled());
+    EXPECT_EQ(direction->currentText().toStdString(), "down (−Y)");
+    direction->setCurrentIndex(4);
+    emit direction->activated(4);
+    EXPECT_EQ(document.hoseDefinition(id)->gravity.direction, Vec3(0.0, 0.0, -1.0));
+    EXPECT_EQ(document.undoStack()->count(), 1);
+    while (m_window->gravityTimerActive())
+        QTest::qWait(20);
+    EXPECT_LT(document.hose(id)->points().back().z(), sagged.back().z() - 0.05)
+        << "the free end swung towards −Z";
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    EXPECT_EQ(document.hoseDefinition(id)->gravity.direction, Vec3(0.0, -1.0, 0.0));
 }
 
 } // namespace

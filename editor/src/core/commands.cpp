@@ -2,6 +2,8 @@
 
 #include <QCoreApplication>
 
+#include <algorithm>
+
 namespace chaintube::editor {
 
 namespace {
@@ -129,6 +131,25 @@ QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
         [node](Document& d) { return d.mutablePoseOverride(node); },
         [node](Document& d) { d.poseChanged(node); }, std::move(localTransform),
         MergeId::NodeTransform, node.first + "#" + std::to_string(node.second));
+}
+
+QUndoCommand* makeSetCollider(Document& document, const NodeKey& node, bool collider)
+{
+    const formats::ImportedScene* imported = document.scene(node.first);
+    Q_ASSERT(imported && node.second >= 0 &&
+             node.second < static_cast<int>(imported->nodes.size()));
+    const formats::ColliderNode entry{node.first,
+                                      imported->nodes[static_cast<size_t>(node.second)].path};
+    std::vector<formats::ColliderNode> colliders = document.project().colliders;
+    const auto found = std::find(colliders.begin(), colliders.end(), entry);
+    if (collider && found == colliders.end())
+        colliders.push_back(entry);
+    else if (!collider && found != colliders.end())
+        colliders.erase(found);
+    return new ChangeValue<std::vector<formats::ColliderNode>>(
+        document, collider ? tr("Make collider") : tr("Not a collider"),
+        [](Document& d) { return &d.mutableProject().colliders; },
+        [node](Document& d) { d.collidersChanged(node); }, std::move(colliders));
 }
 
 QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPreset> presets,

@@ -86,6 +86,8 @@ void Document::reset(const std::string& projectName)
 
 void Document::save(const fs::path& file)
 {
+    // The file reproduces the settled sag, not a half-way frame: show that before writing.
+    settleGravity();
     formats::ProjectLoadOptions validation;
     validation.roots = m_roots;
     formats::saveProject(m_project, file, validation);
@@ -246,8 +248,10 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
         return invalid;
     }
     const UpdateResult result = it->second.hose->grab(point, target);
-    if (result.movedPoints > 0)
+    if (result.movedPoints > 0) {
+        wakeGravity(hoseId);
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+    }
     return result;
 }
 
@@ -292,6 +296,107 @@ void Document::cancelHoseDrag(const std::string& hoseId)
 {
     rebuildHose(hoseId);
     emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+}
+
+void Document::wakeGravity(const std::string& hoseId)
+{
+    const auto it = m_live.find(hoseId);
+    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled)
+        return;
+    it->second.gravitySettled = false;
+    it->second.gravitySteps = 0;
+    emit gravityStateChanged();
+}
+
+int Document::stepGravity()
+{
+    std::vector<std::string> moved;
+    bool stateChanged = false;
+    for (auto& [id, live] : m_live) {
+        if (!live.hose || !live.hose->spec().gravity.enabled || live.gravitySettled ||
+            live.gravitySteps >= kGravityStepBudget)
+            continue;
+        ++live.gravitySteps;
+        if (live.hose->step().movedPoints > 0) {
+            moved.push_back(id);
+            stateChanged = stateChanged || live.gravitySteps >= kGravityStepBudget;
+        } else {
+            live.gravitySettled = true;
+            stateChanged = true;
+        }
+    }
+    for (const std::string& id : moved) // after the loop: listeners may read any hose
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, id);
+    if (stateChanged)
+        emit gravityStateChanged();
+    return static_cast<int>(moved.size());
+}
+
+bool Document::gravityActive() const
+{
+    for (const auto& [id, live] : m_live)
+        if (live.hose && live.hose->spec().gravity.enabled && !live.gravitySettled &&
+            live.gravitySteps < kGravityStepBudget)
+            return true;
+    return false;
+}
+
+int Document::settleGravity()
+{
+    int calls = 0;
+    while (gravityActive()) {
+        stepGravity();
+        ++calls;
+    }
+    return calls;
+}
+
+std::vector<std::string> Document::gravityUnsettledHoses() const
+{
+    std::vector<std::string> unsettled;
+    for (const formats::HoseDefinition& definition : m_project.hoses) {
+        const auto it = m_live.find(definition.id);
+        if (it != m_live.end() && it->second.hose && definition.gravity.enabled &&
+            !it->second.gravitySettled && it->second.gravitySteps >= kGravityStepBudget)
+            unsettled.push_back(definition.id);
+    }
+    return unsettled;
+}
+
+Document::GravityState Document::gravityState(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled)
+        return GravityState::Off;
+    if (it->second.gravitySettled)
+        return GravityState::Settled;
+    return it->second.gravitySteps >= kGravityStepBudget ? GravityState::OutOfBudget
+                                                         : GravityState::Settling;
+}
+
+int Document::gravitySteps(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    return it == m_live.end() ? 0 : it->second.gravitySteps;
+}
+
+bool Document::isCollider(const std::string& sceneId, int node) const
+{
+    const formats::ImportedScene* imported = scene(sceneId);
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
+        return false;
+    const formats::ColliderNode key{sceneId, imported->nodes[static_cast<size_t>(node)].path};
+    return std::find(m_project.colliders.begin(), m_project.colliders.end(), key) !=
+           m_project.colliders.end();
+}
+
+void Document::collidersChanged(const NodeKey& node)
+{
+    ChangeEvent event;
+    event.kind = ChangeEvent::Kind::CollidersChanged;
+    event.sceneId = node.first;
+    event.node = node.second;
+    emit changed(event);
 }
 
 std::string Document::stateFingerprint() const
@@ -389,6 +494,7 @@ void Document::poseChanged(const NodeKey& node)
             const std::vector<Frame> frames = posedAttachmentFrames(definition);
             if (ids.size() == frames.size())
                 hoseObject.moveAttachments(ids, frames);
+            wakeGravity(definition.id);
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
     }
@@ -460,6 +566,7 @@ void Document::rebuildHose(const std::string& hoseId)
         // the attachments to the posed frames, exactly as the export and the CLI do.
         live.hose = formats::buildHose(m_project, *definition, m_scenes);
         live.error.clear();
+        wakeGravity(hoseId);
     } catch (const std::exception& error) {
         live.hose.reset();
         live.error = error.what();

@@ -100,6 +100,25 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
     connect(m_viewport, &Viewport::routeFinished, this, &MainWindow::onRouteFinished);
     connect(&m_autosaveTimer, &QTimer::timeout, this, [this] { autosaveNow(); });
     m_autosaveTimer.start(kAutosaveIntervalMs);
+    // Live gravity (issue 7): runs only while a hose with gravity on is settling.
+    m_gravityTimer.setInterval(kGravityIntervalMs);
+    connect(&m_gravityTimer, &QTimer::timeout, this, [this] {
+        m_document->stepGravity();
+        if (!m_document->gravityActive()) {
+            m_gravityTimer.stop();
+            const auto unsettled = m_document->gravityUnsettledHoses();
+            if (!unsettled.empty())
+                statusBar()->showMessage(
+                    tr("Gravity: hose '%1' was still moving after %2 steps and is left as it is")
+                        .arg(QString::fromStdString(unsettled.front()))
+                        .arg(Document::kGravityStepBudget),
+                    8000);
+        }
+    });
+    connect(m_document.get(), &Document::gravityStateChanged, this, [this] {
+        if (m_document->gravityActive() && !m_gravityTimer.isActive())
+            m_gravityTimer.start();
+    });
 
     QSettings settings;
     restoreGeometry(settings.value("window/geometry").toByteArray());
@@ -257,10 +276,22 @@ void MainWindow::createActions()
                                 m_viewport->setFocus();
                             });
     hose->addAction(newHose);
-    hose->addAction(make(tr("&Finish Route"), "actionFinishRoute", QKeySequence(Qt::Key_Return),
-                         [this] { m_viewport->finishRoute(); }));
-    hose->addAction(make(tr("&Cancel Route"), "actionCancelRoute", QKeySequence(Qt::Key_Escape),
-                         [this] { m_viewport->cancelRoute(); }));
+    // Return and Escape only while a route is being laid out: otherwise these window-wide
+    // shortcuts would take Return from the properties panel's fields (a typed value would
+    // never be committed).
+    QAction* finishRoute = make(tr("&Finish Route"), "actionFinishRoute",
+                                QKeySequence(Qt::Key_Return), [this] { m_viewport->finishRoute(); });
+    QAction* cancelRoute = make(tr("&Cancel Route"), "actionCancelRoute",
+                                QKeySequence(Qt::Key_Escape), [this] { m_viewport->cancelRoute(); });
+    hose->addAction(finishRoute);
+    hose->addAction(cancelRoute);
+    const auto enableRouteActions = [this, finishRoute, cancelRoute] {
+        const bool laying = m_viewport->mode() == Viewport::Mode::LayRoute;
+        finishRoute->setEnabled(laying);
+        cancelRoute->setEnabled(laying);
+    };
+    connect(m_viewport, &Viewport::modeChanged, this, enableRouteActions);
+    enableRouteActions();
     hose->addAction(make(tr("&Insert Route Point"), "actionInsertRoutePoint",
                          QKeySequence(tr("I")), [this] { insertRoutePoint(); }));
     hose->addAction(make(tr("Fix Segment to &Part"), "actionFix", QKeySequence(tr("Ctrl+F")),

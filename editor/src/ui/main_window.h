@@ -69,6 +69,9 @@ public:
     /// Where the autosave of the current document goes.
     QString autosavePath() const;
     QAction* action(const QString& objectName) const;
+    /// Period of the live gravity steps (Document::stepGravity), milliseconds.
+    static constexpr int kGravityIntervalMs = 16;
+    bool gravityTimerActive() const { return m_gravityTimer.isActive(); }
     /// At start-up without a project: offers the untitled autosave if one exists.
     bool recoverUntitled();
 
@@ -106,6 +109,9 @@ private:
     ExportDialog* m_exportDialog = nullptr;
     QMenu* m_recentMenu = nullptr;
     QTimer m_autosaveTimer;
+    /// Steps hoses with gravity on (Document::stepGravity) while any is settling; stopped
+    /// when all are settled, so an idle editor does no work.
+    QTimer m_gravityTimer;
     bool m_syncingTree = false;
 };
 

@@ -18,6 +18,10 @@
 #include <QSlider>
 #include <QSpinBox>
 #include <QVBoxLayout>
+#include <QVector3D>
+
+#include <iterator>
+#include <utility>
 
 #include <cmath>
 
@@ -26,6 +30,16 @@ namespace chaintube::editor {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+/// Gravity directions offered (world; the project is +Y up, so −Y is down).
+const std::pair<const char*, Vec3> kGravityDirections[] = {
+    {QT_TRANSLATE_NOOP("chaintube::editor::PropertiesPanel", "down (−Y)"), Vec3(0, -1, 0)},
+    {QT_TRANSLATE_NOOP("chaintube::editor::PropertiesPanel", "up (+Y)"), Vec3(0, 1, 0)},
+    {QT_TRANSLATE_NOOP("chaintube::editor::PropertiesPanel", "−X"), Vec3(-1, 0, 0)},
+    {QT_TRANSLATE_NOOP("chaintube::editor::PropertiesPanel", "+X"), Vec3(1, 0, 0)},
+    {QT_TRANSLATE_NOOP("chaintube::editor::PropertiesPanel", "−Z"), Vec3(0, 0, -1)},
+    {QT_TRANSLATE_NOOP("chaintube::editor::PropertiesPanel", "+Z"), Vec3(0, 0, 1)},
+};
 
 QDoubleSpinBox* spin(double minimum, double maximum, int decimals, const QString& suffix,
                      const char* name)
@@ -74,6 +88,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
 
     // --- hose -----------------------------------------------------------------------------
     m_hoseGroup = new QGroupBox(tr("Hose"));
+    m_hoseGroup->setObjectName("hoseGroup");
     auto* form = new QFormLayout(m_hoseGroup);
     m_name = new QLineEdit;
     m_name->setObjectName("hoseName");
@@ -99,8 +114,9 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     layout->addWidget(m_hoseGroup);
 
     // --- material -------------------------------------------------------------------------
-    auto* materialGroup = new QGroupBox(tr("Material"));
-    auto* materialForm = new QFormLayout(materialGroup);
+    m_materialGroup = new QGroupBox(tr("Material"));
+    m_materialGroup->setObjectName("materialGroup");
+    auto* materialForm = new QFormLayout(m_materialGroup);
     m_preset = new QComboBox;
     m_preset->setObjectName("preset");
     materialForm->addRow(tr("Preset"), m_preset);
@@ -117,11 +133,12 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_savePreset = new QPushButton(tr("Save as preset…"));
     m_savePreset->setObjectName("savePreset");
     materialForm->addRow(QString(), m_savePreset);
-    layout->addWidget(materialGroup);
+    layout->addWidget(m_materialGroup);
 
     // --- cross-section --------------------------------------------------------------------
-    auto* profileGroup = new QGroupBox(tr("Cross-section"));
-    auto* profileForm = new QFormLayout(profileGroup);
+    m_profileGroup = new QGroupBox(tr("Cross-section"));
+    m_profileGroup->setObjectName("profileGroup");
+    auto* profileForm = new QFormLayout(m_profileGroup);
     m_shape = new QComboBox;
     m_shape->setObjectName("shape");
     m_shape->addItems({tr("Circle"), tr("Ellipse"), tr("Rectangle"), tr("Rounded rectangle")});
@@ -136,7 +153,32 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     profileForm->addRow(tr("Width × height"), row(m_width, m_height));
     m_cornerRadius = spin(0.0, 500, 2, tr(" mm"), "cornerRadius");
     profileForm->addRow(tr("Corner radius"), m_cornerRadius);
-    layout->addWidget(profileGroup);
+    layout->addWidget(m_profileGroup);
+
+    // --- gravity and torsion (issue 7) ----------------------------------------------------
+    m_physicsGroup = new QGroupBox(tr("Gravity and torsion"));
+    m_physicsGroup->setObjectName("physicsGroup");
+    auto* physicsForm = new QFormLayout(m_physicsGroup);
+    m_gravity = new QCheckBox(tr("Sags under gravity"));
+    m_gravity->setObjectName("gravity");
+    m_gravity->setToolTip(tr("The free part of the hose settles under its weight (live in the "
+                             "viewport; the route stays as laid out)"));
+    m_gravityDirection = new QComboBox;
+    m_gravityDirection->setObjectName("gravityDirection");
+    for (const auto& [label, direction] : kGravityDirections)
+        m_gravityDirection->addItem(tr(label), QVariant::fromValue(QVector3D(
+                                                   float(direction.x()), float(direction.y()),
+                                                   float(direction.z()))));
+    physicsForm->addRow(tr("Gravity"), row(m_gravity, m_gravityDirection));
+    m_gravityState = new QLabel;
+    m_gravityState->setObjectName("gravityState");
+    physicsForm->addRow(QString(), m_gravityState);
+    m_torsion = new QCheckBox(tr("Attachments twist the hose"));
+    m_torsion->setObjectName("torsion");
+    m_twistLimit = spin(0.01, 180.0, 2, tr(" °/joint"), "twistLimit");
+    m_twistLimit->setToolTip(tr("Largest twist between neighbouring rings"));
+    physicsForm->addRow(tr("Torsion"), row(m_torsion, m_twistLimit));
+    layout->addWidget(m_physicsGroup);
 
     m_message = new QLabel;
     m_message->setObjectName("refusal");
@@ -146,6 +188,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
 
     // --- fixing ---------------------------------------------------------------------------
     m_fixGroup = new QGroupBox(tr("Fix segment to part"));
+    m_fixGroup->setObjectName("fixGroup");
     auto* fixForm = new QFormLayout(m_fixGroup);
     m_fixFirst = new QSpinBox;
     m_fixFirst->setObjectName("fixFirst");
@@ -170,6 +213,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
 
     // --- part -----------------------------------------------------------------------------
     m_partGroup = new QGroupBox(tr("Selected part"));
+    m_partGroup->setObjectName("partGroup");
     auto* partForm = new QFormLayout(m_partGroup);
     m_partName = new QLabel;
     m_partName->setWordWrap(true);
@@ -197,6 +241,9 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_resetPart = new QPushButton(tr("Back to file position"));
     m_resetPart->setObjectName("resetPart");
     partForm->addRow(QString(), m_resetPart);
+    m_collider = new QCheckBox(tr("Collider (hoses stay outside it)"));
+    m_collider->setObjectName("collider");
+    partForm->addRow(QString(), m_collider);
     layout->addWidget(m_partGroup);
     layout->addStretch(1);
 
@@ -257,6 +304,37 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         edit(MergeId::HoseSegments, tr("Change resolution"),
              [n](formats::HoseDefinition& d) { d.segmentCount = n; });
     });
+    connect(m_gravity, &QCheckBox::toggled, this, [this, edit](bool on) {
+        m_document.closeMerge();
+        edit(MergeId::HoseDefinition, on ? tr("Gravity on") : tr("Gravity off"),
+             [on](formats::HoseDefinition& d) { d.gravity.enabled = on; });
+        m_document.closeMerge();
+    });
+    connect(m_gravityDirection, &QComboBox::activated, this, [this, edit](int index) {
+        if (index < 0 || index >= int(std::size(kGravityDirections)))
+            return; // the file's own direction: stays as it is
+        const Vec3 v = kGravityDirections[size_t(index)].second;
+        m_document.closeMerge();
+        edit(MergeId::HoseDefinition, tr("Change gravity direction"),
+             [v](formats::HoseDefinition& d) { d.gravity.direction = v; });
+        m_document.closeMerge();
+    });
+    connect(m_torsion, &QCheckBox::toggled, this, [this, edit](bool on) {
+        m_document.closeMerge();
+        edit(MergeId::HoseDefinition, on ? tr("Torsion on") : tr("Torsion off"),
+             [on](formats::HoseDefinition& d) { d.torsion.enabled = on; });
+        m_document.closeMerge();
+    });
+    connect(m_twistLimit, &QDoubleSpinBox::valueChanged, this, [this, edit](double degrees) {
+        if (m_updating)
+            return;
+        m_document.closeMerge();
+        edit(MergeId::HoseDefinition, tr("Change twist limit"),
+             [degrees](formats::HoseDefinition& d) { d.torsion.twistLimit = degrees * kPi / 180.0; });
+        m_document.closeMerge();
+    });
+    connect(&m_document, &Document::gravityStateChanged, this,
+            &PropertiesPanel::refreshGravityState);
     connect(m_colour, &QPushButton::clicked, this, [this, edit] {
         const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
         if (!definition)
@@ -399,6 +477,16 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         connect(m_rotation[i], &QDoubleSpinBox::valueChanged, this,
                 [this] { setPartTransformFromFields(-1); });
     }
+    connect(m_collider, &QCheckBox::toggled, this, [this](bool on) {
+        const Selection& selection = m_document.selection();
+        if (m_updating || !m_document.scene(selection.sceneId) || selection.node < 0 ||
+            m_document.isCollider(selection.sceneId, selection.node) == on)
+            return;
+        m_document.closeMerge();
+        m_document.undoStack()->push(
+            makeSetCollider(m_document, {selection.sceneId, selection.node}, on));
+        m_document.closeMerge();
+    });
     connect(m_resetPart, &QPushButton::clicked, this, [this] {
         const Selection& selection = m_document.selection();
         if (!m_document.scene(selection.sceneId) || selection.node < 0)
@@ -439,6 +527,7 @@ void PropertiesPanel::onDocumentChanged(const ChangeEvent& event)
                                           .arg(hose->restLengthTotal(), 0, 'f', 3));
         break;
     case Kind::PoseChanged:
+    case Kind::CollidersChanged:
         refreshPart();
         break;
     case Kind::FileStateChanged:
@@ -500,7 +589,8 @@ void PropertiesPanel::refresh()
     const Selection& selection = m_document.selection();
     m_hoseId = m_document.hoseDefinition(selection.hoseId) ? selection.hoseId : std::string();
     const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
-    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_fixGroup})
+    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_materialGroup,
+                                                      m_profileGroup, m_physicsGroup, m_fixGroup})
         w->setEnabled(definition != nullptr);
     m_preset->clear();
     for (const auto& preset : m_document.project().materialPresets)
@@ -558,6 +648,25 @@ void PropertiesPanel::refresh()
         m_width->setValue((shapeIndex == 1 ? 2 * p.semiAxisX : p.width) * 1000.0);
         m_height->setValue((shapeIndex == 1 ? 2 * p.semiAxisY : p.height) * 1000.0);
         m_cornerRadius->setValue(p.cornerRadius * 1000.0);
+        m_gravity->setChecked(definition->gravity.enabled);
+        const Vec3& g = definition->gravity.direction;
+        int directionIndex = -1;
+        for (size_t i = 0; i < std::size(kGravityDirections); ++i)
+            if ((g.normalized() - kGravityDirections[i].second).norm() < 1e-12)
+                directionIndex = int(i);
+        while (m_gravityDirection->count() > int(std::size(kGravityDirections)))
+            m_gravityDirection->removeItem(m_gravityDirection->count() - 1);
+        if (directionIndex < 0) { // a direction written by hand: shown, kept unless changed
+            m_gravityDirection->addItem(
+                tr("(%1, %2, %3)").arg(g.x(), 0, 'g', 3).arg(g.y(), 0, 'g', 3).arg(g.z(), 0, 'g', 3),
+                QVariant::fromValue(QVector3D(float(g.x()), float(g.y()), float(g.z()))));
+            directionIndex = m_gravityDirection->count() - 1;
+        }
+        m_gravityDirection->setCurrentIndex(directionIndex);
+        m_gravityDirection->setEnabled(definition->gravity.enabled);
+        m_torsion->setChecked(definition->torsion.enabled);
+        m_twistLimit->setValue(definition->torsion.twistLimit * 180.0 / kPi);
+        m_twistLimit->setEnabled(definition->torsion.enabled);
         const int points = hose ? hose->pointCount() : 1;
         m_fixFirst->setRange(0, points - 1);
         m_fixLast->setRange(0, points - 1);
@@ -582,7 +691,27 @@ void PropertiesPanel::refresh()
     m_fixButton->setEnabled(definition && scene && selection.node >= 0);
     m_detachButton->setEnabled(definition && !definition->attachments.empty());
     m_updating = false;
+    refreshGravityState();
     refreshPart();
+}
+
+void PropertiesPanel::refreshGravityState()
+{
+    switch (m_document.gravityState(m_hoseId)) {
+    case Document::GravityState::Off:
+        m_gravityState->clear();
+        break;
+    case Document::GravityState::Settling:
+        m_gravityState->setText(tr("settling…"));
+        break;
+    case Document::GravityState::Settled:
+        m_gravityState->setText(tr("settled after %1 steps").arg(m_document.gravitySteps(m_hoseId)));
+        break;
+    case Document::GravityState::OutOfBudget:
+        m_gravityState->setText(tr("still moving after %1 steps: left as it is")
+                                    .arg(m_document.gravitySteps(m_hoseId)));
+        break;
+    }
 }
 
 void PropertiesPanel::refreshPart()
@@ -593,6 +722,11 @@ void PropertiesPanel::refreshPart()
     const formats::ImportedScene* scene = m_document.scene(selection.sceneId);
     const bool havePart = scene && selection.node >= 0;
     m_partGroup->setEnabled(havePart);
+    const bool hasMesh = havePart && !scene->nodes[size_t(selection.node)].meshes.empty();
+    m_collider->setEnabled(hasMesh);
+    m_collider->setChecked(havePart && m_document.isCollider(selection.sceneId, selection.node));
+    m_collider->setToolTip(havePart && !hasMesh ? tr("This node has no mesh of its own")
+                                                : QString());
     if (havePart) {
         m_partName->setText(QString::fromStdString(scene->nodes[size_t(selection.node)].path));
         const formats::Mat4 local = m_document.nodeLocalTransform(selection.sceneId, selection.node);

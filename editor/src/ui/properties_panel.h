@@ -1,6 +1,7 @@
 // ChainTube editor — the properties panel: the selected hose's parameters (live while a slider
 // moves; one undo step per drag), its material and presets, cross-section, colour, fixing a
-// segment to a scene part and detaching, and the selected part's transform.
+// segment to a scene part and detaching, gravity and torsion (issue 7), and the selected part's
+// transform and collider flag. Groups are greyed out when nothing they apply to is selected.
 #pragma once
 
 #include "chaintube/editor/document.h"
@@ -41,6 +42,8 @@ private:
     void onDocumentChanged(const ChangeEvent& event);
     void refresh();
     void refreshPart();
+    /// The gravity state label of the selected hose.
+    void refreshGravityState();
     /// Validates `changed` and pushes it as a change of one field; refuses with a message.
     bool apply(const formats::HoseDefinition& changed, int mergeId, const QString& text);
     void refuse(const QString& message);
@@ -75,6 +78,15 @@ private:
     QDoubleSpinBox* m_width;
     QDoubleSpinBox* m_height;
     QDoubleSpinBox* m_cornerRadius;
+    QGroupBox* m_materialGroup;
+    QGroupBox* m_profileGroup;
+    /// Gravity and torsion of the hose (issue 7): HoseDefinition::gravity / ::torsion.
+    QGroupBox* m_physicsGroup;
+    QCheckBox* m_gravity;          ///< sags live in the viewport
+    QComboBox* m_gravityDirection; ///< world axis the hose falls along (−Y = the project's down)
+    QLabel* m_gravityState;        ///< settling / settled / out of budget
+    QCheckBox* m_torsion;
+    QDoubleSpinBox* m_twistLimit;  ///< degrees per joint (the model: radians)
     QLabel* m_message;
 
     QGroupBox* m_fixGroup;
@@ -90,6 +102,7 @@ private:
     QDoubleSpinBox* m_translation[3];
     QDoubleSpinBox* m_rotation[3];
     QPushButton* m_resetPart;
+    QCheckBox* m_collider; ///< the selected part is a collider (project().colliders)
 };
 
 } // namespace chaintube::editor

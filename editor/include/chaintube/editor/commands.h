@@ -32,6 +32,7 @@ enum class MergeId : int {
     NodeTransform,
     Presets,
     ExportSettings,
+    Colliders,
 };
 
 /// The generic value change. `access` finds the value in the document (nullptr if it no longer
@@ -170,6 +171,10 @@ QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int inde
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
                                    std::optional<formats::Mat4> localTransform,
                                    const QString& text = QString());
+
+/// Flags (or unflags) a scene node as a collider (project().colliders; issue 7). A flag that
+/// is already as asked gives a command that changes nothing. The node must exist.
+QUndoCommand* makeSetCollider(Document& document, const NodeKey& node, bool collider);
 
 /// Replaces the project's material presets (saving an own preset).
 QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPreset> presets,

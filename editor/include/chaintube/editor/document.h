@@ -17,6 +17,11 @@
 //                       formats::buildHose at the file pose, then its attachments moved to the
 //                       posed node frames. A grab-drag changes only the live hose until it is
 //                       committed (commitHoseDrag), which writes the dragged axis as the route.
+//  * live gravity     — a hose with gravity on (HoseDefinition::gravity) sags in its live
+//                       shape: stepGravity() advances it (Hose::step) until it settles. This is
+//                       derived state, never an undo step and never the modified flag: the file
+//                       keeps the authored route and the gravity flag, and a reload reproduces
+//                       the sag by the same deterministic steps.
 #pragma once
 
 #include "chaintube/formats/project.h"
@@ -49,6 +54,7 @@ struct ChangeEvent
         HoseChanged,      ///< hoseId's definition changed (and its live hose was rebuilt)
         HoseShapeChanged, ///< hoseId's live axis moved (drag, a part it is fixed to moved)
         PoseChanged,      ///< a scene node's transform override changed (sceneId, node)
+        CollidersChanged, ///< the project's collider flags changed (sceneId, node)
         PresetsChanged,   ///< the project's material presets changed
         ProjectSettingsChanged, ///< name or export settings changed
         SelectionChanged, ///< selection() changed (not an undoable edit)
@@ -122,6 +128,9 @@ public:
     /// Replaces everything with an untitled project with standard presets.
     void reset(const std::string& projectName = "Untitled");
     /// Saves with formats::saveProject (atomic, validated) and marks the stack clean.
+    /// Hoses with gravity on are first settled (settleGravity()): the file holds the authored
+    /// route and the gravity flag, a reload settles the hose again by the same deterministic
+    /// steps, so what is on screen after saving is what the file reproduces.
     /// Throws what saveProject throws; then nothing changed.
     void save(const std::filesystem::path& file);
     const std::filesystem::path& fileName() const { return m_file; }
@@ -192,6 +201,32 @@ public:
     /// Abandons a drag: the live hose is rebuilt from its definition.
     void cancelHoseDrag(const std::string& hoseId);
 
+    // --- live gravity (issue 7) -------------------------------------------------------------
+    /// At most this many steps per hose after it last changed; a hose still moving then is
+    /// left where it is (reported by gravityUnsettledHoses()) so that the editor goes idle.
+    static constexpr int kGravityStepBudget = 3000;
+    /// One Hose::step() of every live hose with gravity on that has not settled yet (the main
+    /// window calls it on a timer while gravityActive()). A simulation of the live shape, not
+    /// an edit: no undo step, no modified flag; the definition's route stays as authored.
+    /// Emits HoseShapeChanged for each hose that moved (after stepping all of them); returns
+    /// how many moved. A hose counts as settled when its step moved nothing.
+    int stepGravity();
+    /// True while some hose with gravity on is not settled and has step budget left.
+    bool gravityActive() const;
+    /// Steps until every gravity hose is settled or out of budget (what the timer would do,
+    /// at once). Returns the number of stepGravity() calls made.
+    int settleGravity();
+    /// Hoses with gravity on that used their whole step budget without settling.
+    std::vector<std::string> gravityUnsettledHoses() const;
+    enum class GravityState { Off, Settling, Settled, OutOfBudget };
+    GravityState gravityState(const std::string& hoseId) const;
+    /// Steps made since the hose last changed.
+    int gravitySteps(const std::string& hoseId) const;
+
+    // --- colliders (issue 7) ----------------------------------------------------------------
+    /// True if the node is flagged as a collider in project().colliders.
+    bool isCollider(const std::string& sceneId, int node) const;
+
     // --- merging ----------------------------------------------------------------------------
     /// Ends the current merge run: the next value change becomes a new undo step even if it
     /// changes the same thing (call when a slider or a drag is released).
@@ -222,6 +257,8 @@ public:
     std::pair<formats::SceneReference, formats::ImportedScene> removeScene(const std::string& id);
     void presetsChanged();
     void projectSettingsChanged();
+    /// project().colliders changed (a node's flag); emits CollidersChanged for it.
+    void collidersChanged(const NodeKey& node);
 
     /// Clearance violations to highlight (a view state, not an edit: no undo, no modified
     /// flag). Emits clearanceMarkersChanged() when they differ.
@@ -231,6 +268,9 @@ public:
 signals:
     void changed(const chaintube::editor::ChangeEvent& event);
     void clearanceMarkersChanged();
+    /// A hose with gravity on started settling (it was built, dragged or a part it is fixed to
+    /// moved: whoever drives stepGravity() should start), settled, or ran out of step budget.
+    void gravityStateChanged();
 
 private:
     std::vector<ClearanceMarker> m_clearanceMarkers;
@@ -241,7 +281,12 @@ private:
         std::uint64_t buildSerial = 0;
         mutable std::optional<HoseMetrics> metrics;
         mutable std::uint64_t metricsRevision = 0;
+        bool gravitySettled = true; ///< stepGravity(): the last step moved nothing
+        int gravitySteps = 0;       ///< steps since the hose last changed (kGravityStepBudget)
     };
+    /// Marks a live hose with gravity on as settling (after a build, a drag, a part move);
+    /// emits gravityStateChanged().
+    void wakeGravity(const std::string& hoseId);
     void rebuildHose(const std::string& hoseId);
     /// Writes the non-empty overrides into m_project.poses (project scene order, then node
     /// order) after an override changed.
