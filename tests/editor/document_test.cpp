@@ -455,6 +455,37 @@ TEST(DocumentGravity, AHoseFixedAtOneEndSagsToTheLowestShapeItsConstraintsAllowT
     EXPECT_FALSE(document->gravityActive());
 }
 
+/// Mean height of a hose's axis points (world metres): lower when it sags between clamps,
+/// where the lowest point is often a clamped end.
+double meanY(const std::vector<Vec3>& points)
+{
+    double sum = 0.0;
+    for (const Vec3& point : points)
+        sum += point.y();
+    return sum / double(points.size());
+}
+
+// A bend-limited hose between two clamps (the case that did not settle before lib commit
+// c386f59). Only left-feed: right-return (fixed by single points, braided steel) "settles"
+// Infeasible under gravity with the lib of c386f59 (107 % overstretch; reported to lib).
+TEST(DocumentGravity, ABendLimitedHoseBetweenTwoClampsSagsAndSettles)
+{
+    auto document = openTestRig();
+    const std::string id = "left-feed";
+    const std::vector<Vec3> authored = document->hose(id)->points();
+    document->undoStack()->push(gravityOn(*document, id));
+    stepUntilSettled(*document);
+    ASSERT_EQ(document->gravityState(id), Document::GravityState::Settled)
+        << "still moving after " << document->gravitySteps(id) << " steps";
+    const std::vector<Vec3> settled = document->hose(id)->points();
+    std::printf("%s: settled after %d steps, mean height %.4f m -> %.4f m\n", id.c_str(),
+                document->gravitySteps(id), meanY(authored), meanY(settled));
+    EXPECT_LT(meanY(settled), meanY(authored) - 0.001) << "sagged";
+    EXPECT_EQ(document->hose(id)->measureViolation().status, Status::Ok);
+    EXPECT_EQ(document->stepGravity(), 0) << "settled: no jitter";
+    EXPECT_EQ(document->hose(id)->points(), settled);
+}
+
 TEST(DocumentGravity, SettlingAnOpenedProjectDoesNotMarkItModified)
 {
     auto document = openTestRig();
