@@ -541,17 +541,32 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
     struct Visitor
     {
         const MeshCollider& mesh;
-        Vec3 p, q, v;
+        Vec3 p, q, v, inverse;
         double radius;
         Aabb swept;
         double best = kInf;
         int bestTriangle = -1;
+        // The sphere can touch a box's triangles only inside the box grown by the radius: key
+        // is when the centre's path enters that box (slab test), so nearer boxes are searched
+        // first and boxes entered after the first contact found are skipped. Long sweeps that
+        // hit (a 1.5 m move across a 1M-triangle height field) tested up to 170,000 triangles
+        // with the swept-box overlap alone.
         bool enter(const Aabb& box, double& key) const
         {
-            key = 0.0;
-            return boxBoxDistance2(box, swept) <= 0.0;
+            if (boxBoxDistance2(box, swept) > 0.0) return false;
+            double tmin = 0.0, tmax = std::min(1.0, best);
+            for (int axis = 0; axis < 3; ++axis) {
+                double t0 = (box.min[axis] - radius - p[axis]) * inverse[axis];
+                double t1 = (box.max[axis] + radius - p[axis]) * inverse[axis];
+                if (t0 > t1) std::swap(t0, t1);
+                if (t0 > tmin) tmin = t0; // NaN (0·inf) compares false: inside the slab
+                if (t1 < tmax) tmax = t1;
+                if (tmin > tmax) return false;
+            }
+            key = tmin;
+            return true;
         }
-        bool worth(double) const { return true; }
+        bool worth(double key) const { return key <= best; }
         void leaf(int first, int count)
         {
             for (int i = first; i < first + count; ++i) {
@@ -573,8 +588,9 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
                 }
             }
         }
-    } visitor{*this, m_frame.applyInverse(from), m_frame.applyInverse(to), Vec3::Zero(), radius, Aabb()};
+    } visitor{*this, m_frame.applyInverse(from), m_frame.applyInverse(to), Vec3::Zero(), Vec3::Zero(), radius, Aabb()};
     visitor.v = visitor.q - visitor.p;
+    visitor.inverse = Vec3(1.0 / visitor.v.x(), 1.0 / visitor.v.y(), 1.0 / visitor.v.z());
     visitor.swept.extend(visitor.p);
     visitor.swept.extend(visitor.q);
     visitor.swept.min.array() -= radius;
