@@ -273,17 +273,18 @@ TEST(GravityStep, BendLimitedSagMatchesTheCatenaryWhenTheLimitDoesNotBindAndSags
     //
     // Known limit (README): at R = 0.4 m (the bottom at its limit, the steep ends under high
     // tension) the joint projection ends its rounds in a cycle near the pinned ends and the
-    // hose keeps moving ~0.6 mm per step; its shape is asserted, its settling is not.
+    // hose keeps moving 0.5-1.2 mm per step there; its shape is asserted, its settling is not.
     const double catenary = 0.79639, arc = 0.69587;
     double previous = 1e300;
     for (const double radius : {0.0, 0.1, 0.2, 0.3, 0.4, 0.5}) {
         int steps = 0;
-        const int maxSteps = radius == 0.4 ? 300 : 20000;
+        const bool knownCycle = radius == 0.4;
+        const int maxSteps = knownCycle ? 300 : 20000;
         const double sag = pinnedSag(2.0, 64, radius, &steps, maxSteps);
         std::printf("[ figures  ] length 2 m over 1 m, 64 segments, min bend radius %.2f m: sag %.5f m "
                     "(catenary %.5f, arc %.5f), settled after %d steps%s\n",
                     radius, sag, catenary, arc, steps, steps == maxSteps ? " (did not settle)" : "");
-        if (radius != 0.4) {
+        if (!knownCycle) {
             EXPECT_LT(steps, maxSteps) << radius;
         }
         if (radius < 0.22964) {
