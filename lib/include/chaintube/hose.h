@@ -27,7 +27,10 @@ enum class Status {
                   ///< farther apart than the hose between them can stretch: the free points lie
                   ///< on the straight line between them, every segment stretched by the same
                   ///< fraction of its maximum length (the least worst overstretch). Other
-                  ///< contradictions (bends): the bounded relaxation's last state.
+                  ///< contradictions (bends): the bounded relaxation's last state. A grab on a
+                  ///< hose that is already infeasible moves the point along the line towards
+                  ///< the target only as far as the length and bend violations do not grow
+                  ///< (bisection, 16 steps): a grab never makes an infeasible hose worse.
     InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
                   ///< hose is unchanged.
 };
@@ -254,7 +257,10 @@ public:
     /// with nothing fixed and nothing held has nothing to hang from: it does not fall (Ok,
     /// nothing moves). With bend limits or contacts each round does at most 16 Newton steps of
     /// the joint projection; a round whose projection diverges is undone (no NaN or Inf ever
-    /// leaves it). Known limit: a hose hanging between two pinned points with its bottom at the
+    /// leaves it), and when neither the rounds nor the exact pass can make the step's result
+    /// valid, the step is undone if the state before it was valid (a hose locked by its limits,
+    /// e.g. every joint at its limit and every segment at its minimum length, stays where it
+    /// is and counts as settled). Known limit: a hose hanging between two pinned points with its bottom at the
     /// bend limit and steep ends under high tension can keep cycling by ~0.6 mm per step near
     /// the pins (README). Deterministic. Returns the constraint state; movedPoints is 0
     /// when nothing was done.
