@@ -463,13 +463,22 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
     std::size_t finalAt = 0, finalSize = 0;
     char finalType = 0;
     bool messagesOpen = true, outputOpen = true;
+    double lastFraction = 0.0;
+    // With a progress callback, ask it again every 100 ms even while the reader is silent (assimp
+    // reports only between its steps), so that a cancel is honoured at once.
+    const int pollMilliseconds = options.progress ? 100 : -1;
     while (messagesOpen || outputOpen) {
         pollfd descriptors[2] = {{messagesOpen ? resultRead.get() : -1, POLLIN, 0},
                                  {outputOpen ? outputRead.get() : -1, POLLIN, 0}};
-        if (::poll(descriptors, 2, -1) < 0) {
+        const int ready = ::poll(descriptors, 2, pollMilliseconds);
+        if (ready < 0) {
             if (errno == EINTR) continue;
             throw FileError(file, std::string("cannot wait for the importer process: ") +
                                       std::strerror(errno));
+        }
+        if (ready == 0) {
+            progress.report(lastFraction); // the same fraction again: the sequence stays sorted
+            continue;
         }
         if (descriptors[1].revents != 0)
             outputOpen = readAvailable(outputRead.get(), output, kOutputLimit, file);
@@ -484,6 +493,7 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
             if (type == kProgress && length == sizeof(double)) {
                 double fraction;
                 std::memcpy(&fraction, payload, sizeof fraction);
+                lastFraction = std::max(lastFraction, fraction);
                 progress.report(fraction);
             } else if (type == kResult || type == kRefusal) {
                 finalType = type;
