@@ -526,9 +526,35 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         m_local = m_scratch;
         int movedAtStart = 0;
         if (!attempt(start, movedAtStart)) {
-            // The hose was already infeasible before this grab: keep the full request.
+            // The hose was already infeasible before this grab (contradictory attachments):
+            // the point moves towards the target only as far as neither the length nor the
+            // bend violation grows beyond what it was before the grab: the largest such
+            // fraction of the move, by bisection; none (the hose stays as it was) when even
+            // relaxing in place would make one of them worse. A grab never makes an
+            // infeasible hose worse.
             m_local = m_scratch;
-            attempt(localTarget, moved);
+            const UpdateResult before = measureViolation();
+            const double lengthBound = before.lengthViolation * (1.0 + 1e-9) + 1e-12;
+            const double angleBound = before.angleViolation * (1.0 + 1e-9) + 1e-12;
+            auto noWorse = [&](double fraction) {
+                m_local = m_scratch;
+                attempt(start + fraction * (localTarget - start), moved);
+                const UpdateResult v = measureViolation();
+                return v.lengthViolation <= lengthBound && v.angleViolation <= angleBound;
+            };
+            if (!noWorse(1.0)) {
+                double good = -1.0, bad = 1.0;
+                if (noWorse(0.0)) {
+                    good = 0.0;
+                    for (int step = 0; step < kBisectionSteps; ++step) {
+                        const double mid = 0.5 * (good + bad);
+                        (noWorse(mid) ? good : bad) = mid;
+                    }
+                }
+                m_local = m_scratch;
+                moved = 0;
+                if (good >= 0.0) attempt(start + good * (localTarget - start), moved);
+            }
             status = Status::Infeasible;
         } else if (const int side = pinnedSide(index); side != 0) {
             // Reach towards the target as far as the hose allows (closest reachable point).
