@@ -241,9 +241,8 @@ constexpr int kSceneFd = 4;            ///< the memory file in the child
 constexpr int kExitParentGone = 120;   ///< the child's exit status when the parent died first
 constexpr int kExitCannotAnswer = 121; ///< … when writing the answer failed
 
-/// The child's whole life: it ends in _exit and never returns into the caller's code, so no
-/// destructor, atexit handler or stdio flush of the parent's state runs twice.
-/// Serialises the result into the memory file; the answer's size, or an error message.
+/// Serialises the result into the memory file; sets the answer's size, returns an error
+/// message ("" if all went well).
 std::string writeScene(const ReaderResult& result, std::uint64_t& size)
 {
     Serialiser counter;
@@ -263,6 +262,8 @@ std::string writeScene(const ReaderResult& result, std::uint64_t& size)
     return {};
 }
 
+/// The child's whole life: it ends in _exit and never returns into the caller's code, so no
+/// destructor, atexit handler or stdio flush of the parent's state runs twice.
 [[noreturn]] void runChild(int resultFd, int sceneFd, int outputFd, pid_t parent,
                            const std::filesystem::path& file,
                            const ImportOptions& options,
