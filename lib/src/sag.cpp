@@ -499,6 +499,7 @@ UpdateResult Hose::step(int rounds)
             if (m_gravityTwoBack.size() == n) m_gravityTwoBack[i] += m_local[i] - m_gravityLast[i];
         }
     }
+    const std::uint64_t inputRevision = m_revision; // what the last step left, unless an input changed
     constexpr int kNewtonStepsPerStepRound = 16; // each O(n); 2–4 are typical once falling slowly
     constexpr double kSettledMotion = 1e-6; // of the mean rest length, in the last round
     SagRounds engine(*this, m_spec.gravity.direction, m_held);
@@ -526,12 +527,37 @@ UpdateResult Hose::step(int rounds)
     // Also settled when the frame did not change: the joint projection can end its rounds in
     // a cycle that returns to the same state every step (see projectJointly); nothing visible
     // moves, and from here on nothing does.
+    // And settled when the potential energy has not fallen for kStallSteps steps: the joint
+    // projection can also end its rounds in a cycle that moves points every step without the
+    // hose coming lower (seen near pinned ends under high tension with the bend limit binding:
+    // 0.5-1.2 mm a step). The damping takes any real swing out long before (0.9 of the velocity
+    // a round), so this only stops motion that goes nowhere.
+    constexpr int kStallSteps = 120;
+    if (m_gravityInputRevision != inputRevision) { // an input changed: start over
+        m_gravityLowestEnergy = std::numeric_limits<double>::infinity();
+        m_gravityStallSteps = 0;
+    }
+    double energy = 0.0, totalMass = 0.0;
+    const Vec3 down = m_spec.gravity.direction.normalized();
+    for (size_t i = 0; i < n; ++i) {
+        const double mass = 0.5 * ((i > 0 ? m_restLength[i - 1] : 0.0) + (i + 1 < n ? m_restLength[i] : 0.0));
+        energy -= mass * down.dot(m_local[i]);
+        totalMass += mass;
+    }
+    if (energy < m_gravityLowestEnergy - kSettledMotion * engine.meanRest * totalMass) {
+        m_gravityLowestEnergy = energy;
+        m_gravityStallSteps = 0;
+    } else {
+        ++m_gravityStallSteps;
+    }
     if (std::sqrt(moved) <= kSettledMotion * engine.meanRest ||
-        (rounds >= 2 && std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest)) {
+        (rounds >= 2 && std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest) ||
+        m_gravityStallSteps >= kStallSteps) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }
     m_gravityLast = m_local;
+    m_gravityInputRevision = m_revision;
     return result;
 }
 

@@ -251,6 +251,8 @@ public:
     /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
     /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
     /// projection can leave a tiny two-round flip-flop), or (rounds ≥ 2) over the whole step,
+    /// or when its potential energy has not fallen by more than that for 120 steps (a
+    /// projection cycle that moves points without the hose coming lower: it stops where it is),
     /// the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
     /// revision()), step() returns at once without touching the hose, so a settled hose never
     /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
@@ -333,6 +335,9 @@ private:
     std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
     std::vector<Vec3> m_gravityTwoBack;   ///< step(): positions two rounds back (settling test)
     std::uint64_t m_settledRevision = 0;  ///< step(): revision at which the hose settled
+    std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
+    double m_gravityLowestEnergy = 0.0;   ///< step(): lowest potential energy since an input changed
+    int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     std::uint64_t m_revision = 1;
 
