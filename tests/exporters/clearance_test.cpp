@@ -2,6 +2,7 @@
 #include "export_test_support.h"
 
 #include <chaintube/export/clearance.h>
+#include <chaintube/formats/collider_exemption.h>
 #include <chaintube/formats/project.h>
 
 #include <array>
@@ -142,6 +143,31 @@ TEST(Clearance, AncestorsOfAnAttachedNodeAreSkippedButItsSiblingsAndChildrenAreN
     for (SceneObject& object : objects) object.sceneId = "rig";
     options.includeAttachedNodes = true;
     EXPECT_EQ(clearanceViolations(project, hoses, objects, options).size(), 6u);
+}
+
+TEST(ColliderExemption, TheAttachmentNodeAndItsAncestorsAreExemptNotItsSiblingsChildrenOrNamesakes)
+{
+    // 0 root ─ 1 valve ─ 2 inlet ─ 4 seal;  0 ─ 3 floor;  5 a second root
+    const std::vector<int> parents{-1, 0, 1, 0, 2, -1};
+    const auto parentOf = [&](int n) { return parents[static_cast<size_t>(n)]; };
+    EXPECT_TRUE(formats::attachmentExempts(2, 2, parentOf));
+    EXPECT_TRUE(formats::attachmentExempts(2, 1, parentOf));
+    EXPECT_TRUE(formats::attachmentExempts(2, 0, parentOf));
+    EXPECT_FALSE(formats::attachmentExempts(2, 3, parentOf)); // sibling of the valve
+    EXPECT_FALSE(formats::attachmentExempts(2, 4, parentOf)); // child of the attachment node
+    EXPECT_FALSE(formats::attachmentExempts(2, 5, parentOf)); // another tree
+    EXPECT_FALSE(formats::attachmentExempts(-1, 0, parentOf)); // fixed to the world
+    EXPECT_FALSE(formats::attachmentExempts(2, -1, parentOf));
+
+    EXPECT_TRUE(formats::attachmentExemptsPath("/rig/valve/inlet", "/rig/valve/inlet"));
+    EXPECT_TRUE(formats::attachmentExemptsPath("/rig/valve/inlet", "/rig/valve"));
+    EXPECT_TRUE(formats::attachmentExemptsPath("/rig/valve/inlet", "/rig"));
+    EXPECT_FALSE(formats::attachmentExemptsPath("/rig/valve/inlet", "/rig/val"));
+    EXPECT_FALSE(formats::attachmentExemptsPath("/rig/valveX/inlet", "/rig/valve"));
+    EXPECT_FALSE(formats::attachmentExemptsPath("/rig/valve", "/rig/valve/inlet"));
+    EXPECT_FALSE(formats::attachmentExemptsPath("/rig/valve", "/rig/floor"));
+    EXPECT_FALSE(formats::attachmentExemptsPath("", "/rig"));
+    EXPECT_FALSE(formats::attachmentExemptsPath("/rig", ""));
 }
 
 TEST(Clearance, BadThresholdIsRefusedNamingIt)

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <chaintube/export/runtime.h>
+#include <chaintube/formats/collider_exemption.h>
 #include <chaintube/formats/project_hoses.h>
 #include <chaintube/surface.h>
 #include <cmath>
@@ -65,7 +66,8 @@ rig::ColliderMesh colliderMeshOf(const GltfDocument& exported, int node)
 
 /// Gives the library's hoses the project's colliders, as the runtime does: one MeshCollider per
 /// collider node (the exported mesh, placed by the scene's world transform of the node, or by
-/// the runtime's with sameFrames), used by every hose not attached to that node.
+/// the runtime's with sameFrames), used by every hose except those attached to that node or to
+/// a node under it (formats/collider_exemption.h, the runtime's rule).
 void attachColliders(LibraryReference& reference, const GltfDocument& exported,
                      const rig::HoseRuntime& runtime, bool sameFrames)
 {
@@ -88,10 +90,14 @@ void attachColliders(LibraryReference& reference, const GltfDocument& exported,
     for (size_t h = 0; h < reference.hoses.size(); ++h) {
         std::vector<std::shared_ptr<const MeshCollider>> used;
         for (size_t c = 0; c < reference.colliders.size(); ++c) {
-            bool attached = false;
-            for (const auto& a : reference.attachedNodes[h])
-                attached = attached || a == reference.colliderNodes[c];
-            if (!attached) used.push_back(reference.colliders[c]);
+            const auto& [colliderScene, colliderNode] = reference.colliderNodes[c];
+            const formats::ImportedScene& scene = reference.scenes.at(colliderScene);
+            const auto parentOf = [&](int n) { return scene.nodes[static_cast<size_t>(n)].parent; };
+            bool exempt = false;
+            for (const auto& [attachedScene, attachedNode] : reference.attachedNodes[h])
+                exempt = exempt || (attachedScene == colliderScene &&
+                                    formats::attachmentExempts(attachedNode, colliderNode, parentOf));
+            if (!exempt) used.push_back(reference.colliders[c]);
         }
         if (!used.empty()) reference.hoses[h].setColliders(std::move(used));
     }
@@ -395,6 +401,56 @@ INSTANTIATE_TEST_SUITE_P(
                            ? "_same_frames"
                            : "_independent_frames");
     });
+
+TEST(HoseRuntime, AHoseIgnoresTheCollidersItsAttachmentNodesSitInButNotTheirSiblings)
+{
+    // test-rig with the valve and the floor plate as colliders: left-feed is attached to
+    // /test-rig/valve/valve_inlet (a child of the valve), right-return to /test-rig/valve.
+    TemporaryFolder folder;
+    const fs::path project = samplesDir() / "test-rig.ctproj";
+    formats::ProjectLoadOptions load;
+    load.roots = roots();
+    const formats::Project loaded = formats::loadProject(project, load);
+    const formats::ImportedScenes scenes = formats::importProjectScenes(loaded, project, roots());
+    const formats::ImportedScene& rig = scenes.at("rig");
+    ExportOptions options;
+    options.colliders = {{0, rig.findNode("/test-rig/floor_plate")},
+                         {0, rig.findNode("/test-rig/valve")}};
+    exportProject(loaded, project, folder / "c.glb", roots(), options);
+    rig::HoseRuntime runtime = rig::HoseRuntime::load(folder / "c.glb");
+    const std::vector<int>& colliderNodes = runtime.descriptor().colliders;
+    ASSERT_EQ(colliderNodes.size(), 2u);
+    const auto colliderOf = [&](const char* name) {
+        for (size_t c = 0; c < colliderNodes.size(); ++c)
+            if (colliderNodes[c] == runtime.findNode(name)) return runtime.colliders()[c];
+        return std::shared_ptr<MeshCollider>();
+    };
+    const std::shared_ptr<MeshCollider> valve = colliderOf("valve"), floor = colliderOf("floor_plate");
+    ASSERT_TRUE(valve && floor);
+    for (const char* id : {"left-feed", "right-return"}) {
+        const int h = runtime.findHose(id);
+        ASSERT_GE(h, 0) << id;
+        const auto& used = runtime.hose(h).colliders();
+        EXPECT_EQ(used.size(), 1u) << id << ": the valve is exempt, its sibling the floor plate is not";
+        if (!used.empty()) {
+            EXPECT_EQ(used[0].get(), floor.get()) << id;
+        }
+    }
+
+    // Moving the valve carries left-feed's end (in valve_inlet) and right-return's end with it;
+    // neither hose is blocked by or pushed out of the valve it sits in.
+    const double before = clearance(runtime.hose(runtime.findHose("left-feed")), *valve).distance;
+    const int valveNode = runtime.findNode("valve");
+    rig::NodeTransform local = runtime.node(valveNode).local;
+    local.translation += Vec3(0.0, 0.02, 0.01);
+    const std::vector<rig::HoseUpdate> updates = runtime.setNodeTransform(valveNode, local);
+    EXPECT_EQ(updates.size(), 2u);
+    for (const rig::HoseUpdate& update : updates)
+        EXPECT_EQ(update.result.status, Status::Ok) << runtime.description(update.hose).id;
+    const double after = clearance(runtime.hose(runtime.findHose("left-feed")), *valve).distance;
+    std::cout << "[ exemption ] left-feed surface to the valve: " << before << " m, after moving "
+              << "the valve " << after << " m\n";
+}
 
 TEST(HoseRuntime, JointLocalPosesUnderAMovedNodeStayConsistentWithTheirWorldPoses)
 {

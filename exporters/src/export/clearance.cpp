@@ -1,23 +1,14 @@
 // Clearance analysis of a project: hoses against scene objects (issue 7, section 3).
 #include "chaintube/export/clearance.h"
 
+#include "chaintube/formats/collider_exemption.h"
 #include "chaintube/formats/project.h"
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <utility>
 
 namespace chaintube::exporting {
-
-namespace {
-/// "/a/b/c" → "/a/b"; "/a" → "" (the scene root's path is "/" + its name, it has no parent).
-std::string parentPath(const std::string& path)
-{
-    const size_t slash = path.find_last_of('/');
-    return slash == std::string::npos || slash == 0 ? std::string() : path.substr(0, slash);
-}
-} // namespace
 
 std::vector<SceneObject> sceneObjects(const formats::Project& project, const formats::ImportedScenes& scenes)
 {
@@ -74,11 +65,16 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
         const Hose& hose = *hoses[h];
         const formats::HoseDefinition& definition = project.hoses[h];
         // A hose end sits in the part it is attached to by design: skip that node and every
-        // ancestor of it (an attachment on "/rig/valve/inlet" sits in "/rig/valve" too).
-        std::set<std::pair<std::string, std::string>> attached;
-        if (!options.includeAttachedNodes)
-            for (const formats::HoseAttachment& a : definition.attachments)
-                for (std::string path = a.node; !path.empty(); path = parentPath(path)) attached.insert({a.scene, path});
+        // ancestor of it (an attachment on "/rig/valve/inlet" sits in "/rig/valve" too), the
+        // rule the runtime and the editor use for colliders (formats/collider_exemption.h).
+        const auto exempt = [&](const SceneObject& object) {
+            return !options.includeAttachedNodes &&
+                   std::any_of(definition.attachments.begin(), definition.attachments.end(),
+                               [&](const formats::HoseAttachment& a) {
+                                   return a.scene == object.sceneId &&
+                                          formats::attachmentExemptsPath(a.node, object.path);
+                               });
+        };
         // Objects whose bounds are farther than threshold + radius from the hose's box are skipped.
         Aabb hoseBox;
         for (int i = 0; i < hose.pointCount(); ++i) hoseBox.extend(hose.point(i));
@@ -87,7 +83,7 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
         hoseBox.max.array() += reach;
         for (size_t o = 0; o < objects.size(); ++o) {
             const SceneObject& object = objects[o];
-            if (attached.count({object.sceneId, object.path})) continue;
+            if (exempt(object)) continue;
             const Aabb box = object.collider->worldBounds();
             if ((box.min.array() > hoseBox.max.array()).any() || (box.max.array() < hoseBox.min.array()).any()) continue;
             const Clearance c = clearance(hose, *object.collider, options.threshold);

@@ -1,5 +1,7 @@
 #include "chaintube/export/runtime.h"
 
+#include "chaintube/formats/collider_exemption.h"
+
 #include "gltf_container.h"
 #include "transform_math.h"
 
@@ -222,14 +224,17 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                         std::to_string(node) + ": " + error.what());
         }
     }
-    // Every hose stays outside the colliders it is not attached to (its ends sit in those).
+    // Every hose stays outside the colliders except the nodes it is attached to and their
+    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule).
+    const auto parentOf = [&](int n) { return runtime.m_nodes[static_cast<size_t>(n)].parent; };
     for (size_t h = 0; h < runtime.m_hoses.size() && !runtime.m_colliders.empty(); ++h) {
         const RigHose& d = runtime.m_descriptor.hoses[h];
         std::vector<std::shared_ptr<const MeshCollider>> used;
         for (size_t c = 0; c < runtime.m_colliders.size(); ++c)
             if (std::none_of(d.attachments.begin(), d.attachments.end(),
                              [&](const RigAttachment& a) {
-                                 return a.node == runtime.m_descriptor.colliders[c];
+                                 return formats::attachmentExempts(
+                                     a.node, runtime.m_descriptor.colliders[c], parentOf);
                              }))
                 used.push_back(runtime.m_colliders[c]);
         if (!used.empty()) runtime.m_hoses[h].hose.setColliders(std::move(used));

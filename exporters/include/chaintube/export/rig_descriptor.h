@@ -126,7 +126,8 @@ struct HoseRigDescriptor
     /// glTF nodes flagged as colliders (1.2), ascending, each with a mesh: a runtime builds a
     /// rigid MeshCollider from each node's mesh (world scale baked in, placed by the rigid part
     /// of the node's world transform) and every hose stays outside the colliders except those
-    /// it is attached to.
+    /// that are one of its attachment nodes or an ancestor of one in the glTF node hierarchy
+    /// (its ends sit in those; formats/collider_exemption.h).
     std::vector<int> colliders;
 };
 

@@ -70,7 +70,8 @@ public:
     /// extension (e.g. after a tool that drops unknown extensions). Rebuilds every hose with
     /// its attachments as exported, its gravity and torsion (HoseSpec), and its colliders: a
     /// MeshCollider per descriptor collider node, built from the node's glTF mesh, which every
-    /// hose not attached to that node stays outside of. The exported shape is the starting
+    /// hose stays outside of unless one of its attachments is on that node or on a node under
+    /// it (formats/collider_exemption.h). The exported shape is the starting
     /// state (no push-out at load). Throws DescriptorError (file + JSON pointer) or
     /// chaintube::Error naming the file for unreadable or inconsistent input.
     static HoseRuntime load(const std::filesystem::path& file, RuntimeLoadReport* report = nullptr);

@@ -182,7 +182,8 @@ struct NodePose
     }
 };
 
-/// A scene node flagged as a collider: hoses stay outside its mesh (issue 7). The export
+/// A scene node flagged as a collider: hoses stay outside its mesh (issue 7), except a hose
+/// attached to that node or to a node under it (formats/collider_exemption.h). The export
 /// lists it in the runtime descriptor (glTF node index) with its mesh.
 struct ColliderNode
 {
