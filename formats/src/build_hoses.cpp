@@ -45,6 +45,26 @@ std::vector<std::pair<int, const NodePose*>> posesOfScene(const Project& project
 
 } // namespace
 
+std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node, const Mat4& world)
+{
+    const SceneNode& sceneNode = scene.nodes.at(static_cast<size_t>(node));
+    const Frame frame = rigidPart(world);
+    std::vector<Vec3> positions;
+    std::vector<std::uint32_t> indices;
+    for (int meshIndex : sceneNode.meshes) {
+        const SceneMesh& mesh = scene.meshes[static_cast<size_t>(meshIndex)];
+        const auto base = static_cast<std::uint32_t>(positions.size());
+        for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+            const Vec3 local(mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                             mesh.positions[3 * v + 2]);
+            positions.push_back(frame.applyInverse((world * local.homogeneous()).head<3>()));
+        }
+        for (std::uint32_t index : mesh.indices) indices.push_back(base + index);
+    }
+    if (indices.empty()) return nullptr;
+    return MeshCollider::fromArrays(positions, indices, frame);
+}
+
 Mat4 posedWorldTransform(const Project& project, const ImportedScenes& scenes,
                          const std::string& sceneId, int node)
 {

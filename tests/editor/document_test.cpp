@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <fstream>
+#include <iostream>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -571,6 +572,69 @@ TEST(DocumentColliders, FlaggingAPartIsAnUndoStepThatIsSavedAndReloaded)
     EXPECT_TRUE(reopened.isCollider("rig", floor));
     expectExactUndo(reopened, makeSetCollider(reopened, {"rig", floor}, false));
     EXPECT_FALSE(reopened.isCollider("rig", floor));
+}
+
+/// Drags point `point` of the live hose to `target` in ten steps (as mouse moves do), then
+/// returns its surface's signed distance to `collider` (negative: inside) and cancels the drag.
+double dragIntoAndMeasure(Document& document, const std::string& id, int point, const Vec3& target,
+                          const MeshCollider& collider)
+{
+    const Vec3 start = document.hose(id)->point(point);
+    for (int k = 1; k <= 10; ++k)
+        document.dragHosePoint(id, point, start + (target - start) * (k / 10.0));
+    const Clearance c = clearance(*document.hose(id), collider);
+    document.cancelHoseDrag(id);
+    return c.found ? c.distance : 1.0;
+}
+
+TEST(DocumentColliders, ALiveHoseStaysOutsideAFlaggedPartAndGoesThroughWhenTheFlagIsUndone)
+{
+    auto document = openTestRig();
+    const formats::ImportedScene& rig = *document->scene("rig");
+    const int bracket = rig.findNode("/test-rig/bracket_right"); // right-return is fixed to it
+    ASSERT_GE(bracket, 0);
+    const std::string leftFeed = "left-feed", rightReturn = "right-return";
+    ASSERT_TRUE(document->hose(leftFeed) && document->hose(rightReturn));
+    EXPECT_TRUE(document->hoseColliders(leftFeed).empty());
+
+    document->undoStack()->push(makeSetCollider(*document, {"rig", bracket}, true));
+    ASSERT_EQ(document->hoseColliders(leftFeed).size(), 1u);
+    EXPECT_TRUE(document->hoseColliders(rightReturn).empty()) << "its end sits in the bracket";
+    const std::shared_ptr<const MeshCollider> box = document->hoseColliders(leftFeed)[0];
+
+    // Move the bracket (4 x 20 x 6 cm) under left-feed's middle: the collider follows the pose.
+    const int point = document->hose(leftFeed)->pointCount() / 2;
+    const Vec3 middle = document->hose(leftFeed)->point(point);
+    formats::Mat4 moved = document->nodeLocalTransform("rig", bracket);
+    moved.block<3, 1>(0, 3) = Vec3(middle.x(), middle.y() - 0.125, middle.z()); // top 25 mm below
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", bracket}, moved));
+    EXPECT_NEAR(box->worldBounds().max.y(), middle.y() - 0.025, 1e-6); // float vertices
+    const Vec3 inside(middle.x(), middle.y() - 0.125, middle.z()); // the bracket's centre
+
+    const double tolerance = CollisionOptions{}.tolerance;
+    const double flagged = dragIntoAndMeasure(*document, leftFeed, point, inside, *box);
+    EXPECT_GE(flagged, -tolerance - 1e-9) << "penetration beyond the tolerance";
+
+    document->undoStack()->undo(); // the move
+    document->undoStack()->undo(); // the flag: the old behaviour
+    EXPECT_FALSE(document->isCollider("rig", bracket));
+    EXPECT_TRUE(document->hoseColliders(leftFeed).empty());
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", bracket}, moved));
+    const std::shared_ptr<MeshCollider> measured = // the same part at the same place
+        formats::nodeCollider(rig, bracket, document->nodeWorldTransform("rig", bracket));
+    ASSERT_TRUE(measured);
+    const double unflagged = dragIntoAndMeasure(*document, leftFeed, point, inside, *measured);
+    EXPECT_LT(unflagged, -0.005) << "without the flag the hose goes into the bracket";
+
+    // Flagged again, now at the moved pose.
+    document->undoStack()->push(makeSetCollider(*document, {"rig", bracket}, true));
+    ASSERT_EQ(document->hoseColliders(leftFeed).size(), 1u);
+    const double again = dragIntoAndMeasure(*document, leftFeed, point, inside,
+                                            *document->hoseColliders(leftFeed)[0]);
+    EXPECT_GE(again, -tolerance - 1e-9);
+    std::cout << "[ colliders ] left-feed point " << point << " dragged to the bracket's centre: "
+              << "flagged " << flagged << " m, unflagged " << unflagged << " m, flagged again "
+              << again << " m (surface to bracket; tolerance " << tolerance << " m)\n";
 }
 
 TEST(DocumentGravity, TorsionAndGravityDirectionAreSavedAndReloaded)

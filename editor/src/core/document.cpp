@@ -1,6 +1,7 @@
 #include "chaintube/editor/document.h"
 
 #include "chaintube/editor/commands.h"
+#include "chaintube/formats/collider_exemption.h"
 
 #include <QMetaType>
 
@@ -390,8 +391,61 @@ bool Document::isCollider(const std::string& sceneId, int node) const
            m_project.colliders.end();
 }
 
+std::vector<std::shared_ptr<const MeshCollider>>
+Document::hoseColliders(const std::string& hoseId) const
+{
+    const Hose* live = hose(hoseId);
+    return live ? live->colliders() : std::vector<std::shared_ptr<const MeshCollider>>();
+}
+
+void Document::rebuildColliders()
+{
+    m_colliders.clear();
+    for (const formats::ColliderNode& flagged : m_project.colliders) {
+        const formats::ImportedScene* imported = scene(flagged.scene);
+        const int node = imported ? imported->findNode(flagged.node) : -1;
+        if (node < 0)
+            continue; // readProject checked; a removed scene takes its parts with it
+        std::shared_ptr<MeshCollider> collider =
+            formats::nodeCollider(*imported, node, nodeWorldTransform(flagged.scene, node));
+        if (collider) // a part without triangles cannot collide (the export refuses it)
+            m_colliders.push_back({flagged.scene, node, std::move(collider)});
+    }
+    for (const formats::HoseDefinition& definition : m_project.hoses)
+        applyColliders(definition.id);
+}
+
+void Document::applyColliders(const std::string& hoseId)
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    auto live = m_live.find(hoseId);
+    if (!definition || live == m_live.end() || !live->second.hose)
+        return;
+    std::vector<std::shared_ptr<const MeshCollider>> used;
+    for (const LiveCollider& c : m_colliders) {
+        const formats::ImportedScene* imported = scene(c.sceneId);
+        if (!imported)
+            continue;
+        const auto parentOf = [&](int n) { return imported->nodes[static_cast<size_t>(n)].parent; };
+        const bool exempt = std::any_of(
+            definition->attachments.begin(), definition->attachments.end(),
+            [&](const formats::HoseAttachment& a) {
+                return a.scene == c.sceneId &&
+                       formats::attachmentExempts(imported->findNode(a.node), c.node, parentOf);
+            });
+        if (!exempt)
+            used.push_back(c.collider);
+    }
+    Hose& hoseObject = *live->second.hose;
+    if (used == hoseObject.colliders())
+        return;
+    hoseObject.setColliders(std::move(used));
+    wakeGravity(hoseId); // a gravity hose settles again against what it now rests on
+}
+
 void Document::collidersChanged(const NodeKey& node)
 {
+    rebuildColliders();
     ChangeEvent event;
     event.kind = ChangeEvent::Kind::CollidersChanged;
     event.sceneId = node.first;
@@ -475,6 +529,13 @@ void Document::poseChanged(const NodeKey& node)
 {
     ++m_poseSerial;
     syncProjectPoses();
+    // Colliders follow the pose: each one of the moved part's scene is placed again by the
+    // rigid part of its posed world transform (setFrame; a scale set by a pose is applied the
+    // next time the colliders are rebuilt, e.g. when a flag changes).
+    std::vector<const MeshCollider*> movedColliders;
+    for (const LiveCollider& c : m_colliders)
+        if (c.sceneId == node.first && c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
+            movedColliders.push_back(c.collider.get());
     for (const formats::HoseDefinition& definition : m_project.hoses) {
         bool attachedHere = false;
         for (const formats::HoseAttachment& attachment : definition.attachments)
@@ -498,6 +559,24 @@ void Document::poseChanged(const NodeKey& node)
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
     }
+    // A moved collider pushes the hoses it now overlaps out (as the runtime does).
+    for (auto& [hoseId, live] : m_live) {
+        if (!live.hose || movedColliders.empty())
+            continue;
+        const bool near = std::any_of(
+            live.hose->colliders().begin(), live.hose->colliders().end(), [&](const auto& used) {
+                return std::find(movedColliders.begin(), movedColliders.end(), used.get()) !=
+                       movedColliders.end();
+            });
+        if (!near)
+            continue;
+        const std::uint64_t revision = live.hose->revision();
+        live.hose->resolveCollisions();
+        if (live.hose->revision() != revision) {
+            wakeGravity(hoseId);
+            emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+        }
+    }
     ChangeEvent event;
     event.kind = ChangeEvent::Kind::PoseChanged;
     event.sceneId = node.first;
@@ -511,6 +590,7 @@ void Document::insertScene(int index, formats::SceneReference reference,
     index = std::clamp(index, 0, static_cast<int>(m_project.scenes.size()));
     m_scenes[reference.id] = std::move(importedScene);
     m_project.scenes.insert(m_project.scenes.begin() + index, std::move(reference));
+    rebuildColliders();
     ++m_poseSerial;
     emitChanged(ChangeEvent::Kind::ScenesChanged);
 }
@@ -532,6 +612,7 @@ Document::removeScene(const std::string& id)
         m_selection.sceneId.clear();
         m_selection.node = -1;
     }
+    rebuildColliders();
     ++m_poseSerial;
     emitChanged(ChangeEvent::Kind::ScenesChanged);
     return removed;
@@ -566,6 +647,7 @@ void Document::rebuildHose(const std::string& hoseId)
         // the attachments to the posed frames, exactly as the export and the CLI do.
         live.hose = formats::buildHose(m_project, *definition, m_scenes);
         live.error.clear();
+        applyColliders(hoseId);
         wakeGravity(hoseId);
     } catch (const std::exception& error) {
         live.hose.reset();
@@ -578,6 +660,7 @@ void Document::rebuildAllHoses()
     m_live.clear();
     for (const formats::HoseDefinition& definition : m_project.hoses)
         rebuildHose(definition.id);
+    rebuildColliders();
 }
 
 bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) const

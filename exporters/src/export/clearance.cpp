@@ -18,22 +18,10 @@ std::vector<SceneObject> sceneObjects(const formats::Project& project, const for
         if (found == scenes.end()) continue; // not imported (the caller decided): no objects
         const formats::ImportedScene& scene = found->second;
         for (int node = 0; node < static_cast<int>(scene.nodes.size()); ++node) {
-            const formats::SceneNode& sceneNode = scene.nodes[static_cast<size_t>(node)];
-            std::vector<Vec3> positions;
-            std::vector<std::uint32_t> indices;
-            const formats::Mat4 world = formats::posedWorldTransform(project, scenes, reference.id, node);
-            const Frame frame = formats::rigidPart(world);
-            for (int meshIndex : sceneNode.meshes) {
-                const formats::SceneMesh& mesh = scene.meshes[static_cast<size_t>(meshIndex)];
-                const auto base = static_cast<std::uint32_t>(positions.size());
-                for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-                    const Vec3 local(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
-                    positions.push_back(frame.applyInverse((world * local.homogeneous()).head<3>()));
-                }
-                for (std::uint32_t index : mesh.indices) indices.push_back(base + index);
-            }
-            if (indices.empty()) continue;
-            objects.push_back({reference.id, node, sceneNode.path, MeshCollider::fromArrays(positions, indices, frame)});
+            std::shared_ptr<MeshCollider> collider = formats::nodeCollider(
+                scene, node, formats::posedWorldTransform(project, scenes, reference.id, node));
+            if (!collider) continue;
+            objects.push_back({reference.id, node, scene.nodes[static_cast<size_t>(node)].path, std::move(collider)});
         }
     }
     return objects;

@@ -22,6 +22,12 @@
 //                       derived state, never an undo step and never the modified flag: the file
 //                       keeps the authored route and the gravity flag, and a reload reproduces
 //                       the sag by the same deterministic steps.
+//  * live colliders   — a MeshCollider per part flagged in project().colliders, built from
+//                       the part's own meshes at its posed world transform
+//                       (formats::nodeCollider). Every live hose stays outside them during
+//                       drags, part moves and gravity, except the parts its attachments are on
+//                       and their ancestors (formats/collider_exemption.h, as the runtime and
+//                       the clearance check). Rebuilt when a flag changes, moved with the pose.
 #pragma once
 
 #include "chaintube/formats/project.h"
@@ -36,6 +42,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -226,6 +233,8 @@ public:
     // --- colliders (issue 7) ----------------------------------------------------------------
     /// True if the node is flagged as a collider in project().colliders.
     bool isCollider(const std::string& sceneId, int node) const;
+    /// The colliders the live hose uses (empty for an unknown or unbuilt hose).
+    std::vector<std::shared_ptr<const MeshCollider>> hoseColliders(const std::string& hoseId) const;
 
     // --- merging ----------------------------------------------------------------------------
     /// Ends the current merge run: the next value change becomes a new undo step even if it
@@ -288,6 +297,11 @@ private:
     /// emits gravityStateChanged().
     void wakeGravity(const std::string& hoseId);
     void rebuildHose(const std::string& hoseId);
+    /// Builds m_colliders from project().colliders at the current pose and gives every live
+    /// hose its colliders (applyColliders).
+    void rebuildColliders();
+    /// Hose::setColliders with the flagged parts the hose is not exempt from.
+    void applyColliders(const std::string& hoseId);
     /// Writes the non-empty overrides into m_project.poses (project scene order, then node
     /// order) after an override changed.
     void syncProjectPoses();
@@ -302,6 +316,13 @@ private:
     std::filesystem::path m_file;
     formats::ImportedScenes m_scenes;
     std::map<std::string, LiveHose> m_live;
+    struct LiveCollider
+    {
+        std::string sceneId;
+        int node = -1;
+        std::shared_ptr<MeshCollider> collider;
+    };
+    std::vector<LiveCollider> m_colliders;
     std::map<NodeKey, std::optional<formats::Mat4>> m_pose;
     std::uint64_t m_poseSerial = 1;
     std::uint64_t m_buildCounter = 0;

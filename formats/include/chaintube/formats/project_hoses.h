@@ -3,9 +3,11 @@
 
 #include "chaintube/formats/project.h"
 #include "chaintube/formats/scene_import.h"
+#include "chaintube/collision.h"
 #include "chaintube/hose.h"
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,13 @@ Mat4 posedWorldTransform(const Project& project, const ImportedScenes& scenes,
 /// writes as the scene's node transforms). Throws InvalidArgument naming the pose for an
 /// unknown scene id or node path.
 ImportedScenes posedScenes(const Project& project, ImportedScenes scenes);
+
+/// The triangles of node `node`'s own meshes (not its children's) as a rigid MeshCollider at
+/// the node's world transform `world` (e.g. posedWorldTransform): the transform's scale and
+/// shear are baked into the vertices, its rigid part (rigidPart) is the collider's frame, so a
+/// pose that only moves the node can be applied with setFrame(). nullptr when the node has no
+/// triangle. Used by the clearance check and the editor's live colliders.
+std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node, const Mat4& world);
 
 /// buildHose() for every hose, in project order.
 std::vector<Hose> buildHoses(const Project& project, const ImportedScenes& scenes);
