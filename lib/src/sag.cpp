@@ -527,12 +527,15 @@ UpdateResult Hose::step(int rounds)
     // Also settled when the frame did not change: the joint projection can end its rounds in
     // a cycle that returns to the same state every step (see projectJointly); nothing visible
     // moves, and from here on nothing does.
-    // And settled when the potential energy has not fallen for kStallSteps steps: the joint
+    // And settled when the potential energy has not fallen to a new low for kStallSteps steps
+    // while staying close to that low (mean height within 1 % of a segment): the joint
     // projection can also end its rounds in a cycle that moves points every step without the
     // hose coming lower (seen near pinned ends under high tension with the bend limit binding:
-    // 0.5-1.2 mm a step). The damping takes any real swing out long before (0.9 of the velocity
-    // a round), so this only stops motion that goes nowhere.
+    // 0.5-1.2 mm a step, the mean height varying by 4e-5 m). The damping takes any real swing
+    // out long before (0.9 of the velocity a round); a hose still far above its lowest state
+    // (e.g. rising while the exact pass untangles it) is not stopped.
     constexpr int kStallSteps = 120;
+    constexpr double kHover = 0.01; // of the mean rest length, in mean height
     if (m_gravityInputRevision != inputRevision) { // an input changed: start over
         m_gravityLowestEnergy = std::numeric_limits<double>::infinity();
         m_gravityStallSteps = 0;
@@ -552,7 +555,8 @@ UpdateResult Hose::step(int rounds)
     }
     if (std::sqrt(moved) <= kSettledMotion * engine.meanRest ||
         (rounds >= 2 && std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest) ||
-        m_gravityStallSteps >= kStallSteps) {
+        (m_gravityStallSteps >= kStallSteps &&
+         energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }

@@ -251,8 +251,9 @@ public:
     /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
     /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
     /// projection can leave a tiny two-round flip-flop), or (rounds ≥ 2) over the whole step,
-    /// or when its potential energy has not fallen by more than that for 120 steps (a
-    /// projection cycle that moves points without the hose coming lower: it stops where it is),
+    /// or when its potential energy has not reached a new low for 120 steps while its mean
+    /// height stays within 1 % of a segment of that low (a projection cycle that moves points
+    /// without the hose coming lower: it stops where it is),
     /// the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
     /// revision()), step() returns at once without touching the hose, so a settled hose never
     /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
