@@ -147,6 +147,23 @@ double closestSegmentTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const
 }
 
 /// Ray–triangle (Möller–Trumbore, two-sided); t in (0, maxT).
+/// Slab test of the segment origin + t·(1 / inverse), t in [0, tmax], against `box` grown by
+/// `pad`: whether it enters, and where (`entry`, the smallest t inside).
+bool slabEntry(const Aabb& box, const Vec3& origin, const Vec3& inverse, double pad, double tmax, double& entry)
+{
+    double tmin = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        double t0 = (box.min[axis] - pad - origin[axis]) * inverse[axis];
+        double t1 = (box.max[axis] + pad - origin[axis]) * inverse[axis];
+        if (t0 > t1) std::swap(t0, t1);
+        if (t0 > tmin) tmin = t0; // NaN (0·inf) compares false: inside the slab
+        if (t1 < tmax) tmax = t1;
+        if (tmin > tmax) return false;
+    }
+    entry = tmin;
+    return true;
+}
+
 bool rayTriangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c, double maxT,
                  double* t)
 {
@@ -554,17 +571,7 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
         bool enter(const Aabb& box, double& key) const
         {
             if (boxBoxDistance2(box, swept) > 0.0) return false;
-            double tmin = 0.0, tmax = std::min(1.0, best);
-            for (int axis = 0; axis < 3; ++axis) {
-                double t0 = (box.min[axis] - radius - p[axis]) * inverse[axis];
-                double t1 = (box.max[axis] + radius - p[axis]) * inverse[axis];
-                if (t0 > t1) std::swap(t0, t1);
-                if (t0 > tmin) tmin = t0; // NaN (0·inf) compares false: inside the slab
-                if (t1 < tmax) tmax = t1;
-                if (tmin > tmax) return false;
-            }
-            key = tmin;
-            return true;
+            return slabEntry(box, p, inverse, radius, std::min(1.0, best), key);
         }
         bool worth(double key) const { return key <= best; }
         void leaf(int first, int count)
@@ -623,17 +630,7 @@ MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direc
         int bestTriangle = -1;
         bool enter(const Aabb& box, double& key) const
         {
-            double tmin = 0.0, tmax = best;
-            for (int axis = 0; axis < 3; ++axis) {
-                double t0 = (box.min[axis] - o[axis]) * inverse[axis];
-                double t1 = (box.max[axis] - o[axis]) * inverse[axis];
-                if (t0 > t1) std::swap(t0, t1);
-                if (t0 > tmin) tmin = t0; // NaN (0·inf) compares false: inside the slab
-                if (t1 < tmax) tmax = t1;
-                if (tmin > tmax) return false;
-            }
-            key = tmin;
-            return true;
+            return slabEntry(box, o, inverse, 0.0, best, key);
         }
         bool worth(double key) const { return key <= best; }
         void leaf(int first, int count)

@@ -1,4 +1,5 @@
 // Clearance analysis of projects (issue 7, section 3) and `chaintube check`.
+#include "cli_run.h"
 #include "export_test_support.h"
 
 #include <chaintube/export/clearance.h>
@@ -182,26 +183,6 @@ TEST(Clearance, BadThresholdIsRefusedNamingIt)
     } catch (const InvalidArgument& e) {
         EXPECT_NE(std::string(e.what()).find("clearance threshold"), std::string::npos) << e.what();
     }
-}
-
-struct CliRun
-{
-    int exitCode = -1;
-    std::string output;
-};
-
-CliRun runCli(const std::string& arguments)
-{
-    CliRun run;
-    const std::string command = std::string("\"") + CHAINTUBE_CLI + "\" " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buffer{};
-    size_t got = 0;
-    while ((got = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
-    const int status = pclose(pipe);
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
 }
 
 TEST(ClearanceCli, ListsEveryViolationAndExitsThree)

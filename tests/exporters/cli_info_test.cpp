@@ -1,5 +1,6 @@
 // `chaintube info` (issue 7): per hose gravity on/off and direction, torsion on/off and twist
 // limit, and the project's / descriptor's collider objects, read from the real CLI's output.
+#include "cli_run.h"
 #include "export_test_support.h"
 
 #include <array>
@@ -8,26 +9,6 @@
 
 namespace chaintube::exporting::testing {
 namespace {
-
-struct CliRun
-{
-    int exitCode = -1;
-    std::string output;
-};
-
-CliRun runCli(const std::string& arguments)
-{
-    CliRun run;
-    const std::string command = std::string("\"") + CHAINTUBE_CLI + "\" " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buffer{};
-    size_t got = 0;
-    while ((got = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), got);
-    const int status = pclose(pipe);
-    run.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
 
 /// The lines `info` prints for hose `id` (from its "hose 'id'" line to the next hose).
 std::string hoseBlock(const std::string& output, const std::string& id)
