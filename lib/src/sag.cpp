@@ -137,7 +137,11 @@ public:
     /// state is the answer. The exact ChainTube pass from the fixed points (settleFrom) is only
     /// the fallback: run on a shape the rounds already made valid it re-propagates from the
     /// fixed side and, between two clamps, undid the sag every step (issue 7).
-    UpdateResult finish(int held, int extraSteps, const std::vector<Vec3>& before)
+    /// With `exactFallback` false (step(), whose state before is valid), a result the rounds
+    /// could not make valid is undone instead (roundsFailed is set): the exact pass from the
+    /// fixed points turns every joint over its limit about the fixed side, and near a steep
+    /// attachment those turns add up to swings of 10 cm or more at a free end in one frame.
+    UpdateResult finish(int held, int extraSteps, const std::vector<Vec3>& before, bool exactFallback = true)
     {
         for (const Vec3& point : h.m_local)
             if (!point.allFinite()) {
@@ -149,6 +153,17 @@ public:
             if (bendLimited || !contactNormal.empty()) projectJointly(extraSteps);
             else projectLengths(extraSteps);
             result = h.measureViolation();
+        }
+        if (result.status != Status::Ok && !exactFallback) {
+            const std::vector<Vec3> after = h.m_local;
+            h.m_local = before;
+            const UpdateResult previous = h.measureViolation();
+            if (previous.status == Status::Ok) {
+                h.m_dirtyViolation = false;
+                roundsFailed = true;
+                return previous; // nothing changed: the revision stays
+            }
+            h.m_local = after;
         }
         if (result.status != Status::Ok) {
             // The exact pass can itself fail on such a shape (a 21-point hose of the test-rig
@@ -173,6 +188,7 @@ public:
 
     double meanRest = 0.0;
     int failedRounds = 0; ///< rounds undone because the projection diverged
+    bool roundsFailed = false; ///< finish() undid the rounds (exactFallback false)
 
 private:
     // Joint projection of the length band, the bend limits and the contacts: the mass-weighted
@@ -205,6 +221,7 @@ private:
         activeRow.assign(m, 0);
         boundSide.assign(m, 0);
         double worst = 0.0;
+        double bestWorst = std::numeric_limits<double>::infinity();
         auto firstPoint = [](size_t c) { return c % 3 == 1 ? c / 3 - 1 : c / 3; };
         auto blocks = [](size_t c) { return c % 3 == 0 ? 1 : (c % 3 == 1 ? 3 : 2); };
         // The last pass only measures: the violation returned is the final state's.
@@ -270,6 +287,12 @@ private:
                 if (!decide(c, -gap, -1)) continue;
                 value[c] = gap;
                 jointGradient[3 * c] = contactNormal[i];
+            }
+            // The iteration leaves out the constraints' curvature and can drift away again
+            // from a nearly valid state (under high tension): the best state it met is kept.
+            if (worst < bestWorst) {
+                bestWorst = worst;
+                best.assign(p.begin(), p.end());
             }
             if ((worst <= 1e-12 && it > 0 && lastStep <= 1e-12 * meanRest) || it == newtonSteps) break;
             // Assemble the band: A(a, a + d) for d = 0 … 6, summed over the points both touch.
@@ -363,6 +386,10 @@ private:
             lastStep = fraction * std::sqrt(largestStep);
             if (it == 0) entryWorst = worst;
         }
+        if (worst > bestWorst) {
+            p.assign(best.begin(), best.end());
+            worst = bestWorst;
+        }
         return worst;
     }
 
@@ -427,7 +454,7 @@ private:
     std::vector<double> sub, diag, super, rhs, lambda, target;
     static constexpr size_t kBand = 7; // half-bandwidth 6 plus the diagonal
     std::vector<double> band, value, multiplier;
-    std::vector<Vec3> jointGradient, scratch, predicted;
+    std::vector<Vec3> jointGradient, scratch, predicted, best; // best: projectJointly's best state met
     std::vector<unsigned char> activeRow;
     std::vector<signed char> boundSide;
     double lastStep = 0.0;
@@ -514,9 +541,21 @@ UpdateResult Hose::step(int rounds)
         for (size_t i = 0; i < n; ++i) moved = std::max(moved, (m_local[i] - m_gravityTwoBack[i]).squaredNorm());
         m_gravityTwoBack = m_gravityPrevious; // the state before this round
     }
-    // The rounds' state if it holds the constraints, else the exact pass from the fixed points
-    // and the held point.
-    result = engine.finish(m_held, 4 * kNewtonStepsPerStepRound, start);
+    // The rounds' state if it holds the constraints; else the step again from rest; else the
+    // state before (the exact pass from the fixed points only when that was not valid either).
+    result = engine.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
+    if (engine.roundsFailed) {
+        // Once more from rest (the velocity carried in made the moves too large for the
+        // projection); if that fails too the hose stays where it was, without velocity.
+        m_gravityPrevious = start;
+        SagRounds fromRest(*this, m_spec.gravity.direction, m_held);
+        for (int r = 0; r < rounds; ++r) fromRest.round(m_gravityPrevious, kNewtonStepsPerStepRound);
+        result = fromRest.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
+        if (fromRest.roundsFailed) m_gravityPrevious = start;
+        m_gravityTwoBack = start;
+        moved = 0.0;
+        for (size_t i = 0; i < n; ++i) moved = std::max(moved, (m_local[i] - start[i]).squaredNorm());
+    }
     if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     result.movedPoints = 0;
     double stepMotion = 0.0;

@@ -242,8 +242,14 @@ public:
     /// Per-frame gravity (HoseSpec::gravity; beyond the paper). Advances the settling of the
     /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
     /// step to step, so the hose falls and swings out over a few dozen frames); the rounds'
-    /// state is kept when it holds every constraint to 1e-9 (as sag()), else one exact ChainTube
-    /// pass from the fixed points re-imposes them: every constraint holds after every step.
+    /// state is kept when it holds every constraint to 1e-9 (as sag()); else the step is run
+    /// again from rest (no velocity), and if the rounds cannot make that valid either, the hose
+    /// stays where it was, without velocity (it then counts as settled, see below). Unlike
+    /// sag(), a step never falls back on the exact ChainTube pass from the fixed points when
+    /// the state before it was valid: that pass turns every joint over its limit about the
+    /// fixed side, and below a steep attachment those turns swung a free end by 10–30 cm in
+    /// one frame (test GravityStep.AFreeEndOffASteepAttachmentFallsWithoutWhipping). Every
+    /// constraint holds after every step.
     /// With colliders, contacts are projection constraints inside the rounds (each free point
     /// keeps outerRadius() + tolerance/10 from the tangent plane at its closest point on a
     /// collider; a touching point keeps no velocity, i.e. it sticks), then the sweeps of
