@@ -386,7 +386,8 @@ namespace {
 // Eight floats: GCC/Clang vector extensions, so one source serves every target (two SSE
 // halves by default, one AVX register in the AVX2 clone below).
 typedef float Float8 __attribute__((vector_size(32)));
-typedef int Int8 __attribute__((vector_size(32)));
+typedef float Float4 __attribute__((vector_size(16)));
+typedef double Double4 __attribute__((vector_size(32)));
 
 // (By reference: passing or returning 32-byte vectors by value changes the ABI with AVX.)
 [[gnu::always_inline]] inline void load8(Float8& v, const float* p) { std::memcpy(&v, p, sizeof v); }
@@ -401,33 +402,23 @@ struct RingWriter
     RingKernelInput in;
     [[gnu::always_inline]] inline void operator()(size_t i, const RingFrame& ring) const
     {
-        const Float8 c = {static_cast<float>(ring.center.x()), static_cast<float>(ring.center.y()),
-                          static_cast<float>(ring.center.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-        const Float8 a = {static_cast<float>(ring.alignment.x()), static_cast<float>(ring.alignment.y()),
-                          static_cast<float>(ring.alignment.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-        const Float8 b = {static_cast<float>(ring.binormal.x()), static_cast<float>(ring.binormal.y()),
-                          static_cast<float>(ring.binormal.z()), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-        const Int8 phase[3] = {{0, 1, 2, 0, 1, 2, 0, 1}, {2, 0, 1, 2, 0, 1, 2, 0}, {1, 2, 0, 1, 2, 0, 1, 2}};
-        Float8 cp[3], ap[3], bp[3];
-#if defined(__clang__)
-        // clang has no __builtin_shuffle (GCC's, with a mask vector); the phases are constants.
-        (void)phase;
-        cp[0] = __builtin_shufflevector(c, c, 0, 1, 2, 0, 1, 2, 0, 1);
-        cp[1] = __builtin_shufflevector(c, c, 2, 0, 1, 2, 0, 1, 2, 0);
-        cp[2] = __builtin_shufflevector(c, c, 1, 2, 0, 1, 2, 0, 1, 2);
-        ap[0] = __builtin_shufflevector(a, a, 0, 1, 2, 0, 1, 2, 0, 1);
-        ap[1] = __builtin_shufflevector(a, a, 2, 0, 1, 2, 0, 1, 2, 0);
-        ap[2] = __builtin_shufflevector(a, a, 1, 2, 0, 1, 2, 0, 1, 2);
-        bp[0] = __builtin_shufflevector(b, b, 0, 1, 2, 0, 1, 2, 0, 1);
-        bp[1] = __builtin_shufflevector(b, b, 2, 0, 1, 2, 0, 1, 2, 0);
-        bp[2] = __builtin_shufflevector(b, b, 1, 2, 0, 1, 2, 0, 1, 2);
-#else
-        for (int k = 0; k < 3; ++k) {
-            cp[k] = __builtin_shuffle(c, phase[k]);
-            ap[k] = __builtin_shuffle(a, phase[k]);
-            bp[k] = __builtin_shuffle(b, phase[k]);
-        }
-#endif
+        // One conversion per vector (x, y, z, 0 in doubles → floats), then one permutation
+        // per phase (a single vpermps with AVX2).
+        const Double4 cd = {ring.center.x(), ring.center.y(), ring.center.z(), 0.0};
+        const Double4 ad = {ring.alignment.x(), ring.alignment.y(), ring.alignment.z(), 0.0};
+        const Double4 bd = {ring.binormal.x(), ring.binormal.y(), ring.binormal.z(), 0.0};
+        const Float4 c = __builtin_convertvector(cd, Float4);
+        const Float4 a = __builtin_convertvector(ad, Float4);
+        const Float4 b = __builtin_convertvector(bd, Float4);
+        const Float8 cp[3] = {__builtin_shufflevector(c, c, 0, 1, 2, 0, 1, 2, 0, 1),
+                              __builtin_shufflevector(c, c, 2, 0, 1, 2, 0, 1, 2, 0),
+                              __builtin_shufflevector(c, c, 1, 2, 0, 1, 2, 0, 1, 2)};
+        const Float8 ap[3] = {__builtin_shufflevector(a, a, 0, 1, 2, 0, 1, 2, 0, 1),
+                              __builtin_shufflevector(a, a, 2, 0, 1, 2, 0, 1, 2, 0),
+                              __builtin_shufflevector(a, a, 1, 2, 0, 1, 2, 0, 1, 2)};
+        const Float8 bp[3] = {__builtin_shufflevector(b, b, 0, 1, 2, 0, 1, 2, 0, 1),
+                              __builtin_shufflevector(b, b, 2, 0, 1, 2, 0, 1, 2, 0),
+                              __builtin_shufflevector(b, b, 1, 2, 0, 1, 2, 0, 1, 2)};
         float* pos = in.positions + i * in.ringFloats;
         float* nrm = in.normals + i * in.ringFloats;
         const size_t blocks = (in.ringFloats + 7) / 8;
