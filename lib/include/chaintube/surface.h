@@ -154,7 +154,6 @@ private:
     std::uint64_t m_seenRevision = 0;
     double m_maxTwist = 0.0;
     double m_twistLimit = 0.0;
-    int m_profileVertexCount = 0;
     int m_pointCount = 0;
     Profile m_profile;
 };
