@@ -59,12 +59,19 @@ public:
         bool moved = false;
         double length = 0.0;
         Vec3 v;
+        // The direction the bend correction works from: d itself (not the unit v, which waits
+        // for the square root and the division; the correction only needs d's part
+        // perpendicular to the incoming direction, so it starts as soon as d is known).
+        Vec3 along = d;
+        double along2 = length2;
         if (!(length2 > 1e-24 * lmin * lmin)) {
             // Dragged onto its neighbour: keep the direction the segment had before the move.
             Vec3 before = point - anchorOld;
             if (!(before.squaredNorm() > 1e-24 * lmin * lmin))
                 before = incoming ? *incoming : Vec3::UnitX();
             v = before.normalized();
+            along = v;
+            along2 = 1.0;
             moved = true;
         } else {
             // 1/|d| as sqrt(|d|²) · (1/|d|²): the square root and the division run in
@@ -77,13 +84,15 @@ public:
             const double cosLimit = h.m_cosLimit[joint], sinLimit = h.m_sinLimit[joint];
             // |v − u|² = 4 sin²(φ/2) keeps full precision for small turns, where the cosine
             // is too flat to decide; the limit carries its tolerance (see recomputeLimits).
+            // (A branch: the processor predicts it, so the corrected direction below does not
+            // wait for v.)
             if ((v - *incoming).squaredNorm() > h.m_chordLimit2[joint]) {
-                const double c = incoming->dot(v);
-                Vec3 w = v - c * *incoming;
+                const double c = incoming->dot(along);
+                Vec3 w = along - c * *incoming;
                 const double wn2 = w.squaredNorm();
                 // 1/|w| as sqrt(|w|²) · (1/|w|²): both in parallel (this is on the chain).
                 double wnInverse = std::sqrt(wn2) * (1.0 / wn2);
-                if (!(wn2 > 1e-24)) {
+                if (!(wn2 > 1e-24 * along2)) {
                     // Fold-back: take the bend plane from where the point was.
                     w = (point - anchorOld) - (point - anchorOld).dot(*incoming) * *incoming;
                     const double wn = w.norm();
