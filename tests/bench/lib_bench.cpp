@@ -59,7 +59,8 @@ void BM_Frame50Hoses(benchmark::State& state)
 {
     const int sides = static_cast<int>(state.range(0));
     Scene scene;
-    for (int i = 0; i < 50; ++i) {
+    const int hoses = state.range(2) > 0 ? static_cast<int>(state.range(2)) : 50;
+    for (int i = 0; i < hoses; ++i) {
         HoseSpec spec = benchSpec(99);
         spec.profile = Profile::circle(0.008, sides);
         scene.addHose(Hose::straight(Vec3(0.0, 0.0, 0.05 * i), Vec3::UnitX(), 1.0, spec));
@@ -75,10 +76,10 @@ void BM_Frame50Hoses(benchmark::State& state)
         benchmark::DoNotOptimize(scene.updateSurfaces());
     }
     size_t bytes = 0;
-    for (int i = 0; i < 50; ++i) bytes += 4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
-    state.counters["vertex_MB"] = static_cast<double>(bytes) * moving / 50 / 1e6;
+    for (int i = 0; i < hoses; ++i) bytes += 4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
+    state.counters["vertex_MB"] = static_cast<double>(bytes) * moving / hoses / 1e6;
 }
-BENCHMARK(BM_Frame50Hoses)->Args({16, 50})->Args({16, 5})->Args({16, 1})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Frame50Hoses)->Args({16, 50, 0})->Args({16, 5, 0})->Args({16, 1, 0})->Args({16, 10, 10})->Unit(benchmark::kMicrosecond);
 
 // The physical bound of a frame: writing its vertex bytes once (about 1.9 MB).
 void BM_MemsetFrameBytes(benchmark::State& state)
