@@ -64,6 +64,8 @@ public:
         // perpendicular to the incoming direction, so it starts as soon as d is known).
         Vec3 along = d;
         double along2 = length2;
+        double inverse2 = 0.0; // 1/|d|² when v is d's own direction
+        bool turned = false;
         if (!(length2 > 1e-24 * lmin * lmin)) {
             // Dragged onto its neighbour: keep the direction the segment had before the move.
             Vec3 before = point - anchorOld;
@@ -77,7 +79,8 @@ public:
             // 1/|d| as sqrt(|d|²) · (1/|d|²): the square root and the division run in
             // parallel instead of one after the other (the sweep is latency bound).
             length = std::sqrt(length2);
-            v = d * (length * (1.0 / length2));
+            inverse2 = 1.0 / length2;
+            v = d * (length * inverse2);
         }
         if (incoming) {
             const size_t joint = static_cast<size_t>(a);
@@ -104,7 +107,31 @@ public:
                 }
                 v = cosLimit * *incoming + (sinLimit * wnInverse) * w;
                 moved = true;
+                turned = true;
             }
+        }
+        if (!turned && inverse2 > 0.0) {
+            // Only stretched or compressed along d: p = anchor + d · (L/|d|) with
+            // L/|d| = (L/|d|²)·|d|, one multiply after the square root (L/|d|² waits only for
+            // the division, which runs beside it) instead of three in a row.
+            double scale = 0.0;
+            if (length < lmin * (1.0 - kLengthTolerance)) {
+                scale = (lmin * inverse2) * length;
+                moved = true;
+            } else if (length > lmax * (1.0 + kLengthTolerance)) {
+                scale = (lmax * inverse2) * length;
+                moved = true;
+            }
+            if (moved) {
+                if constexpr (Fma)
+                    point = Vec3(__builtin_fma(scale, d.x(), anchor.x()), __builtin_fma(scale, d.y(), anchor.y()),
+                                 __builtin_fma(scale, d.z(), anchor.z()));
+                else
+                    point = anchor + scale * d;
+            }
+            placed = point;
+            direction = v;
+            return moved;
         }
         double target = length;
         if (length < lmin * (1.0 - kLengthTolerance)) {
