@@ -48,6 +48,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <vector>
 
 namespace chaintube::editor {
 namespace {
@@ -879,6 +880,46 @@ TEST_F(MainWindowTest, PropertiesRefuseInvalidValuesAndASliderDragIsOneStep)
     EXPECT_EQ(shape->currentIndex(), 0) << "the widget shows the document's value again";
     EXPECT_LE(document.undoStack()->count(), steps + 2);
     (void)before;
+}
+
+// The profile fields a shape is not made from cannot be edited: sides for circle and ellipse,
+// width × height for ellipse and both rectangles, corner radius for the rounded rectangle.
+TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("profile-fields")));
+    Document& document = m_window->document();
+    Selection selection;
+    selection.hoseId = "left-feed";
+    document.setSelection(selection);
+    settle();
+    auto* shape = m_window->findChild<QComboBox*>("shape");
+    auto* sides = m_window->findChild<QSpinBox*>("sides");
+    auto* width = m_window->findChild<QDoubleSpinBox*>("profileWidth");
+    auto* height = m_window->findChild<QDoubleSpinBox*>("profileHeight");
+    auto* corner = m_window->findChild<QDoubleSpinBox*>("cornerRadius");
+    ASSERT_TRUE(shape && sides && width && height && corner);
+    ASSERT_EQ(shape->currentIndex(), 0);
+    auto enabled = [&] {
+        return std::vector<bool>{sides->isEnabled(), width->isEnabled(), height->isEnabled(), corner->isEnabled()};
+    };
+    EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false})) << "circle";
+    const Profile::Shape shapes[] = {Profile::Shape::Ellipse, Profile::Shape::Rectangle,
+                                     Profile::Shape::RoundedRectangle};
+    const std::vector<bool> expected[] = {{true, true, true, false}, {false, true, true, false},
+                                          {false, true, true, true}};
+    for (int index = 1; index <= 3; ++index) {
+        shape->setCurrentIndex(index);
+        emit shape->activated(index);
+        settle();
+        ASSERT_EQ(document.hoseDefinition("left-feed")->profile.shape, shapes[index - 1]);
+        EXPECT_EQ(enabled(), expected[index - 1]) << "shape " << index;
+    }
+    document.undoStack()->undo();
+    document.undoStack()->undo();
+    document.undoStack()->undo();
+    settle();
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::Circle);
+    EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false})) << "circle again after undo";
 }
 
 TEST_F(MainWindowTest, ProblemsPanelListsAnOverstretchAndSelectsItOnClick)

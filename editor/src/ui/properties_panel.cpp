@@ -648,6 +648,12 @@ void PropertiesPanel::refresh()
         m_width->setValue((shapeIndex == 1 ? 2 * p.semiAxisX : p.width) * 1000.0);
         m_height->setValue((shapeIndex == 1 ? 2 * p.semiAxisY : p.height) * 1000.0);
         m_cornerRadius->setValue(p.cornerRadius * 1000.0);
+        // Only the fields the shape is made from can be edited (the others keep their values
+        // for when the shape changes).
+        m_sides->setEnabled(shapeIndex <= 1);
+        m_width->setEnabled(shapeIndex >= 1);
+        m_height->setEnabled(shapeIndex >= 1);
+        m_cornerRadius->setEnabled(shapeIndex == 3);
         m_gravity->setChecked(definition->gravity.enabled);
         const Vec3& g = definition->gravity.direction;
         int directionIndex = -1;
