@@ -920,6 +920,20 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
     settle();
     EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::Circle);
     EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false})) << "circle again after undo";
+
+    // A polygon profile (only the project file can give one) is shown as such with no field to
+    // edit: the panel showed it as a circle, and changing its sides turned it into one.
+    formats::HoseDefinition polygon = *document.hoseDefinition("left-feed");
+    polygon.profile.shape = Profile::Shape::Polygon;
+    polygon.profile.points = {Vec2(-0.008, -0.006), Vec2(0.008, -0.006), Vec2(0.0, 0.008)};
+    document.undoStack()->push(
+        makeSetHoseDefinition(document, "left-feed", polygon, MergeId::None, QStringLiteral("Polygon")));
+    settle();
+    EXPECT_EQ(shape->currentIndex(), 4);
+    EXPECT_TRUE(shape->currentText().contains("Polygon"));
+    EXPECT_EQ(enabled(), (std::vector<bool>{false, false, false, false})) << "polygon";
+    sides->setValue(sides->value() + 1); // as a program could: still no change of shape
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::Polygon);
 }
 
 TEST_F(MainWindowTest, ProblemsPanelListsAnOverstretchAndSelectsItOnClick)

@@ -17,6 +17,7 @@
 #include <QPushButton>
 #include <QSlider>
 #include <QSpinBox>
+#include <QStandardItemModel>
 #include <QVBoxLayout>
 #include <QVector3D>
 
@@ -30,6 +31,8 @@ namespace chaintube::editor {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+/// The shape box's last item: a polygon profile (shown, not offered).
+constexpr int kPolygonShapeIndex = 4;
 
 /// Gravity directions offered (world; the project is +Y up, so −Y is down).
 const std::pair<const char*, Vec3> kGravityDirections[] = {
@@ -141,7 +144,11 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     auto* profileForm = new QFormLayout(m_profileGroup);
     m_shape = new QComboBox;
     m_shape->setObjectName("shape");
-    m_shape->addItems({tr("Circle"), tr("Ellipse"), tr("Rectangle"), tr("Rounded rectangle")});
+    m_shape->addItems({tr("Circle"), tr("Ellipse"), tr("Rectangle"), tr("Rounded rectangle"),
+                       tr("Polygon (from the project file)")});
+    // A polygon is shown, not offered: its points are written in the project file.
+    if (auto* items = qobject_cast<QStandardItemModel*>(m_shape->model()))
+        items->item(kPolygonShapeIndex)->setEnabled(false);
     profileForm->addRow(tr("Shape"), m_shape);
     m_sides = new QSpinBox;
     m_sides->setRange(3, 1024);
@@ -423,7 +430,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.undoStack()->push(makeSetPresets(m_document, presets, tr("Save preset")));
     });
     auto profileEdit = [this, edit] {
-        if (m_updating)
+        if (m_updating || m_shape->currentIndex() == kPolygonShapeIndex)
             return;
         edit(MergeId::HoseProfile, tr("Change cross-section"), [this](formats::HoseDefinition& d) {
             formats::ProfileSpec p = d.profile;
@@ -642,6 +649,7 @@ void PropertiesPanel::refresh()
         const int shapeIndex = p.shape == Profile::Shape::Ellipse            ? 1
                                : p.shape == Profile::Shape::Rectangle        ? 2
                                : p.shape == Profile::Shape::RoundedRectangle ? 3
+                               : p.shape == Profile::Shape::Polygon          ? kPolygonShapeIndex
                                                                              : 0;
         m_shape->setCurrentIndex(shapeIndex);
         m_sides->setValue(p.sides);
@@ -650,9 +658,10 @@ void PropertiesPanel::refresh()
         m_cornerRadius->setValue(p.cornerRadius * 1000.0);
         // Only the fields the shape is made from can be edited (the others keep their values
         // for when the shape changes).
+        // A polygon has none of them: changing one would have turned it into a circle.
         m_sides->setEnabled(shapeIndex <= 1);
-        m_width->setEnabled(shapeIndex >= 1);
-        m_height->setEnabled(shapeIndex >= 1);
+        m_width->setEnabled(shapeIndex >= 1 && shapeIndex <= 3);
+        m_height->setEnabled(shapeIndex >= 1 && shapeIndex <= 3);
         m_cornerRadius->setEnabled(shapeIndex == 3);
         m_gravity->setChecked(definition->gravity.enabled);
         const Vec3& g = definition->gravity.direction;
