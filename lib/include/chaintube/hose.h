@@ -266,10 +266,11 @@ public:
     /// with nothing fixed and nothing held has nothing to hang from: it does not fall (Ok,
     /// nothing moves). With bend limits or contacts each round does at most 16 Newton steps of
     /// the joint projection; a round whose projection diverges is undone (no NaN or Inf ever
-    /// leaves it), and when neither the rounds nor the exact pass can make the step's result
-    /// valid, the step is undone if the state before it was valid (a hose locked by its limits,
-    /// e.g. every joint at its limit and every segment at its minimum length, stays where it
-    /// is and counts as settled). Known limit: a hose hanging between two pinned points with its bottom at the
+    /// leaves it); a step the rounds cannot make valid is undone as above (a hose locked by its
+    /// limits, e.g. every joint at its limit and every segment at its minimum length, stays
+    /// where it is and counts as settled); only when the state before the step was itself
+    /// invalid does the exact pass run (if it fails too, its result is kept and its status
+    /// returned). Known limit: a hose hanging between two pinned points with its bottom at the
     /// bend limit and steep ends under high tension can keep cycling by ~0.6 mm per step near
     /// the pins (README). Deterministic. Returns the constraint state; movedPoints is 0
     /// when nothing was done.
