@@ -122,13 +122,7 @@ public:
                 scale = (lmax * inverse2) * length;
                 moved = true;
             }
-            if (moved) {
-                if constexpr (Fma)
-                    point = Vec3(__builtin_fma(scale, d.x(), anchor.x()), __builtin_fma(scale, d.y(), anchor.y()),
-                                 __builtin_fma(scale, d.z(), anchor.z()));
-                else
-                    point = anchor + scale * d;
-            }
+            if (moved) point = alongFrom<Fma>(anchor, scale, d);
             placed = point;
             direction = v;
             return moved;
@@ -141,16 +135,22 @@ public:
             target = lmax;
             moved = true;
         }
-        if (moved) {
-            if constexpr (Fma)
-                point = Vec3(__builtin_fma(target, v.x(), anchor.x()), __builtin_fma(target, v.y(), anchor.y()),
-                             __builtin_fma(target, v.z(), anchor.z()));
-            else
-                point = anchor + target * v;
-        }
+        if (moved) point = alongFrom<Fma>(anchor, target, v);
         placed = point;
         direction = v;
         return moved;
+    }
+
+    /// anchor + scale · w, the multiply-add fused with Fma (only instantiated in FMA-targeted
+    /// code).
+    template <bool Fma>
+    [[gnu::always_inline]] static inline Vec3 alongFrom(const Vec3& anchor, double scale, const Vec3& w)
+    {
+        if constexpr (Fma)
+            return Vec3(__builtin_fma(scale, w.x(), anchor.x()), __builtin_fma(scale, w.y(), anchor.y()),
+                        __builtin_fma(scale, w.z(), anchor.z()));
+        else
+            return anchor + scale * w;
     }
 
     bool pinned(int i) const { return h.m_fixed[static_cast<size_t>(i)] != 0 || i == grabbed; }

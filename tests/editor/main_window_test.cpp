@@ -83,6 +83,14 @@ protected:
         m_window->viewport().repaint();
         QApplication::processEvents();
     }
+    /// Selects a hose of the open document (the properties panel then shows it).
+    void selectHose(const std::string& id)
+    {
+        Selection selection;
+        selection.hoseId = id;
+        m_window->document().setSelection(selection);
+        settle();
+    }
     /// A copy of the test rig in a fresh folder (so that saving never touches samples/).
     QString copyOfTestRig(const std::string& folderName)
     {
@@ -851,10 +859,7 @@ TEST_F(MainWindowTest, PropertiesRefuseInvalidValuesAndASliderDragIsOneStep)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("properties")));
     Document& document = m_window->document();
-    Selection selection;
-    selection.hoseId = "left-feed";
-    document.setSelection(selection);
-    settle();
+    selectHose("left-feed");
     // A slider drag: many values, one undo step, applied live.
     auto* slider = m_window->findChild<QSlider*>("diameterSlider");
     slider->setSliderDown(true);
@@ -888,10 +893,7 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("profile-fields")));
     Document& document = m_window->document();
-    Selection selection;
-    selection.hoseId = "left-feed";
-    document.setSelection(selection);
-    settle();
+    selectHose("left-feed");
     auto* shape = m_window->findChild<QComboBox*>("shape");
     auto* sides = m_window->findChild<QSpinBox*>("sides");
     auto* width = m_window->findChild<QDoubleSpinBox*>("profileWidth");
