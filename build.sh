@@ -117,10 +117,10 @@ run_fuzzers() {
   local ci=
   if [ "${2:-}" = ci ]; then
     # CI: seed 1 and a fixed number of runs (the time only a safety bound) fix the budget; the
-    # exploration still differs a little between runs (README, "Hardening"). scene_import forks
-    # an assimp child for most inputs (formats::importScene's process isolation: assimp's
-    # aborts on malformed PLY faces are ImportErrors now; its seeds include that file), 5-20 ms
-    # a run under ASan, so it gets 3,000 runs: 14-53 s wall, 12-22 s CPU here (2 cores, load 5-7).
+    # exploration still differs a little between runs (README, "Hardening"). scene_import starts
+    # the assimp reader program for most inputs (formats::importScene's process isolation:
+    # assimp's aborts on malformed PLY faces are ImportErrors; its seeds include that file),
+    # about 10 ms a run under ASan, so it gets 3,000 runs.
     ci=1
   fi
   for target in "${targets[@]}"; do
@@ -140,6 +140,9 @@ run_fuzzers() {
       echo "build.sh: fuzzing $target for ${seconds} s" >&2
     fi
     mkdir -p "$corpus" "build-fuzz/artifacts/$target"
+    # max_allocation_size_mb: the 2 GB allocation limit also in scene_import's reader program
+    # (libFuzzer's own limit covers only the fuzzer's process).
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}max_allocation_size_mb=2048" \
     LSAN_OPTIONS="suppressions=$PWD/tests/hardening/lsan.supp:print_suppressions=0" \
       "build-fuzz/tests/fuzz/${target}_fuzzer" "${limit[@]}" -rss_limit_mb=2048 \
       -timeout=10 -print_final_stats=1 -artifact_prefix="build-fuzz/artifacts/$target/" \

@@ -4,8 +4,10 @@
 #include "chaintube/formats/scene_import.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace chaintube::formats::detail {
 
@@ -70,14 +72,40 @@ struct ReaderResult
 ReaderResult importWithAssimp(const std::filesystem::path& file, const std::string& extension,
                               const ImportOptions& options, ProgressStage& progress);
 
-/// Runs `reader` in a forked child process and hands back what it read (see "Process
-/// isolation" in scene_import.h). The reader's progress is forwarded to `progress` as it comes;
-/// a cancel from the caller kills the child and throws Cancelled. A FileError the reader throws
-/// is rethrown here with its reason; a child that dies by a signal or exits without an answer
-/// becomes an ImportError naming `readerName` ("PLY importer (assimp)") and the signal.
+/// A reader program to run: its path and its own arguments (readInChildProcess appends the
+/// file and the options).
+struct ReaderProgram
+{
+    std::filesystem::path path;
+    std::vector<std::string> arguments;
+};
+
+/// Runs `program` (a program whose main calls serveAsReaderProgram) in a child process and
+/// hands back what it read (see "Process isolation" in scene_import.h). The reader's progress
+/// is forwarded to `progress` as it comes; a cancel from the caller kills the child and throws
+/// Cancelled. A FileError the reader throws is rethrown here with its reason; a child that
+/// dies by a signal or exits without an answer becomes an ImportError naming `readerName`
+/// ("PLY importer (assimp)") and the signal.
 ReaderResult readInChildProcess(const std::filesystem::path& file, const std::string& readerName,
                                 const ImportOptions& options, ProgressStage& progress,
-                                const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader);
+                                const ReaderProgram& program);
+
+/// What a reader program reads with: its own arguments, the file, the options (with a
+/// progress callback that reports to the parent if the caller gave one).
+using ReaderProgramFunction =
+    std::function<ReaderResult(const std::vector<std::string>& arguments,
+                               const std::filesystem::path& file, const ImportOptions& options,
+                               ProgressStage& progress)>;
+
+/// A reader program's main: takes the file and options readInChildProcess put on its command
+/// line, runs `reader`, answers on descriptors 3 (messages) and 4 (the scene) and ends with
+/// _exit. Started by hand (wrong arguments) it says what it is and exits with status 122.
+[[noreturn]] void serveAsReaderProgram(int argc, char** argv, const ReaderProgramFunction& reader);
+
+/// chaintube-scene-reader, the assimp reader program: $CHAINTUBE_SCENE_READER if set, else
+/// the one beside the running program, else the one the build made. FileError naming `file`
+/// if there is none.
+std::filesystem::path sceneReaderProgram(const std::filesystem::path& file);
 
 /// The human-readable name of an assimp-read format: "glTF", "COLLADA", "PLY", …
 std::string assimpFormatName(const std::string& extension);

@@ -6,13 +6,16 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdint>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
-#include <malloc.h>
 #include <new>
 #include <poll.h>
 #include <string>
 #include <sys/mman.h>
+#include <spawn.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -27,9 +30,12 @@ namespace {
 
 // --- the child's answer -----------------------------------------------------------------------
 // The message pipe carries messages: one type byte, a 64-bit payload length, the payload. The
-// scene itself is written into a memory file (memfd) the parent made before the fork and maps
-// afterwards: no copying through the pipe for a scene of many megabytes. Both ends are the
-// same program image, so numbers travel in native representation.
+// scene itself is written into a memory file (memfd) the parent made before starting the reader
+// and maps afterwards: no copying through the pipe for a scene of many megabytes. Both ends are
+// built from these sources on one machine, so numbers travel in native representation; the
+// reader checks kProtocol first (a reader program of another build refuses to answer).
+/// Change with any change to the messages or to serialise().
+constexpr const char* kProtocol = "chaintube-scene-reader-protocol-1";
 constexpr char kProgress = 'P'; ///< payload: the stage fraction, a double
 constexpr char kResult = 'R';   ///< payload: the answer's size in the memory file, a uint64
 constexpr char kRefusal = 'E';  ///< payload: the FileError reason (the last message)
@@ -240,6 +246,7 @@ constexpr int kResultFd = 3;           ///< the message pipe's write end in the 
 constexpr int kSceneFd = 4;            ///< the memory file in the child
 constexpr int kExitParentGone = 120;   ///< the child's exit status when the parent died first
 constexpr int kExitCannotAnswer = 121; ///< … when writing the answer failed
+constexpr int kExitBadArguments = 122; ///< … when started with arguments it cannot use
 
 /// Serialises the result into the memory file; sets the answer's size, returns an error
 /// message ("" if all went well).
@@ -262,49 +269,65 @@ std::string writeScene(const ReaderResult& result, std::uint64_t& size)
     return {};
 }
 
-/// The child's whole life: it ends in _exit and never returns into the caller's code, so no
-/// destructor, atexit handler or stdio flush of the parent's state runs twice.
-[[noreturn]] void runChild(int resultFd, int sceneFd, int outputFd, pid_t parent,
-                           const std::filesystem::path& file,
-                           const ImportOptions& options,
-                           const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader)
+} // namespace
+
+/// The arguments readInChildProcess puts after the reader program's own: kProtocol, the file,
+/// the parent's process id, then the options (metres per unit or "-", up axis "y", "z" or "-",
+/// chordal and angular tolerance, progress "1" or "0"; numbers as hexadecimal floats, exact).
+constexpr int kTailArguments = 8;
+
+[[noreturn]] void serveAsReaderProgram(int argc, char** argv, const ReaderProgramFunction& reader)
 {
-    // Die with the parent (a killed editor or a timed-out fuzzer leaves no reader behind).
+    const char* program = argc > 0 ? argv[0] : "reader";
+    const auto usage = [&](const std::string& problem) {
+        std::fprintf(stderr,
+                     "%s: %s\n%s reads a scene file for ChainTube's scene import "
+                     "(formats::importScene), which starts it with its answer pipe on descriptor "
+                     "3 and a memory file on 4; it is not meant to be run by hand.\n",
+                     program, problem.c_str(), program);
+        ::_exit(kExitBadArguments);
+    };
+    if (argc < 1 + kTailArguments)
+        usage("expected at least " + std::to_string(kTailArguments) + " arguments, got " +
+              std::to_string(std::max(argc - 1, 0)));
+    if (std::string(argv[argc - kTailArguments]) != kProtocol)
+        usage(std::string("this program speaks ") + kProtocol + ", its caller " +
+              argv[argc - kTailArguments] + " (a reader program of another build?)");
+    const int tail = argc - kTailArguments + 1;
+    const auto number = [&](int at, const char* what) {
+        char* end = nullptr;
+        const double value = std::strtod(argv[at], &end);
+        if (end == argv[at] || *end != '\0' || !std::isfinite(value))
+            usage(std::string("argument ") + std::to_string(at) + " (" + what +
+                  "): expected a number, got '" + argv[at] + "'");
+        return value;
+    };
+    const std::filesystem::path file = argv[tail];
+    const auto parent = static_cast<pid_t>(number(tail + 1, "the parent's process id"));
+    ImportOptions options;
+    if (std::string(argv[tail + 2]) != "-") options.metresPerUnit = number(tail + 2, "metres per unit");
+    const std::string up = argv[tail + 3];
+    if (up == "y") options.upAxis = UpAxis::PositiveY;
+    else if (up == "z") options.upAxis = UpAxis::PositiveZ;
+    else if (up != "-") usage("argument " + std::to_string(tail + 3) + " (up axis): expected y, z or -");
+    options.chordalTolerance = number(tail + 4, "chordal tolerance");
+    options.angularTolerance = number(tail + 5, "angular tolerance");
+    const std::string progress = argv[tail + 6];
+    if (progress != "0" && progress != "1")
+        usage("argument " + std::to_string(tail + 6) + " (progress): expected 0 or 1");
+    const std::vector<std::string> arguments(argv + 1, argv + tail - 1); // before kProtocol
+
+    // Die with the caller's thread (a killed editor or a timed-out fuzzer leaves no reader
+    // behind); it may have died before this line.
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(kExitParentGone);
-    // A crash must end this process by its signal, not run the parent's handlers (a crash
-    // reporter, libFuzzer's or a sanitizer's) in it.
-    sigset_t crashSignals;
-    sigemptyset(&crashSignals);
-    for (const int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGSYS, SIGPIPE}) {
+    // A crash must end this process by its signal: a sanitizer's handlers (installed before
+    // main in a sanitized build) would turn it into an exit status.
+    for (const int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGSYS, SIGPIPE})
         std::signal(signal, SIG_DFL);
-        sigaddset(&crashSignals, signal);
-    }
-    ::pthread_sigmask(SIG_UNBLOCK, &crashSignals, nullptr);
-    // stdout and stderr go to the parent (assimp's ai_assert messages end up in the error);
-    // messages go to fd 3, the scene to fd 4; every other descriptor of the parent is closed,
-    // so that another import's pipe does not stay open in this process.
-    const int resultCopy = ::fcntl(resultFd, F_DUPFD, 10);
-    const int sceneCopy = ::fcntl(sceneFd, F_DUPFD, 10);
-    const int outputCopy = ::fcntl(outputFd, F_DUPFD, 10);
-    if (resultCopy < 0 || sceneCopy < 0 || outputCopy < 0 ||
-        ::dup2(outputCopy, STDOUT_FILENO) < 0 || ::dup2(outputCopy, STDERR_FILENO) < 0 ||
-        ::dup2(resultCopy, kResultFd) < 0 || ::dup2(sceneCopy, kSceneFd) < 0)
-        ::_exit(kExitCannotAnswer);
-    ::close_range(kSceneFd + 1, ~0U, 0);
 
-    // Large blocks from fresh mappings: the parent's freed heap, which malloc would otherwise
-    // hand out (its mmap threshold rises as large blocks are freed), is shared copy-on-write
-    // with this process, and every page written there would be copied first.
-    ::mallopt(M_MMAP_THRESHOLD, 256 * 1024);
-
-    ImportOptions childOptions;
-    childOptions.metresPerUnit = options.metresPerUnit;
-    childOptions.upAxis = options.upAxis;
-    childOptions.chordalTolerance = options.chordalTolerance;
-    childOptions.angularTolerance = options.angularTolerance;
-    if (options.progress) { // the parent decides about cancelling (it kills this process)
-        childOptions.progress = [](double fraction) {
+    if (progress == "1") { // the parent decides about cancelling (it kills this process)
+        options.progress = [](double fraction) {
             std::string payload(sizeof fraction, '\0');
             std::memcpy(payload.data(), &fraction, sizeof fraction);
             return sendMessage(kResultFd, kProgress, payload);
@@ -312,8 +335,8 @@ std::string writeScene(const ReaderResult& result, std::uint64_t& size)
     }
     bool sent = false;
     try {
-        ProgressStage stage(childOptions, file, 0.0, 1.0);
-        const ReaderResult result = reader(childOptions, stage);
+        ProgressStage stage(options, file, 0.0, 1.0);
+        const ReaderResult result = reader(arguments, file, options, stage);
         std::uint64_t size = 0;
         const std::string failure = writeScene(result, size);
         if (failure.empty()) {
@@ -332,8 +355,11 @@ std::string writeScene(const ReaderResult& result, std::uint64_t& size)
     } catch (...) {
         sent = sendMessage(kResultFd, kRefusal, "the reader failed with an unknown exception");
     }
+    // _exit: the answer is out; nothing of this short-lived process needs tearing down.
     ::_exit(sent ? 0 : kExitCannotAnswer);
 }
+
+namespace {
 
 // --- the parent -----------------------------------------------------------------------------
 
@@ -426,13 +452,42 @@ bool readAvailable(int fd, std::string& into, std::size_t limit, const std::file
 
 } // namespace
 
+std::filesystem::path sceneReaderProgram(const std::filesystem::path& file)
+{
+    namespace fs = std::filesystem;
+    constexpr const char* kName = "chaintube-scene-reader";
+    if (const char* chosen = std::getenv("CHAINTUBE_SCENE_READER"); chosen && *chosen) {
+        if (::access(chosen, X_OK) != 0)
+            throw FileError(file, std::string("cannot start the importer process: "
+                                              "CHAINTUBE_SCENE_READER names '") +
+                                      chosen + "', which is not an executable file");
+        return chosen;
+    }
+    std::error_code ignored;
+    const fs::path beside = fs::read_symlink("/proc/self/exe", ignored).parent_path() / kName;
+    if (!ignored && ::access(beside.c_str(), X_OK) == 0) return beside;
+    const fs::path built = CHAINTUBE_SCENE_READER_BUILT_AT;
+    if (::access(built.c_str(), X_OK) == 0) return built;
+    throw FileError(file, std::string("cannot start the importer process: ") + kName +
+                              " not found (looked beside this program, in " +
+                              beside.parent_path().string() + ", and where it was built, " +
+                              built.string() + "; set CHAINTUBE_SCENE_READER to its path)");
+}
+
 ReaderResult readInChildProcess(const std::filesystem::path& file, const std::string& readerName,
                                 const ImportOptions& options, ProgressStage& progress,
-                                const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader)
+                                const ReaderProgram& program)
 {
-    const auto cannotStart = [&](const char* what) {
+    const auto cannotStart = [&](const char* what, int error = errno) {
         return FileError(file, "cannot start the importer process (" + std::string(what) +
-                                   "): " + std::strerror(errno));
+                                   "): " + std::strerror(error));
+    };
+    // Every descriptor is close-on-exec; the child gets copies at fixed numbers (below). The
+    // parent's copies are moved above 10 first, so that no source number is also a target.
+    const auto above10 = [&](Descriptor& descriptor) {
+        const int moved = ::fcntl(descriptor.get(), F_DUPFD_CLOEXEC, 10);
+        if (moved < 0) throw cannotStart("fcntl");
+        descriptor.reset(moved);
     };
     int resultPipe[2], outputPipe[2];
     if (::pipe2(resultPipe, O_CLOEXEC) != 0) throw cannotStart("pipe");
@@ -445,13 +500,74 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
     Descriptor sceneFile;
     sceneFile.reset(::memfd_create("chaintube-imported-scene", MFD_CLOEXEC));
     if (sceneFile.get() < 0) throw cannotStart("memfd_create");
+    above10(resultWrite);
+    above10(outputWrite);
+    above10(sceneFile);
 
-    const pid_t parent = ::getpid();
-    const pid_t pid = ::fork();
-    if (pid < 0) throw cannotStart("fork");
-    if (pid == 0)
-        runChild(resultWrite.get(), sceneFile.get(), outputWrite.get(), parent, file, options,
-                 reader);
+    // The reader's command line: its own arguments, then the file, this process and the
+    // options (see serveAsReaderProgram).
+    const auto hex = [](double value) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%a", value);
+        return std::string(text);
+    };
+    std::vector<std::string> arguments{program.path.string()};
+    arguments.insert(arguments.end(), program.arguments.begin(), program.arguments.end());
+    arguments.push_back(kProtocol);
+    arguments.push_back(file.string());
+    arguments.push_back(std::to_string(::getpid()));
+    arguments.push_back(options.metresPerUnit ? hex(*options.metresPerUnit) : "-");
+    arguments.push_back(!options.upAxis ? "-" : *options.upAxis == UpAxis::PositiveZ ? "z" : "y");
+    arguments.push_back(hex(options.chordalTolerance));
+    arguments.push_back(hex(options.angularTolerance));
+    arguments.push_back(options.progress ? "1" : "0");
+    std::vector<char*> argv;
+    for (std::string& argument : arguments) argv.push_back(argument.data());
+    argv.push_back(nullptr);
+
+    // posix_spawn, not fork: the caller may have other threads (the editor imports on a
+    // worker), and a forked copy of a multithreaded process may only run async-signal-safe
+    // code: a lock another thread held at the fork (an allocator's, the loader's) stays held
+    // in the child. A fresh program has no such state.
+    posix_spawn_file_actions_t actions;
+    posix_spawnattr_t attributes;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawnattr_init(&attributes);
+    struct Release
+    {
+        posix_spawn_file_actions_t* actions;
+        posix_spawnattr_t* attributes;
+        ~Release()
+        {
+            posix_spawn_file_actions_destroy(actions);
+            posix_spawnattr_destroy(attributes);
+        }
+    } release{&actions, &attributes};
+    // stdout and stderr go to the parent (assimp's ai_assert messages end up in the error),
+    // messages to fd 3, the scene to fd 4, stdin from /dev/null; any descriptor the caller
+    // left inheritable is closed.
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, outputWrite.get(), STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, outputWrite.get(), STDERR_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, resultWrite.get(), kResultFd);
+    posix_spawn_file_actions_adddup2(&actions, sceneFile.get(), kSceneFd);
+    posix_spawn_file_actions_addclosefrom_np(&actions, kSceneFd + 1);
+    // Default actions for the crash signals (a caller that ignores SIGPIPE would pass that
+    // on), no signal blocked.
+    sigset_t defaults, none;
+    sigemptyset(&defaults);
+    sigemptyset(&none);
+    for (const int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGSYS, SIGPIPE})
+        sigaddset(&defaults, signal);
+    posix_spawnattr_setsigdefault(&attributes, &defaults);
+    posix_spawnattr_setsigmask(&attributes, &none);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+    pid_t pid = 0;
+    if (const int error = ::posix_spawn(&pid, program.path.c_str(), &actions, &attributes,
+                                        argv.data(), environ);
+        error != 0)
+        throw FileError(file, "cannot start the importer process " + program.path.string() +
+                                  ": " + std::strerror(error));
     ChildProcess child(pid);
     resultWrite.reset();
     outputWrite.reset();

@@ -233,11 +233,7 @@ ImportedScene importScene(const std::filesystem::path& file, const ImportOptions
             ? detail::importStep(file, options, parsing)
             : detail::readInChildProcess(
                   file, detail::assimpFormatName(extension) + " importer (assimp)", options,
-                  parsing,
-                  [&](const ImportOptions& childOptions, detail::ProgressStage& childProgress) {
-                      return detail::importWithAssimp(file, extension, childOptions,
-                                                      childProgress);
-                  });
+                  parsing, {detail::sceneReaderProgram(file), {extension}});
     detail::ProgressStage converting(options, file, 0.85, 1.0);
     ImportedScene scene = detail::finaliseScene(std::move(read), file, options);
     converting.report(1.0);

@@ -2,13 +2,15 @@
 // first byte picks the format among a few text/binary ones assimp reads (OBJ, STL, OFF, PLY),
 // the rest is the file. Bad files must be refused with chaintube::Error.
 //
-// importScene runs assimp in a child process (scene_import.h, "Process isolation"), so an
-// assimp crash — the ai_assert abort in TriangulateProcess on a PLY face without indices,
+// importScene runs assimp in a reader program of its own (chaintube-scene-reader, built with the
+// same sanitizers; scene_import.h, "Process isolation"), so an assimp crash — the ai_assert
+// abort in TriangulateProcess on a PLY face without indices,
 // tests/fuzz/findings/assimp-ply-triangulate-abort.bin — is an ImportError here, as for a user,
-// and the run goes on. What the wrapper does before and after the child (the PLY/OFF header
-// checks, decoding the child's answer, finaliseScene) runs in this process and is instrumented
-// as before; the child's coverage does not reach libFuzzer. A child that exits non-zero without
-// a signal hit a sanitizer report (or libFuzzer's malloc limit) in our conversion code: that is
+// and the run goes on. What the wrapper does before and after the reader (the PLY/OFF header
+// checks, decoding the reader's answer, finaliseScene) runs in this process and is instrumented
+// as before; the reader's coverage does not reach libFuzzer. A reader that exits non-zero
+// without a signal hit a sanitizer report in our conversion code (or an allocation over
+// build.sh's max_allocation_size_mb): that is
 // our bug, so its report is printed and the run stops. PLY headers without `end_header` made
 // assimp 5.2.5 loop forever (tests/fuzz/findings/assimp-ply-hang.bin); the wrapper refuses them
 // first (test SceneImportHardening.*).

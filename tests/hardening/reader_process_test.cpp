@@ -2,34 +2,32 @@
 // reader that crashes, exits, throws, stays silent or hands over a scene, driven directly so
 // that every way a third-party reader can end is covered, not only the ones assimp happens to
 // reach today.
-#include "import_internal.h"
+#include "test_reader_scene.h"
 
 #include <chrono>
 #include <csignal>
 #include <gtest/gtest.h>
 #include <thread>
+#include <sys/wait.h>
 #include <unistd.h>
+#include <utility>
 
 namespace chaintube::formats::detail {
 namespace {
 
 const std::filesystem::path kFile = "/nonexistent/scene.ply"; // only named in messages
 
-ReaderResult runReader(const std::function<ReaderResult(const ImportOptions&, ProgressStage&)>& reader,
-                       const ImportOptions& options = {})
+/// Runs chaintube-test-reader, which ends as `how` says (test_reader_main.cpp).
+ReaderResult runReader(const std::string& how, const ImportOptions& options = {})
 {
     ProgressStage stage(options, kFile, 0.0, 1.0);
-    return readInChildProcess(kFile, "test reader", options, stage, reader);
+    return readInChildProcess(kFile, "test reader", options, stage,
+                              {CHAINTUBE_TEST_READER, {how}});
 }
-
 TEST(ReaderProcess, AReaderKilledByASignalIsAnImportErrorNamingFileReaderAndSignal)
 {
     try {
-        runReader([](const ImportOptions&, ProgressStage&) -> ReaderResult {
-            std::fputs("about to crash\n", stderr);
-            std::raise(SIGSEGV);
-            return {};
-        });
+        runReader("crash");
         FAIL() << "no error";
     } catch (const ImportError& error) {
         EXPECT_EQ(std::string(error.what()),
@@ -44,7 +42,7 @@ TEST(ReaderProcess, AReaderKilledByASignalIsAnImportErrorNamingFileReaderAndSign
 TEST(ReaderProcess, AReaderThatExitsWithoutAnAnswerIsAnImportErrorWithItsExitStatus)
 {
     try {
-        runReader([](const ImportOptions&, ProgressStage&) -> ReaderResult { ::_exit(3); });
+        runReader("exit-3");
         FAIL() << "no error";
     } catch (const ImportError& error) {
         EXPECT_EQ(error.reason(), "the test reader ended without an answer (exit status 3)");
@@ -56,9 +54,7 @@ TEST(ReaderProcess, AReaderThatExitsWithoutAnAnswerIsAnImportErrorWithItsExitSta
 TEST(ReaderProcess, AFileErrorOfTheReaderComesBackWithItsReason)
 {
     try {
-        runReader([](const ImportOptions&, ProgressStage&) -> ReaderResult {
-            throw FileError(kFile, "cannot read PLY file: no faces");
-        });
+        runReader("file-error");
         FAIL() << "no error";
     } catch (const ImportError& error) {
         FAIL() << "an ImportError: " << error.what();
@@ -69,27 +65,10 @@ TEST(ReaderProcess, AFileErrorOfTheReaderComesBackWithItsReason)
 
 TEST(ReaderProcess, TheSceneComesBackEqual)
 {
-    ReaderResult sent;
-    sent.metresPerReaderUnit = 0.001;
-    sent.sourceUnitsPerReaderUnit = 2.0;
-    sent.scene.format = "PLY";
-    sent.scene.sourceUnits = {0.001, "millimetre", UnitSource::FileHeader, UpAxis::PositiveZ,
-                              UnitSource::FormatConvention};
-    SceneMesh mesh;
-    mesh.name = "tri";
-    mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-    mesh.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1};
-    mesh.indices = {0, 1, 2};
-    sent.scene.meshes = {mesh};
-    SceneNode root, child;
-    root.name = "root";
-    root.children = {1};
-    child.name = "part";
-    child.parent = 0;
-    child.meshes = {0};
-    child.localTransform(0, 3) = 0.25;
-    sent.scene.nodes = {root, child};
-    const ReaderResult got = runReader([&](const ImportOptions&, ProgressStage&) { return sent; });
+    const ReaderResult sent = testReaderScene();
+    const SceneMesh& mesh = sent.scene.meshes[0];
+    const SceneNode& child = sent.scene.nodes[1];
+    const ReaderResult got = runReader("scene");
     EXPECT_EQ(got.metresPerReaderUnit, 0.001);
     EXPECT_EQ(got.sourceUnitsPerReaderUnit, 2.0);
     EXPECT_EQ(got.scene.format, "PLY");
@@ -120,14 +99,7 @@ TEST(ReaderProcess, ProgressIsForwardedAndACancelKillsASilentReader)
         return reports.size() < 3;
     };
     const auto start = std::chrono::steady_clock::now();
-    EXPECT_THROW(runReader(
-                     [](const ImportOptions&, ProgressStage& progress) -> ReaderResult {
-                         progress.report(0.25);
-                         std::this_thread::sleep_for(std::chrono::seconds(60));
-                         return {};
-                     },
-                     options),
-                 Cancelled);
+    EXPECT_THROW(runReader("silent", options), Cancelled);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ASSERT_GE(reports.size(), 3u);
@@ -135,6 +107,69 @@ TEST(ReaderProcess, ProgressIsForwardedAndACancelKillsASilentReader)
     EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
     // Not a timing assertion on the machine's speed: the reader alone would take 60 s.
     EXPECT_LT(seconds, 30.0) << "the cancel waited for the silent reader";
+}
+
+TEST(ReaderProcess, TheOptionsReachTheReaderExactly)
+{
+    ImportOptions options;
+    options.metresPerUnit = 0.1 + 1e-17 * 3; // not a short decimal
+    options.upAxis = UpAxis::PositiveZ;
+    options.chordalTolerance = 1.0 / 3.0;
+    options.angularTolerance = 0.7853981633974483;
+    const ReaderResult got = runReader("options", options);
+    EXPECT_EQ(got.metresPerReaderUnit, *options.metresPerUnit);
+    EXPECT_EQ(got.sourceUnitsPerReaderUnit, options.chordalTolerance);
+    EXPECT_EQ(got.scene.sourceUnits.metresPerUnit, options.angularTolerance);
+    EXPECT_EQ(got.scene.format, "z");
+    EXPECT_EQ(runReader("options").scene.format, "-");
+    EXPECT_EQ(runReader("options").metresPerReaderUnit, -1.0);
+}
+
+TEST(ReaderProcess, AMissingReaderProgramIsAFileErrorNamingIt)
+{
+    ImportOptions options;
+    ProgressStage stage(options, kFile, 0.0, 1.0);
+    try {
+        (void)readInChildProcess(kFile, "test reader", options, stage,
+                                 {"/nonexistent/chaintube-scene-reader", {}});
+        FAIL() << "no error";
+    } catch (const FileError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  "/nonexistent/scene.ply: cannot start the importer process "
+                  "/nonexistent/chaintube-scene-reader: No such file or directory");
+    }
+}
+
+/// Runs `command` in a shell; its exit status and what it wrote (stdout and stderr).
+std::pair<int, std::string> runCommand(const std::string& command)
+{
+    FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return {-1, "popen failed"};
+    std::string said;
+    char chunk[256];
+    while (std::fgets(chunk, sizeof chunk, pipe)) said += chunk;
+    const int status = ::pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, said};
+}
+
+TEST(ReaderProcess, TheSceneReaderStartedByHandSaysWhatItIs)
+{
+    const auto [status, said] = runCommand(CHAINTUBE_SCENE_READER_PROGRAM);
+    EXPECT_EQ(status, 122);
+    EXPECT_NE(said.find("expected at least 8 arguments, got 0"), std::string::npos) << said;
+    EXPECT_NE(said.find("not meant to be run by hand"), std::string::npos) << said;
+}
+
+TEST(ReaderProcess, AReaderOfAnotherProtocolRefusesToAnswer)
+{
+    const auto [status, said] = runCommand(std::string(CHAINTUBE_SCENE_READER_PROGRAM) +
+                                           " .ply chaintube-scene-reader-protocol-0 /x.ply 1 - - "
+                                           "0x1p-10 0x1p-1 0");
+    EXPECT_EQ(status, 122);
+    EXPECT_NE(said.find("this program speaks chaintube-scene-reader-protocol-1, its caller "
+                        "chaintube-scene-reader-protocol-0"),
+              std::string::npos)
+        << said;
 }
 
 } // namespace

@@ -192,9 +192,11 @@ TEST(SceneImportHardening, PlyFaceWithoutIndicesThatAbortsAssimpIsAnImportErrorA
 
 TEST(SceneImportHardening, ImportsFromSeveralThreadsAtOnceEachGetTheirOwnAnswer)
 {
-    // The editor imports on a worker thread while others run: every import forks its own
-    // reader, and no import's pipe may stay open in another's child (it would hold back that
-    // import's end of file) or hand it the wrong answer.
+    // The editor imports on a worker thread while others run: every import starts its own
+    // reader program, and no import's pipe may stay open in another's reader (it would hold
+    // back that import's end of file) or hand it the wrong answer. With fork() alone instead of
+    // a fresh program, this test hung under ASan in CI: a forked copy inherited an allocator
+    // lock another thread held.
     ScratchFolder folder;
     const fs::path good = folder.write("quad.obj", "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
     const fs::path crashing = badScenes / "ply-face-without-indices.ply";

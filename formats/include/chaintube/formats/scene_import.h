@@ -52,27 +52,28 @@ bool isSupportedSceneFile(const std::filesystem::path& file);
 /// malformed files (an ai_assert in TriangulateProcess on a PLY face without indices; no
 /// importer flag or property catches it: aiProcess_ValidateDataStructure and FindDegenerates /
 /// FindInvalidData were tried), and its readers have had crashes before. So every assimp
-/// import runs in a child process: fork(), the child runs assimp and converts its aiScene,
-/// hands the result (meshes, nodes, units) back and ends with _exit; the caller's
-/// thread waits for it, forwarding progress messages to options.progress as they come. A child
-/// that dies by a signal becomes ImportError ("the PLY importer (assimp) crashed on
-/// malformed data (signal 6, SIGABRT: Aborted); it wrote: ai_assert failure …"); the program
-/// goes on. The scene travels through a memory file (memfd) the caller maps, not the pipe.
-/// Cost: about 10 ms per import of the 2CylinderEngine.glb sample (76k triangles: 19 ms
-/// median instead of 9.7 ms in-process; fork 0.7 ms, handing the scene over under 5 ms, the
-/// rest the child's fresh memory). Linux only (memfd_create, prctl, close_range).
+/// import runs in a process of its own: importScene starts `chaintube-scene-reader` (built in
+/// formats/; found through $CHAINTUBE_SCENE_READER, else beside the running program, else where
+/// the build put it) with posix_spawn; it runs assimp and converts its aiScene, hands the result
+/// (meshes, nodes, units) back and ends; the caller's thread waits for it, forwarding progress
+/// messages to options.progress as they come. A reader that dies by a signal becomes
+/// ImportError ("the PLY importer (assimp) crashed on malformed data (signal 6, SIGABRT:
+/// Aborted); it wrote: ai_assert failure …"); the program goes on. The scene travels through a
+/// memory file (memfd) the caller maps, not the pipe. A missing reader program is a FileError
+/// that says where it was looked for. Linux only (memfd_create, posix_spawn's closefrom).
 ///
-/// Why fork is safe here, also in the multithreaded Qt editor: the child runs only assimp and
-/// our conversion (no Qt, no locks another thread of the caller may hold; glibc makes malloc
-/// and stdio usable after fork), never returns into the caller's code and ends with _exit
-/// (no destructors, atexit handlers or stdio flushes of the parent's state). It resets the
-/// crash signals to their default actions (so a crash reporter or sanitizer handler of the
-/// caller does not run in it), closes every inherited descriptor but its own (another
-/// import's pipe must not stay open in it), and is killed if the caller's thread dies
-/// (PR_SET_PDEATHSIG). The caller's progress callback is never called in the child. A reader
-/// that hangs is not timed out (the caller can cancel it).
+/// Why a fresh program and not fork() alone: the caller may have other threads (the Qt editor
+/// imports on a worker), and a forked copy of a multithreaded process may only run
+/// async-signal-safe code until it execs: a lock another thread held at the moment of the fork
+/// stays held in the copy. With glibc's malloc that happened to work; under AddressSanitizer
+/// (GCC 12's runtime has no fork handlers) a forked reader hung for good in CI when four threads
+/// imported at once. The reader gets the crash signals at their default actions (so a crash
+/// ends it by its signal, also when built with a sanitizer), only its own descriptors, stdin
+/// from /dev/null, and is killed if the caller's thread dies (PR_SET_PDEATHSIG). The caller's
+/// progress callback is never called in it. A reader that hangs is not timed out (the caller
+/// can cancel it).
 /// STEP is still read in-process: no OpenCASCADE crash is known on our inputs (the fuzzer does
-/// not reach it), and OCCT's fork safety (its global handles and mutexes) was not examined.
+/// not reach it).
 ImportedScene importScene(const std::filesystem::path& file, const ImportOptions& options = {});
 
 } // namespace chaintube::formats
