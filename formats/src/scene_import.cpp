@@ -149,9 +149,17 @@ void checkOffHeader(const std::filesystem::path& file)
         }
         words.push_back(word);
     }
-    if (words.empty() || words[0].size() < 3 ||
-        words[0].compare(words[0].size() - 3, 3, "OFF") != 0)
-        return; // not the header assimp reads counts after: assimp decides
+    if (words.empty()) return;
+    // assimp reads the vertex count right after the keyword, also without a space between
+    // ("OFF0000000000002000…": the fuzzer's finding, 1.1e9 vertices after assimp's 32-bit
+    // wrap-around, 13 GB touched): such digits are the first count.
+    const std::size_t keyword = words[0].find("OFF");
+    if (keyword == std::string::npos) return; // not the header assimp reads counts after
+    if (keyword + 3 < words[0].size()) {
+        const std::string digits = words[0].substr(keyword + 3);
+        if (digits.find_first_not_of("0123456789") != std::string::npos) return; // assimp decides
+        words.insert(words.begin() + 1, digits);
+    }
     for (size_t k = 1; k < words.size() && k <= 2; ++k) {
         const std::string& count = words[k];
         if (count.empty() || count.find_first_not_of("0123456789") != std::string::npos) return;

@@ -147,7 +147,22 @@ TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAl
               std::string::npos)
         << outcome.child.message;
 
+    // The second: "OFF" with the count glued to it; assimp reads the digits anyway (wrapping
+    // them to 1.1e9 vertices) and filled 13 GB for a file of 73 bytes.
+    const fs::path glued = badScenes / "off-count-glued-to-keyword.off";
+    const ImportOutcome gluedOutcome = importWithin(glued, std::chrono::seconds(20));
+    ASSERT_TRUE(gluedOutcome.child.finished) << "importScene did not return within 20 s";
+    EXPECT_TRUE(gluedOutcome.refused()) << "exit " << gluedOutcome.child.exitCode;
+    EXPECT_EQ(gluedOutcome.child.message,
+              glued.string() + ": malformed OFF: the header declares "
+                               "00000000000002000000000000000000000000 vertices, more than a file "
+                               "of 73 bytes can hold");
+
     ScratchFolder folder;
+    const ImportOutcome glued3 = importWithin(
+        folder.write("glued.off", "OFF3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        std::chrono::seconds(20));
+    EXPECT_TRUE(glued3.imported()) << glued3.child.message; // a small glued count is assimp's
     const ImportOutcome faces = importWithin(
         folder.write("faces.off", "OFF\n# comment\n3 99999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
         std::chrono::seconds(20));
