@@ -68,7 +68,7 @@ struct ReaderResult
     double sourceUnitsPerReaderUnit = 1.0;
 };
 
-/// Reads with assimp. Progress 0…1 of the stage.
+/// Reads with assimp. Progress 0…1 of the stage. Runs in chaintube-scene-reader.
 ReaderResult importWithAssimp(const std::filesystem::path& file, const std::string& extension,
                               const ImportOptions& options, ProgressStage& progress);
 
@@ -102,15 +102,16 @@ using ReaderProgramFunction =
 /// _exit. Started by hand (wrong arguments) it says what it is and exits with status 122.
 [[noreturn]] void serveAsReaderProgram(int argc, char** argv, const ReaderProgramFunction& reader);
 
-/// chaintube-scene-reader, the assimp reader program: $CHAINTUBE_SCENE_READER if set, else
-/// the one beside the running program, else the one the build made. FileError naming `file`
-/// if there is none.
-std::filesystem::path sceneReaderProgram(const std::filesystem::path& file);
+/// The reader program `name` (chaintube-scene-reader: assimp; chaintube-step-reader:
+/// OpenCASCADE): in $CHAINTUBE_READERS_DIR if set, else beside the running program, else where
+/// the build made it. FileError naming `file` if there is none.
+std::filesystem::path readerProgram(const std::string& name, const std::filesystem::path& file);
 
 /// The human-readable name of an assimp-read format: "glTF", "COLLADA", "PLY", …
 std::string assimpFormatName(const std::string& extension);
 
-/// Reads STEP with OpenCASCADE XCAF; same contract as importWithAssimp().
+/// Reads STEP with OpenCASCADE XCAF; same contract as importWithAssimp(). Runs in
+/// chaintube-step-reader.
 ReaderResult importStep(const std::filesystem::path& file, const ImportOptions& options,
                         ProgressStage& progress);
 

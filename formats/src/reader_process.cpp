@@ -452,26 +452,27 @@ bool readAvailable(int fd, std::string& into, std::size_t limit, const std::file
 
 } // namespace
 
-std::filesystem::path sceneReaderProgram(const std::filesystem::path& file)
+std::filesystem::path readerProgram(const std::string& name, const std::filesystem::path& file)
 {
     namespace fs = std::filesystem;
-    constexpr const char* kName = "chaintube-scene-reader";
-    if (const char* chosen = std::getenv("CHAINTUBE_SCENE_READER"); chosen && *chosen) {
-        if (::access(chosen, X_OK) != 0)
-            throw FileError(file, std::string("cannot start the importer process: "
-                                              "CHAINTUBE_SCENE_READER names '") +
-                                      chosen + "', which is not an executable file");
-        return chosen;
+    if (const char* chosen = std::getenv("CHAINTUBE_READERS_DIR"); chosen && *chosen) {
+        const fs::path program = fs::path(chosen) / name;
+        if (::access(program.c_str(), X_OK) != 0)
+            throw FileError(file, "cannot start the importer process: CHAINTUBE_READERS_DIR is '" +
+                                      std::string(chosen) + "', which holds no executable " +
+                                      name);
+        return program;
     }
     std::error_code ignored;
-    const fs::path beside = fs::read_symlink("/proc/self/exe", ignored).parent_path() / kName;
+    const fs::path beside = fs::read_symlink("/proc/self/exe", ignored).parent_path() / name;
     if (!ignored && ::access(beside.c_str(), X_OK) == 0) return beside;
-    const fs::path built = CHAINTUBE_SCENE_READER_BUILT_AT;
+    const fs::path built = fs::path(CHAINTUBE_READERS_BUILT_IN) / name;
     if (::access(built.c_str(), X_OK) == 0) return built;
-    throw FileError(file, std::string("cannot start the importer process: ") + kName +
+    throw FileError(file, "cannot start the importer process: " + name +
                               " not found (looked beside this program, in " +
                               beside.parent_path().string() + ", and where it was built, " +
-                              built.string() + "; set CHAINTUBE_SCENE_READER to its path)");
+                              built.parent_path().string() +
+                              "; set CHAINTUBE_READERS_DIR to the folder that holds it)");
 }
 
 ReaderResult readInChildProcess(const std::filesystem::path& file, const std::string& readerName,

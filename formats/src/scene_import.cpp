@@ -236,12 +236,16 @@ ImportedScene importScene(const std::filesystem::path& file, const ImportOptions
     // The parser gets 85 % of the bar, our conversion the rest.
     detail::ProgressStage parsing(options, file, 0.0, 0.85);
     parsing.report(0.0);
-    detail::ReaderResult read =
-        isStep(extension)
-            ? detail::importStep(file, options, parsing)
-            : detail::readInChildProcess(
-                  file, detail::assimpFormatName(extension) + " importer (assimp)", options,
-                  parsing, {detail::sceneReaderProgram(file), {extension}});
+    const bool step = isStep(extension);
+    const detail::ReaderProgram program =
+        step ? detail::ReaderProgram{detail::readerProgram("chaintube-step-reader", file), {}}
+             : detail::ReaderProgram{detail::readerProgram("chaintube-scene-reader", file),
+                                     {extension}};
+    detail::ReaderResult read = detail::readInChildProcess(
+        file,
+        step ? std::string("STEP importer (OpenCASCADE)")
+             : detail::assimpFormatName(extension) + " importer (assimp)",
+        options, parsing, program);
     detail::ProgressStage converting(options, file, 0.85, 1.0);
     ImportedScene scene = detail::finaliseScene(std::move(read), file, options);
     converting.report(1.0);

@@ -3,6 +3,8 @@
 // is the file's extension (".ply"): the format, as importScene decided it.
 #include "import_internal.h"
 
+#include <stdexcept>
+
 int main(int argc, char** argv)
 {
     using namespace chaintube::formats;
