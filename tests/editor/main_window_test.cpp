@@ -899,16 +899,19 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
     auto* width = m_window->findChild<QDoubleSpinBox*>("profileWidth");
     auto* height = m_window->findChild<QDoubleSpinBox*>("profileHeight");
     auto* corner = m_window->findChild<QDoubleSpinBox*>("cornerRadius");
-    ASSERT_TRUE(shape && sides && width && height && corner);
+    auto* segments = m_window->findChild<QSpinBox*>("cornerSegments");
+    ASSERT_TRUE(shape && sides && width && height && corner && segments);
     ASSERT_EQ(shape->currentIndex(), 0);
     auto enabled = [&] {
-        return std::vector<bool>{sides->isEnabled(), width->isEnabled(), height->isEnabled(), corner->isEnabled()};
+        return std::vector<bool>{sides->isEnabled(), width->isEnabled(), height->isEnabled(),
+                                 corner->isEnabled(), segments->isEnabled()};
     };
-    EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false})) << "circle";
+    EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false, false})) << "circle";
     const Profile::Shape shapes[] = {Profile::Shape::Ellipse, Profile::Shape::Rectangle,
                                      Profile::Shape::RoundedRectangle};
-    const std::vector<bool> expected[] = {{true, true, true, false}, {false, true, true, false},
-                                          {false, true, true, true}};
+    const std::vector<bool> expected[] = {{true, true, true, false, false},
+                                          {false, true, true, false, false},
+                                          {false, true, true, true, true}};
     for (int index = 1; index <= 3; ++index) {
         shape->setCurrentIndex(index);
         emit shape->activated(index);
@@ -916,12 +919,24 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
         ASSERT_EQ(document.hoseDefinition("left-feed")->profile.shape, shapes[index - 1]);
         EXPECT_EQ(enabled(), expected[index - 1]) << "shape " << index;
     }
+    // A rounded rectangle's corner segments (the project format had them, the panel did not).
+    const int segmentsBefore = document.hoseDefinition("left-feed")->profile.cornerSegments;
+    segments->setValue(9);
+    settle();
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.cornerSegments, 9);
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::RoundedRectangle);
+    screenshot("editor-rounded-rectangle.png"); // looked at, not compared
+    document.undoStack()->undo();
+    settle();
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.cornerSegments, segmentsBefore);
+    EXPECT_EQ(segments->value(), segmentsBefore);
     document.undoStack()->undo();
     document.undoStack()->undo();
     document.undoStack()->undo();
     settle();
     EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::Circle);
-    EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false})) << "circle again after undo";
+    EXPECT_EQ(enabled(), (std::vector<bool>{true, false, false, false, false}))
+        << "circle again after undo";
 
     // A polygon profile (only the project file can give one) is shown as such with no field to
     // edit: the panel showed it as a circle, and changing its sides turned it into one.
@@ -933,7 +948,7 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
     settle();
     EXPECT_EQ(shape->currentIndex(), 4);
     EXPECT_TRUE(shape->currentText().contains("Polygon"));
-    EXPECT_EQ(enabled(), (std::vector<bool>{false, false, false, false})) << "polygon";
+    EXPECT_EQ(enabled(), (std::vector<bool>{false, false, false, false, false})) << "polygon";
     sides->setValue(sides->value() + 1); // as a program could: still no change of shape
     EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::Polygon);
 }

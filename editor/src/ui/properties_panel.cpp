@@ -160,6 +160,12 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     profileForm->addRow(tr("Width × height"), row(m_width, m_height));
     m_cornerRadius = spin(0.0, 500, 2, tr(" mm"), "cornerRadius");
     profileForm->addRow(tr("Corner radius"), m_cornerRadius);
+    m_cornerSegments = new QSpinBox;
+    m_cornerSegments->setRange(1, 64);
+    m_cornerSegments->setKeyboardTracking(false);
+    m_cornerSegments->setObjectName("cornerSegments");
+    m_cornerSegments->setToolTip(tr("Segments of each rounded corner (1 to 64)"));
+    profileForm->addRow(tr("Corner segments"), m_cornerSegments);
     layout->addWidget(m_profileGroup);
 
     // --- gravity and torsion (issue 7) ----------------------------------------------------
@@ -444,6 +450,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
             p.semiAxisX = p.width / 2;
             p.semiAxisY = p.height / 2;
             p.cornerRadius = m_cornerRadius->value() / 1000.0;
+            p.cornerSegments = m_cornerSegments->value();
             d.profile = p;
         });
         m_document.closeMerge();
@@ -453,6 +460,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     connect(m_width, &QDoubleSpinBox::valueChanged, this, profileEdit);
     connect(m_height, &QDoubleSpinBox::valueChanged, this, profileEdit);
     connect(m_cornerRadius, &QDoubleSpinBox::valueChanged, this, profileEdit);
+    connect(m_cornerSegments, &QSpinBox::valueChanged, this, profileEdit);
 
     connect(m_fixFirst, &QSpinBox::valueChanged, this, [this](int value) {
         if (m_updating)
@@ -656,6 +664,7 @@ void PropertiesPanel::refresh()
         m_width->setValue((shapeIndex == 1 ? 2 * p.semiAxisX : p.width) * 1000.0);
         m_height->setValue((shapeIndex == 1 ? 2 * p.semiAxisY : p.height) * 1000.0);
         m_cornerRadius->setValue(p.cornerRadius * 1000.0);
+        m_cornerSegments->setValue(p.cornerSegments);
         // Only the fields the shape is made from can be edited (the others keep their values
         // for when the shape changes).
         // A polygon has none of them: changing one would have turned it into a circle.
@@ -663,6 +672,7 @@ void PropertiesPanel::refresh()
         m_width->setEnabled(shapeIndex >= 1 && shapeIndex <= 3);
         m_height->setEnabled(shapeIndex >= 1 && shapeIndex <= 3);
         m_cornerRadius->setEnabled(shapeIndex == 3);
+        m_cornerSegments->setEnabled(shapeIndex == 3);
         m_gravity->setChecked(definition->gravity.enabled);
         const Vec3& g = definition->gravity.direction;
         int directionIndex = -1;

@@ -78,6 +78,7 @@ private:
     QDoubleSpinBox* m_width;
     QDoubleSpinBox* m_height;
     QDoubleSpinBox* m_cornerRadius;
+    QSpinBox* m_cornerSegments;
     QGroupBox* m_materialGroup;
     QGroupBox* m_profileGroup;
     /// Gravity and torsion of the hose (issue 7): HoseDefinition::gravity / ::torsion.
