@@ -189,6 +189,8 @@ public:
     double meanRest = 0.0;
     int failedRounds = 0; ///< rounds undone because the projection diverged
     bool roundsFailed = false; ///< finish() undid the rounds (exactFallback false)
+    /// Scales the gravity step of each round (a retry with smaller moves).
+    void scaleStep(double factor) { step *= factor; }
 
 private:
     // Joint projection of the length band, the bend limits and the contacts: the mass-weighted
@@ -546,12 +548,19 @@ UpdateResult Hose::step(int rounds)
     result = engine.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
     if (engine.roundsFailed) {
         // Once more from rest (the velocity carried in made the moves too large for the
-        // projection); if that fails too the hose stays where it was, without velocity.
-        m_gravityPrevious = start;
-        SagRounds fromRest(*this, m_spec.gravity.direction, m_held);
-        for (int r = 0; r < rounds; ++r) fromRest.round(m_gravityPrevious, kNewtonStepsPerStepRound);
-        result = fromRest.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
-        if (fromRest.roundsFailed) m_gravityPrevious = start;
+        // projection), then from rest with a quarter and a sixteenth of the gravity step (near
+        // its limits the projection may only manage small moves: a bend-limited tail off a
+        // steep attachment otherwise stopped 5.6 cm above its static sag, see hose.h); if all
+        // fail the hose stays where it was, without velocity.
+        for (const double scale : {1.0, 0.25, 0.0625}) {
+            m_gravityPrevious = start;
+            SagRounds fromRest(*this, m_spec.gravity.direction, m_held);
+            fromRest.scaleStep(scale);
+            for (int r = 0; r < rounds; ++r) fromRest.round(m_gravityPrevious, kNewtonStepsPerStepRound);
+            result = fromRest.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
+            if (!fromRest.roundsFailed) break;
+            m_gravityPrevious = start;
+        }
         m_gravityTwoBack = start;
         moved = 0.0;
         for (size_t i = 0; i < n; ++i) moved = std::max(moved, (m_local[i] - start[i]).squaredNorm());

@@ -243,8 +243,12 @@ public:
     /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
     /// step to step, so the hose falls and swings out over a few dozen frames); the rounds'
     /// state is kept when it holds every constraint to 1e-9 (as sag()); else the step is run
-    /// again from rest (no velocity), and if the rounds cannot make that valid either, the hose
-    /// stays where it was, without velocity (it then counts as settled, see below). Unlike
+    /// again from rest (no velocity), then from rest with 1/4 and 1/16 of the gravity step (a
+    /// tail near its bend limits falls slowly then, at up to four times the cost of a step,
+    /// instead of stopping mid-fall: test
+    /// GravityStep.AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag), and if the
+    /// rounds cannot make any of them valid, the hose stays where it was, without velocity (it
+    /// then counts as settled, see below). Unlike
     /// sag(), a step never falls back on the exact ChainTube pass from the fixed points when
     /// the state before it was valid: that pass turns every joint over its limit about the
     /// fixed side, and below a steep attachment those turns swung a free end by 10–30 cm in
