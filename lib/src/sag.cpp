@@ -531,7 +531,9 @@ UpdateResult Hose::step(int rounds)
     const std::uint64_t inputRevision = m_revision; // what the last step left, unless an input changed
     constexpr int kNewtonStepsPerStepRound = 16; // each O(n); 2–4 are typical once falling slowly
     constexpr double kSettledMotion = 1e-6; // of the mean rest length, in the last round
+    if (m_gravityInputRevision != inputRevision) m_gravityScale = 1.0; // an input changed
     SagRounds engine(*this, m_spec.gravity.direction, m_held);
+    engine.scaleStep(m_gravityScale);
     const std::vector<Vec3> start = m_local;
     // Settled when the last round moved nothing against the state two rounds back (as in
     // sag(): the exact projection can leave a tiny two-round flip-flop of single points).
@@ -546,19 +548,26 @@ UpdateResult Hose::step(int rounds)
     // The rounds' state if it holds the constraints; else the step again from rest; else the
     // state before (the exact pass from the fixed points only when that was not valid either).
     result = engine.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
+    if (!engine.roundsFailed) m_gravityScale = std::min(1.0, 1.25 * m_gravityScale);
     if (engine.roundsFailed) {
         // Once more from rest (the velocity carried in made the moves too large for the
         // projection), then from rest with a quarter and a sixteenth of the gravity step (near
         // its limits the projection may only manage small moves: a bend-limited tail off a
         // steep attachment otherwise stopped 5.6 cm above its static sag, see hose.h); if all
         // fail the hose stays where it was, without velocity.
-        for (const double scale : {1.0, 0.25, 0.0625}) {
+        // The scale that worked is where the next step starts (growing by 1.25 a step while
+        // steps succeed): a hose that needs small steps does not pay for failing ones each step.
+        const double tried = m_gravityScale;
+        for (const double scale : {tried, tried / 4, tried / 16}) {
             m_gravityPrevious = start;
             SagRounds fromRest(*this, m_spec.gravity.direction, m_held);
             fromRest.scaleStep(scale);
             for (int r = 0; r < rounds; ++r) fromRest.round(m_gravityPrevious, kNewtonStepsPerStepRound);
             result = fromRest.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
-            if (!fromRest.roundsFailed) break;
+            if (!fromRest.roundsFailed) {
+                m_gravityScale = scale;
+                break;
+            }
             m_gravityPrevious = start;
         }
         m_gravityTwoBack = start;
@@ -575,8 +584,10 @@ UpdateResult Hose::step(int rounds)
     // Also settled when the frame did not change: the joint projection can end its rounds in
     // a cycle that returns to the same state every step (see projectJointly); nothing visible
     // moves, and from here on nothing does.
-    // And settled when the potential energy has not fallen to a new low for kStallSteps steps
-    // while staying close to that low (mean height within 1 % of a segment): the joint
+    // And settled when the potential energy has not come lower by kHover (1 % of a segment in
+    // mean height) for kStallSteps steps while staying close to its low: a bend-limited tail
+    // creeping down by micrometres a step after its fall (with the small retry steps) stops,
+    // as does a cycle of the joint
     // projection can also end its rounds in a cycle that moves points every step without the
     // hose coming lower (seen near pinned ends under high tension with the bend limit binding:
     // 0.5-1.2 mm a step, the mean height varying by 4e-5 m). The damping takes any real swing
@@ -595,7 +606,7 @@ UpdateResult Hose::step(int rounds)
         energy -= mass * down.dot(m_local[i]);
         totalMass += mass;
     }
-    if (energy < m_gravityLowestEnergy - kSettledMotion * engine.meanRest * totalMass) {
+    if (energy < m_gravityLowestEnergy - kHover * engine.meanRest * totalMass) {
         m_gravityLowestEnergy = energy;
         m_gravityStallSteps = 0;
     } else {

@@ -42,48 +42,6 @@ int stepUntilSettled(Hose& hose, int maxSteps, double* worstLength = nullptr, do
     }
     return maxSteps;
 }
-// The same tail to the end: where a step's rounds fail from rest too, smaller gravity steps are
-// tried (1/4, 1/16) before the hose is left where it is. Before, it stopped after 13 steps with
-// its mean height 5.6 cm above the static sag (Hose::sag) and its free end 20 cm too high.
-TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
-{
-    HoseSpec spec;
-    spec.outerDiameter = 0.016;
-    spec.segmentCount = 14;
-    spec.material.expansionCoefficient = 0.08;
-    spec.material.bendLimit = BendLimit::minBendRadius(0.12);
-    spec.gravity.enabled = true;
-    Hose hose = Hose::alongRoute({Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
-    hose.attach(0, 1, Frame::identity());
-    Hose staticSag = hose;
-    ASSERT_EQ(staticSag.sag().update.status, Status::Ok);
-    const auto meanHeight = [](const Hose& h) {
-        double sum = 0.0;
-        for (int i = 0; i < h.pointCount(); ++i) sum += h.point(i).y();
-        return sum / h.pointCount();
-    };
-    const double segment = hose.restLengthTotal() / 14.0;
-    double worstJump = 0.0;
-    int steps = 0;
-    for (; steps < 2000; ++steps) {
-        const std::vector<Vec3> before = hose.points();
-        const std::uint64_t revision = hose.revision();
-        const UpdateResult r = hose.step();
-        ASSERT_EQ(r.status, Status::Ok) << "step " << steps;
-        ASSERT_LE(r.lengthViolation, 1e-9) << "step " << steps;
-        ASSERT_LE(r.angleViolation, 1e-9) << "step " << steps;
-        for (int i = 0; i < hose.pointCount(); ++i)
-            worstJump = std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
-        if (hose.revision() == revision) break;
-    }
-    std::printf("[ figures ] valve tail: settled after %d steps, mean height %.4f m (static sag %.4f m), "
-                "largest move of a point in a step %.3f segments\n",
-                steps, meanHeight(hose), meanHeight(staticSag), worstJump / segment);
-    EXPECT_LT(steps, 2000);
-    EXPECT_LT(meanHeight(hose), meanHeight(staticSag) + 0.01);
-    EXPECT_LT(worstJump, 0.5 * segment);
-}
-
 } // namespace
 
 TEST(GravityStep, OffCostsNothingAndChangesNothing)
@@ -259,6 +217,8 @@ double pinnedSag(double length, int segments, double radius, int* steps = nullpt
     }
     return -lowestY(hose);
 }
+
+
 } // namespace
 
 TEST(GravityStep, BendLimitedHoseBetweenTwoClampsSettlesStopsAndKeepsEveryConstraint)
@@ -377,4 +337,47 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsWithoutWhipping)
     EXPECT_LT(worstJump, 0.5 * segment);
     EXPECT_LE(worstLength, 1e-9);
     EXPECT_LE(worstAngle, 1e-9);
+}
+
+// The same tail to the end: where a step's rounds fail from rest too, smaller gravity steps are
+// tried (1/4, 1/16 of the last that worked) before the hose is left where it is. Before, it
+// stopped after 13 steps with its mean height 5.6 cm above the static sag (Hose::sag) and its
+// free end 20 cm too high.
+TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
+{
+    HoseSpec spec;
+    spec.outerDiameter = 0.016;
+    spec.segmentCount = 14;
+    spec.material.expansionCoefficient = 0.08;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.12);
+    spec.gravity.enabled = true;
+    Hose hose = Hose::alongRoute({Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
+    hose.attach(0, 1, Frame::identity());
+    Hose staticSag = hose;
+    ASSERT_EQ(staticSag.sag().update.status, Status::Ok);
+    const auto meanHeight = [](const Hose& h) {
+        double sum = 0.0;
+        for (int i = 0; i < h.pointCount(); ++i) sum += h.point(i).y();
+        return sum / h.pointCount();
+    };
+    const double segment = hose.restLengthTotal() / 14.0;
+    double worstJump = 0.0;
+    int steps = 0;
+    for (; steps < 4000; ++steps) {
+        const std::vector<Vec3> before = hose.points();
+        const std::uint64_t revision = hose.revision();
+        const UpdateResult r = hose.step();
+        ASSERT_EQ(r.status, Status::Ok) << "step " << steps;
+        ASSERT_LE(r.lengthViolation, 1e-9) << "step " << steps;
+        ASSERT_LE(r.angleViolation, 1e-9) << "step " << steps;
+        for (int i = 0; i < hose.pointCount(); ++i)
+            worstJump = std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+        if (hose.revision() == revision) break;
+    }
+    std::printf("[ figures ] valve tail: settled after %d steps, mean height %.4f m (static sag %.4f m), "
+                "largest move of a point in a step %.3f segments\n",
+                steps, meanHeight(hose), meanHeight(staticSag), worstJump / segment);
+    EXPECT_LT(steps, 4000);
+    EXPECT_LT(meanHeight(hose), meanHeight(staticSag) + 0.01);
+    EXPECT_LT(worstJump, 0.5 * segment);
 }

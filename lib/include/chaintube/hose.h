@@ -243,9 +243,10 @@ public:
     /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
     /// step to step, so the hose falls and swings out over a few dozen frames); the rounds'
     /// state is kept when it holds every constraint to 1e-9 (as sag()); else the step is run
-    /// again from rest (no velocity), then from rest with 1/4 and 1/16 of the gravity step (a
-    /// tail near its bend limits falls slowly then, at up to four times the cost of a step,
-    /// instead of stopping mid-fall: test
+    /// again from rest (no velocity), then from rest with 1/4 and 1/16 of that gravity step;
+    /// the next step starts from the fraction that last worked, growing by 1.25 a step while
+    /// steps succeed (a tail near its bend limits falls on in smaller steps instead of
+    /// stopping mid-fall: test
     /// GravityStep.AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag), and if the
     /// rounds cannot make any of them valid, the hose stays where it was, without velocity (it
     /// then counts as settled, see below). Unlike
@@ -261,9 +262,9 @@ public:
     /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
     /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
     /// projection can leave a tiny two-round flip-flop), or (rounds ≥ 2) over the whole step,
-    /// or when its potential energy has not reached a new low for 120 steps while its mean
-    /// height stays within 1 % of a segment of that low (a projection cycle that moves points
-    /// without the hose coming lower: it stops where it is),
+    /// or when its mean height has not come lower by 1 % of a segment for 120 steps while
+    /// staying within 1 % of a segment of its lowest (a projection cycle that moves points
+    /// without the hose coming lower, or a creep of micrometres a step: it stops where it is),
     /// the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
     /// revision()), step() returns at once without touching the hose, so a settled hose never
     /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
@@ -350,6 +351,7 @@ private:
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
     double m_gravityLowestEnergy = 0.0;   ///< step(): lowest potential energy since an input changed
     int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
+    double m_gravityScale = 1.0;          ///< step(): fraction of the gravity step that last worked
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     std::uint64_t m_revision = 1;
 
