@@ -42,6 +42,20 @@ int stepUntilSettled(Hose& hose, int maxSteps, double* worstLength = nullptr, do
     }
     return maxSteps;
 }
+
+// A bend-limited tail hanging off a steep attachment (the rig-options sample's valve-tail).
+Hose valveTail()
+{
+    HoseSpec spec;
+    spec.outerDiameter = 0.016;
+    spec.segmentCount = 14;
+    spec.material.expansionCoefficient = 0.08;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.12);
+    spec.gravity.enabled = true;
+    Hose hose = Hose::alongRoute({Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
+    hose.attach(0, 1, Frame::identity());
+    return hose;
+}
 } // namespace
 
 TEST(GravityStep, OffCostsNothingAndChangesNothing)
@@ -308,14 +322,7 @@ TEST(GravityStep, BendLimitedSagMatchesTheCatenaryWhenTheLimitDoesNotBindAndSags
 // the free end by 10–20 cm in one frame (it whipped about for as long as it fell).
 TEST(GravityStep, AFreeEndOffASteepAttachmentFallsWithoutWhipping)
 {
-    HoseSpec spec;
-    spec.outerDiameter = 0.016;
-    spec.segmentCount = 14;
-    spec.material.expansionCoefficient = 0.08;
-    spec.material.bendLimit = BendLimit::minBendRadius(0.12);
-    spec.gravity.enabled = true;
-    Hose hose = Hose::alongRoute({Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
-    hose.attach(0, 1, Frame::identity());
+    Hose hose = valveTail();
     const double segment = hose.restLengthTotal() / 14.0;
     const int end = hose.pointCount() - 1;
     const double startY = hose.point(end).y();
@@ -345,14 +352,7 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsWithoutWhipping)
 // free end 20 cm too high.
 TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
 {
-    HoseSpec spec;
-    spec.outerDiameter = 0.016;
-    spec.segmentCount = 14;
-    spec.material.expansionCoefficient = 0.08;
-    spec.material.bendLimit = BendLimit::minBendRadius(0.12);
-    spec.gravity.enabled = true;
-    Hose hose = Hose::alongRoute({Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
-    hose.attach(0, 1, Frame::identity());
+    Hose hose = valveTail();
     Hose staticSag = hose;
     ASSERT_EQ(staticSag.sag().update.status, Status::Ok);
     const auto meanHeight = [](const Hose& h) {
