@@ -479,9 +479,9 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
                                 const ImportOptions& options, ProgressStage& progress,
                                 const ReaderProgram& program)
 {
-    const auto cannotStart = [&](const char* what, int error = errno) {
+    const auto cannotStart = [&](const char* what) {
         return FileError(file, "cannot start the importer process (" + std::string(what) +
-                                   "): " + std::strerror(error));
+                                   "): " + std::strerror(errno));
     };
     // Every descriptor is close-on-exec; the child gets copies at fixed numbers (below). The
     // parent's copies are moved above 10 first, so that no source number is also a target.
