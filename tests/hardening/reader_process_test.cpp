@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <fstream>
 #include <gtest/gtest.h>
 #include <thread>
 #include <sys/wait.h>
@@ -154,6 +155,34 @@ std::pair<int, std::string> runCommand(const std::string& command)
     while (std::fgets(chunk, sizeof chunk, pipe)) said += chunk;
     const int status = ::pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, said};
+}
+
+TEST(ReaderProcess, ReadersAreFoundInChaintubeReadersDir)
+{
+    // An installation elsewhere: the readers in a folder of their own, named by the variable.
+    namespace fs = std::filesystem;
+    const fs::path folder =
+        fs::temp_directory_path() / ("chaintube-readers-" + std::to_string(::getpid()));
+    fs::create_directories(folder);
+    fs::copy_file(CHAINTUBE_SCENE_READER_PROGRAM, folder / "chaintube-scene-reader");
+    {
+        std::ofstream(folder / "quad.obj") << "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    }
+    ::setenv("CHAINTUBE_READERS_DIR", folder.c_str(), 1);
+    EXPECT_EQ(readerProgram("chaintube-scene-reader", folder / "quad.obj"),
+              folder / "chaintube-scene-reader");
+    EXPECT_EQ(importScene(folder / "quad.obj").meshTriangleCount(), 2u);
+    fs::remove(folder / "chaintube-scene-reader");
+    try {
+        (void)importScene(folder / "quad.obj");
+        ADD_FAILURE() << "imported without a reader program";
+    } catch (const FileError& error) {
+        EXPECT_NE(std::string(error.what()).find("which holds no executable chaintube-scene-reader"),
+                  std::string::npos)
+            << error.what();
+    }
+    ::unsetenv("CHAINTUBE_READERS_DIR");
+    fs::remove_all(folder);
 }
 
 TEST(ReaderProcess, TheSceneReaderStartedByHandSaysWhatItIs)
