@@ -548,8 +548,9 @@ UpdateResult Hose::step(int rounds)
     // The rounds' state if it holds the constraints; else the step again from rest; else the
     // state before (the exact pass from the fixed points only when that was not valid either).
     result = engine.finish(m_held, 4 * kNewtonStepsPerStepRound, start, false);
-    if (!engine.roundsFailed) m_gravityScale = std::min(1.0, 1.25 * m_gravityScale);
-    if (engine.roundsFailed) {
+    if (!engine.roundsFailed) {
+        m_gravityScale = std::min(1.0, 1.25 * m_gravityScale);
+    } else {
         // Once more from rest (the velocity carried in made the moves too large for the
         // projection), then from rest with a quarter and a sixteenth of the gravity step (near
         // its limits the projection may only manage small moves: a bend-limited tail off a
@@ -587,8 +588,7 @@ UpdateResult Hose::step(int rounds)
     // And settled when the potential energy has not come lower by kHover (1 % of a segment in
     // mean height) for kStallSteps steps while staying close to its low: a bend-limited tail
     // creeping down by micrometres a step after its fall (with the small retry steps) stops,
-    // as does a cycle of the joint
-    // projection can also end its rounds in a cycle that moves points every step without the
+    // and so does a cycle of the joint projection that moves points every step without the
     // hose coming lower (seen near pinned ends under high tension with the bend limit binding:
     // 0.5-1.2 mm a step, the mean height varying by 4e-5 m). The damping takes any real swing
     // out long before (0.9 of the velocity a round); a hose still far above its lowest state
