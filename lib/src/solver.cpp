@@ -313,12 +313,8 @@ public:
                 worst = std::max(worst, std::max(length - h.m_maxLength[k], h.m_minLength[k] - length) /
                                             h.m_restLength[k]);
             }
-            for (int j = std::max(1, b - 2); j <= std::min(n - 2, b + 2); ++j) {
-                const size_t k = static_cast<size_t>(j);
-                const Vec3 in = p[k] - p[k - 1], out = p[k + 1] - p[k];
-                const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
-                worst = std::max(worst, turn - std::atan2(h.m_sinLimit[k], h.m_cosLimit[k]));
-            }
+            for (int j = std::max(1, b - 2); j <= std::min(n - 2, b + 2); ++j)
+                worst = std::max(worst, h.turnExcess(static_cast<size_t>(j), p));
         }
         return worst;
     }
@@ -473,6 +469,17 @@ public:
     int movedPoints = 0;
 };
 
+double Hose::turnExcess(size_t j, const std::vector<Vec3>& points) const
+{
+    const Vec3 in = points[j] - points[j - 1], out = points[j + 1] - points[j];
+    // Clearly within the limit (cos turn ≥ cos limit, with a margin far above rounding):
+    // no need for the angles themselves, the excess is negative.
+    const double dot = in.dot(out), lengths = std::sqrt(in.squaredNorm() * out.squaredNorm());
+    if (dot >= (m_cosLimit[j] + 1e-9) * lengths && lengths > 0.0) return -1.0;
+    const double turn = std::atan2(in.cross(out).norm(), dot);
+    return turn - std::atan2(m_sinLimit[j], m_cosLimit[j]);
+}
+
 UpdateResult Hose::measureViolation() const
 {
     UpdateResult result;
@@ -483,10 +490,7 @@ UpdateResult Hose::measureViolation() const
         result.lengthViolation = std::max(result.lengthViolation, excess / m_restLength[s]);
     }
     for (size_t j = 1; j + 1 < n; ++j) {
-        const Vec3 in = m_local[j] - m_local[j - 1], out = m_local[j + 1] - m_local[j];
-        const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
-        const double limit = std::atan2(m_sinLimit[j], m_cosLimit[j]);
-        result.angleViolation = std::max(result.angleViolation, turn - limit);
+        result.angleViolation = std::max(result.angleViolation, turnExcess(j, m_local));
     }
     result.status = (result.lengthViolation > 1e-9 || result.angleViolation > 1e-9) ? Status::Infeasible
                                                                                     : Status::Ok;
@@ -539,6 +543,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     const size_t k = static_cast<size_t>(index);
     const Vec3 start = m_local[k];
     const bool mayHitPins = !m_attachments.empty() || m_dirtyViolation;
+    const bool heldAtTheEdge = m_edgePoint == index && m_edgeRevision == m_revision;
+    bool stoppedAtTheEdge = false;
     if (mayHitPins) m_scratch = m_local;
 
     bool measured = false;
@@ -601,8 +607,16 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             status = Status::Clamped;
         } else {
             // Largest reachable fraction of the move, by bisection (deterministic, bounded).
+            // When the last update was this point's grab stopping at the edge of its reach (a
+            // target held beyond it), the smallest step the bisection resolves is tried first:
+            // a hold then costs one trial, not 16.
             double good = 0.0, bad = 1.0;
-            for (int step = 0; step < kBisectionSteps; ++step) {
+            const double smallest = std::ldexp(1.0, -kBisectionSteps);
+            if (heldAtTheEdge) {
+                m_local = m_scratch;
+                (attempt(start + smallest * (localTarget - start), moved) ? good : bad) = smallest;
+            }
+            for (int step = 0; step < kBisectionSteps && bad - good > smallest; ++step) {
                 const double mid = 0.5 * (good + bad);
                 m_local = m_scratch;
                 if (attempt(start + mid * (localTarget - start), moved)) good = mid;
@@ -611,6 +625,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             m_local = m_scratch;
             attempt(start + good * (localTarget - start), moved);
             status = Status::Clamped;
+            stoppedAtTheEdge = true;
         }
     }
     if (measured || status != Status::Ok) {
@@ -626,6 +641,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     m_held = index;
     ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
+    m_edgePoint = stoppedAtTheEdge ? index : -1;
+    m_edgeRevision = m_revision;
     return result;
 }
 

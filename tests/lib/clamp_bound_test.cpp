@@ -53,3 +53,27 @@ TEST(ClampBetweenFixedPoints, IsDeterministic)
     EXPECT_EQ(a.points(), b.points());
 }
 
+// Held beyond reach (the same target again, as a hand held still does): the point is already
+// as far as the line towards the target allows, so the hose stays exactly as it is.
+TEST(ClampBetweenFixedPoints, HoldingATargetBeyondReachLeavesTheHoseAsItIs)
+{
+    HoseSpec spec = paperSpec(40);
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    const int n = hose.pointCount(), k = n / 2;
+    hose.attach(0, 0, Frame::identity());
+    const int end = hose.attach(n - 1, n - 1, Frame::identity());
+    Frame closer;
+    closer.translation = Vec3(-0.2, 0.0, 0.0);
+    ASSERT_EQ(hose.moveAttachment(end, closer).status, Status::Ok);
+    const Vec3 target(0.4, 0.6, 0.0); // the apex of the taut span is below 0.5
+    const UpdateResult pulled = hose.grab(k, target);
+    ASSERT_EQ(pulled.status, Status::Clamped);
+    const std::vector<Vec3> atTheEdge = hose.points();
+    for (int frame = 0; frame < 3; ++frame) {
+        const UpdateResult held = hose.grab(k, target);
+        EXPECT_EQ(held.status, Status::Clamped);
+        EXPECT_EQ(hose.points(), atTheEdge) << "frame " << frame;
+        EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+    }
+}

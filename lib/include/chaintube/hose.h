@@ -341,9 +341,13 @@ private:
     std::vector<double> m_chordLimit2; ///< 4 sin²(θ/2) + tolerance, the solver's turn test
     std::vector<unsigned char> m_fixed;
     std::vector<Attachment> m_attachments;
+    /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
+    double turnExcess(size_t j, const std::vector<Vec3>& points) const;
     std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs
     int m_nextAttachmentId = 1;
     int m_held = -1;                      ///< see heldPoint()
+    int m_edgePoint = -1;                 ///< point last grabbed to the edge of its reach
+    std::uint64_t m_edgeRevision = 0;     ///< m_revision right after that grab
     std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one round back (velocity)
     std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
     std::vector<Vec3> m_gravityTwoBack;   ///< step(): positions two rounds back (settling test)
