@@ -21,7 +21,9 @@ enum class Status {
                   ///< 64 rounds, each ending with a pass from the fixed side that leaves every
                   ///< constraint exact. If it is fixed on both sides, it moves along the
                   ///< straight line from where it was towards the target and stops at the last
-                  ///< reachable position (bisection, 16 steps: to 1.5e-5 of the move).
+                  ///< reachable position (bisection, 16 steps: to 1.5e-5 of the move; when the
+                  ///< last update was this point stopping at the edge of its reach, the smallest
+                  ///< step is tried first, so a target held beyond reach costs one trial).
     Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
                   ///< frame put it and the residual violation is reported. Two attachments
                   ///< farther apart than the hose between them can stretch: the free points lie
