@@ -144,3 +144,44 @@ TEST(Surface, EveryProfileShapeGivesFiniteUnitNormals)
         for (float x : surface.positions()) EXPECT_TRUE(std::isfinite(x));
     }
 }
+
+// The vectorised ring writer (blocks of 8 floats in the xyz phase patterns, unrolled by three,
+// a ring's last block spilling into the next ring): every ring vertex and normal is its profile
+// point placed by the ring's frame, for side counts that give every block and tail layout.
+TEST(Surface, EveryRingVertexIsItsProfilePointInTheRingFrameForEverySideCount)
+{
+    for (int sides : {3, 5, 8, 12, 16, 24, 32, 48}) {
+        for (int segments : {29, 30}) {
+            HoseSpec spec = paperSpec(segments, 0.1, 40);
+            spec.profile = Profile::circle(0.01, sides);
+            Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+            hose.grab(segments / 3, Vec3(0.3, 0.2, 0.1));
+            hose.grab(2 * segments / 3, Vec3(0.6, -0.1, 0.3));
+            const HoseSurface surface(hose);
+            const Profile& profile = hose.profile();
+            const int ringVertices = surface.topology().ringVertexCount;
+            ASSERT_EQ(ringVertices, static_cast<int>(profile.points().size()));
+            const FloatSpan pos = surface.positions();
+            const FloatSpan nrm = surface.normals();
+            double worstPosition = 0.0, worstNormal = 0.0;
+            for (int i = 0; i < hose.pointCount(); ++i) {
+                const RingFrame& ring = surface.frames()[static_cast<size_t>(i)];
+                for (int j = 0; j < ringVertices; ++j) {
+                    const Vec2& q = profile.points()[static_cast<size_t>(j)];
+                    const Vec2& m = profile.normals()[static_cast<size_t>(j)];
+                    const Vec3 expected =
+                        ring.center + q.x() * ring.alignment + q.y() * ring.binormal;
+                    const Vec3 expectedNormal = m.x() * ring.alignment + m.y() * ring.binormal;
+                    const size_t v = 3 * static_cast<size_t>(i * ringVertices + j);
+                    worstPosition = std::max(
+                        worstPosition, (Vec3(pos[v], pos[v + 1], pos[v + 2]) - expected).norm());
+                    worstNormal =
+                        std::max(worstNormal,
+                                 (Vec3(nrm[v], nrm[v + 1], nrm[v + 2]) - expectedNormal).norm());
+                }
+            }
+            EXPECT_LT(worstPosition, 1e-6) << sides << " sides, " << segments << " segments";
+            EXPECT_LT(worstNormal, 1e-6) << sides << " sides, " << segments << " segments";
+        }
+    }
+}
