@@ -701,6 +701,7 @@ void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> collide
     for (const auto& c : m_colliders) m_colliderFrames.push_back(c->frame());
     if (!m_colliders.empty()) m_collisionStart = m_local;
     m_collisionRevision = m_revision;
+    m_edgePoint = -1; // grab(): what was the edge of reach may no longer be
 }
 
 UpdateResult Hose::resolveCollisions()

@@ -289,6 +289,7 @@ int Hose::attach(int first, int last, const Frame& frame)
         m_fixed[static_cast<size_t>(i)] = 1;
     }
     m_attachments.push_back(std::move(attachment));
+    m_edgePoint = -1; // grab(): what was the edge of reach may no longer be
     return m_attachments.back().id;
 }
 
@@ -300,6 +301,7 @@ bool Hose::detach(int id)
     for (int i = it->first; i <= it->last; ++i) m_fixed[static_cast<size_t>(i)] = 0;
     m_attachments.erase(it);
     m_settledRevision = 0; // step(): the freed points may fall
+    m_edgePoint = -1;      // grab(): what was the edge of reach may no longer be
     return true;
 }
 
