@@ -327,6 +327,8 @@ private:
 
     /// settle(), with `held` (≥ 0) pinned like a fixed point.
     UpdateResult settleFrom(int held);
+    /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
+    double turnExcess(size_t j, const std::vector<Vec3>& points) const;
 
     friend class Solver;
     friend class SagRounds;
@@ -343,8 +345,6 @@ private:
     std::vector<double> m_chordLimit2; ///< 4 sin²(θ/2) + tolerance, the solver's turn test
     std::vector<unsigned char> m_fixed;
     std::vector<Attachment> m_attachments;
-    /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
-    double turnExcess(size_t j, const std::vector<Vec3>& points) const;
     std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs
     int m_nextAttachmentId = 1;
     int m_held = -1;                      ///< see heldPoint()
