@@ -350,27 +350,54 @@ std::vector<Scenario> scenarios()
 
 struct Run
 {
-    std::vector<Vec3> points;
-    double secondsPerFrame = 0.0;
+    std::vector<Vec3> points;     ///< final axis of the repeat with the largest error
+    double secondsPerFrame = 0.0; ///< best of the repeats
+    double error = 0.0;           ///< centreline error, largest over the repeats
+    double bestError = 0.0;       ///< centreline error, smallest over the repeats
 };
 
 using SolverFactory = std::function<std::unique_ptr<RodSolver>(const RodSetup&)>;
+
+// Repeat r scales every grab target and every moved frame's translation by 1 + r·1e-15, a few
+// units in the last place: a result that depends on rounding shows as a spread between the
+// repeats (the two-pin clamp at fine resolutions does: which shape a nearly taut inextensible
+// chain lands in; 1e-15 moved its 160-segment error between 11 and 83 mm). The error reported
+// is the largest of the repeats, so a lucky rounding cannot make a run look accurate.
+constexpr double kRoundingPerturbation = 1e-15;
+
+FrameRequest perturbed(FrameRequest r, int repeat)
+{
+    const double scale = 1.0 + kRoundingPerturbation * repeat;
+    for (auto& grab : r.grabs) grab.second *= scale;
+    r.start.translation *= scale;
+    r.end.translation *= scale;
+    return r;
+}
 
 Run runScenario(const Scenario& scenario, const SolverFactory& factory, int segments, int repeats)
 {
     Run run;
     double best = 1e300;
+    run.bestError = 1e300;
+    const RodSetup setup = scenario.setup(segments);
     for (int rep = 0; rep < repeats; ++rep) {
-        std::unique_ptr<RodSolver> solver = factory(scenario.setup(segments));
+        std::unique_ptr<RodSolver> solver = factory(setup);
         if (scenario.fixStart) solver->fixStart(scenario.fixStart);
         if (scenario.fixEnd) solver->fixEnd(scenario.fixEnd);
         std::vector<FrameRequest> requests;
-        for (int f = 0; f < scenario.frames; ++f) requests.push_back(scenario.request(f, scenario.frames, segments));
+        for (int f = 0; f < scenario.frames; ++f)
+            requests.push_back(perturbed(scenario.request(f, scenario.frames, segments), rep));
         const auto start = std::chrono::steady_clock::now();
         for (const FrameRequest& r : requests) solver->step(r);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         best = std::min(best, seconds / scenario.frames);
-        run.points = solver->points();
+        const std::vector<Vec3> points = solver->points();
+        const double error = scenario.error(points, setup);
+        run.bestError = std::min(run.bestError, error);
+        if (rep == 0 || error > run.error) {
+            run.error = error;
+            run.points = points;
+        }
     }
     run.secondsPerFrame = best;
     return run;
@@ -412,7 +439,8 @@ struct Row
     int segments = 0, sides = 0;
     double microseconds = 0;     ///< per update; ChainTube's includes its surface at `sides`
     double axisMicroseconds = 0; ///< per update, the solver alone (what equal-error compares)
-    double centreline = 0, surface = 0;
+    double centreline = 0, surface = 0; ///< largest over the repeats
+    double bestCentreline = 0;          ///< smallest over the repeats (rounding-level perturbations)
     Violations violation;
 };
 
@@ -699,12 +727,12 @@ int main(int argc, char** argv)
             for (int n : resolutions) {
                 const Run run = runScenario(scenario, peer.factory, n, repeats);
                 const RodSetup setup = scenario.setup(n);
-                const double error = scenario.error(run.points, setup);
+                const double error = run.error;
                 const Violations v = violations(setup, run.points);
                 runsOf[scenario.name][peer.name].push_back({error, 1e6 * run.secondsPerFrame, std::to_string(n) + " segments"});
                 for (int sides : ringSides) {
                     Row row{scenario.name, peer.name, n, sides, 1e6 * run.secondsPerFrame, 1e6 * run.secondsPerFrame,
-                            error, error + ringError(sides), v};
+                            error, error + ringError(sides), run.bestError, v};
                     if (peer.name == "ChainTube") row.microseconds += surfaceCost[std::to_string(n) + "/" + std::to_string(sides)];
                     rows.push_back(row);
                 }
@@ -1097,11 +1125,11 @@ int main(int argc, char** argv)
     for (const Scenario& scenario : scenarios()) framesOf[scenario.name] = scenario.frames;
     std::ostringstream csv;
     csv << "scenario,solver,segments,ring_sides,microseconds_per_update,centreline_error_m,surface_error_m,"
-           "max_stretch_percent,bend_excess_rad,self_intersecting_segments,frames\n";
+           "max_stretch_percent,bend_excess_rad,self_intersecting_segments,frames,centreline_error_best_repeat_m\n";
     for (const Row& r : rows)
         csv << r.scenario << "," << r.solver << "," << r.segments << "," << r.sides << "," << r.microseconds << ","
             << r.centreline << "," << r.surface << "," << r.violation.stretchPercent << "," << r.violation.bendExcess << ","
-            << r.violation.selfIntersections << "," << framesOf[r.scenario] << "\n";
+            << r.violation.selfIntersections << "," << framesOf[r.scenario] << "," << r.bestCentreline << "\n";
     csv << catenaryCsv.str();
 
     std::ostringstream md;
@@ -1114,7 +1142,10 @@ int main(int argc, char** argv)
           "speed at equal error compares solver time only (the peers make no surface). Every scenario has one "
           "reference common to all solvers, a closed-form shape (named in each section with why it is the "
           "right one); the centreline error is the largest distance of an axis point from the reference point "
-          "at the same rest arclength (so stretch counts as error). Surface error bound = centreline error + "
+          "at the same rest arclength (so stretch counts as error); each repeat perturbs every target and moved "
+          "frame by a few units in the last place (x (1 + r 1e-15), repeat r), and the error shown is the largest "
+          "of the repeats (the best repeat's beside it: where they differ, the result depends on rounding). "
+          "Surface error bound = centreline error + "
           "r(1 - cos(pi/N)). Equal error: each solver's runs form a front (the fastest run reaching each error); "
           "ChainTube's time at a peer's error is interpolated on its front linearly in log(error)/log(time) "
           "between the two runs around it, so the ratio compares runs of the same report.\n\n"
@@ -1130,12 +1161,13 @@ int main(int argc, char** argv)
     for (const Scenario& scenario : scenarios()) {
         md << "## " << scenario.name << "\n\n" << scenario.description << ".\n\nReference: " << scenario.reference
            << ".\n\n"
-           << "| solver | segments | sides | µs/update | centreline error | surface error | max stretch % | bend excess (rad) | ring crossings |\n"
-           << "|---|---|---|---|---|---|---|---|---|\n";
+           << "| solver | segments | sides | µs/update | centreline error | (best repeat) | surface error | max stretch % | bend excess (rad) | ring crossings |\n"
+           << "|---|---|---|---|---|---|---|---|---|---|\n";
         for (const Row& r : rows)
             if (r.scenario == scenario.name && r.sides == ringSides.back())
                 md << "| " << r.solver << " | " << r.segments << " | " << r.sides << " | " << fmt(r.microseconds) << " | "
-                   << fmt(r.centreline) << " | " << fmt(r.surface) << " | " << fmt(r.violation.stretchPercent) << " | "
+                   << fmt(r.centreline) << " | " << fmt(r.bestCentreline) << " | " << fmt(r.surface) << " | "
+                   << fmt(r.violation.stretchPercent) << " | "
                    << fmt(r.violation.bendExcess) << " | " << r.violation.selfIntersections << " |\n";
         const auto& runs = runsOf[scenario.name];
         const Front chaintube = Front::of(runs.at("ChainTube"));
