@@ -345,6 +345,10 @@ public:
             for (int pass = 0; pass < 2; ++pass) {
                 const int step = pass == 0 ? +1 : -1;
                 const int begin = pass == 0 ? 1 : n - 2;
+                // The direction place() returns for a point is the next point's incoming
+                // direction (no second normalisation of the same segment).
+                Vec3 carried = Vec3::Zero();
+                int carriedFor = -1;
                 for (int i = begin; i >= 0 && i < n; i += step) {
                     if (pinned(i)) continue;
                     const int a = i - step;
@@ -352,9 +356,10 @@ public:
                     Vec3 incoming;
                     const bool haveIncoming = before >= 0 && before < n;
                     if (haveIncoming)
-                        incoming = (p[static_cast<size_t>(a)] - p[static_cast<size_t>(before)]).normalized();
-                    Vec3 direction;
-                    place(i, a, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(a)], direction);
+                        incoming = carriedFor == a ? carried
+                                                   : Vec3((p[static_cast<size_t>(a)] - p[static_cast<size_t>(before)]).normalized());
+                    place(i, a, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(a)], carried);
+                    carriedFor = i;
                 }
             }
             const double violation = boundaryViolation(boundaries);
