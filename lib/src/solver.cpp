@@ -323,6 +323,19 @@ public:
     /// points, until every constraint holds, kMaxSweeps is reached, or progress stalls.
     bool relax()
     {
+#if defined(__x86_64__) && defined(__GNUC__)
+        static const bool fma = __builtin_cpu_supports("fma");
+        if (fma) return relaxFma();
+#endif
+        return relaxWith<false>();
+    }
+#if defined(__x86_64__) && defined(__GNUC__)
+    __attribute__((target("fma"))) bool relaxFma() { return relaxWith<true>(); }
+#endif
+
+    template <bool Fma>
+    [[gnu::always_inline]] inline bool relaxWith()
+    {
         const int n = h.pointCount();
         std::vector<int> boundaries;
         for (int i = 0; i < n; ++i) {
@@ -347,7 +360,9 @@ public:
                 const int begin = pass == 0 ? 1 : n - 2;
                 // The direction place() returns for a point is the next point's incoming
                 // direction (no second normalisation of the same segment).
-                Vec3 carried = Vec3::Zero();
+                // The placed position is the next anchor, kept in registers (no store-to-load
+                // forward on the chain).
+                Vec3 carried = Vec3::Zero(), anchor = Vec3::Zero();
                 int carriedFor = -1;
                 for (int i = begin; i >= 0 && i < n; i += step) {
                     if (pinned(i)) continue;
@@ -355,10 +370,13 @@ public:
                     const int before = a - step;
                     Vec3 incoming;
                     const bool haveIncoming = before >= 0 && before < n;
-                    if (haveIncoming)
-                        incoming = carriedFor == a ? carried
-                                                   : Vec3((p[static_cast<size_t>(a)] - p[static_cast<size_t>(before)]).normalized());
-                    place(i, a, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(a)], carried);
+                    if (carriedFor != a) {
+                        anchor = p[static_cast<size_t>(a)];
+                        if (haveIncoming) incoming = (anchor - p[static_cast<size_t>(before)]).normalized();
+                    } else {
+                        incoming = carried;
+                    }
+                    place<Fma>(i, a, anchor, haveIncoming ? &incoming : nullptr, anchor, carried, anchor);
                     carriedFor = i;
                 }
             }
