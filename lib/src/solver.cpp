@@ -633,20 +633,31 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             // When the last update was this point's grab stopping at the edge of its reach (a
             // target held beyond it), the smallest step the bisection resolves is tried first:
             // a hold then costs one trial, not 16.
+            // The state of the last successful trial (the largest reachable fraction found) is
+            // kept: the result, bit for bit what a final attempt at that fraction would give.
             double good = 0.0, bad = 1.0;
             const double smallest = std::ldexp(1.0, -kBisectionSteps);
-            if (heldAtTheEdge) {
+            thread_local std::vector<Vec3> reached;
+            int reachedMoved = -1;
+            auto trial = [&](double fraction) {
                 m_local = m_scratch;
-                (attempt(start + smallest * (localTarget - start), moved) ? good : bad) = smallest;
-            }
+                if (!attempt(start + fraction * (localTarget - start), moved)) return false;
+                reached = m_local;
+                reachedMoved = moved;
+                return true;
+            };
+            if (heldAtTheEdge) (trial(smallest) ? good : bad) = smallest;
             for (int step = 0; step < kBisectionSteps && bad - good > smallest; ++step) {
                 const double mid = 0.5 * (good + bad);
-                m_local = m_scratch;
-                if (attempt(start + mid * (localTarget - start), moved)) good = mid;
-                else bad = mid;
+                (trial(mid) ? good : bad) = mid;
             }
-            m_local = m_scratch;
-            attempt(start + good * (localTarget - start), moved);
+            if (reachedMoved >= 0) {
+                m_local = reached;
+                moved = reachedMoved;
+            } else {
+                m_local = m_scratch;
+                attempt(start, moved);
+            }
             status = Status::Clamped;
             stoppedAtTheEdge = true;
         }
