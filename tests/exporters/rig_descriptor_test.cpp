@@ -37,6 +37,24 @@ TEST(RigDescriptor, SerialiseThenParseGivesBackTheSameDescriptor)
     EXPECT_TRUE(rig::restLengthsMatch(parsed.hoses[0]));
 }
 
+TEST(RigDescriptor, AHoseExportedAwayFromItsRestShapeComesBackWithItsRestLengths)
+{
+    rig::HoseRigDescriptor descriptor = exportedDescriptor("test-rig");
+    rig::RigHose& hose = descriptor.hoses[0];
+    // Stretch the exported axis by 1 % about its first point (within the material's band).
+    const Vec3 first = hose.axis.front();
+    for (Vec3& point : hose.axis) point = first + 1.01 * (point - first);
+    EXPECT_FALSE(rig::restLengthsMatch(hose));
+    const Hose rebuilt = rig::rebuildHose(hose);
+    ASSERT_EQ(rebuilt.pointCount(), static_cast<int>(hose.axis.size()));
+    for (int s = 0; s + 1 < rebuilt.pointCount(); ++s) {
+        EXPECT_EQ(rebuilt.restLength(s), hose.restLengths[static_cast<size_t>(s)]) << s;
+        EXPECT_NEAR((rebuilt.point(s + 1) - rebuilt.point(s)).norm(), 1.01 * hose.restLengths[static_cast<size_t>(s)],
+                    1e-9)
+            << s;
+    }
+}
+
 TEST(RigDescriptor, EveryCrossSectionShapeRebuildsTheSameProfile)
 {
     const std::vector<Profile> profiles{

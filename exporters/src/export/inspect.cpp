@@ -45,7 +45,8 @@ void checkDescriptorHoses(const rig::HoseRigDescriptor& descriptor, const std::s
         if (!rig::restLengthsMatch(d))
             result.warnings.push_back(at +
                                       "/restLengths: the axis is not at its rest shape; a "
-                                      "runtime rebuilds the hose relaxed at the exported shape");
+                                      "runtime keeps the exported rest lengths, so the hose "
+                                      "starts stretched or compressed");
         for (int j = 1; j + 1 < hose.pointCount(); ++j) {
             const double expected = hose.deflectionLimit(j);
             const double written = d.jointBendLimits[static_cast<size_t>(j - 1)];

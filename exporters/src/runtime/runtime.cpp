@@ -201,12 +201,12 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         const std::string at = "/hoses/" + std::to_string(h);
         std::vector<int> attachmentIds;
         Hose hose = rebuildHose(d, &attachmentIds);
-        // The library rebuilds rest lengths from the axis (the hose was exported relaxed, as a
-        // project builds it). Report, rather than hide, a hose exported in a stretched state.
+        // A project builds its hoses relaxed; report, rather than hide, a hose exported in a
+        // stretched or compressed state (rebuildHose keeps its rest lengths: it stays strained).
         if (!restLengthsMatch(d) && report)
             report->warnings.push_back(at + "/restLengths: the axis was exported away from its "
-                                            "rest shape; the runtime rebuilds the hose relaxed at "
-                                            "the exported shape");
+                                            "rest shape; the runtime keeps the exported rest "
+                                            "lengths, so the hose starts stretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
         RunningHose running{
             std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}};

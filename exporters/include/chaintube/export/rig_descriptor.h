@@ -154,15 +154,17 @@ HoseRigDescriptor parseDescriptor(std::string_view json, const std::string& sour
 /// Empty lists are written as [] (never null).
 std::string serialiseDescriptor(const HoseRigDescriptor& descriptor);
 
-/// Rebuilds the hose a descriptor entry describes, as it was at export: Hose::fromAxis(axis)
-/// with the material, diameter and cross-section, then every attachment fixed at its exported
-/// world frame. attachmentIds (optional) receives the library's id of each attachment.
-/// Rest lengths come from the axis: a hose exported away from its rest shape comes back relaxed
-/// at the exported shape (restLengthsMatch() tells). Throws InvalidArgument.
+/// Rebuilds the hose a descriptor entry describes, as it was at export: Hose::fromAxis(axis,
+/// restLengths) with the material, diameter and cross-section (fromAxis(axis) when restLengths
+/// does not have one entry per segment), then every attachment fixed at its exported world
+/// frame. attachmentIds (optional) receives the library's id of each attachment. A hose
+/// exported away from its rest shape (stretched or compressed; restLengthsMatch() tells) comes
+/// back as it was, under the same strain, not relaxed at the exported shape. Throws
+/// InvalidArgument.
 Hose rebuildHose(const RigHose& hose, std::vector<int>* attachmentIds = nullptr);
 
-/// True if the axis distances equal restLengths within 1e-9 (relative), i.e. rebuildHose()
-/// reproduces the exported rest lengths.
+/// True if the axis distances equal restLengths within 1e-9 (relative), i.e. the hose was
+/// exported at its rest shape.
 bool restLengthsMatch(const RigHose& hose);
 
 /// Problems a descriptor has in the context of its glTF: joint/mesh/attachment/collider node
