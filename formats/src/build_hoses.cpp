@@ -1,5 +1,9 @@
 #include "chaintube/formats/project_hoses.h"
 
+#include "chaintube/formats/collider_exemption.h"
+
+#include <algorithm>
+
 namespace chaintube::formats {
 
 namespace {
@@ -184,6 +188,36 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
         hose.moveAttachments(ids, frames);
     }
     return hose;
+}
+
+int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,
+                       const ImportedScenes& scenes, int stepBudget)
+{
+    if (!hose.spec().gravity.enabled) return 0;
+    std::vector<std::shared_ptr<const MeshCollider>> used;
+    for (const ColliderNode& collider : project.colliders) {
+        const auto scene = scenes.find(collider.scene);
+        if (scene == scenes.end()) continue;
+        const int node = scene->second.findNode(collider.node);
+        if (node < 0) continue;
+        const auto parentOf = [&](int n) { return scene->second.nodes[static_cast<size_t>(n)].parent; };
+        const bool exempt = std::any_of(definition.attachments.begin(), definition.attachments.end(),
+                                        [&](const HoseAttachment& a) {
+                                            return a.scene == collider.scene &&
+                                                   attachmentExempts(scene->second.findNode(a.node), node,
+                                                                     parentOf);
+                                        });
+        if (exempt) continue;
+        if (std::shared_ptr<MeshCollider> mesh =
+                nodeCollider(scene->second, node, posedWorldTransform(project, scenes, collider.scene, node)))
+            used.push_back(std::move(mesh));
+    }
+    hose.setColliders(std::move(used));
+    int steps = 0;
+    while (steps < stepBudget && hose.step().movedPoints > 0) ++steps;
+    hose.setColliders({});
+    hose.markSettled();
+    return steps;
 }
 
 std::vector<Hose> buildHoses(const Project& project, const ImportedScenes& scenes)

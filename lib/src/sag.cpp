@@ -508,6 +508,18 @@ void Hose::releaseGrab()
     m_settledRevision = 0; // step(): the released point may fall
 }
 
+void Hose::markSettled()
+{
+    m_gravityPrevious.clear();
+    m_gravityLast.clear();
+    m_gravityTwoBack.clear();
+    m_gravityInputRevision = 0;
+    m_gravityLowestEnergy = 0.0;
+    m_gravityStallSteps = 0;
+    m_gravityScale = 1.0;
+    m_settledRevision = m_revision;
+}
+
 UpdateResult Hose::step(int rounds)
 {
     UpdateResult result;

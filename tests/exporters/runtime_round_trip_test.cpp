@@ -111,6 +111,9 @@ LibraryReference buildReference(const fs::path& projectFile)
     reference.project = formats::loadProject(projectFile, load);
     reference.scenes = formats::importProjectScenes(reference.project, projectFile, roots());
     reference.hoses = formats::buildHoses(reference.project, reference.scenes);
+    for (size_t h = 0; h < reference.hoses.size(); ++h) // as the export writes gravity hoses
+        formats::settleUnderGravity(reference.hoses[h], reference.project.hoses[h], reference.project,
+                                    reference.scenes);
     for (const Hose& hose : reference.hoses)
         reference.surfaces.emplace_back(hose);
     for (const formats::HoseDefinition& definition : reference.project.hoses) {
@@ -496,8 +499,33 @@ TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)
     EXPECT_EQ(runtime.hose(loop).colliders().size(), 2u);
     EXPECT_EQ(runtime.hose(pipe).colliders().size(), 1u);
 
-    // Gravity: the free end sinks over a few updates (nothing else moves it).
+    // Gravity: the tail was exported as it hangs (below its route) and starts at rest: updates
+    // without input leave it exactly as loaded.
     const int end = runtime.hose(tail).pointCount() - 1;
+    const std::vector<Vec3> loaded = runtime.hose(tail).points();
+    {
+        formats::ProjectLoadOptions load;
+        load.roots = roots();
+        const formats::Project project = formats::loadProject(testDataDir() / "rig-options.ctproj", load);
+        const formats::ImportedScenes scenes =
+            formats::importProjectScenes(project, testDataDir() / "rig-options.ctproj", roots());
+        const auto definition = std::find_if(project.hoses.begin(), project.hoses.end(),
+                                             [](const formats::HoseDefinition& d) { return d.id == "valve-tail"; });
+        ASSERT_NE(definition, project.hoses.end());
+        const Hose route = formats::buildHose(project, *definition, scenes);
+        EXPECT_LT(loaded.back().y(), route.points().back().y() - 0.01) << "exported along its route, not hanging";
+        Hose settled = route;
+        EXPECT_GT(formats::settleUnderGravity(settled, *definition, project, scenes), 0);
+        for (size_t i = 0; i < loaded.size(); ++i)
+            EXPECT_LT((loaded[i] - settled.points()[i]).norm(), 1e-9) << i;
+    }
+    for (int frame = 0; frame < 30; ++frame)
+        runtime.update();
+    EXPECT_EQ(runtime.hose(tail).points(), loaded);
+    // An input wakes it: lift the middle 3 cm and hold it there; the free end then sinks.
+    const int middle = runtime.hose(tail).pointCount() / 2;
+    ASSERT_NE(runtime.grab(tail, middle, runtime.hose(tail).point(middle) + Vec3(0.0, 0.03, 0.0)).status,
+              Status::InvalidInput);
     const double before = runtime.hose(tail).point(end).y();
     for (int frame = 0; frame < 30; ++frame)
         runtime.update();

@@ -381,3 +381,32 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
     EXPECT_LT(meanHeight(hose), meanHeight(staticSag) + 0.01);
     EXPECT_LT(worstJump, 0.5 * segment);
 }
+
+TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
+{
+    Hose hose = valveTail();
+    for (int s = 0; s < 3; ++s) hose.step(); // falling, not settled
+    const std::vector<Vec3> marked = hose.points();
+    hose.markSettled();
+    const std::uint64_t revision = hose.revision();
+    for (int s = 0; s < 10; ++s) EXPECT_EQ(hose.step().movedPoints, 0);
+    EXPECT_EQ(hose.points(), marked);
+    EXPECT_EQ(hose.revision(), revision);
+
+    // An input wakes it; the fall starts from rest: the same steps as a hose just built at this
+    // shape with the same rest lengths (no velocity carried from before the mark).
+    std::vector<double> rest;
+    for (int s = 0; s + 1 < hose.pointCount(); ++s) rest.push_back(hose.restLength(s));
+    Hose fresh = Hose::fromAxis(marked, rest, hose.spec());
+    fresh.attach(0, 1, Frame::identity());
+    const Vec3 lift = hose.point(7) + Vec3(0.0, 0.02, 0.0);
+    hose.grab(7, lift);
+    fresh.grab(7, lift);
+    const double afterGrab = hose.points().back().y();
+    for (int s = 0; s < 5; ++s) {
+        hose.step();
+        fresh.step();
+    }
+    EXPECT_LT(hose.points().back().y(), afterGrab - 1e-4); // the free end falls again
+    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_EQ(hose.point(i), fresh.point(i)) << i;
+}

@@ -768,9 +768,12 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
             scenes.push_back(&imported.at(reference.id));
         }
         for (const formats::HoseDefinition& definition : project.hoses) {
+            Hose built = formats::buildHose(project, definition, imported);
+            // A gravity hose is written as it hangs, as the editor shows it.
+            formats::settleUnderGravity(built, definition, project, imported);
             ExportHose hose{definition.id,
                             definition.name,
-                            formats::buildHose(project, definition, imported),
+                            std::move(built),
                             {},
                             {definition.colour.r, definition.colour.g, definition.colour.b,
                              definition.colour.a},

@@ -42,7 +42,7 @@ void checkDescriptorHoses(const rig::HoseRigDescriptor& descriptor, const std::s
                 throw;
             }
         }();
-        if (!rig::restLengthsMatch(d))
+        if (!d.gravity.enabled && !rig::restLengthsMatch(d)) // gravity: exported settled
             result.warnings.push_back(at +
                                       "/restLengths: the axis is not at its rest shape; a "
                                       "runtime keeps the exported rest lengths, so the hose "

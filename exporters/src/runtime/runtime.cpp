@@ -203,7 +203,8 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         Hose hose = rebuildHose(d, &attachmentIds);
         // A project builds its hoses relaxed; report, rather than hide, a hose exported in a
         // stretched or compressed state (rebuildHose keeps its rest lengths: it stays strained).
-        if (!restLengthsMatch(d) && report)
+        // (A gravity hose is exported settled, stretched within its band by its own weight.)
+        if (!d.gravity.enabled && !restLengthsMatch(d) && report)
             report->warnings.push_back(at + "/restLengths: the axis was exported away from its "
                                             "rest shape; the runtime keeps the exported rest "
                                             "lengths, so the hose starts stretched or compressed");
@@ -239,7 +240,11 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                 used.push_back(runtime.m_colliders[c]);
         if (!used.empty()) runtime.m_hoses[h].hose.setColliders(std::move(used));
     }
-    runtime.refresh(); // surfaces and poses as exported: gravity starts with the first update()
+    // A gravity hose is exported as it hangs (formats::settleUnderGravity): it starts at rest and
+    // falls again once an input moves it, instead of re-settling (creeping) from the file.
+    for (RunningHose& running : runtime.m_hoses)
+        if (running.hose.spec().gravity.enabled) running.hose.markSettled();
+    runtime.refresh(); // surfaces and poses as exported
     return runtime;
 }
 

@@ -286,6 +286,12 @@ public:
     /// releaseGrab() frees it; a grab of another point moves the hold there.
     int heldPoint() const { return m_held; }
     void releaseGrab();
+    /// Takes the current shape as the rest state under gravity: step() leaves the hose as it is
+    /// until an input changes (any revision()), and no velocity or contact state is carried
+    /// (the next fall starts from rest, as in a hose just built). For a hose loaded in the shape
+    /// it settled in: the export writes gravity hoses settled (formats::settleUnderGravity) and
+    /// the runtime starts them with this, so they do not drop or creep when loaded.
+    void markSettled();
 
     /// Incremented whenever an axis point, the profile or the diameter changes; renderers and
     /// the scene use it to skip hoses whose inputs did not change.

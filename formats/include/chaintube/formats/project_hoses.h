@@ -54,6 +54,19 @@ ImportedScenes posedScenes(const Project& project, ImportedScenes scenes);
 /// triangle. Used by the clearance check and the editor's live colliders.
 std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node, const Mat4& world);
 
+/// How many gravity steps settleUnderGravity() takes at most (the editor's budget per hose).
+constexpr int kSettleStepBudget = 3000;
+
+/// A hose with HoseSpec::gravity on, brought to rest as the editor shows it: Hose::step() until
+/// no point moves (at most stepBudget steps), against the project's colliders except those its
+/// attachments exempt (collider_exemption.h; colliders at the posed world transforms). The
+/// hose's own colliders are left empty again and it is marked settled (Hose::markSettled).
+/// Returns the steps taken (0 with gravity off).
+/// What the export writes for a gravity hose, so that Blender, three.js and the runtime start
+/// from the settled shape instead of the route (the runtime's first update no longer drops it).
+int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,
+                       const ImportedScenes& scenes, int stepBudget = kSettleStepBudget);
+
 /// buildHose() for every hose, in project order.
 std::vector<Hose> buildHoses(const Project& project, const ImportedScenes& scenes);
 
