@@ -190,6 +190,13 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
     return hose;
 }
 
+bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId, const std::string& nodePath)
+{
+    return std::any_of(hose.attachments.begin(), hose.attachments.end(), [&](const HoseAttachment& a) {
+        return a.scene == sceneId && attachmentExemptsPath(a.node, nodePath);
+    });
+}
+
 int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,
                        const ImportedScenes& scenes, int stepBudget)
 {
@@ -197,17 +204,9 @@ int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Proje
     std::vector<std::shared_ptr<const MeshCollider>> used;
     for (const ColliderNode& collider : project.colliders) {
         const auto scene = scenes.find(collider.scene);
-        if (scene == scenes.end()) continue;
+        if (scene == scenes.end() || attachmentsExempt(definition, collider.scene, collider.node)) continue;
         const int node = scene->second.findNode(collider.node);
         if (node < 0) continue;
-        const auto parentOf = [&](int n) { return scene->second.nodes[static_cast<size_t>(n)].parent; };
-        const bool exempt = std::any_of(definition.attachments.begin(), definition.attachments.end(),
-                                        [&](const HoseAttachment& a) {
-                                            return a.scene == collider.scene &&
-                                                   attachmentExempts(scene->second.findNode(a.node), node,
-                                                                     parentOf);
-                                        });
-        if (exempt) continue;
         if (std::shared_ptr<MeshCollider> mesh =
                 nodeCollider(scene->second, node, posedWorldTransform(project, scenes, collider.scene, node)))
             used.push_back(std::move(mesh));

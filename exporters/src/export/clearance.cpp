@@ -1,8 +1,7 @@
 // Clearance analysis of a project: hoses against scene objects (issue 7, section 3).
 #include "chaintube/export/clearance.h"
 
-#include "chaintube/formats/collider_exemption.h"
-#include "chaintube/formats/project.h"
+#include "chaintube/formats/project_hoses.h"
 
 #include <algorithm>
 #include <cmath>
@@ -57,11 +56,7 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
         // rule the runtime and the editor use for colliders (formats/collider_exemption.h).
         const auto exempt = [&](const SceneObject& object) {
             return !options.includeAttachedNodes &&
-                   std::any_of(definition.attachments.begin(), definition.attachments.end(),
-                               [&](const formats::HoseAttachment& a) {
-                                   return a.scene == object.sceneId &&
-                                          formats::attachmentExemptsPath(a.node, object.path);
-                               });
+                   formats::attachmentsExempt(definition, object.sceneId, object.path);
         };
         // Objects whose bounds are farther than threshold + radius from the hose's box are skipped.
         Aabb hoseBox;
