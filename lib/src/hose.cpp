@@ -188,9 +188,11 @@ void Hose::recomputeLimits()
     const double e = m_spec.material.expansionCoefficient;
     m_minLength.resize(segments);
     m_maxLength.resize(segments);
+    m_minLengthBefore.assign(segments + 1, 0.0);
     for (size_t s = 0; s < segments; ++s) {
         m_minLength[s] = m_restLength[s] * (1.0 - e);
         m_maxLength[s] = m_restLength[s] * (1.0 + e);
+        m_minLengthBefore[s + 1] = m_minLengthBefore[s] + m_minLength[s];
     }
     const size_t points = m_local.size();
     m_cosLimit.assign(points, -1.0);

@@ -448,6 +448,23 @@ public:
     bool solveAfterPlacement(const std::pair<int, int>* runs, const std::pair<Vec3, Vec3>* oldEnds,
                              size_t count)
     {
+        // A straight span pushed shorter than it can compress: every sweep would keep it on its
+        // line, so it is bowed before anything else; if the bowed state does not solve, the
+        // request is decided as without the bow, from the straight state.
+        std::vector<Vec3> flat;
+        if (bowFlatCompressedSpans(flat)) {
+            const bool hitPinBefore = hitPin;
+            hitPin = true; // the bow moved points the propagation may not reach
+            if (solve(runs, oldEnds, count)) return true;
+            p = std::move(flat);
+            hitPin = hitPinBefore;
+            movedPoints = 0;
+        }
+        return solve(runs, oldEnds, count);
+    }
+
+    bool solve(const std::pair<int, int>* runs, const std::pair<Vec3, Vec3>* oldEnds, size_t count)
+    {
         for (size_t r = 0; r < count; ++r)
             propagateFromRun(runs[r].first, runs[r].second, oldEnds[r].first, oldEnds[r].second);
         // Phase 1 alone guarantees every constraint when it met no pinned point and the hose
@@ -457,6 +474,69 @@ public:
         const UpdateResult v = h.measureViolation();
         if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedLength) return true;
         return relax();
+    }
+
+    /// Free spans between two pinned points (fixed or grabbed) that lie on the straight line
+    /// between them (every free point within 1e-9 of the span's minimum length from the line)
+    /// while that line is shorter than the span's minimum length: laid on the circular arc
+    /// through both pins on which the span's segments, at their rest lengths, are chords
+    /// (the arc's curvature by bisection, 64 steps), bulging towards anyPerpendicular(line),
+    /// the fixed perpendicular of the fold-back rule. Returns whether a span was bowed; `before`
+    /// receives the state before (only then).
+    bool bowFlatCompressedSpans(std::vector<Vec3>& before)
+    {
+        constexpr double kPi = 3.14159265358979323846;
+        if (h.m_attachments.empty()) return false; // a grabbed point alone bounds no span
+        thread_local std::vector<std::pair<int, int>> pins;
+        pins.clear();
+        for (const Hose::Attachment& a : h.m_attachments) pins.emplace_back(a.first, a.last);
+        if (grabbed >= 0) pins.emplace_back(grabbed, grabbed);
+        std::sort(pins.begin(), pins.end());
+        bool bowed = false;
+        for (size_t r = 1; r < pins.size(); ++r) {
+            const int first = pins[r - 1].second, i = pins[r].first;
+            if (i <= first + 1) continue;
+            const Vec3 start = p[static_cast<size_t>(first)], chord = p[static_cast<size_t>(i)] - start;
+            const double minimum =
+                h.m_minLengthBefore[static_cast<size_t>(i)] - h.m_minLengthBefore[static_cast<size_t>(first)];
+            const double c = chord.norm();
+            // A span whose pins coincide has no line to bow from: left to the relaxation.
+            if (!(c > 1e-9 * minimum) || !(c < minimum * (1.0 - 1e-9))) continue;
+            double longest = 0.0;
+            for (int s = first; s < i; ++s) longest = std::max(longest, h.m_restLength[static_cast<size_t>(s)]);
+            const Vec3 axis = chord / c;
+            bool flat = true;
+            for (int k = first + 1; k < i && flat; ++k) {
+                const Vec3 d = p[static_cast<size_t>(k)] - start;
+                flat = (d - d.dot(axis) * axis).norm() <= 1e-9 * minimum;
+            }
+            if (!flat) continue;
+            const Vec3 up = anyPerpendicular(axis); // the fold-back rule's plane (place())
+            // Central angle the span's chords take on a circle of curvature kappa.
+            auto angle = [&](double kappa) {
+                double total = 0.0;
+                for (int s = first; s < i; ++s)
+                    total += 2.0 * std::asin(std::min(1.0, 0.5 * kappa * h.m_restLength[static_cast<size_t>(s)]));
+                return total;
+            };
+            // The arc's chord falls from the span's length (kappa → 0) to 0 (a full circle).
+            double lo = 0.0, hi = 2.0 / longest;
+            for (int step = 0; step < 64; ++step) {
+                const double kappa = 0.5 * (lo + hi), phi = angle(kappa);
+                const bool longer = phi < 2.0 * kPi && 2.0 / kappa * std::sin(0.5 * phi) > c;
+                (longer ? lo : hi) = kappa;
+            }
+            const double kappa = 0.5 * (lo + hi), rho = 1.0 / kappa, phi = angle(kappa);
+            const Vec3 centre = start + 0.5 * chord - (rho * std::cos(0.5 * phi)) * up;
+            if (!bowed) before = p;
+            bowed = true;
+            double at = -0.5 * phi;
+            for (int k = first + 1; k < i; ++k) {
+                at += 2.0 * std::asin(std::min(1.0, 0.5 * kappa * h.m_restLength[static_cast<size_t>(k - 1)]));
+                p[static_cast<size_t>(k)] = centre + rho * (std::sin(at) * axis + std::cos(at) * up);
+            }
+        }
+        return bowed;
     }
 
     /// After an infeasible update: every free span between two pinned points that are farther
@@ -567,6 +647,13 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     const Vec3 start = m_local[k];
     const bool mayHitPins = !m_attachments.empty() || m_dirtyViolation;
     const bool heldAtTheEdge = m_edgePoint == index && m_edgeRevision == m_revision;
+    // The same target again, nothing changed since this grab stopped at the edge of reach,
+    // still held, no colliders (they move without the hose knowing): the same answer, no work.
+    if (heldAtTheEdge && m_held == index && m_colliders.empty() && localTarget == m_edgeTarget) {
+        result = m_edgeResult;
+        result.movedPoints = 0;
+        return result;
+    }
     bool stoppedAtTheEdge = false;
     if (mayHitPins) m_scratch = m_local;
 
@@ -677,6 +764,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
     m_edgePoint = stoppedAtTheEdge ? index : -1;
     m_edgeRevision = m_revision;
+    m_edgeTarget = localTarget;
+    m_edgeResult = result;
     return result;
 }
 

@@ -77,3 +77,56 @@ TEST(ClampBetweenFixedPoints, HoldingATargetBeyondReachLeavesTheHoseAsItIs)
         EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
     }
 }
+
+// The same target again with nothing changed: the grab returns the same answer without any
+// work (no points moved, revision unchanged, so the surface is not rebuilt either). A moved
+// target, a release in between, or colliders (which move without the hose knowing) do the
+// work again.
+TEST(ClampBetweenFixedPoints, ARepeatedGrabBeyondReachDoesNoWorkAndKeepsTheRevision)
+{
+    HoseSpec spec = paperSpec(40, 0.0);
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    auto pulledHose = [&]() {
+        Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+        hose.attach(0, 0, Frame::identity());
+        const int end = hose.attach(hose.pointCount() - 1, hose.pointCount() - 1, Frame::identity());
+        Frame closer;
+        closer.translation = Vec3(-0.2, 0.0, 0.0);
+        EXPECT_EQ(hose.moveAttachment(end, closer).status, Status::Ok);
+        return hose;
+    };
+    const Vec3 target(0.4, 0.6, 0.0);
+    Hose hose = pulledHose();
+    const int k = hose.pointCount() / 2;
+    const UpdateResult pulled = hose.grab(k, target);
+    ASSERT_EQ(pulled.status, Status::Clamped);
+    const std::vector<Vec3> atTheEdge = hose.points();
+    const std::uint64_t revision = hose.revision();
+    const UpdateResult held = hose.grab(k, target);
+    EXPECT_EQ(held.status, Status::Clamped);
+    EXPECT_EQ(held.movedPoints, 0);
+    EXPECT_EQ(held.grabError, pulled.grabError);
+    EXPECT_EQ(held.lengthViolation, pulled.lengthViolation);
+    EXPECT_EQ(held.angleViolation, pulled.angleViolation);
+    EXPECT_EQ(hose.revision(), revision);
+    EXPECT_EQ(hose.points(), atTheEdge);
+
+    hose.grab(k, target + Vec3(0.0, 1e-9, 0.0));
+    EXPECT_GT(hose.revision(), revision) << "a moved target is a new request";
+    EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+
+    Hose released = pulledHose();
+    released.grab(k, target);
+    released.releaseGrab();
+    const std::uint64_t beforeRegrab = released.revision();
+    EXPECT_EQ(released.grab(k, target).status, Status::Clamped);
+    EXPECT_GT(released.revision(), beforeRegrab) << "a grab after a release is a new request";
+
+    Hose withColliders = pulledHose();
+    const std::vector<Vec3> far = {Vec3(10, 10, 10), Vec3(11, 10, 10), Vec3(10, 11, 10)};
+    withColliders.setColliders({MeshCollider::fromArrays(far, {0, 1, 2}, Frame::identity())});
+    withColliders.grab(k, target);
+    const std::uint64_t beforeRepeat = withColliders.revision();
+    EXPECT_EQ(withColliders.grab(k, target).status, Status::Clamped);
+    EXPECT_GT(withColliders.revision(), beforeRepeat) << "colliders may have moved: the grab is done again";
+}

@@ -96,6 +96,69 @@ TEST(SolverHardCases, BothEndsFixedAndPulledApartBeyondMaximumLengthIsReportedBo
     EXPECT_EQ(again.lengthViolation, result.lengthViolation);
 }
 
+// A straight inextensible hose whose end attachments come closer: every sweep would keep it on
+// its line (where it cannot be shorter), so the span is bowed onto the arc through both pins
+// first, towards the fold-back rule's fixed perpendicular: +z for a span along +x (hose.h). Before that decision these requests were
+// reported Infeasible with the hose left straight and compressed by the whole move.
+TEST(SolverHardCases, StraightInextensibleSpanPushedShorterBowsTowardsPlusZ)
+{
+    for (int segments : {10, 40})
+        for (double push : {0.001, 0.01, 0.05}) {
+            SCOPED_TRACE("segments " + std::to_string(segments) + ", push " + std::to_string(push));
+            HoseSpec spec = paperSpec(segments, 0.0);
+            spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+            Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+            hose.attach(0, 0, Frame::identity());
+            const int end = hose.attach(segments, segments, Frame::identity());
+            Frame closer;
+            closer.translation = Vec3(-push, 0.0, 0.0);
+            const UpdateResult result = hose.moveAttachment(end, closer);
+            EXPECT_EQ(result.status, Status::Ok);
+            EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+            double highest = 0.0;
+            for (int i = 1; i < segments; ++i) {
+                EXPECT_GT(hose.point(i).z(), 0.0) << i;
+                EXPECT_NEAR(hose.point(i).y(), 0.0, 1e-12) << i;
+                highest = std::max(highest, hose.point(i).z());
+            }
+            // A circular arc of length L over chord L − δ rises sqrt(6 δ L) / 4 (small δ).
+            if (push <= 0.01) {
+                EXPECT_NEAR(highest, std::sqrt(6.0 * push) / 4.0, 0.03 * std::sqrt(6.0 * push) / 4.0);
+            }
+        }
+}
+
+// The same when the grabbed point pushes a straight span against its fixed end.
+TEST(SolverHardCases, GrabPushingAStraightInextensibleSpanAgainstAPinBowsIt)
+{
+    HoseSpec spec = paperSpec(20, 0.0);
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    hose.attach(0, 0, Frame::identity());
+    const UpdateResult result = hose.grab(10, Vec3(0.49, 0.0, 0.0));
+    EXPECT_EQ(result.status, Status::Ok);
+    EXPECT_LT(result.grabError, 1e-12);
+    EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+    for (int i = 1; i < 10; ++i) EXPECT_GT(hose.point(i).z(), 0.0) << i;
+}
+
+// A rigid hose cannot bow: the request is decided from the straight state, as without the bow
+// (Infeasible, the hose on its line).
+TEST(SolverHardCases, RigidStraightSpanPushedShorterStaysOnItsLineAndIsInfeasible)
+{
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(10, 0.0, 0));
+    hose.attach(0, 0, Frame::identity());
+    const int end = hose.attach(10, 10, Frame::identity());
+    Frame closer;
+    closer.translation = Vec3(-0.01, 0.0, 0.0);
+    EXPECT_EQ(hose.moveAttachment(end, closer).status, Status::Infeasible);
+    EXPECT_TRUE(allFinite(hose));
+    for (const Vec3& p : hose.points()) {
+        EXPECT_EQ(p.y(), 0.0);
+        EXPECT_EQ(p.z(), 0.0);
+    }
+}
+
 TEST(SolverHardCases, GrabBetweenTwoAttachmentsReachesFeasibleTargetsAndClampsOthers)
 {
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(20, 0.1, 30));

@@ -182,6 +182,9 @@ TEST(Solver, MinBendRadiusGivesTheSameBendAtEveryResolution)
         spec.material.bendLimit = BendLimit::minBendRadius(0.1);
         Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
         hose.attach(0, 1, Frame::identity());
+        // Bent a little first: a straight span pushed shorter would be bowed onto an arc
+        // instead (hose.h), which reaches this target without using the limit.
+        hose.grab(segments, Vec3(0.95, 0.2, 0.0));
         hose.grab(segments, Vec3(0.0, 0.05, 0.0)); // far inside the reachable set: clamped
         const HoseMetrics m = measure(hose);
         EXPECT_GT(m.smallestBendRadius, 0.1 * (1 - 1e-9)) << segments;

@@ -23,7 +23,10 @@ enum class Status {
                   ///< straight line from where it was towards the target and stops at the last
                   ///< reachable position (bisection, 16 steps: to 1.5e-5 of the move; when the
                   ///< last update was this point stopping at the edge of its reach, the smallest
-                  ///< step is tried first, so a target held beyond reach costs one trial).
+                  ///< step is tried first, so a target moving beyond reach costs one trial when
+                  ///< it cannot get closer; the same target again, with nothing else changed
+                  ///< since and no colliders, returns the same result without any work and
+                  ///< leaves revision() as it was).
     Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
                   ///< frame put it and the residual violation is reported. Two attachments
                   ///< farther apart than the hose between them can stretch: the free points lie
@@ -133,6 +136,15 @@ struct SagResult
 ///  * Fold-back (a bend request of exactly 180°): the bend plane is taken from the point's
 ///    previous position; if that is also degenerate, from a fixed perpendicular of the
 ///    incoming direction. Deterministic.
+///  * A straight free span between two pinned points (fixed or grabbed) pushed shorter than
+///    its segments' minimum lengths allow (e.g. the two end attachments of a straight
+///    inextensible hose moved closer): every sweep would keep it on its line, so it is bowed
+///    first onto the circular arc through both pins on which its segments, at rest length,
+///    are chords, bulging towards the same fixed perpendicular of the line as the fold-back
+///    rule (line direction × the world axis it has the smallest component along: +z for a
+///    span along +x, +x for one along +y); then relaxed as usual. If the bowed span does not
+///    relax (e.g. a rigid hose), the update is decided from the straight state as without
+///    the bow.
 ///  * Infeasible requests: see Status::Clamped and Status::Infeasible.
 ///  * A hose whose current shape violates its constraints (e.g. a route with corners sharper
 ///    than the bend limit, or after tightening the material) stays as it is until a point is
@@ -344,6 +356,7 @@ private:
     std::vector<double> m_restLength;
     std::vector<double> m_minLength;
     std::vector<double> m_maxLength;
+    std::vector<double> m_minLengthBefore; ///< per point: sum of the minimum lengths before it
     std::vector<double> m_cosLimit; ///< per point (0 and n unused = -1)
     std::vector<double> m_sinLimit;
     std::vector<double> m_cosHalfLimit;
@@ -356,6 +369,8 @@ private:
     int m_held = -1;                      ///< see heldPoint()
     int m_edgePoint = -1;                 ///< point last grabbed to the edge of its reach
     std::uint64_t m_edgeRevision = 0;     ///< m_revision right after that grab
+    Vec3 m_edgeTarget = Vec3::Zero();     ///< that grab's local target
+    UpdateResult m_edgeResult;            ///< and what it returned
     std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one round back (velocity)
     std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
     std::vector<Vec3> m_gravityTwoBack;   ///< step(): positions two rounds back (settling test)
