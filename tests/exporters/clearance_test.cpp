@@ -5,6 +5,7 @@
 #include <chaintube/export/clearance.h>
 #include <chaintube/formats/collider_exemption.h>
 #include <chaintube/formats/project.h>
+#include <chaintube/formats/project_hoses.h>
 
 #include <array>
 #include <set>
@@ -93,6 +94,42 @@ TEST(Clearance, GeneratedSceneListsEachObjectCloserThanTheThreshold)
     // Below the near box's clearance only the crossing box remains.
     options.threshold = 0.005;
     EXPECT_EQ(checkProjectClearance(project, {}, options).size(), 1u);
+}
+
+// A gravity hose is checked as it hangs (the shape the editor shows and the export writes),
+// not along its route: rig-options' valve tail hangs towards the floor plate. Before, the check
+// measured the route.
+TEST(Clearance, GravityHosesAreCheckedAsTheyHang)
+{
+    const fs::path file = testDataDir() / "rig-options.ctproj";
+    formats::ProjectLoadOptions load;
+    load.roots = roots();
+    const formats::Project project = formats::loadProject(file, load);
+    const formats::ImportedScenes scenes = formats::importProjectScenes(project, file, roots());
+    const std::vector<Hose> route = formats::buildHoses(project, scenes);
+    std::vector<Hose> hanging = route;
+    int gravityHoses = 0;
+    for (size_t h = 0; h < hanging.size(); ++h)
+        gravityHoses += formats::settleUnderGravity(hanging[h], project.hoses[h], project, scenes) > 0;
+    ASSERT_GE(gravityHoses, 1);
+    ClearanceOptions options;
+    options.threshold = 1.0; // everything within a metre: the distances themselves are compared
+    const std::vector<SceneObject> objects = sceneObjects(project, scenes);
+    const std::vector<ClearanceFinding> expected = clearanceViolations(project, hanging, objects, options);
+    const std::vector<ClearanceFinding> alongRoute = clearanceViolations(project, route, objects, options);
+    const std::vector<ClearanceFinding> checked = checkProjectClearance(file, roots(), options);
+    ASSERT_EQ(checked.size(), expected.size());
+    double largestChange = 0.0;
+    for (size_t f = 0; f < checked.size(); ++f) {
+        EXPECT_EQ(checked[f].hoseId, expected[f].hoseId) << f;
+        EXPECT_EQ(checked[f].objectPath, expected[f].objectPath) << f;
+        EXPECT_NEAR(checked[f].distance, expected[f].distance, 1e-12) << f;
+        for (const ClearanceFinding& r : alongRoute)
+            if (r.hoseId == checked[f].hoseId && r.objectPath == checked[f].objectPath)
+                largestChange = std::max(largestChange, std::abs(r.distance - checked[f].distance));
+    }
+    // Otherwise the comparison above could not tell the route from the hanging shape.
+    EXPECT_GT(largestChange, 1e-3) << "the hanging tail is farther from or nearer to some object than its route";
 }
 
 TEST(Clearance, AttachedNodesAreSkippedUnlessAsked)

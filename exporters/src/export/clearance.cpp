@@ -97,7 +97,9 @@ std::vector<ClearanceFinding> checkProjectClearance(const std::filesystem::path&
     load.roots = roots;
     const formats::Project project = formats::loadProject(projectFile, load);
     const formats::ImportedScenes scenes = formats::importProjectScenes(project, projectFile, roots);
-    const std::vector<Hose> hoses = formats::buildHoses(project, scenes);
+    std::vector<Hose> hoses = formats::buildHoses(project, scenes);
+    // Gravity hoses as they hang: what the editor shows and the export writes.
+    for (size_t h = 0; h < hoses.size(); ++h) formats::settleUnderGravity(hoses[h], project.hoses[h], project, scenes);
     return clearanceViolations(project, hoses, sceneObjects(project, scenes), options);
 }
 

@@ -69,8 +69,10 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
                                                   const std::vector<SceneObject>& objects,
                                                   const ClearanceOptions& options);
 
-/// Loads the project, imports its scenes, builds its hoses and returns the violations (the
-/// whole of `chaintube check --clearance`). Throws the formats errors (file, format, path).
+/// Loads the project, imports its scenes, builds its hoses (gravity hoses settled as they hang,
+/// formats::settleUnderGravity: the shape the editor shows and the export writes) and returns
+/// the violations (the whole of `chaintube check --clearance`). Throws the formats errors
+/// (file, format, path).
 std::vector<ClearanceFinding> checkProjectClearance(const std::filesystem::path& projectFile,
                                                     const formats::NamedRoots& roots,
                                                     const ClearanceOptions& options);
