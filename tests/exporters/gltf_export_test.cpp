@@ -183,6 +183,36 @@ TEST(GltfExport, ProgressRunsFromZeroToOne)
     EXPECT_DOUBLE_EQ(seen.back(), 1.0);
 }
 
+// Building the hoses (where a gravity hose settles, up to 3,000 steps) reports progress once
+// per hose between import (to 55 %) and export (from 60 %), and can be cancelled there.
+TEST(GltfExport, ProgressAdvancesOncePerHoseWhileTheHosesAreBuilt)
+{
+    TemporaryFolder folder;
+    const fs::path projectFile = testDataDir() / "rig-options.ctproj";
+    formats::ProjectLoadOptions load;
+    load.roots = roots();
+    const formats::Project project = formats::loadProject(projectFile, load);
+    ASSERT_GE(project.hoses.size(), 2u);
+    std::vector<double> seen;
+    ExportOptions options;
+    options.progress = [&](double fraction) {
+        seen.push_back(fraction);
+        return true;
+    };
+    exportProject(project, projectFile, folder.path() / "rig.glb", roots(), options);
+    std::vector<double> building;
+    for (double f : seen)
+        if (f > 0.55 && f <= 0.6) building.push_back(f);
+    ASSERT_EQ(building.size(), project.hoses.size()) << ::testing::PrintToString(building);
+    EXPECT_DOUBLE_EQ(building.back(), 0.6);
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+
+    options.progress = [&](double fraction) { return !(fraction > 0.55 && fraction <= 0.6); };
+    EXPECT_THROW(exportProject(project, projectFile, folder.path() / "cancelled.glb", roots(), options),
+                 formats::Cancelled);
+    EXPECT_FALSE(fs::exists(folder.path() / "cancelled.glb"));
+}
+
 TEST(GltfExport, AProjectWhoseSceneRootIsUnknownFailsNamingTheProjectAndThePath)
 {
     TemporaryFolder folder;

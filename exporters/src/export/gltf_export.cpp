@@ -753,7 +753,7 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
             output = folder / (projectFile.stem().string() + extension);
     }
     const auto importProgress = [&](double fraction) {
-        return !options.progress || options.progress(0.6 * fraction);
+        return !options.progress || options.progress(0.55 * fraction);
     };
     // Scene paths and hose definitions come from the project: their errors name it.
     formats::ImportedScenes imported;
@@ -767,7 +767,8 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
             sceneIndex[reference.id] = static_cast<int>(scenes.size());
             scenes.push_back(&imported.at(reference.id));
         }
-        for (const formats::HoseDefinition& definition : project.hoses) {
+        for (size_t h = 0; h < project.hoses.size(); ++h) {
+            const formats::HoseDefinition& definition = project.hoses[h];
             Hose built = formats::buildHose(project, definition, imported);
             // A gravity hose is written as it hangs, as the editor shows it.
             formats::settleUnderGravity(built, definition, project, imported);
@@ -784,6 +785,9 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
                     {s, scenes[static_cast<size_t>(s)]->findNode(attachment.node)});
             }
             hoses.push_back(std::move(hose));
+            // Building the hoses (a gravity hose settles, up to kSettleStepBudget steps): 55–60 %.
+            const double done = static_cast<double>(h + 1) / static_cast<double>(project.hoses.size());
+            reportProgress(options, std::min(0.6, 0.55 + 0.05 * done), output);
         }
         for (size_t c = 0; c < project.colliders.size(); ++c) {
             const formats::ColliderNode& collider = project.colliders[c];

@@ -133,7 +133,8 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
 /// (formats::importProjectScenes with `roots`), builds its hoses (formats::buildHoses) and
 /// exports them with colours/roughness from the project. `output` empty: the project's export
 /// settings (path, format) or <project name>.glb next to the project file. Progress covers
-/// import (first 60 %) and export. Throws what importProjectScenes, buildHoses and exportRig
+/// import (first 55 %), building the hoses (to 60 %, once per hose: gravity hoses settle there)
+/// and export; cancelling (progress returns false) throws formats::Cancelled, nothing written. Throws what importProjectScenes, buildHoses and exportRig
 /// throw.
 ExportReport exportProject(const formats::Project& project,
                            const std::filesystem::path& projectFile, std::filesystem::path output,
