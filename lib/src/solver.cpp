@@ -490,9 +490,8 @@ public:
                 dii = std::sqrt(dii);
                 for (size_t j = i + 1; j < m && j <= i + kBand; ++j) {
                     double v = band[i * (kBand + 1) + (j - i)];
-                    for (size_t k = (j > kBand ? j - kBand : 0); k < i; ++k)
-                        if (i - k <= kBand && j - k <= kBand)
-                            v -= band[k * (kBand + 1) + (i - k)] * band[k * (kBand + 1) + (j - k)];
+                    for (size_t k = (j > kBand ? j - kBand : 0); k < i; ++k) // j − k ≤ kBand, i − k < j − k
+                        v -= band[k * (kBand + 1) + (i - k)] * band[k * (kBand + 1) + (j - k)];
                     band[i * (kBand + 1) + (j - i)] = v / dii;
                 }
             }

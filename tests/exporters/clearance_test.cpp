@@ -102,9 +102,7 @@ TEST(Clearance, GeneratedSceneListsEachObjectCloserThanTheThreshold)
 TEST(Clearance, GravityHosesAreCheckedAsTheyHang)
 {
     const fs::path file = testDataDir() / "rig-options.ctproj";
-    formats::ProjectLoadOptions load;
-    load.roots = roots();
-    const formats::Project project = formats::loadProject(file, load);
+    const formats::Project project = loadWithRoots(file);
     const formats::ImportedScenes scenes = formats::importProjectScenes(project, file, roots());
     const std::vector<Hose> route = formats::buildHoses(project, scenes);
     std::vector<Hose> hanging = route;

@@ -77,6 +77,13 @@ inline formats::NamedRoots roots()
 {
     return {{"scenes", scenesDir()}, {"samples", samplesDir()}};
 }
+/// loadProject() with the test roots ("scenes:", "samples:").
+inline formats::Project loadWithRoots(const fs::path& projectFile)
+{
+    formats::ProjectLoadOptions load;
+    load.roots = roots();
+    return formats::loadProject(projectFile, load);
+}
 /// A sample's project file: samples/<name>.ctproj, or data/<name>.ctproj for the test projects.
 inline fs::path projectFileOf(const std::string& name)
 {

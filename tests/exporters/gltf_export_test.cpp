@@ -189,9 +189,7 @@ TEST(GltfExport, ProgressAdvancesOncePerHoseWhileTheHosesAreBuilt)
 {
     TemporaryFolder folder;
     const fs::path projectFile = testDataDir() / "rig-options.ctproj";
-    formats::ProjectLoadOptions load;
-    load.roots = roots();
-    const formats::Project project = formats::loadProject(projectFile, load);
+    const formats::Project project = loadWithRoots(projectFile);
     ASSERT_GE(project.hoses.size(), 2u);
     std::vector<double> seen;
     ExportOptions options;
@@ -380,9 +378,7 @@ TEST(GltfExport, ColliderNodesAreListedInTheDescriptorAndKeepTheirMeshesWithoutT
 {
     TemporaryFolder folder;
     const fs::path project = samplesDir() / "test-rig.ctproj";
-    formats::ProjectLoadOptions load;
-    load.roots = roots();
-    formats::Project loaded = formats::loadProject(project, load);
+    formats::Project loaded = loadWithRoots(project);
     loaded.exportSettings.includeScene = false;
     const formats::ImportedScenes scenes = formats::importProjectScenes(loaded, project, roots());
     const formats::ImportedScene& rig = scenes.at("rig");

@@ -106,9 +106,7 @@ void attachColliders(LibraryReference& reference, const GltfDocument& exported,
 LibraryReference buildReference(const fs::path& projectFile)
 {
     LibraryReference reference;
-    formats::ProjectLoadOptions load;
-    load.roots = roots();
-    reference.project = formats::loadProject(projectFile, load);
+    reference.project = loadWithRoots(projectFile);
     reference.scenes = formats::importProjectScenes(reference.project, projectFile, roots());
     reference.hoses = formats::buildHoses(reference.project, reference.scenes);
     for (size_t h = 0; h < reference.hoses.size(); ++h) // as the export writes gravity hoses
@@ -411,9 +409,7 @@ TEST(HoseRuntime, AHoseIgnoresTheCollidersItsAttachmentNodesSitInButNotTheirSibl
     // /test-rig/valve/valve_inlet (a child of the valve), right-return to /test-rig/valve.
     TemporaryFolder folder;
     const fs::path project = samplesDir() / "test-rig.ctproj";
-    formats::ProjectLoadOptions load;
-    load.roots = roots();
-    const formats::Project loaded = formats::loadProject(project, load);
+    const formats::Project loaded = loadWithRoots(project);
     const formats::ImportedScenes scenes = formats::importProjectScenes(loaded, project, roots());
     const formats::ImportedScene& rig = scenes.at("rig");
     ExportOptions options;
@@ -504,9 +500,7 @@ TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)
     const int end = runtime.hose(tail).pointCount() - 1;
     const std::vector<Vec3> loaded = runtime.hose(tail).points();
     {
-        formats::ProjectLoadOptions load;
-        load.roots = roots();
-        const formats::Project project = formats::loadProject(testDataDir() / "rig-options.ctproj", load);
+        const formats::Project project = loadWithRoots(testDataDir() / "rig-options.ctproj");
         const formats::ImportedScenes scenes =
             formats::importProjectScenes(project, testDataDir() / "rig-options.ctproj", roots());
         const auto definition = std::find_if(project.hoses.begin(), project.hoses.end(),
