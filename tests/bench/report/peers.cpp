@@ -54,12 +54,9 @@ public:
         if (r.moveEnd) ids.push_back(m_end), frames.push_back(r.end);
         if (!ids.empty()) m_hose.moveAttachments(ids, frames);
         for (const auto& [index, target] : r.grabs) m_hose.grab(index, target);
-        if (m_gravity != Vec3::Zero()) {
-            SagOptions options;
-            options.gravityDirection = m_gravity;
-            options.maxRounds = m_sagRounds;
-            m_hose.sag(options);
-        }
+        // The runtime's per-frame gravity call: damped rounds whose velocity carries over
+        // from frame to frame, as the peers' inertia does (a settled hose costs nothing).
+        if (m_gravity != Vec3::Zero()) m_hose.step(m_sagRounds);
     }
     std::vector<Vec3> points() const override { return m_hose.points(); }
 
@@ -67,6 +64,10 @@ private:
     static HoseSpec spec(const RodSetup& setup)
     {
         HoseSpec spec;
+        if (setup.gravity != Vec3::Zero()) {
+            spec.gravity.enabled = true;
+            spec.gravity.direction = setup.gravity;
+        }
         spec.material.expansionCoefficient = setup.expansionCoefficient;
         spec.material.bendLimit = setup.noBendLimit           ? BendLimit::minBendRadius(0.0)
                                   : setup.minBendRadius > 0.0 ? BendLimit::minBendRadius(setup.minBendRadius)

@@ -19,7 +19,8 @@ struct RodSetup
     bool noBendLimit = false;     ///< no bend limit at all (the catenary): overrides both above
     /// Gravity (m/s², world). Zero: the peers run quasi-static (no inertia). Non-zero: XPBD and
     /// Bullet integrate with time step `timeStep` per frame (inertia, damping); ChainTube runs
-    /// `sagRoundsPerFrame` rounds of Hose::sag() per frame.
+    /// Hose::step(sagRoundsPerFrame) per frame (HoseSpec::gravity on: damped rounds whose
+    /// velocity carries over from frame to frame).
     Vec3 gravity = Vec3::Zero();
     double timeStep = 1.0 / 60.0;
     int sagRoundsPerFrame = 25;
@@ -48,8 +49,9 @@ public:
     virtual std::vector<Vec3> points() const = 0;
 };
 
-/// ChainTube (the library) behind the common interface. With gravity each frame (after the
-/// frame's requests) runs Hose::sag() with maxRounds = sagRoundsPerFrame (warm-started).
+/// ChainTube (the library) behind the common interface. With gravity the hose has
+/// HoseSpec::gravity on and each frame (after the frame's requests) runs
+/// Hose::step(sagRoundsPerFrame), the runtime's per-frame gravity call.
 std::unique_ptr<RodSolver> makeChainTubeRod(const RodSetup& setup);
 
 /// Position-based rod: XPBD with zero compliance (hard constraints): a stretch-band constraint
