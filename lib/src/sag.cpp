@@ -427,14 +427,16 @@ private:
                 super[k] = coupling;
                 sub[k + 1] = coupling;
             }
-            // Thomas algorithm: T λ = C.
+            // Thomas algorithm: T λ = C. The forward pass keeps 1/diag (diag holds it
+            // afterwards), so the back substitution multiplies: its chain has no division.
+            diag[0] = 1.0 / diag[0];
             for (size_t k = 1; k < segments; ++k) {
-                const double factor = sub[k] / diag[k - 1];
-                diag[k] -= factor * super[k - 1];
+                const double factor = sub[k] * diag[k - 1];
+                diag[k] = 1.0 / (diag[k] - factor * super[k - 1]);
                 rhs[k] -= factor * rhs[k - 1];
             }
-            lambda[segments - 1] = rhs[segments - 1] / diag[segments - 1];
-            for (size_t k = segments - 1; k-- > 0;) lambda[k] = (rhs[k] - super[k] * lambda[k + 1]) / diag[k];
+            lambda[segments - 1] = rhs[segments - 1] * diag[segments - 1];
+            for (size_t k = segments - 1; k-- > 0;) lambda[k] = (rhs[k] - super[k] * lambda[k + 1]) * diag[k];
             // Δx = −M⁻¹ Jᵀ λ, with ∂C_k/∂x_k = −g_k and ∂C_k/∂x_{k+1} = +g_k.
             for (size_t i = 0; i < n; ++i) {
                 if (inverseMass[i] == 0.0) continue;
