@@ -1,6 +1,8 @@
 // Gravity sag: quasi-static settling of the free points (an extension beyond the paper).
 #include "chaintube/hose.h"
 
+#include "banded_ldlt.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -336,28 +338,7 @@ private:
             }
             // Banded LDLᵀ (no pivoting: the matrix is symmetric positive semi-definite); a pivot
             // that vanishes (dependent constraints) drops its constraint for this step.
-            for (size_t i = 0; i < m; ++i) {
-                double& pivot = band[i * kBand];
-                if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
-                    pivot = std::numeric_limits<double>::infinity();
-                    multiplier[i] = 0.0;
-                    for (size_t d = 1; d < kBand; ++d) band[i * kBand + d] = 0.0;
-                    continue;
-                }
-                for (size_t d = 1; d < kBand && i + d < m; ++d) {
-                    const double factor = band[i * kBand + d] / pivot;
-                    if (factor == 0.0) continue;
-                    for (size_t e = d; e < kBand && i + e < m; ++e)
-                        band[(i + d) * kBand + (e - d)] -= factor * band[i * kBand + e];
-                    multiplier[i + d] -= factor * multiplier[i];
-                }
-            }
-            for (size_t i = m; i-- > 0;) {
-                const double pivot = band[i * kBand];
-                double x = multiplier[i];
-                for (size_t d = 1; d < kBand && i + d < m; ++d) x -= band[i * kBand + d] * multiplier[i + d];
-                multiplier[i] = std::isfinite(pivot) ? x / pivot : 0.0;
-            }
+            detail::solveBandedLdlt(band.data(), multiplier.data(), m, kBand);
             // x ← x + M⁻¹ Jᵀ Δλ; the multipliers add up over the steps (for the sign test).
             scratch.assign(predicted.begin(), predicted.end());
             for (size_t c = 0; c < m; ++c) {

@@ -3,6 +3,8 @@
 // with a clamp of infeasible grabs.
 #include "chaintube/hose.h"
 
+#include "banded_ldlt.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -323,8 +325,8 @@ public:
     /// points, until every constraint holds, kMaxSweeps is reached, or progress stalls. The
     /// sweeps converge linearly (about half the violation a round); on an inextensible hose,
     /// once it is below 1e-3, a Gauss-Newton projection (newtonFinish) is tried, again every 6
-    /// rounds while it fails:
-    /// feasible grabs between pins in ~10 rounds + 1–3 steps instead of 30–60 rounds. Not in
+    /// rounds while it fails: feasible grabs between pins in ~10 rounds + 1–3 steps instead of
+    /// 30–60 rounds. Not in
     /// the clamps' bisection trials (`newton` false there): which trials succeed stays the
     /// sweeps' decision, so a clamp does not flip on a 1e-8 input difference (the runtime's
     /// float frames; tested by the runtime round trip).
@@ -416,9 +418,10 @@ public:
 
     /// Gauss-Newton projection onto the active constraints (lengths outside their band or at a
     /// fixed length, bends at or beyond their limit as a minimum distance between the joint's
-    /// neighbours), minimal-norm steps through a banded Cholesky of J Jᵀ; at most 3 steps. Keeps
-    /// the result only if every constraint then holds to kConvergedLength (measured in full),
-    /// otherwise restores the state it started from.
+    /// neighbours), minimal-norm steps through a banded LDLᵀ of J Jᵀ (detail::solveBandedLdlt,
+    /// as the gravity rounds); at most 3 steps. Keeps the result only if every constraint then
+    /// holds to kConvergedLength (measured in full), otherwise restores the state it started
+    /// from.
     bool newtonFinish()
     {
         const int n = h.pointCount();
@@ -476,34 +479,10 @@ public:
                 for (size_t j = i; j < m && j <= i + kBand; ++j) band[i * (kBand + 1) + (j - i)] = shared(cs[i], cs[j]);
                 band[i * (kBand + 1)] += 1e-12;
             }
-            // Banded Cholesky (upper, row-major band), then the two triangular solves.
-            for (size_t i = 0; i < m; ++i) {
-                double& dii = band[i * (kBand + 1)];
-                for (size_t k = (i > kBand ? i - kBand : 0); k < i; ++k) {
-                    const double lki = band[k * (kBand + 1) + (i - k)];
-                    dii -= lki * lki;
-                }
-                if (!(dii > 0.0)) {
-                    p = backup;
-                    return false;
-                }
-                dii = std::sqrt(dii);
-                for (size_t j = i + 1; j < m && j <= i + kBand; ++j) {
-                    double v = band[i * (kBand + 1) + (j - i)];
-                    for (size_t k = (j > kBand ? j - kBand : 0); k < i; ++k) // j − k ≤ kBand, i − k < j − k
-                        v -= band[k * (kBand + 1) + (i - k)] * band[k * (kBand + 1) + (j - k)];
-                    band[i * (kBand + 1) + (j - i)] = v / dii;
-                }
-            }
-            for (size_t i = 0; i < m; ++i) {
-                double v = rhs[i];
-                for (size_t k = (i > kBand ? i - kBand : 0); k < i; ++k) v -= band[k * (kBand + 1) + (i - k)] * rhs[k];
-                rhs[i] = v / band[i * (kBand + 1)];
-            }
-            for (size_t i = m; i-- > 0;) {
-                double v = rhs[i];
-                for (size_t j = i + 1; j < m && j <= i + kBand; ++j) v -= band[i * (kBand + 1) + (j - i)] * rhs[j];
-                rhs[i] = v / band[i * (kBand + 1)];
+            // A dependent row (no unique step) leaves the state to the sweeps.
+            if (detail::solveBandedLdlt(band.data(), rhs.data(), m, kBand + 1) > 0) {
+                p = backup;
+                return false;
             }
             for (size_t i = 0; i < m; ++i) {
                 const Constraint& x = cs[i];

@@ -134,8 +134,8 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
 /// exports them with colours/roughness from the project. `output` empty: the project's export
 /// settings (path, format) or <project name>.glb next to the project file. Progress covers
 /// import (first 55 %), building the hoses (to 60 %, once per hose: gravity hoses settle there)
-/// and export; cancelling (progress returns false) throws formats::Cancelled, nothing written. Throws what importProjectScenes, buildHoses and exportRig
-/// throw.
+/// and export; cancelling (progress returns false) throws formats::Cancelled, nothing written.
+/// Throws what importProjectScenes, buildHoses and exportRig throw.
 ExportReport exportProject(const formats::Project& project,
                            const std::filesystem::path& projectFile, std::filesystem::path output,
                            const formats::NamedRoots& roots, const ExportOptions& options = {});
