@@ -194,7 +194,7 @@ Vec3 prepareRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
     return a0;
 }
 
-/// Where a ring's vertices go while its frame is computed (see alignRings).
+/// Where a ring's vertices go (see RingWriter).
 struct RingKernelInput
 {
     size_t ringFloats; // 3 × vertices per ring
@@ -206,16 +206,15 @@ struct RingKernelInput
     float* normals;
 };
 
-/// Pass 3, twist correction, fused with pass 4 (unit alignments and binormals) and, when
-/// `Sink` writes vertices, with the ring's vertices: the alignment chain is latency bound (one
-/// projection per ring depends on the last), so the independent per-ring work fills its gaps.
+/// Pass 3, twist correction, with pass 4 (unit alignments and binormals). The alignment chain
+/// is latency bound (one projection per ring depends on the last); the vertices are written
+/// afterwards in a loop of their own (see HoseSurface::update for why not fused).
 /// Fast path, the paper's own: project the previous alignment onto this ring plane.
 /// Projection is linear, so the chain runs unnormalised (a short dependency chain) and each
 /// ring takes a normalised copy. Where consecutive ring planes turn by nearly 90° the
 /// projection degenerates; there the rotation-minimising double reflection (Wang et al. 2008)
 /// takes over.
-template <class WriteRing>
-[[gnu::always_inline]] inline void alignRings(std::vector<RingFrame>& frames, const Vec3& a0, WriteRing writeRing)
+void alignRings(std::vector<RingFrame>& frames, const Vec3& a0)
 {
     const size_t n = frames.size();
     Vec3 u = a0;
@@ -253,7 +252,6 @@ template <class WriteRing>
         }
         ring.alignment = u * (1.0 / std::sqrt(u.squaredNorm()));
         ring.binormal = t.cross(ring.alignment);
-        writeRing(i, ring);
     }
 }
 } // namespace
@@ -328,7 +326,7 @@ double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& f
 double computeRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
 {
     const Vec3 a0 = prepareRingFrames(hose, seed, frames);
-    alignRings(frames, a0, [](size_t, const RingFrame&) {});
+    alignRings(frames, a0);
     if (!torsionActive(hose)) {
         seed.rolls.clear();
         return 0.0;
@@ -476,10 +474,6 @@ struct RingWriter
     }
 };
 
-void alignAndWriteRings(std::vector<RingFrame>& frames, const Vec3& a0, const RingWriter& writer)
-{
-    alignRings(frames, a0, writer);
-}
 void writeRings(const std::vector<RingFrame>& frames, const RingWriter& writer)
 {
     for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
@@ -491,12 +485,17 @@ bool cpuHasAvx2Fma()
     static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     return has;
 }
-__attribute__((target("avx2,fma"))) void alignAndWriteRingsAvx2(std::vector<RingFrame>& frames, const Vec3& a0,
-                                                               const RingWriter& writer)
-{
-    alignRings(frames, a0, writer);
-}
 __attribute__((target("avx2,fma"))) void writeRingsAvx2(const std::vector<RingFrame>& frames, const RingWriter& writer)
+{
+    for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
+}
+bool cpuHasAvx512Vl()
+{
+    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+    return has;
+}
+__attribute__((target("avx2,fma,avx512f,avx512vl"))) void writeRingsAvx512Vl(const std::vector<RingFrame>& frames,
+                                                                             const RingWriter& writer)
 {
     for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
 }
@@ -513,32 +512,18 @@ bool HoseSurface::update(const Hose& hose)
                              m_expandedY.data(), m_expandedNormalX.data(), m_expandedNormalY.data(),
                              m_positions.data(), m_normals.data()}};
     m_twistLimit = hose.spec().torsion.twistLimit;
+    // Frames first, then vertices, in two loops. Fusing the ring writes into the alignment
+    // chain (to fill its latency gaps) was faster on the Intel Xeon VM of sessions 1–9, but on
+    // this AMD EPYC (Zen 4) VM the two loops are faster: the 50-hose frame 213 → 185–189 µs,
+    // one hose's surface 3.02 → 2.44–2.51 µs (tests/bench/PERFORMANCE-NOTES.md, session 10).
+    m_maxTwist = computeRingFrames(hose, m_seed, m_frames);
 #if defined(__x86_64__) && defined(__GNUC__)
-    const bool avx2 = cpuHasAvx2Fma();
+    if (cpuHasAvx512Vl()) writeRingsAvx512Vl(m_frames, writer);
+    else if (cpuHasAvx2Fma()) writeRingsAvx2(m_frames, writer);
+    else writeRings(m_frames, writer);
 #else
-    const bool avx2 = false;
+    writeRings(m_frames, writer);
 #endif
-    if (torsionActive(hose)) {
-        // The rolls depend on the frames at the attachments: frames first, then vertices.
-        m_maxTwist = computeRingFrames(hose, m_seed, m_frames);
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (avx2) writeRingsAvx2(m_frames, writer);
-        else writeRings(m_frames, writer);
-#else
-        writeRings(m_frames, writer);
-#endif
-    } else {
-        m_maxTwist = 0.0;
-        m_seed.rolls.clear();
-        const Vec3 a0 = prepareRingFrames(hose, m_seed, m_frames);
-#if defined(__x86_64__) && defined(__GNUC__)
-        if (avx2) alignAndWriteRingsAvx2(m_frames, a0, writer);
-        else alignAndWriteRings(m_frames, a0, writer);
-#else
-        (void)avx2;
-        alignAndWriteRings(m_frames, a0, writer);
-#endif
-    }
     writeCaps(hose);
     m_seenRevision = hose.revision();
     return true;
