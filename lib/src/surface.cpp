@@ -214,44 +214,80 @@ struct RingKernelInput
 /// ring takes a normalised copy. Where consecutive ring planes turn by nearly 90° the
 /// projection degenerates; there the rotation-minimising double reflection (Wang et al. 2008)
 /// takes over.
+/// One step of the chain at ring i (> 0): u projected onto ring i's plane, or the double
+/// reflection where that degenerates. u2 tracks |u|² (t is a unit vector).
+[[gnu::always_inline]] inline void alignmentStep(const std::vector<RingFrame>& frames, size_t i, Vec3& u, double& u2)
+{
+    const RingFrame& ring = frames[i];
+    const Vec3& t = ring.tangent;
+    const double along = u.dot(t);
+    const double remaining = u2 - along * along;
+    if (remaining > 1e-4 * u2) {
+        u -= along * t;
+        u2 = remaining;
+        if (u2 < 1e-200) { // rescale long chains of strong bends
+            u *= 1.0 / std::sqrt(u2);
+            u2 = 1.0;
+        }
+        return;
+    }
+    const RingFrame& before = frames[i - 1];
+    const Vec3 v1 = ring.center - before.center;
+    const double b1 = v1.squaredNorm();
+    Vec3 alignment = before.alignment;
+    Vec3 tangentL = before.tangent;
+    if (b1 > 0.0) {
+        alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
+        tangentL -= (2.0 / b1) * v1.dot(tangentL) * v1;
+    }
+    const Vec3 v2 = t - tangentL;
+    const double b2 = v2.squaredNorm();
+    if (b2 > 1e-30) alignment -= (2.0 / b2) * v2.dot(alignment) * v2;
+    alignment = perpendicularPart(alignment, t);
+    u = alignment.norm() > 1e-9 ? Vec3(alignment.normalized()) : defaultAlignment(t);
+    u2 = 1.0;
+}
+
+/// A ring's unit alignment and binormal from the carried alignment u.
+[[gnu::always_inline]] inline void finishRing(RingFrame& ring, const Vec3& u)
+{
+    ring.alignment = u * (1.0 / std::sqrt(u.squaredNorm()));
+    ring.binormal = ring.tangent.cross(ring.alignment);
+}
+
 void alignRings(std::vector<RingFrame>& frames, const Vec3& a0)
 {
     const size_t n = frames.size();
+    if (n == 0) return;
     Vec3 u = a0;
     double u2 = 1.0;
-    for (size_t i = 0; i < n; ++i) {
-        RingFrame& ring = frames[i];
-        const Vec3& t = ring.tangent;
-        if (i > 0) {
-            const double along = u.dot(t);
-            const double remaining = u2 - along * along;
-            if (remaining > 1e-4 * u2) {
-                u -= along * t;
-                u2 = remaining;
-                if (u2 < 1e-200) { // rescale long chains of strong bends
-                    u *= 1.0 / std::sqrt(u2);
-                    u2 = 1.0;
-                }
-            } else {
-                const RingFrame& before = frames[i - 1];
-                const Vec3 v1 = ring.center - before.center;
-                const double b1 = v1.squaredNorm();
-                Vec3 alignment = before.alignment;
-                Vec3 tangentL = before.tangent;
-                if (b1 > 0.0) {
-                    alignment -= (2.0 / b1) * v1.dot(alignment) * v1;
-                    tangentL -= (2.0 / b1) * v1.dot(tangentL) * v1;
-                }
-                const Vec3 v2 = t - tangentL;
-                const double b2 = v2.squaredNorm();
-                if (b2 > 1e-30) alignment -= (2.0 / b2) * v2.dot(alignment) * v2;
-                alignment = perpendicularPart(alignment, t);
-                u = alignment.norm() > 1e-9 ? Vec3(alignment.normalized()) : defaultAlignment(t);
-                u2 = 1.0;
-            }
+    finishRing(frames[0], u);
+    size_t i = 1;
+    // Two rings a step where both projections are well conditioned: with a = u·t1, b = u·t2
+    // and c = t1·t2, the second projection's (u − a t1)·t2 is b − a c, so both dot products
+    // wait only for u and the chain is about two thirds as long as two single steps.
+    while (i + 1 < n) {
+        const Vec3& t1 = frames[i].tangent;
+        const Vec3& t2 = frames[i + 1].tangent;
+        const double a = u.dot(t1), b = u.dot(t2), c = t1.dot(t2);
+        const double along2 = b - a * c;
+        const double remaining1 = u2 - a * a, remaining2 = remaining1 - along2 * along2;
+        if (remaining1 > 1e-4 * u2 && remaining2 > 1e-4 * remaining1 && remaining2 >= 1e-200) {
+            const Vec3 u1 = u - a * t1;
+            u = u1 - along2 * t2;
+            u2 = remaining2;
+            finishRing(frames[i], u1);
+            finishRing(frames[i + 1], u);
+            i += 2;
+        } else {
+            alignmentStep(frames, i, u, u2);
+            finishRing(frames[i], u);
+            ++i;
         }
-        ring.alignment = u * (1.0 / std::sqrt(u.squaredNorm()));
-        ring.binormal = t.cross(ring.alignment);
+    }
+    if (i < n) {
+        alignmentStep(frames, i, u, u2);
+        finishRing(frames[i], u);
     }
 }
 } // namespace

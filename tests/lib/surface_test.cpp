@@ -66,6 +66,34 @@ TEST(Surface, TwistCorrectionAgreesWithThePapersAlignmentProjectionForGentleBend
     }
 }
 
+// The chain takes two rings a step where both projections are well conditioned (the second
+// projection's dot product rewritten as b − a·c) and single steps elsewhere: either way every
+// ring's alignment is the paper's projection of the previous ring's, to rounding. Odd and even
+// ring counts (a single step left at the end or not), and a hose with right-angle corners
+// (where the chain falls back to the double reflection, then resumes pairs at an odd ring).
+TEST(Surface, TwoRingStepsGiveThePapersProjectionToRounding)
+{
+    std::vector<Hose> hoses = {wiggly(120), wiggly(121)};
+    HoseSpec spec = paperSpec(6, 0.1, 100);
+    hoses.push_back(Hose::fromAxis({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.2, 0, 0), Vec3(0.2, 0.1, 0),
+                                    Vec3(0.2, 0.2, 0.01), Vec3(0.2, 0.2, 0.11), Vec3(0.3, 0.21, 0.12)},
+                                   spec));
+    for (const Hose& hose : hoses) {
+        TwistSeed seed;
+        std::vector<RingFrame> frames;
+        computeRingFrames(hose, seed, frames);
+        int projections = 0;
+        for (size_t i = 1; i < frames.size(); ++i) {
+            expectOrthonormal(frames[i], 1e-14);
+            const Vec3 raw = frames[i - 1].alignment - frames[i - 1].alignment.dot(frames[i].tangent) * frames[i].tangent;
+            if (raw.squaredNorm() <= 1e-3) continue; // the double reflection's territory
+            ++projections;
+            EXPECT_LT((raw.normalized() - frames[i].alignment).norm(), 1e-13) << "ring " << i << " of " << frames.size();
+        }
+        EXPECT_GE(projections, static_cast<int>(frames.size()) / 2);
+    }
+}
+
 TEST(Surface, FoldBackAndZigZagAxesStillGiveOrthonormalFrames)
 {
     HoseSpec spec = paperSpec(4, 0.1, 179);
