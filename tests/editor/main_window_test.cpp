@@ -30,6 +30,7 @@
 #include <QMouseEvent>
 #include <QProgressDialog>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QScrollArea>
 #include <QSettings>
 #include <QSlider>
@@ -103,6 +104,9 @@ protected:
     }
     void screenshot(const char* name)
     {
+        // What a person sees a moment later: the problems panel recomputes at most every
+        // 100 ms after a change, so without this the picture could show an earlier state's list.
+        m_window->problems().refreshNow();
         settle();
         const QImage image = m_window->grab().toImage();
         const QString file = QString::fromStdString((test::outputDir() / name).string());
@@ -281,6 +285,19 @@ TEST_F(MainWindowTest, LayOutFixMoveUndoAndExportOnTheTestRig)
         << m_window->properties().lastRefusal().toStdString();
     EXPECT_TRUE(document.hose(newId)->isFixed(0));
     EXPECT_TRUE(document.hose(newId)->isFixed(1));
+    // The hose now starts inside the valve by design: the clearance check no longer lists the
+    // valve for it.
+    // Its far end lies on the floor plate: listed as touching it (the signed distance rounds
+    // to nothing; it once read "-0.0 mm from").
+    m_window->problems().refreshNow();
+    bool floorListed = false;
+    for (const Problem& problem : m_window->problems().problems()) {
+        EXPECT_FALSE(problem.hoseId == newId && problem.text.contains("/test-rig/valve"))
+            << problem.text.toStdString();
+        EXPECT_FALSE(problem.text.contains(QRegularExpression(" -[0-9]"))) << problem.text.toStdString();
+        floorListed = floorListed || (problem.hoseId == newId && problem.text.contains("/test-rig/floor_plate"));
+    }
+    EXPECT_TRUE(floorListed);
     screenshot("editor-test-rig.png");
 
     // 4. Move the valve with the gizmo's X arrow: the fixed end follows rigidly.
@@ -885,6 +902,34 @@ TEST_F(MainWindowTest, PropertiesRefuseInvalidValuesAndASliderDragIsOneStep)
     EXPECT_EQ(shape->currentIndex(), 0) << "the widget shows the document's value again";
     EXPECT_LE(document.undoStack()->count(), steps + 2);
     (void)before;
+}
+
+// With no hose selected the hose fields are blank (not the spin boxes' minimum, not the last
+// hose's values); selecting a hose again shows its values, a value at a field's minimum too.
+TEST_F(MainWindowTest, HoseFieldsAreBlankWithNoHoseSelected)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("blank")));
+    auto* diameter = m_window->findChild<QDoubleSpinBox*>("diameter");
+    auto* segments = m_window->findChild<QSpinBox*>("segments");
+    auto* name = m_window->findChild<QLineEdit*>("hoseName");
+    auto* shape = m_window->findChild<QComboBox*>("shape");
+    selectHose("left-feed");
+    EXPECT_EQ(diameter->text(), QString("%1 mm").arg(m_window->document().hoseDefinition("left-feed")->outerDiameter * 1000.0, 0, 'f', 1));
+    EXPECT_FALSE(name->text().isEmpty());
+    selectHose("");
+    EXPECT_FALSE(diameter->isEnabled());
+    EXPECT_TRUE(diameter->text().trimmed().isEmpty()) << diameter->text().toStdString();
+    EXPECT_TRUE(segments->text().trimmed().isEmpty()) << segments->text().toStdString();
+    EXPECT_TRUE(name->text().isEmpty());
+    EXPECT_TRUE(shape->currentText().isEmpty());
+    // An inextensible hose (expansion 0 %, the field's minimum) shows "0.0 %", not the blank.
+    selectHose("left-feed");
+    auto* expansion = m_window->findChild<QDoubleSpinBox*>("expansion");
+    expansion->setValue(expansion->minimum());
+    settle();
+    ASSERT_EQ(m_window->document().hose("left-feed")->spec().material.expansionCoefficient, 0.0);
+    EXPECT_EQ(expansion->text(), "0.0 %");
+    EXPECT_EQ(segments->text(), QString::number(m_window->document().hose("left-feed")->segmentCount()));
 }
 
 // The profile fields a shape is not made from cannot be edited: sides for circle and ellipse,

@@ -196,11 +196,17 @@ void ProblemsPanel::refreshNow()
              exporting::clearanceViolations(m_document.project(), hoses, m_clearanceCache->objects, options)) {
             const formats::HoseDefinition& definition = m_document.project().hoses[size_t(finding.hose)];
             const QString name = QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+            // The distance is signed (negative: the hose surface is inside the object); a
+            // person reads "2.5 mm into", not "-2.5 mm from", and never "-0.0 mm".
+            const double millimetres = finding.distance * 1000.0;
+            const QString where = QString::fromStdString(finding.objectPath);
+            const QString how = std::abs(millimetres) < 0.05 ? tr("touches %1").arg(where)
+                                : millimetres < 0.0
+                                    ? tr("%1 mm into %2").arg(-millimetres, 0, 'f', 1).arg(where)
+                                    : tr("%1 mm from %2").arg(millimetres, 0, 'f', 1).arg(where);
             Problem problem{definition.id, finding.axisPoint, finding.axisPoint,
-                            tr("%1: %2 mm from %3 at axis point %4 (clearance %5 mm)")
-                                .arg(name)
-                                .arg(finding.distance * 1000.0, 0, 'f', 1)
-                                .arg(QString::fromStdString(finding.objectPath))
+                            tr("%1: %2 at axis point %3 (clearance %4 mm)")
+                                .arg(name, how)
                                 .arg(finding.axisPoint)
                                 .arg(m_clearanceThreshold->value(), 0, 'f', 1)};
             problem.sceneId = finding.sceneId;

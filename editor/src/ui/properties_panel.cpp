@@ -612,6 +612,7 @@ void PropertiesPanel::refresh()
         m_preset->addItem(QString::fromStdString(preset.name),
                           QString::fromStdString(preset.description));
     m_preset->addItem(tr("(custom values)"));
+    showHoseValues(definition != nullptr);
     if (definition) {
         m_hoseGroup->setTitle(tr("Hose %1").arg(QString::fromStdString(definition->id)));
         m_name->setText(QString::fromStdString(definition->name));
@@ -718,6 +719,32 @@ void PropertiesPanel::refresh()
     m_updating = false;
     refreshGravityState();
     refreshPart();
+}
+
+void PropertiesPanel::showHoseValues(bool shown)
+{
+    // With no hose selected the (disabled) fields are blank rather than showing their minimum
+    // or the last hose's values: a spin box at its minimum shows its special value text.
+    const QString blank = shown ? QString() : QStringLiteral(" ");
+    for (QDoubleSpinBox* box : {m_diameter, m_length, m_expansion, m_bendValue, m_width, m_height,
+                                m_cornerRadius, m_twistLimit}) {
+        box->setSpecialValueText(blank);
+        if (!shown) box->setValue(box->minimum());
+    }
+    for (QSpinBox* box : {m_segments, m_sides, m_cornerSegments, m_fixFirst, m_fixLast}) {
+        box->setSpecialValueText(blank);
+        if (!shown) box->setValue(box->minimum());
+    }
+    if (shown) return;
+    m_name->clear();
+    m_lengthInfo->clear();
+    m_colour->setText(QString());
+    m_colour->setStyleSheet(QString());
+    for (QComboBox* box : {m_preset, m_bendKind, m_shape, m_gravityDirection}) box->setCurrentIndex(-1);
+    for (QSlider* slider : {m_diameterSlider, m_segmentsSlider, m_expansionSlider, m_bendSlider})
+        slider->setValue(slider->minimum());
+    m_gravity->setChecked(false);
+    m_torsion->setChecked(false);
 }
 
 void PropertiesPanel::refreshGravityState()

@@ -43,6 +43,8 @@ private:
     void refresh();
     void refreshPart();
     /// The gravity state label of the selected hose.
+    /// Blank (no hose selected) or ready to show a hose's values (see refresh()).
+    void showHoseValues(bool shown);
     void refreshGravityState();
     /// Validates `changed` and pushes it as a change of one field; refuses with a message.
     bool apply(const formats::HoseDefinition& changed, int mergeId, const QString& text);
