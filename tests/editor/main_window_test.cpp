@@ -653,7 +653,11 @@ TEST_F(MainWindowTest, SceneImportShowsProgressAndCancelStopsIt)
 {
     const fs::path folder = test::outputDir() / "import-progress";
     fs::create_directories(folder);
-    const fs::path grid = writeGridObj(folder / "grid.obj", 450);
+    // Large enough that the dialog shows (QProgressDialog pops up after 300 ms only when the
+    // estimated rest is at least as long) on a fast machine too: 450 × 450 imported in ~0.5 s
+    // on the EPYC VM and the dialog sometimes never showed. Cancelled early, so its size costs
+    // little.
+    const fs::path grid = writeGridObj(folder / "grid.obj", 900);
     Document& document = m_window->document();
     ASSERT_TRUE(document.scenes().empty());
 
@@ -689,7 +693,10 @@ TEST_F(MainWindowTest, SceneImportProgressAdvancesToTheEnd)
 {
     const fs::path folder = test::outputDir() / "import-progress";
     fs::create_directories(folder);
-    const fs::path grid = writeGridObj(folder / "grid-whole.obj", 450);
+    // ~2x the work of the 450 × 450 grid this test used until it imported fast enough on the
+    // EPYC VM that the dialog could stay hidden (see SceneImportShowsProgressAndCancelStopsIt).
+    const int n = 640;
+    const fs::path grid = writeGridObj(folder / "grid-whole.obj", n);
     std::vector<int> values;
     DialogDriver watch([&] {
         for (QWidget* widget : QApplication::topLevelWidgets())
@@ -703,7 +710,7 @@ TEST_F(MainWindowTest, SceneImportProgressAdvancesToTheEnd)
     EXPECT_TRUE(std::is_sorted(values.begin(), values.end())) << "progress never goes back";
     Document& document = m_window->document();
     ASSERT_EQ(document.scenes().size(), 1u);
-    EXPECT_EQ(document.scenes().begin()->second.instancedTriangleCount(), 2u * 450 * 450);
+    EXPECT_EQ(document.scenes().begin()->second.instancedTriangleCount(), 2u * n * n);
     EXPECT_EQ(document.undoStack()->count(), 1) << "an import is one undo step";
     // The tree lists the imported node.
     EXPECT_FALSE(m_window->sceneTree().findItems("grid", Qt::MatchExactly | Qt::MatchRecursive)
