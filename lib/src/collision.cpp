@@ -628,6 +628,7 @@ MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direc
         Vec3 o, d, inverse;
         double best;
         int bestTriangle = -1;
+        int tested = 0;
         bool enter(const Aabb& box, double& key) const
         {
             return slabEntry(box, o, inverse, 0.0, best, key);
@@ -635,6 +636,7 @@ MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direc
         bool worth(double key) const { return key <= best; }
         void leaf(int first, int count)
         {
+            tested += count;
             for (int i = first; i < first + count; ++i) {
                 const Triangle& tri = mesh.m_triangles[static_cast<std::size_t>(i)];
                 double t = 0.0;
@@ -647,6 +649,7 @@ MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direc
     } visitor{*this, m_frame.applyInverse(origin), m_frame.rotation.conjugate() * direction, Vec3::Zero(), maxT};
     visitor.inverse = Vec3(1.0 / visitor.d.x(), 1.0 / visitor.d.y(), 1.0 / visitor.d.z());
     traverse(visitor);
+    result.trianglesTested = visitor.tested;
     if (visitor.bestTriangle < 0) return result;
     const Triangle& tri = m_triangles[static_cast<std::size_t>(visitor.bestTriangle)];
     result.hit = true;

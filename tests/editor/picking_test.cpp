@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <random>
 
@@ -42,7 +43,7 @@ TEST(Picking, RaySegmentDistanceFindsTheClosestApproach)
     EXPECT_NEAR(s, 0.5, 1e-12);
 }
 
-TEST(Picking, MillionTrianglesPickQuickly)
+TEST(Picking, APickOfAMillionTrianglesTestsAFewOfThem)
 {
     const formats::SceneMesh mesh = gridMesh(708, 1.0); // 1,002,528 triangles
     ASSERT_GT(mesh.triangleCount(), 1000000u);
@@ -54,6 +55,7 @@ TEST(Picking, MillionTrianglesPickQuickly)
     std::uniform_real_distribution<double> coordinate(0.01, 0.99);
     const auto pickStart = std::chrono::steady_clock::now();
     const int picks = 1000;
+    int mostTested = 0;
     for (int k = 0; k < picks; ++k) {
         const Vec3 target(coordinate(random), 0.0, coordinate(random));
         const Vec3 origin = target + Vec3(0.3, 1.0, -0.2);
@@ -62,14 +64,17 @@ TEST(Picking, MillionTrianglesPickQuickly)
         const Vec3 point = origin + hit.t * (target - origin).normalized();
         ASSERT_NEAR((point - target).norm(), 0.0, 1e-6);
         ASSERT_NEAR(hit.normal.y(), 1.0, 1e-9);
+        mostTested = std::max(mostTested, hit.trianglesTested);
     }
     const double perPick =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - pickStart).count() /
         picks;
-    std::printf("1M triangles: BVH build %.3f s, %.1f us per pick\n", buildSeconds,
-                perPick * 1e6);
-    EXPECT_LT(perPick, 1e-3) << "a pick must take well under a frame";
-    EXPECT_LT(buildSeconds, 5.0);
+    // Times are printed, not asserted (speed belongs to benchmarks); what must hold is the
+    // hierarchy's work: a pick tests a few triangles of the million, not a share of them.
+    std::printf("1M triangles: BVH build %.3f s, %.1f us per pick, at most %d triangles tested\n",
+                buildSeconds, perPick * 1e6, mostTested);
+    EXPECT_GT(mostTested, 0);
+    EXPECT_LE(mostTested, 64) << "a pick must not scan the mesh";
 }
 
 TEST(Picking, TheTestRigIsHitWhereItIsAndFollowsAMovedPart)

@@ -78,6 +78,7 @@ bool MeshBvh::intersect(const Vec3& origin, const Vec3& direction, double maxT, 
     if (!m_collider)
         return false;
     const MeshCollider::RayHit found = m_collider->raycast(origin, direction, maxT);
+    hit->trianglesTested = found.trianglesTested;
     if (!found.hit || !(found.t > 1e-9))
         return false;
     hit->t = found.t;

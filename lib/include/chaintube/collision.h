@@ -117,6 +117,9 @@ public:
         double t = 0.0;
         Vec3 normal = Vec3::UnitY(); ///< world, unit, facing the ray origin
         int triangle = -1;
+        /// How many triangles the query tested, hit or not (the hierarchy's work: a few for a
+        /// ray through a large mesh, not the mesh).
+        int trianglesTested = 0;
     };
     RayHit raycast(const Vec3& origin, const Vec3& direction,
                    double maxT = std::numeric_limits<double>::infinity()) const;

@@ -33,6 +33,7 @@ public:
         double t = 0.0;         ///< ray parameter (distance if the direction is unit length)
         int triangle = -1;      ///< index into the mesh's triangles
         Vec3 normal;            ///< geometric normal, facing the ray origin, unit length
+        int trianglesTested = 0; ///< the hierarchy's work for this query (MeshCollider::RayHit)
     };
     /// Closest hit with t in (1e-9, maxT); both faces count. Returns false if none.
     bool intersect(const Vec3& origin, const Vec3& direction, double maxT, Hit* hit) const;
