@@ -206,14 +206,6 @@ struct RingKernelInput
     float* normals;
 };
 
-/// Pass 3, twist correction, with pass 4 (unit alignments and binormals). The alignment chain
-/// is latency bound (one projection per ring depends on the last); the vertices are written
-/// afterwards in a loop of their own (see HoseSurface::update for why not fused).
-/// Fast path, the paper's own: project the previous alignment onto this ring plane.
-/// Projection is linear, so the chain runs unnormalised (a short dependency chain) and each
-/// ring takes a normalised copy. Where consecutive ring planes turn by nearly 90° the
-/// projection degenerates; there the rotation-minimising double reflection (Wang et al. 2008)
-/// takes over.
 /// One step of the chain at ring i (> 0): u projected onto ring i's plane, or the double
 /// reflection where that degenerates. u2 tracks |u|² (t is a unit vector).
 [[gnu::always_inline]] inline void alignmentStep(const std::vector<RingFrame>& frames, size_t i, Vec3& u, double& u2)
@@ -255,6 +247,14 @@ struct RingKernelInput
     ring.binormal = ring.tangent.cross(ring.alignment);
 }
 
+/// Pass 3, twist correction, with pass 4 (unit alignments and binormals). The alignment chain
+/// is latency bound (one projection per ring depends on the last); the vertices are written
+/// afterwards in a loop of their own (see HoseSurface::update for why not fused).
+/// Fast path, the paper's own: project the previous alignment onto this ring plane.
+/// Projection is linear, so the chain runs unnormalised (a short dependency chain) and each
+/// ring takes a normalised copy. Where consecutive ring planes turn by nearly 90° the
+/// projection degenerates; there the rotation-minimising double reflection (Wang et al. 2008)
+/// takes over.
 void alignRings(std::vector<RingFrame>& frames, const Vec3& a0)
 {
     const size_t n = frames.size();
@@ -516,19 +516,9 @@ void writeRings(const std::vector<RingFrame>& frames, const RingWriter& writer)
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-bool cpuHasAvx2Fma()
-{
-    static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    return has;
-}
 __attribute__((target("avx2,fma"))) void writeRingsAvx2(const std::vector<RingFrame>& frames, const RingWriter& writer)
 {
     for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
-}
-bool cpuHasAvx512Vl()
-{
-    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-    return has;
 }
 __attribute__((target("avx2,fma,avx512f,avx512vl"))) void writeRingsAvx512Vl(const std::vector<RingFrame>& frames,
                                                                              const RingWriter& writer)
@@ -550,12 +540,12 @@ bool HoseSurface::update(const Hose& hose)
     m_twistLimit = hose.spec().torsion.twistLimit;
     // Frames first, then vertices, in two loops. Fusing the ring writes into the alignment
     // chain (to fill its latency gaps) was faster on the Intel Xeon VM of sessions 1–9, but on
-    // this AMD EPYC (Zen 4) VM the two loops are faster: the 50-hose frame 213 → 185–189 µs,
-    // one hose's surface 3.02 → 2.44–2.51 µs (tests/bench/PERFORMANCE-NOTES.md, session 10).
+    // this AMD EPYC (Zen 4) VM the two loops are faster: the 50-hose frame 210 → 183 µs, one
+    // hose's surface 2.99 → 2.47 µs (tests/bench/PERFORMANCE-NOTES.md, session 10).
     m_maxTwist = computeRingFrames(hose, m_seed, m_frames);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpuHasAvx512Vl()) writeRingsAvx512Vl(m_frames, writer);
-    else if (cpuHasAvx2Fma()) writeRingsAvx2(m_frames, writer);
+    if (cpuHasAvx512()) writeRingsAvx512Vl(m_frames, writer);
+    else if (cpuHasAvx2()) writeRingsAvx2(m_frames, writer);
     else writeRings(m_frames, writer);
 #else
     writeRings(m_frames, writer);

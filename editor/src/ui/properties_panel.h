@@ -42,9 +42,9 @@ private:
     void onDocumentChanged(const ChangeEvent& event);
     void refresh();
     void refreshPart();
-    /// The gravity state label of the selected hose.
     /// Blank (no hose selected) or ready to show a hose's values (see refresh()).
     void showHoseValues(bool shown);
+    /// The gravity state label of the selected hose.
     void refreshGravityState();
     /// Validates `changed` and pushes it as a change of one field; refuses with a message.
     bool apply(const formats::HoseDefinition& changed, int mergeId, const QString& text);
