@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <numbers>
 
 namespace chaintube::formats {
 
@@ -28,7 +29,6 @@ constexpr std::size_t kMaxRoutePoints = 100000;  // route points of one hose
 // length divided by it).
 constexpr std::size_t kMaxProjectAxisPoints = 10000000;
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string describe(const json& value)
 {
@@ -179,7 +179,7 @@ private:
     {
         if (bound == HUGE_VAL) return "inf";
         if (bound == -HUGE_VAL) return "-inf";
-        if (bound == kPi) return "pi";
+        if (bound == std::numbers::pi) return "pi";
         if (bound == std::floor(bound) && std::abs(bound) < 1e15)
             return std::to_string(static_cast<long long>(bound));
         return json(bound).dump();
@@ -219,7 +219,7 @@ Material readMaterialValues(const Cursor& cursor, std::initializer_list<const ch
                               limit.key("minBendRadius").number(0, true, HUGE_VAL, false)};
     } else {
         material.bendLimit = {BendLimit::Kind::DeflectionAngle,
-                              limit.key("deflectionAngle").number(0, true, kPi, false)};
+                              limit.key("deflectionAngle").number(0, true, std::numbers::pi, false)};
     }
     return material;
 }
@@ -261,7 +261,7 @@ ProfileSpec readProfile(const Cursor& cursor)
             points[i].arraySize(2, 2);
             profile.points.push_back({points[i][0].anyFinite(), points[i][1].anyFinite()});
         }
-        profile.smoothAngle = cursor.key("smoothAngle").number(0, true, kPi, false);
+        profile.smoothAngle = cursor.key("smoothAngle").number(0, true, std::numbers::pi, false);
     } else {
         cursor.key("shape").fail("expected one of \"circle\", \"ellipse\", \"rectangle\", "
                                  "\"roundedRectangle\", \"polygon\", got \"" +
@@ -396,7 +396,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         }
         scene.import.chordalTolerance =
             import.key("chordalTolerance").number(0, false, HUGE_VAL, false);
-        scene.import.angularTolerance = import.key("angularTolerance").number(0, false, kPi, true);
+        scene.import.angularTolerance = import.key("angularTolerance").number(0, false, std::numbers::pi, true);
         project.scenes.push_back(std::move(scene));
     }
 

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <numbers>
 
 namespace chaintube {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxSegments = 1000000;
 
 std::string str(double value)
@@ -68,7 +68,7 @@ void HoseSpec::validate() const
     if (!gravity.direction.allFinite() || gravity.direction.squaredNorm() == 0.0)
         throw InvalidArgument("hose.gravity.direction: expected a finite non-zero vector, got " +
                               str(gravity.direction));
-    if (!std::isfinite(torsion.twistLimit) || torsion.twistLimit <= 0.0 || torsion.twistLimit > kPi)
+    if (!std::isfinite(torsion.twistLimit) || torsion.twistLimit <= 0.0 || torsion.twistLimit > std::numbers::pi)
         throw InvalidArgument("hose.torsion.twistLimit: expected an angle in (0, pi] rad per joint, got " +
                               str(torsion.twistLimit));
 }
@@ -236,7 +236,7 @@ double Hose::currentLength() const
 
 double Hose::deflectionLimit(int joint) const
 {
-    if (joint <= 0 || joint >= pointCount() - 1) return kPi;
+    if (joint <= 0 || joint >= pointCount() - 1) return std::numbers::pi;
     return std::atan2(m_sinLimit[static_cast<size_t>(joint)], m_cosLimit[static_cast<size_t>(joint)]);
 }
 

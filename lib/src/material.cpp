@@ -3,11 +3,11 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <numbers>
 
 namespace chaintube {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 std::string describe(double value)
 {
@@ -20,7 +20,7 @@ std::string describe(double value)
 
 BendLimit BendLimit::deflectionAngle(double radians)
 {
-    if (!std::isfinite(radians) || radians < 0.0 || radians >= kPi)
+    if (!std::isfinite(radians) || radians < 0.0 || radians >= std::numbers::pi)
         throw InvalidArgument("bendLimit.deflectionAngle: expected radians in [0, pi), got " +
                               describe(radians));
     return {Kind::DeflectionAngle, radians};
@@ -49,9 +49,9 @@ void Material::validate() const
 double jointDeflectionLimit(const BendLimit& limit, double segmentLength)
 {
     if (limit.kind == BendLimit::Kind::DeflectionAngle) return limit.value;
-    if (limit.value <= 0.0) return kPi;
+    if (limit.value <= 0.0) return std::numbers::pi;
     const double half = segmentLength / (2.0 * limit.value);
-    if (half >= 1.0) return kPi;
+    if (half >= 1.0) return std::numbers::pi;
     return 2.0 * std::asin(half);
 }
 

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <numbers>
 
 namespace chaintube {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 void requirePositive(double value, const char* name)
 {
@@ -142,7 +142,7 @@ Profile Profile::circle(double radius, int sides)
     profile.m_parameters = {radius, static_cast<double>(sides)};
     std::vector<Vec2> corners, normals;
     for (int j = 0; j < sides; ++j) {
-        const double angle = 2.0 * kPi * j / sides;
+        const double angle = 2.0 * std::numbers::pi * j / sides;
         const Vec2 direction(std::cos(angle), std::sin(angle));
         corners.push_back(radius * direction);
         normals.push_back(direction);
@@ -161,7 +161,7 @@ Profile Profile::ellipse(double semiAxisX, double semiAxisY, int sides)
     profile.m_parameters = {semiAxisX, semiAxisY, static_cast<double>(sides)};
     std::vector<Vec2> corners, normals;
     for (int j = 0; j < sides; ++j) {
-        const double angle = 2.0 * kPi * j / sides;
+        const double angle = 2.0 * std::numbers::pi * j / sides;
         const double c = std::cos(angle), s = std::sin(angle);
         corners.emplace_back(semiAxisX * c, semiAxisY * s);
         normals.push_back(Vec2(c / semiAxisX, s / semiAxisY).normalized());
@@ -203,7 +203,7 @@ Profile Profile::roundedRectangle(double width, double height, double cornerRadi
     std::vector<Vec2> corners, normals;
     for (int c = 0; c < 4; ++c) {
         for (int k = 0; k <= cornerSegments; ++k) {
-            const double angle = -0.5 * kPi + 0.5 * kPi * (c + static_cast<double>(k) / cornerSegments);
+            const double angle = -0.5 * std::numbers::pi + 0.5 * std::numbers::pi * (c + static_cast<double>(k) / cornerSegments);
             const Vec2 direction(std::cos(angle), std::sin(angle));
             const Vec2 point = centres[c] + cornerRadius * direction;
             // A corner radius of exactly half the side makes neighbouring arcs meet: skip the
@@ -226,7 +226,7 @@ Profile Profile::polygon(const std::vector<Vec2>& points, double smoothAngle)
     if (points.size() < 3)
         throw InvalidArgument("profile.points: expected at least 3 points, got " +
                               std::to_string(points.size()));
-    if (!std::isfinite(smoothAngle) || smoothAngle < 0.0 || smoothAngle > kPi)
+    if (!std::isfinite(smoothAngle) || smoothAngle < 0.0 || smoothAngle > std::numbers::pi)
         throw InvalidArgument("profile.smoothAngle: expected radians in [0, pi], got " +
                               std::to_string(smoothAngle));
     double extent = 0.0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <numbers>
 
 namespace chaintube {
 
@@ -27,14 +28,13 @@ Resolution resolutionFor(double tolerance, const BendLimit& bendLimit, double ou
     const double t = std::min(tolerance, radius);
     r.segmentLength = 2.0 * std::sqrt(std::max(0.0, 2.0 * radius * t - t * t));
     r.centrelineError = radius - std::sqrt(std::max(0.0, radius * radius - 0.25 * r.segmentLength * r.segmentLength));
-    constexpr double kPi = 3.14159265358979323846;
     if (tolerance >= outerRadius) {
         r.ringSides = 3;
     } else {
-        const double sides = std::ceil(kPi / std::acos(1.0 - tolerance / outerRadius) - 1e-9);
+        const double sides = std::ceil(std::numbers::pi / std::acos(1.0 - tolerance / outerRadius) - 1e-9);
         r.ringSides = static_cast<int>(std::clamp(sides, 3.0, 1024.0));
     }
-    r.ringError = outerRadius * (1.0 - std::cos(kPi / r.ringSides));
+    r.ringError = outerRadius * (1.0 - std::cos(std::numbers::pi / r.ringSides));
     return r;
 }
 

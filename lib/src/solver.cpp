@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace chaintube {
 
@@ -585,7 +586,6 @@ public:
     /// receives the state before (only then).
     bool bowFlatCompressedSpans(std::vector<Vec3>& before)
     {
-        constexpr double kPi = 3.14159265358979323846;
         if (h.m_attachments.empty()) return false; // a grabbed point alone bounds no span
         thread_local std::vector<std::pair<int, int>> pins;
         pins.clear();
@@ -623,7 +623,7 @@ public:
             double lo = 0.0, hi = 2.0 / longest;
             for (int step = 0; step < 64; ++step) {
                 const double kappa = 0.5 * (lo + hi), phi = angle(kappa);
-                const bool longer = phi < 2.0 * kPi && 2.0 / kappa * std::sin(0.5 * phi) > c;
+                const bool longer = phi < 2.0 * std::numbers::pi && 2.0 / kappa * std::sin(0.5 * phi) > c;
                 (longer ? lo : hi) = kappa;
             }
             const double kappa = 0.5 * (lo + hi), rho = 1.0 / kappa, phi = angle(kappa);

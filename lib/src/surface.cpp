@@ -54,6 +54,7 @@ void normalizeScalar(double* x, double* y, double* z, size_t count)
 #if defined(__x86_64__) && defined(__GNUC__)
 } // namespace chaintube
 #include <immintrin.h>
+#include <numbers>
 namespace chaintube {
 namespace {
 bool cpuHasAvx2()
@@ -299,7 +300,6 @@ bool torsionActive(const Hose& hose) { return hose.spec().torsion.enabled && !ho
 /// largest twist per joint.
 double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
 {
-    constexpr double kPi = 3.14159265358979323846;
     std::vector<const Hose::Attachment*> order;
     for (const Hose::Attachment& a : hose.attachments()) order.push_back(&a);
     std::sort(order.begin(), order.end(), [](auto* x, auto* y) { return x->first < y->first; });
@@ -322,7 +322,7 @@ double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& f
             // has no roll: keep the last one.
             if (across.norm() > 1e-9) {
                 const double raw = std::atan2(ring.tangent.dot(ring.alignment.cross(across)), ring.alignment.dot(across));
-                double delta = std::remainder(raw - record.roll, 2.0 * kPi);
+                double delta = std::remainder(raw - record.roll, 2.0 * std::numbers::pi);
                 record.roll += delta;
             }
         }

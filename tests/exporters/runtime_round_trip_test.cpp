@@ -155,7 +155,7 @@ Deviation compare(const rig::HoseRuntime& runtime, const LibraryReference& refer
 
         const HoseSurface& librarySurface = reference.surfaces[static_cast<size_t>(h)];
         const std::vector<float> world = runtime.worldPositions(h);
-        const FloatSpan local = librarySurface.positions();
+        const std::span<const float> local = librarySurface.positions();
         EXPECT_EQ(world.size(), local.size());
         for (size_t v = 0; v < std::min(world.size(), local.size()); ++v)
             deviation.surface = std::max(

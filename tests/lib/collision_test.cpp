@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <numbers>
 
 namespace chaintube::test {
 namespace {
@@ -621,7 +622,7 @@ TEST(Clearance, MinimumDistanceAndWhereItOccurs)
     Mesh mesh;
     mesh.box({-0.04, -0.04, -0.1}, {0.04, 0.04, 0.1});
     Frame place;
-    place.rotation = Quat(Eigen::AngleAxisd(kPi / 4, Vec3::UnitZ()));
+    place.rotation = Quat(Eigen::AngleAxisd(std::numbers::pi / 4, Vec3::UnitZ()));
     place.translation = Vec3(0.66, 0.03 + 0.04 * std::sqrt(2.0), 0);
     auto block = mesh.collider(place);
     const Clearance c = clearance(hose, *block);

@@ -3,6 +3,7 @@
 #include "test_util.h"
 
 #include <cstdio>
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -205,7 +206,7 @@ double pinnedSag(double length, int segments, double radius, int* steps = nullpt
     spec.gravity.enabled = true;
     // Start as the circle arc of this length below the pins (radius from 2R sin(S / 2R) = 1,
     // 0.5276 m for S = 2): valid for every limit used, and the same start for every limit.
-    double lo = length / (2.0 * kPi) * 1.0001, hi = 100.0;
+    double lo = length / (2.0 * std::numbers::pi) * 1.0001, hi = 100.0;
     for (int k = 0; k < 200; ++k) {
         const double mid = 0.5 * (lo + hi);
         ((2.0 * mid * std::sin(length / (2.0 * mid)) - 1.0 > 0.0) ? hi : lo) = mid;

@@ -1,4 +1,5 @@
 #include "test_util.h"
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -17,8 +18,8 @@ TEST(Material, DeflectionAngleFromMinBendRadiusMatchesThePolylineBendRadius)
 
 TEST(Material, SegmentsLongerThanTheBendDiameterAreUnlimited)
 {
-    EXPECT_EQ(jointDeflectionLimit(BendLimit::minBendRadius(0.1), 0.2), kPi);
-    EXPECT_EQ(jointDeflectionLimit(BendLimit::minBendRadius(0.0), 0.01), kPi);
+    EXPECT_EQ(jointDeflectionLimit(BendLimit::minBendRadius(0.1), 0.2), std::numbers::pi);
+    EXPECT_EQ(jointDeflectionLimit(BendLimit::minBendRadius(0.0), 0.01), std::numbers::pi);
     EXPECT_EQ(jointDeflectionLimit(BendLimit::deflectionAngle(0.5), 123.0), 0.5);
 }
 

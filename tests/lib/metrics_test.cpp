@@ -1,4 +1,5 @@
 #include "test_util.h"
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -33,7 +34,7 @@ TEST(Metrics, OverstretchAndBendBelowMinimumAreFoundWhereTheyAre)
     const HoseMetrics b = measure(bent);
     ASSERT_EQ(b.bendBelowMinimum.size(), 1u);
     EXPECT_EQ(b.bendBelowMinimum[0], 1);
-    EXPECT_NEAR(b.smallestBendRadius, 1.0 / (2 * std::sin(kPi / 4)), 1e-12);
+    EXPECT_NEAR(b.smallestBendRadius, 1.0 / (2 * std::sin(std::numbers::pi / 4)), 1e-12);
 }
 
 TEST(Metrics, RingSelfIntersectionWhenTheRadiusExceedsTheBendsReach)

@@ -1,4 +1,5 @@
 #include "test_util.h"
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -30,7 +31,7 @@ TEST(Profile, CircleHasSidesPlusSeamVerticesWithRadialNormals)
         EXPECT_NEAR(p.points()[j].norm(), 0.01, 1e-15);
         EXPECT_NEAR(p.normals()[j].dot(p.points()[j].normalized()), 1.0, 1e-12);
     }
-    EXPECT_NEAR(capArea(p), 0.5 * 16 * 0.01 * 0.01 * std::sin(2 * kPi / 16), 1e-15);
+    EXPECT_NEAR(capArea(p), 0.5 * 16 * 0.01 * 0.01 * std::sin(2 * std::numbers::pi / 16), 1e-15);
 }
 
 TEST(Profile, RectangleHasHardEdgesAndNoZeroWidthFaces)
@@ -46,11 +47,11 @@ TEST(Profile, RectangleHasHardEdgesAndNoZeroWidthFaces)
 
 TEST(Profile, EllipseAndRoundedRectangleAreaMatchTheirShape)
 {
-    EXPECT_NEAR(capArea(Profile::ellipse(0.02, 0.01, 256)), kPi * 0.02 * 0.01, 1e-7);
+    EXPECT_NEAR(capArea(Profile::ellipse(0.02, 0.01, 256)), std::numbers::pi * 0.02 * 0.01, 1e-7);
     const double r = 0.005;
     // Four quarter arcs of 32 segments make an inscribed 128-gon of radius r.
     EXPECT_NEAR(capArea(Profile::roundedRectangle(0.04, 0.02, r, 32)),
-                0.04 * 0.02 - 4 * r * r + 64 * r * r * std::sin(2 * kPi / 128), 1e-15);
+                0.04 * 0.02 - 4 * r * r + 64 * r * r * std::sin(2 * std::numbers::pi / 128), 1e-15);
     // Radius of half the smaller side: the straight part of that side vanishes.
     EXPECT_NO_THROW(Profile::roundedRectangle(0.04, 0.02, 0.01, 4));
 }

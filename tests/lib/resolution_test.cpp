@@ -1,4 +1,5 @@
 #include "test_util.h"
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -11,7 +12,7 @@ TEST(Resolution, ChosenResolutionMeetsTheToleranceAndIsTheCoarsestThatDoes)
         EXPECT_LE(r.ringError, tolerance);
         // One side fewer would miss the tolerance (unless at the minimum of 3).
         if (r.ringSides > 3) {
-            EXPECT_GT(0.01 * (1 - std::cos(kPi / (r.ringSides - 1))), tolerance);
+            EXPECT_GT(0.01 * (1 - std::cos(std::numbers::pi / (r.ringSides - 1))), tolerance);
         }
         // The sagitta bound is tight: a 1 % longer segment exceeds the tolerance.
         const double longer = 1.01 * r.segmentLength;
@@ -29,7 +30,7 @@ TEST(Resolution, AnArcSampledAtTheChosenSegmentLengthStaysWithinTolerance)
     spec.material.expansionCoefficient = 0.0;
     // Lay a half circle of radius R as a route of many points and compare with the circle.
     std::vector<Vec3> route;
-    for (int k = 0; k <= 400; ++k) route.emplace_back(radius * std::sin(kPi * k / 400), radius * (1 - std::cos(kPi * k / 400)), 0);
+    for (int k = 0; k <= 400; ++k) route.emplace_back(radius * std::sin(std::numbers::pi * k / 400), radius * (1 - std::cos(std::numbers::pi * k / 400)), 0);
     const Hose hose = Hose::alongRoute(route, spec);
     double worst = 0.0;
     for (int s = 0; s + 1 < hose.pointCount(); ++s) {

@@ -1,4 +1,5 @@
 #include "test_util.h"
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -11,7 +12,7 @@ TEST(Route, CornersAreRoundedWithTheMinimumBendRadius)
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
     const Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0)}, spec);
     // Two legs of 1 m minus the arc's tangent lengths plus a quarter circle.
-    EXPECT_NEAR(hose.restLengthTotal(), 2.0 - 2 * 0.1 + 0.5 * kPi * 0.1, 2e-4);
+    EXPECT_NEAR(hose.restLengthTotal(), 2.0 - 2 * 0.1 + 0.5 * std::numbers::pi * 0.1, 2e-4);
     const HoseMetrics m = measure(hose);
     EXPECT_GT(m.smallestBendRadius, 0.1 * (1 - 1e-6));
     EXPECT_LT(m.smallestBendRadius, 0.105);

@@ -2,6 +2,7 @@
 #include "test_util.h"
 
 #include <limits>
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::test;
@@ -283,7 +284,7 @@ TEST(SolverHardCases, SetUpFunctionsRejectBadInputNamingTheField)
     };
     const double nan = std::numeric_limits<double>::quiet_NaN();
     HoseSpec spec = paperSpec();
-    expectMessage([&] { BendLimit::deflectionAngle(kPi); }, "deflectionAngle");
+    expectMessage([&] { BendLimit::deflectionAngle(std::numbers::pi); }, "deflectionAngle");
     expectMessage([&] { BendLimit::deflectionAngle(-0.1); }, "deflectionAngle");
     expectMessage([&] { BendLimit::minBendRadius(nan); }, "minBendRadius");
     spec.outerDiameter = -1;

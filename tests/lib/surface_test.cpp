@@ -117,8 +117,8 @@ TEST(Surface, VerticesAreOnTheRingsAndTrianglesFaceOutwards)
     EXPECT_EQ(t.ringVertexCount, 17);
     EXPECT_EQ(t.vertexCount, 11 * 17 + 2 * 16);
     EXPECT_EQ(t.indices.size(), 3u * (10 * 16 * 2 + 2 * 14));
-    const FloatSpan pos = surface.positions();
-    const FloatSpan nrm = surface.normals();
+    const std::span<const float> pos = surface.positions();
+    const std::span<const float> nrm = surface.normals();
     for (int v = 0; v < 11 * 17; ++v) {
         const Vec3 p(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]);
         EXPECT_NEAR(std::hypot(p.x(), p.y()), 0.01, 1e-7);
@@ -192,8 +192,8 @@ TEST(Surface, EveryRingVertexIsItsProfilePointInTheRingFrameForEverySideCount)
             const Profile& profile = hose.profile();
             const int ringVertices = surface.topology().ringVertexCount;
             ASSERT_EQ(ringVertices, static_cast<int>(profile.points().size()));
-            const FloatSpan pos = surface.positions();
-            const FloatSpan nrm = surface.normals();
+            const std::span<const float> pos = surface.positions();
+            const std::span<const float> nrm = surface.normals();
             double worstPosition = 0.0, worstNormal = 0.0;
             for (int i = 0; i < hose.pointCount(); ++i) {
                 const RingFrame& ring = surface.frames()[static_cast<size_t>(i)];

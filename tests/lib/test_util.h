@@ -7,11 +7,11 @@
 
 #include <cmath>
 #include <random>
+#include <numbers>
 
 namespace chaintube::test {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegree = kPi / 180.0;
+constexpr double kDegree = std::numbers::pi / 180.0;
 
 inline HoseSpec paperSpec(int segments = 12, double expansion = 0.2, double deflectionDegrees = 40)
 {

@@ -62,7 +62,7 @@ TEST(Torsion, OneAttachmentRollsTheWholeHoseRigidly)
     for (double r : rollsBetween(before, surface.frames())) EXPECT_NEAR(r, 0.7, 1e-9);
     EXPECT_NEAR(surface.maxTwistPerJoint(), 0.0, 1e-12) << "a free end does not twist";
     // The vertices roll with the rings: the rectangle's first corner sits on the rolled axes.
-    const FloatSpan p = surface.positions();
+    const std::span<const float> p = surface.positions();
     const Vec2 q = hose.profile().points()[0];
     const RingFrame& ring = surface.frames()[0];
     const Vec3 expected = ring.center + q.x() * ring.alignment + q.y() * ring.binormal;

@@ -235,8 +235,8 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
         }
         if (gpu.uploadedRevision != hose.revision()) {
             gpu.surface->update(hose);
-            const FloatSpan positions = gpu.surface->positions();
-            const FloatSpan normals = gpu.surface->normals();
+            const std::span<const float> positions = gpu.surface->positions();
+            const std::span<const float> normals = gpu.surface->normals();
             glBindBuffer(GL_ARRAY_BUFFER, gpu.positions);
             glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(positions.size() * sizeof(float)),
                             positions.data());

@@ -25,12 +25,12 @@
 #include <utility>
 
 #include <cmath>
+#include <numbers>
 
 namespace chaintube::editor {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// The shape box's last item: a polygon profile (shown, not offered).
 constexpr int kPolygonShapeIndex = 4;
 
@@ -343,7 +343,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
             return;
         m_document.closeMerge();
         edit(MergeId::HoseDefinition, tr("Change twist limit"),
-             [degrees](formats::HoseDefinition& d) { d.torsion.twistLimit = degrees * kPi / 180.0; });
+             [degrees](formats::HoseDefinition& d) { d.torsion.twistLimit = degrees * std::numbers::pi / 180.0; });
         m_document.closeMerge();
     });
     connect(&m_document, &Document::gravityStateChanged, this,
@@ -567,7 +567,7 @@ Material PropertiesPanel::currentMaterial() const
         material.bendLimit.value = m_bendValue->value() / 1000.0;
     else
         material.bendLimit.kind = BendLimit::Kind::DeflectionAngle,
-        material.bendLimit.value = m_bendValue->value() * kPi / 180.0;
+        material.bendLimit.value = m_bendValue->value() * std::numbers::pi / 180.0;
     return material;
 }
 
@@ -651,7 +651,7 @@ void PropertiesPanel::refresh()
         m_bendValue->setRange(0, radius ? 5000 : 179.9);
         m_bendSlider->setRange(0, radius ? 1000 : 179);
         const double bend = radius ? material.bendLimit.value * 1000.0
-                                   : material.bendLimit.value * 180.0 / kPi;
+                                   : material.bendLimit.value * 180.0 / std::numbers::pi;
         m_bendValue->setValue(bend);
         m_bendSlider->setValue(int(std::lround(bend)));
         const formats::ProfileSpec& p = definition->profile;
@@ -691,7 +691,7 @@ void PropertiesPanel::refresh()
         m_gravityDirection->setCurrentIndex(directionIndex);
         m_gravityDirection->setEnabled(definition->gravity.enabled);
         m_torsion->setChecked(definition->torsion.enabled);
-        m_twistLimit->setValue(definition->torsion.twistLimit * 180.0 / kPi);
+        m_twistLimit->setValue(definition->torsion.twistLimit * 180.0 / std::numbers::pi);
         m_twistLimit->setEnabled(definition->torsion.enabled);
         const int points = hose ? hose->pointCount() : 1;
         m_fixFirst->setRange(0, points - 1);
@@ -789,7 +789,7 @@ void PropertiesPanel::refreshPart()
         const Eigen::Vector3d euler = rotation.eulerAngles(0, 1, 2);
         for (int i = 0; i < 3; ++i) {
             m_translation[i]->setValue(local(i, 3) * 1000.0);
-            double degrees = euler[i] * 180.0 / kPi;
+            double degrees = euler[i] * 180.0 / std::numbers::pi;
             if (degrees > 180.0)
                 degrees -= 360.0;
             m_rotation[i]->setValue(degrees);
@@ -812,9 +812,9 @@ void PropertiesPanel::setPartTransformFromFields(int translationAxis)
     for (int c = 0; c < 3; ++c)
         scale[c] = current.block<3, 1>(0, c).norm();
     const Mat3 rotation =
-        (Eigen::AngleAxisd(m_rotation[0]->value() * kPi / 180.0, Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(m_rotation[1]->value() * kPi / 180.0, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(m_rotation[2]->value() * kPi / 180.0, Eigen::Vector3d::UnitZ()))
+        (Eigen::AngleAxisd(m_rotation[0]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(m_rotation[1]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(m_rotation[2]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ()))
             .toRotationMatrix();
     formats::Mat4 local = current;
     // Only what was edited is taken from the (rounded) fields, so that moving a part along

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 namespace chaintube::editor {
 
@@ -21,9 +22,8 @@ namespace {
 /// default hose radius) along the surface normal.
 constexpr double kRouteLift = 0.01;
 constexpr double kHandlePixels = 9.0;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMoveSnapMetres = 0.01;          ///< Ctrl while moving a part
-constexpr double kRotateSnapRadians = kPi / 12.0; ///< Ctrl while rotating a part: 15°
+constexpr double kRotateSnapRadians = std::numbers::pi / 12.0; ///< Ctrl while rotating a part: 15°
 } // namespace
 
 Viewport::Viewport(Document& document, QWidget* parent)
@@ -477,7 +477,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         const Selection& selection = m_document.selection();
         const double screenAngle = gizmoScreenAngle(position);
         double step = screenAngle - m_gizmoLastScreenAngle;
-        step -= 2 * kPi * std::round(step / (2 * kPi));
+        step -= 2 * std::numbers::pi * std::round(step / (2 * std::numbers::pi));
         m_gizmoLastScreenAngle = screenAngle;
         const Vec3 a = Vec3::Unit(m_gizmoAxis);
         const bool facesViewer = a.dot(m_camera.eye() - m_gizmoStartOrigin) > 0;
@@ -500,7 +500,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
             m_document, {selection.sceneId, selection.node}, local, tr("Rotate part")));
         emit statusMessage(tr("Rotate about %1: %2°%3")
                                .arg(QChar("XYZ"[m_gizmoAxis]))
-                               .arg(angle * 180.0 / kPi, 0, 'f', 1)
+                               .arg(angle * 180.0 / std::numbers::pi, 0, 'f', 1)
                                .arg(event->modifiers() & Qt::ControlModifier
                                         ? QString()
                                         : tr(" (hold Ctrl to snap to 15°)")));

@@ -546,7 +546,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         }
 
         // Vertices in world metres (the skinned node sits at the root with no transform).
-        const FloatSpan local = surface.positions();
+        const std::span<const float> local = surface.positions();
         std::vector<float> positions(local.size());
         for (size_t v = 0; v < local.size(); ++v)
             positions[v] = static_cast<float>(static_cast<double>(local[v]) +
@@ -555,7 +555,7 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         primitive.mode = TINYGLTF_MODE_TRIANGLES;
         primitive.attributes["POSITION"] = buffer.vec3Floats(positions, true);
         primitive.attributes["NORMAL"] =
-            buffer.vec3Floats(unitNormals(surface.normals().toVector()), false);
+            buffer.vec3Floats(unitNormals({surface.normals().begin(), surface.normals().end()}), false);
         if (options.writeTextureCoordinates) {
             const int v =
                 buffer.view(topology.uvs.data(), topology.uvs.size() * sizeof(float), kArrayBuffer);

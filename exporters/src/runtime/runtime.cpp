@@ -404,7 +404,7 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
 std::vector<float> HoseRuntime::worldPositions(int hose) const
 {
     const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
-    const FloatSpan local = running.surface.positions();
+    const std::span<const float> local = running.surface.positions();
     const Vec3& origin = running.hose.origin();
     std::vector<float> world(local.size());
     for (size_t v = 0; v < local.size(); v += 3)

@@ -4,6 +4,7 @@
 #include "chaintube/hose.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace chaintube {
@@ -90,24 +91,6 @@ struct SurfaceTopology
     static SurfaceTopology build(const Hose& hose);
 };
 
-/// A read-only view of a float buffer.
-class FloatSpan
-{
-public:
-    FloatSpan() = default;
-    FloatSpan(const float* data, size_t size) : m_data(data), m_size(size) {}
-    const float* data() const { return m_data; }
-    size_t size() const { return m_size; }
-    float operator[](size_t i) const { return m_data[i]; }
-    const float* begin() const { return m_data; }
-    const float* end() const { return m_data + m_size; }
-    std::vector<float> toVector() const { return {begin(), end()}; }
-
-private:
-    const float* m_data = nullptr;
-    size_t m_size = 0;
-};
-
 /// The evolving surface of one hose: ring frames in double, vertex buffers in float.
 ///
 /// update() recomputes frames and vertices only when the hose's revision changed since the
@@ -126,9 +109,9 @@ public:
     const std::vector<RingFrame>& frames() const { return m_frames; }
     /// Float positions, 3 per vertex, in metres relative to hose.origin() (add the origin back
     /// in double, e.g. in the model matrix, for hoses far from the world origin).
-    FloatSpan positions() const { return {m_positions.data(), 3 * vertexCount()}; }
+    std::span<const float> positions() const { return {m_positions.data(), 3 * vertexCount()}; }
     /// Unit normals, 3 per vertex (rigidly attached to the ring, like the positions).
-    FloatSpan normals() const { return {m_normals.data(), 3 * vertexCount()}; }
+    std::span<const float> normals() const { return {m_normals.data(), 3 * vertexCount()}; }
     size_t vertexCount() const { return static_cast<size_t>(m_topology.vertexCount); }
     const TwistSeed& twistSeed() const { return m_seed; }
     /// Torsion: the largest twist per joint (radians) and how far it exceeds the hose's

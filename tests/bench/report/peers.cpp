@@ -11,13 +11,13 @@
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 #include <btBulletDynamicsCommon.h>
+#include <numbers>
 #endif
 
 namespace chaintube::bench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double jointLimit(const RodSetup& setup, double meanLength)
 {
@@ -97,7 +97,7 @@ public:
         m_minChord.assign(n, 0.0);
         for (size_t j = 1; j + 1 < n; ++j) {
             const double a = (m_x[j] - m_x[j - 1]).norm(), b = (m_x[j + 1] - m_x[j]).norm();
-            const double turn = setup.noBendLimit ? kPi : jointLimit(setup, 0.5 * (a + b));
+            const double turn = setup.noBendLimit ? std::numbers::pi : jointLimit(setup, 0.5 * (a + b));
             // Law of cosines: the neighbours' distance when the joint turns by `turn`.
             m_minChord[j] = std::sqrt(std::max(0.0, a * a + b * b + 2 * a * b * std::cos(turn)));
         }

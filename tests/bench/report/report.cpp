@@ -26,12 +26,12 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <numbers>
 
 using namespace chaintube;
 using namespace chaintube::bench;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kHoseLength = 1.0;
 constexpr double kHoseRadius = 0.008;
 
@@ -71,11 +71,11 @@ std::vector<double> restArclength(const RodSetup& setup)
 Vec3 hairpinPoint(const Vec3& apex, double s, double side)
 {
     const Vec3 centre = apex - kBendRadius * Vec3::UnitY();
-    if (s <= 0.5 * kPi * kBendRadius) {
+    if (s <= 0.5 * std::numbers::pi * kBendRadius) {
         const double phi = s / kBendRadius;
         return centre + kBendRadius * Vec3(side * std::sin(phi), std::cos(phi), 0.0);
     }
-    return centre + Vec3(side * kBendRadius, -(s - 0.5 * kPi * kBendRadius), 0.0);
+    return centre + Vec3(side * kBendRadius, -(s - 0.5 * std::numbers::pi * kBendRadius), 0.0);
 }
 
 const double kPullDistance = 4.0; // drag-middle: the final straight pull (m)
@@ -169,7 +169,7 @@ Frame attachmentFrame(int f)
     const double t = std::min(1.0, static_cast<double>(f + 1) / kAttachmentTurnFrames);
     Frame frame;
     frame.rotation = Quat(Eigen::AngleAxisd(1.2 * t, Vec3(0.0, 0.3, 1.0).normalized()));
-    frame.translation = Vec3(0.4 * t, 0.3 * std::sin(kPi * t), 0.0);
+    frame.translation = Vec3(0.4 * t, 0.3 * std::sin(std::numbers::pi * t), 0.0);
     if (f >= kAttachmentTurnFrames) {
         const double pull = kAttachmentPull * (f + 1 - kAttachmentTurnFrames) / kAttachmentPullFrames;
         frame.translation -= pull * (frame.rotation * Vec3::UnitX());
@@ -296,7 +296,7 @@ std::vector<Scenario> scenarios()
                         FrameRequest r;
                         if (f < 30) {
                             const double t = static_cast<double>(f + 1) / 30;
-                            r.grabs.emplace_back(n / 2, Vec3(0.5 + 0.15 * std::sin(2 * kPi * t), 0.25 * std::sin(kPi * t), 0.0));
+                            r.grabs.emplace_back(n / 2, Vec3(0.5 + 0.15 * std::sin(2 * std::numbers::pi * t), 0.25 * std::sin(std::numbers::pi * t), 0.0));
                         } else {
                             r.grabs.emplace_back(n / 2, Vec3(0.5, kPullDistance * (f - 29) / 200.0, 0.0));
                         }
@@ -335,7 +335,7 @@ std::vector<Scenario> scenarios()
                             r.end = translation(Vec3(-0.2 * (f + 1) / 15, 0.0, 0.0));
                         } else if (f < 45) {
                             const double t = static_cast<double>(f - 14) / 30;
-                            r.grabs.emplace_back(n / 2, Vec3(0.4, 0.2 * std::sin(kPi * t), 0.12 * std::sin(2 * kPi * t)));
+                            r.grabs.emplace_back(n / 2, Vec3(0.4, 0.2 * std::sin(std::numbers::pi * t), 0.12 * std::sin(2 * std::numbers::pi * t)));
                         } else {
                             const double t = std::min(1.0, static_cast<double>(f - 44) / 10);
                             r.grabs.emplace_back(n / 2, Vec3(0.4, t * (tautSpan().apexHeight + kBeyondReach), 0.0));
@@ -533,7 +533,7 @@ std::string equalErrorTable(const Front& chaintube, const std::vector<std::pair<
     return md.str();
 }
 
-double ringError(int sides) { return kHoseRadius * (1 - std::cos(kPi / sides)); }
+double ringError(int sides) { return kHoseRadius * (1 - std::cos(std::numbers::pi / sides)); }
 
 // Surface update cost of one hose (rings, normals) at this resolution, µs.
 double surfaceMicroseconds(int segments, int sides, int repeats)
@@ -641,10 +641,10 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
         const Vec3 laid = hose.points()[static_cast<size_t>(middle)];
         const auto start = std::chrono::steady_clock::now();
         for (int f = 0; f < frames; ++f) {
-            const double phase = 2 * kPi * (f + 1) / frames;
+            const double phase = 2 * std::numbers::pi * (f + 1) / frames;
             if (rollClamp) { // turn the clamp about the hose's axis there (+x), a quarter turn
                 Frame frame;
-                frame.rotation = Quat(Eigen::AngleAxisd(0.5 * kPi * (f + 1) / frames, Vec3::UnitX()));
+                frame.rotation = Quat(Eigen::AngleAxisd(0.5 * std::numbers::pi * (f + 1) / frames, Vec3::UnitX()));
                 hose.moveAttachment(clamp, frame);
             }
             hose.grab(middle, laid + 0.02 * Vec3(std::cos(phase) - 1, std::sin(phase), 0));
@@ -652,7 +652,7 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
             surface.update(hose);
         }
         best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames);
-        result.positions = surface.positions().toVector();
+        result.positions.assign(surface.positions().begin(), surface.positions().end());
         result.axis = hose.points();
     }
     result.microseconds = best;
@@ -765,10 +765,10 @@ int main(int argc, char** argv)
     std::vector<std::pair<double, double>> radiusConvergence, angleConvergence;
     std::ostringstream wrapTable;
     const std::vector<int> convergenceResolutions = quick ? std::vector<int>{15, 30, 60, 120} : std::vector<int>{15, 30, 60, 120, 240, 480};
-    const double wrapLength = 2 * kWrapStraight + kPi * kWrapRadius;
+    const double wrapLength = 2 * kWrapStraight + std::numbers::pi * kWrapRadius;
     const double fixedAngle = jointDeflectionLimit(BendLimit::minBendRadius(kWrapRadius), wrapLength / convergenceResolutions.front());
     wrapTable << "| segments | lay-out time µs | error, min bend radius " << kWrapRadius << " m | error, fixed "
-              << fmt(fixedAngle * 180 / kPi) << "° per joint (paper) |\n|---|---|---|---|\n";
+              << fmt(fixedAngle * 180 / std::numbers::pi) << "° per joint (paper) |\n|---|---|---|---|\n";
     for (int n : convergenceResolutions) {
         std::vector<Vec3> axis;
         const double seconds = layWrap(n, BendLimit::minBendRadius(kWrapRadius), axis, repeats);
@@ -1000,7 +1000,7 @@ int main(int argc, char** argv)
                     for (int round = 0; round < rounds; ++round) {
                         const auto start = std::chrono::steady_clock::now();
                         for (int f = 0; f < frames; ++f) {
-                            const double phase = 2 * kPi * (f + 1) / frames;
+                            const double phase = 2 * std::numbers::pi * (f + 1) / frames;
                             for (int i = 0; i < scene.hoseCount(); ++i) {
                                 const int middle = scene.hose(i).pointCount() / 2;
                                 if (scene.hose(i).isFixed(middle)) continue;
@@ -1020,7 +1020,7 @@ int main(int argc, char** argv)
                     }
                     engineTable << "| " << (scale == 1 ? std::string("as authored") : std::to_string(scale) + "x") << " | " << points
                                 << " | " << sides << " | " << fmt(best) << " | " << fmt(error) << " | "
-                                << fmt(error + radius * (1 - std::cos(kPi / sides))) << " | " << fmt(lengthViolation) << " | "
+                                << fmt(error + radius * (1 - std::cos(std::numbers::pi / sides))) << " | " << fmt(lengthViolation) << " | "
                                 << fmt(bendViolation) << " | " << violatingAsLaid << " |";
                     for (const auto& [status, count] : statuses) engineTable << " " << status << " " << count;
                     engineTable << " |\n";
