@@ -307,6 +307,17 @@ bool Hose::detach(int id)
     return true;
 }
 
+double Hose::attachmentGap(int id) const
+{
+    const auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
+                                 [id](const Attachment& a) { return a.id == id; });
+    if (it == m_attachments.end()) return -1.0;
+    double gap = 0.0;
+    for (int i = it->first; i <= it->last; ++i)
+        gap = std::max(gap, (it->frame.apply(it->localPoints[static_cast<size_t>(i - it->first)]) - point(i)).norm());
+    return gap;
+}
+
 UpdateResult Hose::moveAttachment(int id, const Frame& frame)
 {
     return moveAttachments({id}, {frame});

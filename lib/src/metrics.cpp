@@ -57,6 +57,10 @@ HoseMetrics measure(const Hose& hose)
         }
         if (ratio > 1.0) m.selfIntersectingSegments.push_back(s);
     }
+    for (const Hose::Attachment& a : hose.attachments()) {
+        const double gap = hose.attachmentGap(a.id);
+        if (gap > 1e-9) m.unmetAttachments.push_back({a.id, gap});
+    }
     return m;
 }
 

@@ -233,6 +233,10 @@ public:
     };
     const std::vector<Attachment>& attachments() const { return m_attachments; }
     bool isFixed(int index) const;
+    /// How far an attachment is from being met (metres): the largest distance between where
+    /// its frame puts one of its points and where that point is. 0 while it is met; > 0 when
+    /// its frame was moved beyond the hose's reach (see Status::Infeasible). Unknown id: −1.
+    double attachmentGap(int id) const;
 
     /// Re-impose all constraints on the current shape (after a material change or on a shape
     /// built from raw points): propagates from the fixed points (or from point 0 if none).

@@ -33,11 +33,20 @@ struct HoseMetrics
     int worstRingOverlapSegment = -1;
     std::vector<int> selfIntersectingSegments;
 
+    /// Attachments whose frame is beyond the hose's reach: id and gap (metres, see
+    /// Hose::attachmentGap), for gaps above 1e-9 m.
+    struct UnmetAttachment
+    {
+        int id = 0;
+        double gap = 0.0;
+    };
+    std::vector<UnmetAttachment> unmetAttachments;
+
     bool overstretched() const { return lengthViolation > 1e-9; }
     bool hasProblems() const
     {
         return overstretched() || angleViolation > 1e-9 || !bendBelowMinimum.empty() ||
-               !selfIntersectingSegments.empty();
+               !selfIntersectingSegments.empty() || !unmetAttachments.empty();
     }
 };
 
