@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <new>
@@ -237,7 +238,12 @@ uint32_t chaintube_runtime_abi_version(void)
 
 const char* chaintube_status_name(chaintube_status status)
 {
-    switch (status) {
+    // A C caller may pass any int: read it as one (an enum outside its enumerators' range is
+    // undefined behaviour in C++).
+    int value = 0;
+    static_assert(sizeof value == sizeof status);
+    std::memcpy(&value, &status, sizeof value);
+    switch (value) {
     case CHAINTUBE_OK:
         return "CHAINTUBE_OK";
     case CHAINTUBE_ERROR_INVALID_ARGUMENT:
