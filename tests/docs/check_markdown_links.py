@@ -197,7 +197,7 @@ def main(arguments):
     repository = arguments[0] if arguments else os.path.join(os.path.dirname(__file__), "..", "..")
     broken = check(repository, sys.stdout)
     if broken:
-        print(f"{broken} broken link(s) in Markdown files", file=sys.stderr)
+        print(f"{broken} broken link(s) in Markdown files")
         return 1
     print(f"check_markdown_links.py: every relative link in {len(tracked_markdown(repository))} "
           "Markdown files resolves")
