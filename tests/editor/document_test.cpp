@@ -386,7 +386,7 @@ TEST(Document, ChangeEventsNameWhatChanged)
 }
 
 
-// --- live gravity and colliders (issue 7) -----------------------------------------------------
+// --- live gravity and colliders -----------------------------------------------------
 
 /// Steps gravity as the editor's timer does until nothing moves; returns the steps that moved
 /// something (bounded by the document's step budget).

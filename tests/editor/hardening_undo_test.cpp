@@ -1,4 +1,4 @@
-// Hardening (issue 8, "nothing lost"): 10,000 random edits of a document through its undo
+// Hardening ("nothing lost"): 10,000 random edits of a document through its undo
 // commands, then undoing all of them restores the original project exactly and redoing all of
 // them restores the final one (compared through Document::stateFingerprint, i.e.
 // serialiseProject plus pose overrides and scene ids, at every step of the way), and the live

@@ -1,4 +1,4 @@
-// Clearance analysis of projects (issue 7, section 3) and `chaintube check`.
+// Clearance analysis of projects and `chaintube check`.
 #include "cli_run.h"
 #include "export_test_support.h"
 

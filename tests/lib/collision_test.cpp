@@ -1,4 +1,4 @@
-// Collision with scene objects and clearance (issue 7, sections 2 and 3).
+// Collision with scene objects and clearance.
 #include "test_util.h"
 
 #include <chaintube/collision.h>

@@ -28,6 +28,8 @@
 #include <sstream>
 #include <numbers>
 
+#include "../realtime/machine.h"
+
 using namespace chaintube;
 using namespace chaintube::bench;
 
@@ -607,7 +609,7 @@ double memsetMicroseconds(size_t bytes, int rounds)
     return best;
 }
 
-// Cost of the features beyond the paper (issue 7), each against the same update without it:
+// Cost of the features beyond the paper, each against the same update without it:
 // a 100-point hose laid in a U, its start clamped, its middle point moved on a 2 cm circle each
 // frame (grab + surface). `configure` switches the feature on; `frame` may add work of the
 // feature's own (e.g. turning a clamp). Returns µs per frame (best of rounds) and the final
@@ -692,6 +694,11 @@ int main(int argc, char** argv)
         return (in >> oneMinute) ? oneMinute : std::string("unknown");
     };
     const std::string loadAtStart = loadAverage();
+    std::string command = "chaintube-bench-report";
+    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    const std::string provenance = "Commit " + realtime::gitCommit(CHAINTUBE_SOURCE_DIR) + ", " + realtime::utcDate() +
+                                   ", " + realtime::cpuModel() + ", CPUs allowed: " + realtime::allowedCpus() +
+                                   ". Command: `" + command + "`.\n\n";
     const std::vector<int> resolutions = quick ? std::vector<int>{10, 20, 40} : std::vector<int>{10, 20, 40, 80, 160};
     const std::vector<int> ringSides = quick ? std::vector<int>{8, 16} : std::vector<int>{8, 16, 32};
     const int repeats = quick ? 1 : 5; // best of: the machine is shared
@@ -1038,7 +1045,7 @@ int main(int argc, char** argv)
     engineTable << "Skipped: built without the exporter.\n";
 #endif
 
-    // Cost of each feature beyond the paper (issue 7), in this build. A feature whose switch
+    // Cost of each feature beyond the paper, in this build. A feature whose switch
     // exists but changes nothing yet is reported as such, never with a cost of zero.
     std::ostringstream featureTable;
     std::vector<double> featureFigures;
@@ -1136,6 +1143,7 @@ int main(int argc, char** argv)
     std::ostringstream md;
     md << "# Speed against error\n\n"
        << (quick ? "Quick run (`--quick`): fewer resolutions and one repeat.\n\n" : "Full run.\n\n")
+       << provenance
        << "Load average (1 min, /proc/loadavg) at the start " << loadAtStart << ", at the end of the measurements "
        << loadAverage() << ": other processes shared the machine, so timings are the best of repeats and carry noise.\n\n"
        << "Time per update is the best of the repeats, one core (other builds were loading the machine's second "
@@ -1257,7 +1265,7 @@ int main(int argc, char** argv)
           "Violations: largest over the 50 hoses after the frames (length relative, bend in rad).\n\n"
        << engineTable.str();
     md << "\n## Import and export\n\n" << pipelineTable.str();
-    md << "\n## Cost of the features beyond the paper (issue 7)\n\n"
+    md << "\n## Cost of the features beyond the paper\n\n"
        << "A 100-point hose (about 1.1 m laid in a U, the first segment clamped, the other end free, 16-sided rings), its middle point moved on a 2 cm "
           "circle every frame (grab + surface update), with and without the feature; for torsion the clamp "
           "also turns a quarter turn about the hose axis over the run, in both columns. Every frame calls Hose::step() (per-frame gravity; "
