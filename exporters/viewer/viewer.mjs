@@ -408,8 +408,11 @@ function selectPart(node) {
   }
 }
 
+// Esc deselects; W and E switch the gizmo between moving and rotating (as three.js's editor).
 window.addEventListener('keydown', (event) => {
   if (event.key === 'Escape' && current) selectPart(-1);
+  else if (event.key === 'w' || event.key === 'W') gizmo.setMode('translate');
+  else if (event.key === 'e' || event.key === 'E') gizmo.setMode('rotate');
 });
 
 // --- VR controllers: squeeze or trigger on a hose holds the nearest point ---------------------
