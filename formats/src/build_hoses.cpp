@@ -141,8 +141,9 @@ HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose)
 }
 
 Hose buildHose(const Project& project, const HoseDefinition& definition,
-               const ImportedScenes& scenes)
+               const ImportedScenes& scenes, UpdateResult* posedMove)
 {
+    if (posedMove) *posedMove = UpdateResult();
     Hose hose = Hose::alongRoute(definition.route, hoseSpecOf(project, definition));
     for (const HoseAttachment& attachment : definition.attachments) {
         const auto scene = scenes.find(attachment.scene);
@@ -185,7 +186,10 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
             frames.push_back(
                 rigidPart(posedWorldTransform(project, scenes, attachment.scene, node)) * offset);
         }
-        hose.moveAttachments(ids, frames);
+        const UpdateResult moved = hose.moveAttachments(ids, frames);
+        // Without a caller that asks, the hose itself keeps what the move could not do:
+        // measure() and Hose::attachmentGap report it to whoever draws or exports it.
+        if (posedMove) *posedMove = moved;
     }
     return hose;
 }

@@ -162,6 +162,12 @@ const HoseMetrics* Document::hoseMetrics(const std::string& hoseId) const
     return &*live.metrics;
 }
 
+UpdateResult Document::lastUpdate(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    return it == m_live.end() ? UpdateResult() : it->second.lastUpdate;
+}
+
 std::string Document::validateHoseDefinition(const formats::HoseDefinition& definition) const
 {
     try {
@@ -229,7 +235,7 @@ void Document::setClearanceMarkers(std::vector<ClearanceMarker> markers)
 
 Frame Document::nodeWorldFrame(const std::string& sceneId, int node) const
 {
-    return formats::rigidPart(nodeWorldTransform(sceneId, node));
+    return rigidPart(nodeWorldTransform(sceneId, node));
 }
 
 void Document::setSelection(const Selection& selection)
@@ -554,7 +560,7 @@ void Document::poseChanged(const NodeKey& node)
                 ids.push_back(attachment.id);
             const std::vector<Frame> frames = posedAttachmentFrames(definition);
             if (ids.size() == frames.size())
-                hoseObject.moveAttachments(ids, frames);
+                live->second.lastUpdate = hoseObject.moveAttachments(ids, frames);
             wakeGravity(definition.id);
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
@@ -571,7 +577,7 @@ void Document::poseChanged(const NodeKey& node)
         if (!near)
             continue;
         const std::uint64_t revision = live.hose->revision();
-        live.hose->resolveCollisions();
+        live.lastUpdate = live.hose->resolveCollisions();
         if (live.hose->revision() != revision) {
             wakeGravity(hoseId);
             emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
@@ -645,7 +651,7 @@ void Document::rebuildHose(const std::string& hoseId)
     try {
         // m_project.poses mirrors the overrides: buildHose builds at the file pose and moves
         // the attachments to the posed frames, exactly as the export and the CLI do.
-        live.hose = formats::buildHose(m_project, *definition, m_scenes);
+        live.hose = formats::buildHose(m_project, *definition, m_scenes, &live.lastUpdate);
         live.error.clear();
         applyColliders(hoseId);
         wakeGravity(hoseId);

@@ -159,7 +159,7 @@ HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
 std::shared_ptr<MeshCollider> HoseRuntime::buildCollider(const ColliderMesh& mesh,
                                                          const Eigen::Matrix4d& nodeWorld)
 {
-    const Frame frame = detail::rigidPart(nodeWorld);
+    const Frame frame = rigidPart(nodeWorld);
     // What the rigid frame leaves of the node's world transform (scale, shear) goes into the
     // vertices, so that frame.apply(vertex) is the vertex's world position.
     const Eigen::Matrix4d baked = detail::matrixOf(frame).inverse() * nodeWorld;
@@ -264,7 +264,7 @@ int HoseRuntime::findNode(std::string_view name) const
 
 Frame HoseRuntime::nodeWorldFrame(int node) const
 {
-    return detail::rigidPart(m_world.at(static_cast<size_t>(node)));
+    return rigidPart(m_world.at(static_cast<size_t>(node)));
 }
 
 void HoseRuntime::recomputeWorld()
@@ -354,7 +354,11 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
 int HoseRuntime::update()
 {
     for (size_t h = 0; h < m_hoses.size(); ++h)
-        if (m_descriptor.hoses[h].gravity.enabled) m_hoses[h].hose.step();
+        if (m_descriptor.hoses[h].gravity.enabled)
+            // A gravity step keeps every constraint that held before it and never moves a
+            // fixed point, so nothing in its result asks the platform to act; refresh() picks
+            // the moved points up through the hose's revision.
+            static_cast<void>(m_hoses[h].hose.step());
     return refresh();
 }
 

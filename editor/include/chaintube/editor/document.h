@@ -167,6 +167,10 @@ public:
     std::uint64_t hoseBuildSerial(const std::string& hoseId) const;
     /// measure() of the live hose (cached; recomputed when its revision changes).
     const HoseMetrics* hoseMetrics(const std::string& hoseId) const;
+    /// What the last update the document made to the live hose returned: its attachments moved
+    /// with a part (poseChanged, or a rebuild at a posed part), a moved collider pushing it, a
+    /// flag change pushing it out. A default (Ok) result for an unknown hose or before any.
+    UpdateResult lastUpdate(const std::string& hoseId) const;
 
     /// Checks that `definition` would build (material, profile, diameter, route) without
     /// changing anything. Returns "" if valid, else the reason, for the properties panel to
@@ -211,7 +215,8 @@ public:
     // --- live gravity (issue 7) -------------------------------------------------------------
     /// At most this many steps per hose after it last changed; a hose still moving then is
     /// left where it is (reported by gravityUnsettledHoses()) so that the editor goes idle.
-    static constexpr int kGravityStepBudget = 3000;
+    /// The export settles with the same budget, so it writes the shape the editor shows.
+    static constexpr int kGravityStepBudget = formats::kSettleStepBudget;
     /// One Hose::step() of every live hose with gravity on that has not settled yet (the main
     /// window calls it on a timer while gravityActive()). A simulation of the live shape, not
     /// an edit: no undo step, no modified flag; the definition's route stays as authored.
@@ -292,6 +297,7 @@ private:
         mutable std::uint64_t metricsRevision = 0;
         bool gravitySettled = true; ///< stepGravity(): the last step moved nothing
         int gravitySteps = 0;       ///< steps since the hose last changed (kGravityStepBudget)
+        UpdateResult lastUpdate;    ///< see Document::lastUpdate()
     };
     /// Marks a live hose with gravity on as settling (after a build, a drag, a part move);
     /// emits gravityStateChanged().

@@ -32,9 +32,12 @@ HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose);
 /// `scenes` must be at their file pose (as importProjectScenes gives them). If project.poses
 /// moves an attached node (or one of its ancestors), the attachments are then moved together
 /// to the posed frames (Hose::moveAttachments, one update): the hose follows the part, as in
-/// the editor. Throws InvalidArgument for an unknown scene id or node path (of an attachment
-/// or a pose), or a point range outside the built hose.
-Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes);
+/// the editor. `posedMove`, when given, receives that update's result (a default Ok result
+/// when no pose applies): Status::Infeasible when a posed part is beyond the hose's reach
+/// (Hose::attachmentGap says how far). Throws InvalidArgument for an unknown scene id or node
+/// path (of an attachment or a pose), or a point range outside the built hose.
+Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes,
+               UpdateResult* posedMove = nullptr);
 
 /// world ← node transform of `node` of scene `sceneId` with project.poses applied along the
 /// parent chain (`scenes` at their file pose). Throws InvalidArgument for an unknown scene, a
@@ -59,7 +62,8 @@ std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node,
 /// checked for clearance against it.
 bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId, const std::string& nodePath);
 
-/// How many gravity steps settleUnderGravity() takes at most (the editor's budget per hose).
+/// How many gravity steps settleUnderGravity() takes at most; the editor's live gravity has
+/// the same budget per hose (editor::Document::kGravityStepBudget).
 constexpr int kSettleStepBudget = 3000;
 
 /// A hose with HoseSpec::gravity on, brought to rest as the editor shows it: Hose::step() until
