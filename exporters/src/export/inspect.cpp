@@ -42,11 +42,11 @@ void checkDescriptorHoses(const rig::HoseRigDescriptor& descriptor, const std::s
                 throw;
             }
         }();
-        if (!d.gravity.enabled && !rig::restLengthsMatch(d)) // gravity: exported settled
+        if (!rig::withinStretchBand(d))
             result.warnings.push_back(at +
-                                      "/restLengths: the axis is not at its rest shape; a "
+                                      "/restLengths: segments lie beyond their stretch band; a "
                                       "runtime keeps the exported rest lengths, so the hose "
-                                      "starts stretched or compressed");
+                                      "starts overstretched or compressed");
         for (int j = 1; j + 1 < hose.pointCount(); ++j) {
             const double expected = hose.deflectionLimit(j);
             const double written = d.jointBendLimits[static_cast<size_t>(j - 1)];

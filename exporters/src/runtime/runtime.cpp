@@ -201,13 +201,14 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         const std::string at = "/hoses/" + std::to_string(h);
         std::vector<int> attachmentIds;
         Hose hose = rebuildHose(d, &attachmentIds);
-        // A project builds its hoses relaxed; report, rather than hide, a hose exported in a
-        // stretched or compressed state (rebuildHose keeps its rest lengths: it stays strained).
-        // (A gravity hose is exported settled, stretched within its band by its own weight.)
-        if (!d.gravity.enabled && !restLengthsMatch(d) && report)
-            report->warnings.push_back(at + "/restLengths: the axis was exported away from its "
-                                            "rest shape; the runtime keeps the exported rest "
-                                            "lengths, so the hose starts stretched or compressed");
+        // A project's hose lies on its route with its own length, stretched or compressed
+        // within its band at most; report, rather than hide, one exported beyond the band
+        // (rebuildHose keeps its rest lengths: the first update pulls it back in).
+        if (!withinStretchBand(d) && report)
+            report->warnings.push_back(at + "/restLengths: the axis was exported with segments "
+                                            "beyond their stretch band; the runtime keeps the "
+                                            "exported rest lengths, so the hose starts "
+                                            "overstretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
         RunningHose running{
             std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}};
