@@ -5,8 +5,11 @@
 
 #include <QMetaType>
 
+#include "chaintube/route.h"
+
 #include <algorithm>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace chaintube::editor {
@@ -175,14 +178,9 @@ std::string Document::validateHoseDefinition(const formats::HoseDefinition& defi
             return "The outer diameter must be a positive number of metres.";
         if (definition.route.size() < 2)
             return "A hose needs at least two route points.";
-        const HoseSpec spec = formats::hoseSpecOf(m_project, definition);
-        spec.validate();
-        const Hose built = Hose::alongRoute(definition.route, spec);
-        for (const formats::HoseAttachment& attachment : definition.attachments)
-            if (attachment.lastPoint >= built.pointCount())
-                return "Attachment points [" + std::to_string(attachment.firstPoint) + ", " +
-                       std::to_string(attachment.lastPoint) + "] lie outside the hose's " +
-                       std::to_string(built.pointCount()) + " axis points.";
+        formats::hoseSpecOf(m_project, definition).validate();
+        // Builds it as rebuildHose() would (attachment ranges, length, poses).
+        static_cast<void>(formats::buildHose(m_project, definition, m_scenes));
     } catch (const std::exception& error) {
         return error.what();
     }
@@ -238,6 +236,117 @@ Frame Document::nodeWorldFrame(const std::string& sceneId, int node) const
     return rigidPart(nodeWorldTransform(sceneId, node));
 }
 
+Vec3 Document::partCentre(const std::string& sceneId, int node) const
+{
+    const formats::ImportedScene* imported = scene(sceneId);
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
+        return Vec3::Zero();
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 high = -low;
+    std::vector<int> pending{node};
+    while (!pending.empty()) {
+        const int n = pending.back();
+        pending.pop_back();
+        const formats::SceneNode& sceneNode = imported->nodes[static_cast<size_t>(n)];
+        pending.insert(pending.end(), sceneNode.children.begin(), sceneNode.children.end());
+        if (sceneNode.meshes.empty())
+            continue;
+        const formats::Mat4 world = nodeWorldTransform(sceneId, n);
+        for (int meshIndex : sceneNode.meshes) {
+            const formats::SceneMesh& mesh = imported->meshes[static_cast<size_t>(meshIndex)];
+            auto bounds = m_meshBounds.find(&mesh);
+            if (bounds == m_meshBounds.end()) {
+                Vec3 meshLow = Vec3::Constant(std::numeric_limits<double>::infinity());
+                Vec3 meshHigh = -meshLow;
+                for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+                    const Vec3 p(mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                                 mesh.positions[3 * v + 2]);
+                    meshLow = meshLow.cwiseMin(p);
+                    meshHigh = meshHigh.cwiseMax(p);
+                }
+                bounds = m_meshBounds.emplace(&mesh, std::make_pair(meshLow, meshHigh)).first;
+            }
+            const auto& [meshLow, meshHigh] = bounds->second;
+            if (!(meshLow.array() <= meshHigh.array()).all())
+                continue; // no vertices
+            for (int corner = 0; corner < 8; ++corner) {
+                const Vec3 local((corner & 1) ? meshHigh.x() : meshLow.x(),
+                                 (corner & 2) ? meshHigh.y() : meshLow.y(),
+                                 (corner & 4) ? meshHigh.z() : meshLow.z());
+                const Vec3 p = (world * local.homogeneous()).head<3>();
+                low = low.cwiseMin(p);
+                high = high.cwiseMax(p);
+            }
+        }
+    }
+    if (!(low.array() <= high.array()).all())
+        return nodeWorldFrame(sceneId, node).translation;
+    return 0.5 * (low + high);
+}
+
+bool Document::hoseFollowsMovedPart(const std::string& hoseId) const
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    return definition && hoseAffectedByPose(*definition);
+}
+
+std::vector<Vec3> Document::displayRoute(const std::string& hoseId) const
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    const Hose* live = hose(hoseId);
+    if (!definition)
+        return {};
+    if (!live || !hoseAffectedByPose(*definition) || definition->attachments.empty())
+        return definition->route;
+    // Each attachment's motion (file pose → pose) and where it sits along the hose (0 … 1).
+    struct Motion
+    {
+        double along;
+        Frame motion;
+    };
+    std::vector<Motion> motions;
+    const std::vector<Frame> posed = posedAttachmentFrames(*definition);
+    for (size_t a = 0; a < definition->attachments.size(); ++a) {
+        const formats::HoseAttachment& attachment = definition->attachments[a];
+        const formats::ImportedScene* imported = scene(attachment.scene);
+        const int node = imported ? imported->findNode(attachment.node) : -1;
+        if (node < 0)
+            return definition->route;
+        Frame offset = attachment.offset;
+        offset.rotation.normalize();
+        const Frame filePose = imported->worldFrame(node) * offset;
+        motions.push_back({0.5 * (attachment.firstPoint + attachment.lastPoint) /
+                               std::max(1, live->segmentCount()),
+                           posed[a] * filePose.inverse()});
+    }
+    std::sort(motions.begin(), motions.end(),
+              [](const Motion& a, const Motion& b) { return a.along < b.along; });
+    const std::vector<Vec3>& route = definition->route;
+    const double total = std::max(1e-300, polylineLength(route));
+    std::vector<Vec3> carried;
+    double walked = 0.0;
+    for (size_t i = 0; i < route.size(); ++i) {
+        if (i > 0)
+            walked += (route[i] - route[i - 1]).norm();
+        const double along = walked / total;
+        size_t next = 0;
+        while (next < motions.size() && motions[next].along < along)
+            ++next;
+        if (next == 0) {
+            carried.push_back(motions.front().motion.apply(route[i]));
+        } else if (next == motions.size()) {
+            carried.push_back(motions.back().motion.apply(route[i]));
+        } else {
+            const Motion& before = motions[next - 1];
+            const Motion& after = motions[next];
+            const double w = (along - before.along) / std::max(1e-12, after.along - before.along);
+            carried.push_back((1.0 - w) * before.motion.apply(route[i]) +
+                              w * after.motion.apply(route[i]));
+        }
+    }
+    return carried;
+}
+
 void Document::setSelection(const Selection& selection)
 {
     if (selection == m_selection)
@@ -262,7 +371,7 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
     return result;
 }
 
-bool Document::commitHoseDrag(const std::string& hoseId, std::string* why)
+bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::string* why)
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const Hose* live = hose(hoseId);
@@ -284,8 +393,10 @@ bool Document::commitHoseDrag(const std::string& hoseId, std::string* why)
                 route.end());
     formats::HoseDefinition changed = *definition;
     changed.route = route;
-    if (definition->segmentCount > 0)
-        changed.segmentCount = definition->segmentCount;
+    // The shape changes, the length does not: a hose without a length of its own keeps the
+    // one it had (the stretch of the drag is not taken as new hose).
+    if (!changed.length)
+        changed.length = live->restLengthTotal();
     const std::string problem = validateHoseDefinition(changed);
     if (!problem.empty()) {
         if (why)
@@ -294,8 +405,12 @@ bool Document::commitHoseDrag(const std::string& hoseId, std::string* why)
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
         return false;
     }
-    m_undoStack.push(makeSetRoute(*this, hoseId, std::move(route),
-                                  tr("Drag hose point"), MergeId::None));
+    const QString hoseName =
+        QString::fromStdString(definition->name.empty() ? definition->id : definition->name);
+    m_undoStack.push(makeSetHoseDefinition(
+        *this, hoseId, std::move(changed), MergeId::None,
+        draggedPoint >= 0 ? tr("Drag point %1 of %2").arg(draggedPoint).arg(hoseName)
+                          : tr("Drag %1").arg(hoseName)));
     return true;
 }
 
@@ -428,6 +543,7 @@ void Document::applyColliders(const std::string& hoseId)
     if (!definition || live == m_live.end() || !live->second.hose)
         return;
     std::vector<std::shared_ptr<const MeshCollider>> used;
+    std::vector<NodeKey> usedNodes;
     for (const LiveCollider& c : m_colliders) {
         const formats::ImportedScene* imported = scene(c.sceneId);
         if (!imported)
@@ -439,9 +555,12 @@ void Document::applyColliders(const std::string& hoseId)
                 return a.scene == c.sceneId &&
                        formats::attachmentExempts(imported->findNode(a.node), c.node, parentOf);
             });
-        if (!exempt)
+        if (!exempt) {
             used.push_back(c.collider);
+            usedNodes.push_back({c.sceneId, c.node});
+        }
     }
+    live->second.colliderNodes = std::move(usedNodes);
     Hose& hoseObject = *live->second.hose;
     if (used == hoseObject.colliders())
         return;
@@ -451,7 +570,22 @@ void Document::applyColliders(const std::string& hoseId)
 
 void Document::collidersChanged(const NodeKey& node)
 {
+    std::map<std::string, std::vector<NodeKey>> before;
+    for (const auto& [id, live] : m_live)
+        before[id] = live.colliderNodes;
     rebuildColliders();
+    // A hose that now stays outside another set of parts is built again and pushed out of
+    // them (as a collider moved into it pushes it); one the flag no longer concerns is built
+    // as without it. Either way its shape is that of the document's state, so undoing the
+    // flag gives back exactly the shape before it.
+    std::vector<std::string> rebuilt;
+    for (const auto& [id, live] : m_live)
+        if (live.colliderNodes != before[id])
+            rebuilt.push_back(id);
+    for (const std::string& id : rebuilt) {
+        rebuildHose(id);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, id);
+    }
     ChangeEvent event;
     event.kind = ChangeEvent::Kind::CollidersChanged;
     event.sceneId = node.first;
@@ -535,17 +669,31 @@ void Document::poseChanged(const NodeKey& node)
 {
     ++m_poseSerial;
     syncProjectPoses();
-    // Colliders follow the pose: each one of the moved part's scene is placed again by the
-    // rigid part of its posed world transform (setFrame; a scale set by a pose is applied the
-    // next time the colliders are rebuilt, e.g. when a flag changes).
+    // Only what the moved part carries is moved: the part itself and the nodes under it. An
+    // imported assembly is one scene, and its other parts, their colliders and the hoses
+    // fixed to them stay as they are.
+    const formats::ImportedScene* movedScene = scene(node.first);
+    const auto carried = [&](int n) {
+        for (; movedScene && n >= 0; n = movedScene->nodes[static_cast<size_t>(n)].parent)
+            if (n == node.second)
+                return true;
+        return false;
+    };
+    // Colliders follow the pose: each one the part carries is placed again by the rigid part
+    // of its posed world transform (setFrame; a scale set by a pose is applied the next time
+    // the colliders are rebuilt, e.g. when a flag changes).
     std::vector<const MeshCollider*> movedColliders;
     for (const LiveCollider& c : m_colliders)
-        if (c.sceneId == node.first && c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
+        if (c.sceneId == node.first && carried(c.node) &&
+            c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
             movedColliders.push_back(c.collider.get());
     for (const formats::HoseDefinition& definition : m_project.hoses) {
-        bool attachedHere = false;
-        for (const formats::HoseAttachment& attachment : definition.attachments)
-            attachedHere = attachedHere || attachment.scene == node.first;
+        const bool attachedHere = std::any_of(
+            definition.attachments.begin(), definition.attachments.end(),
+            [&](const formats::HoseAttachment& attachment) {
+                return attachment.scene == node.first &&
+                       carried(movedScene->findNode(attachment.node));
+            });
         if (!attachedHere)
             continue;
         auto live = m_live.find(definition.id);
@@ -654,6 +802,17 @@ void Document::rebuildHose(const std::string& hoseId)
         live.hose = formats::buildHose(m_project, *definition, m_scenes, &live.lastUpdate);
         live.error.clear();
         applyColliders(hoseId);
+        // Built where its route and the parts put it, then out of the colliders it overlaps
+        // there (a flagged part it was laid through, a collider moved onto it). Where its
+        // length cannot go round them (Infeasible), it keeps the built shape, every length in
+        // its band, and the result says how deep it runs in (the Problems panel lists it).
+        if (!live.hose->colliders().empty()) {
+            Hose built = *live.hose;
+            const UpdateResult pushed = live.hose->resolveCollisions();
+            if (pushed.status == Status::Infeasible)
+                *live.hose = std::move(built);
+            live.lastUpdate = pushed;
+        }
         wakeGravity(hoseId);
     } catch (const std::exception& error) {
         live.hose.reset();
@@ -664,9 +823,9 @@ void Document::rebuildHose(const std::string& hoseId)
 void Document::rebuildAllHoses()
 {
     m_live.clear();
+    rebuildColliders(); // first: each hose is pushed out of them as it is built
     for (const formats::HoseDefinition& definition : m_project.hoses)
         rebuildHose(definition.id);
-    rebuildColliders();
 }
 
 bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) const

@@ -42,7 +42,7 @@ in vec3 worldPosition;
 in float problem;
 uniform vec4 colour;
 uniform vec3 eye;
-uniform float highlight;   // 0 … 1: selection tint
+uniform float highlight;   // 0 … 1: selection tint (azure: never a problem colour)
 uniform float roughness;
 out vec4 fragmentColour;
 void main()
@@ -53,7 +53,7 @@ void main()
         n = -n;
     vec3 key = normalize(vec3(0.35, 1.0, 0.45));
     vec3 base = colour.rgb;
-    base = mix(base, vec3(1.0, 0.55, 0.1), highlight * 0.55);
+    base = mix(base, vec3(0.15, 0.7, 1.0), highlight * 0.6);
     float red = clamp(problem, 0.0, 1.0);
     base = mix(base, vec3(0.95, 0.08, 0.05), red);
     float headlight = max(dot(n, toEye), 0.0);
@@ -346,6 +346,20 @@ void Renderer::releaseResources()
     d->context = nullptr;
 }
 
+std::vector<Vec3> Renderer::kinkRing(const Vec3& centre, const Vec3& normal, double radius)
+{
+    const Vec3 n = normal.normalized();
+    const Vec3 u = n.unitOrthogonal();
+    const Vec3 v = n.cross(u);
+    std::vector<Vec3> ring;
+    constexpr int kSegments = 24;
+    for (int i = 0; i <= kSegments; ++i) {
+        const double angle = 2.0 * 3.14159265358979323846 * (i % kSegments) / kSegments;
+        ring.push_back(centre + radius * (std::cos(angle) * u + std::sin(angle) * v));
+    }
+    return ring;
+}
+
 double Renderer::gizmoLength(const Camera& camera) { return 0.18 * camera.distance; }
 
 double Renderer::gizmoRingRadius(const Camera& camera) { return 0.65 * gizmoLength(camera); }
@@ -377,6 +391,11 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     gl.glEnable(GL_PROGRAM_POINT_SIZE);
     gl.glPolygonMode(GL_FRONT_AND_BACK, options.wireframe ? GL_LINE : GL_FILL);
 
+    // State a QPainter drawing over the last frame may have left (the viewport's labels).
+    gl.glDepthMask(GL_TRUE);
+    gl.glDisable(GL_BLEND);
+    gl.glDisable(GL_SCISSOR_TEST);
+    gl.glDisable(GL_STENCIL_TEST);
     const Eigen::Matrix4f viewProjection =
         toFloat(camera.projection(double(width) / std::max(height, 1)) * camera.view());
     const Vec3 eye = camera.eye();
@@ -449,7 +468,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         gl.glUniformMatrix3fv(normalLocation, 1, GL_FALSE, identity.data());
         gl.surfaceProgram.setUniformValue("colour", linearToDisplay(definition.colour));
         gl.surfaceProgram.setUniformValue(
-            "highlight", definition.id == selection.hoseId ? 0.6f : 0.0f);
+            "highlight", definition.id == selection.hoseId ? 1.0f : 0.0f);
         gl.surfaceProgram.setUniformValue("roughness", float(definition.roughness));
         gl.glBindVertexArray(gpu.vao);
         gl.glDrawElements(GL_TRIANGLES, gpu.indexCount, GL_UNSIGNED_INT, nullptr);
@@ -461,7 +480,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
 
     // Overlays: drawn without depth test so they stay visible through the hose.
     gl.glDisable(GL_DEPTH_TEST);
-    if (const formats::HoseDefinition* definition = document.hoseDefinition(selection.hoseId)) {
+    if (document.hoseDefinition(selection.hoseId)) {
         if (const Hose* hose = document.hose(selection.hoseId)) {
             const std::vector<Vec3> axis = hose->points();
             gl.drawLines(axis, GL_POINTS, QColor(255, 255, 255), 5.0f, viewProjection);
@@ -476,14 +495,50 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
                 gl.drawLines(range, GL_POINTS, QColor(255, 120, 20), 11.0f, viewProjection);
             }
         }
-        gl.drawLines(definition->route, GL_LINE_STRIP, QColor(250, 220, 60, 255), 1.0f,
-                     viewProjection);
-        gl.drawLines(definition->route, GL_POINTS, QColor(250, 220, 60), 10.0f,
-                     viewProjection);
-        if (selection.routePoint >= 0 &&
-            selection.routePoint < static_cast<int>(definition->route.size()))
-            gl.drawLines({definition->route[static_cast<size_t>(selection.routePoint)]},
-                         GL_POINTS, QColor(255, 60, 60), 14.0f, viewProjection);
+        // The route where the parts the hose is fixed to have carried it.
+        const std::vector<Vec3> route = document.displayRoute(selection.hoseId);
+        gl.drawLines(route, GL_LINE_STRIP, QColor(250, 220, 60, 255), 1.0f, viewProjection);
+        gl.drawLines(route, GL_POINTS, QColor(250, 220, 60), 10.0f, viewProjection);
+        if (selection.routePoint >= 0 && selection.routePoint < static_cast<int>(route.size()))
+            gl.drawLines({route[static_cast<size_t>(selection.routePoint)]}, GL_POINTS,
+                         QColor(255, 255, 255), 14.0f, viewProjection);
+    }
+    if (options.showProblems) {
+        // What a hose cannot do, drawn where it happens (problem red, the Problems panel's
+        // colour): the gap between an attachment the hose cannot reach and where its part
+        // wants it, and a ring around each kinked joint.
+        const QColor problem(255, 70, 60);
+        const Vec3 towardsViewer = -camera.forward();
+        for (const formats::HoseDefinition& definition : document.project().hoses) {
+            const Hose* hose = document.hose(definition.id);
+            const HoseMetrics* metrics = hose ? document.hoseMetrics(definition.id) : nullptr;
+            if (!metrics)
+                continue;
+            for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
+                for (const Hose::Attachment& attachment : hose->attachments()) {
+                    if (attachment.id != unmet.id)
+                        continue;
+                    std::vector<Vec3> gap, targets;
+                    for (int i = attachment.first; i <= attachment.last; ++i) {
+                        const Vec3 target = attachment.frame.apply(
+                            attachment.localPoints[static_cast<size_t>(i - attachment.first)]);
+                        gap.push_back(hose->point(i));
+                        gap.push_back(target);
+                        targets.push_back(target);
+                    }
+                    gl.drawLines(gap, GL_LINES, problem, 1.0f, viewProjection);
+                    gl.drawLines(targets, GL_POINTS, problem, 11.0f, viewProjection);
+                }
+            std::vector<int> kinks = metrics->bendBelowMinimum;
+            if (kinks.empty() && metrics->angleViolation > 1e-6)
+                kinks.push_back(metrics->angleViolationJoint);
+            for (int joint : kinks) {
+                const std::vector<Vec3> ring = kinkRing(hose->point(joint), towardsViewer,
+                                                        2.5 * hose->outerRadius());
+                gl.drawLines(ring, GL_LINE_STRIP, problem, 1.0f, viewProjection);
+                gl.drawLines(ring, GL_POINTS, problem, 3.0f, viewProjection);
+            }
+        }
     }
     if (options.showProblems) {
         // Clearance violations: a line from the hose surface to the object, dots at both ends.

@@ -28,8 +28,10 @@
 #include <QToolBar>
 #include <QTreeWidget>
 #include <QUndoView>
+#include <QVBoxLayout>
 
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace chaintube::editor {
@@ -191,9 +193,16 @@ void MainWindow::createDocks()
     scroll->setWidgetResizable(true);
     scroll->setMinimumWidth(470);
     scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    // The fixing controls sit above the scrolling panel: they stay where they are while the
+    // author scrolls to the part's fields and back.
+    auto* propertiesPane = new QWidget;
+    auto* propertiesLayout = new QVBoxLayout(propertiesPane);
+    propertiesLayout->setContentsMargins(0, 0, 0, 0);
+    propertiesLayout->addWidget(m_properties->fixControls());
+    propertiesLayout->addWidget(scroll, 1);
     auto* propertiesDock = new QDockWidget(tr("Properties"), this);
     propertiesDock->setObjectName("propertiesDock");
-    propertiesDock->setWidget(scroll);
+    propertiesDock->setWidget(propertiesPane);
     addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
 
     m_problems = new ProblemsPanel(*m_document);
@@ -288,14 +297,20 @@ void MainWindow::createActions()
     const auto enableRouteActions = [this, finishRoute, cancelRoute] {
         const bool laying = m_viewport->mode() == Viewport::Mode::LayRoute;
         finishRoute->setEnabled(laying);
-        cancelRoute->setEnabled(laying);
+        cancelRoute->setEnabled(m_viewport->mode() != Viewport::Mode::Select);
     };
     connect(m_viewport, &Viewport::modeChanged, this, enableRouteActions);
     enableRouteActions();
     hose->addAction(make(tr("&Insert Route Point"), "actionInsertRoutePoint",
                          QKeySequence(tr("I")), [this] { insertRoutePoint(); }));
-    hose->addAction(make(tr("Fix Segment to &Part"), "actionFix", QKeySequence(tr("Ctrl+F")),
-                         [this] { m_properties->fixSelectionToPart(); }));
+    hose->addAction(make(tr("Fix to &Part…"), "actionFix", QKeySequence(tr("Ctrl+F")), [this] {
+        m_viewport->beginFixToPart();
+        m_viewport->setFocus();
+    }));
+    action("actionFix")->setStatusTip(
+        tr("Fixes the selected hose points to the part you click next"));
+    connect(m_properties, &PropertiesPanel::fixToPartRequested, action("actionFix"),
+            &QAction::trigger);
     hose->addAction(make(tr("&Detach All"), "actionDetach", QKeySequence(tr("Ctrl+D")), [this] {
         const formats::HoseDefinition* definition =
             m_document->hoseDefinition(m_document->selection().hoseId);
@@ -326,6 +341,14 @@ void MainWindow::createActions()
                              "actionExport", "actionNewHose", "actionFix", "actionFrameSelection",
                              "actionWireframe"})
         toolbar->addAction(action(name));
+    // Every tooltip names its shortcut: "Fix to Part… (Ctrl+F)".
+    for (QAction* a : findChildren<QAction*>()) {
+        if (a->shortcut().isEmpty() || a->text().isEmpty())
+            continue;
+        QString text = a->text();
+        text.remove('&');
+        a->setToolTip(tr("%1 (%2)").arg(text, a->shortcut().toString(QKeySequence::NativeText)));
+    }
     rebuildRecentMenu();
 }
 
@@ -360,12 +383,42 @@ void MainWindow::onDocumentChanged(const ChangeEvent& event)
     case Kind::SelectionChanged:
         syncTreeSelection();
         break;
+    case Kind::PoseChanged:
+        reportHosesThatCannotFollow();
+        break;
     case Kind::FileStateChanged:
         updateTitle();
         break;
     default:
         break;
     }
+}
+
+void MainWindow::reportHosesThatCannotFollow()
+{
+    // What the part move did to each hose (Document::lastUpdate): one that cannot reach its
+    // part any more, or is kinked, says so at once in the status bar (the Problems panel and
+    // the viewport show the details).
+    QStringList short_, kinked;
+    for (const formats::HoseDefinition& definition : m_document->project().hoses) {
+        const UpdateResult result = m_document->lastUpdate(definition.id);
+        const HoseMetrics* metrics = m_document->hoseMetrics(definition.id);
+        if (!metrics || result.status == Status::Ok)
+            continue;
+        const QString name =
+            QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+        double gap = 0.0;
+        for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
+            gap = std::max(gap, unmet.gap);
+        if (gap > 0.0)
+            short_ << tr("%1 needs %2 mm more hose").arg(name).arg(gap * 1000.0, 0, 'f', 0);
+        else if (!metrics->bendBelowMinimum.empty() || metrics->angleViolation > 1e-6)
+            kinked << tr("%1 is kinked").arg(name);
+        else if (metrics->overstretched())
+            short_ << tr("%1 is overstretched").arg(name);
+    }
+    if (!short_.isEmpty() || !kinked.isEmpty())
+        statusBar()->showMessage((short_ + kinked).join(tr("; ")), 8000);
 }
 
 void MainWindow::rebuildSceneTree()
@@ -750,6 +803,12 @@ void MainWindow::onRouteFinished(const std::vector<Vec3>& route)
     definition.segmentCount =
         std::clamp(int(std::lround(polylineLength(route) / 0.03)), 12, 400);
     definition.colour = kHoseColours[size_t(m_document->hoseCount()) % std::size(kHoseColours)];
+    try {
+        // As long as the route, from now on its own (route edits never change it).
+        definition.length = formats::routeRestLength(m_document->project(), definition);
+    } catch (const std::exception&) {
+        // validateHoseDefinition says why below
+    }
     const std::string problem = m_document->validateHoseDefinition(definition);
     if (!problem.empty()) {
         showError(tr("Cannot lay out this hose"), QString::fromStdString(problem));

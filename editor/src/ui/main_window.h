@@ -83,6 +83,8 @@ private:
     void createDocks();
     void onDocumentChanged(const ChangeEvent& event);
     void rebuildSceneTree();
+    /// After a part moved: names the hoses that could not follow it (Document::lastUpdate).
+    void reportHosesThatCannotFollow();
     void syncTreeSelection();
     void updateTitle();
     void addRecentFile(const QString& path);

@@ -8,6 +8,7 @@
 #include <QResizeEvent>
 
 #include <cmath>
+#include <limits>
 
 namespace chaintube::editor {
 
@@ -25,6 +26,15 @@ std::vector<std::pair<int, int>> runs(std::vector<int> indices)
             result.push_back({index, index});
     }
     return result;
+}
+
+/// Bend radius at joint j of the hose's current shape (metres; as measure() computes it).
+double jointBendRadius(const Hose& hose, int j)
+{
+    const Vec3 in = hose.point(j) - hose.point(j - 1);
+    const Vec3 out = hose.point(j + 1) - hose.point(j);
+    const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
+    return bendRadiusOfTurn(0.5 * (in.norm() + out.norm()), turn);
 }
 
 } // namespace
@@ -63,14 +73,42 @@ std::vector<Problem> findProblems(const Document& document)
                                     .arg(first)
                                     .arg(last)
                                     .arg(worst * 100.0, 0, 'f', 1)});
+        // A collider it runs into and cannot be pushed out of within its lengths (a part
+        // flagged or moved onto it): the hose keeps its shape and says how deep it is in.
+        const UpdateResult lastUpdate = document.lastUpdate(definition.id);
+        if (lastUpdate.status == Status::Infeasible && lastUpdate.penetration > 0.0)
+            problems.push_back({definition.id, -1, -1,
+                                QObject::tr("%1: runs %2 mm into a collider and cannot be pushed "
+                                            "out within its length")
+                                    .arg(name)
+                                    .arg(lastUpdate.penetration * 1000.0, 0, 'f', 1)});
         if (metrics) {
+            // Attachments the hose cannot reach (a part moved beyond it): the hose lies taut
+            // towards them and says how much hose is missing.
+            for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments) {
+                const auto& built = hose->attachments();
+                for (size_t a = 0; a < built.size() && a < definition.attachments.size(); ++a)
+                    if (built[a].id == unmet.id)
+                        problems.push_back(
+                            {definition.id, built[a].first, built[a].last,
+                             QObject::tr("%1: needs %2 mm more hose to reach %3 (points %4–%5)")
+                                 .arg(name)
+                                 .arg(unmet.gap * 1000.0, 0, 'f', 0)
+                                 .arg(QString::fromStdString(definition.attachments[a].node))
+                                 .arg(built[a].first)
+                                 .arg(built[a].last)});
+            }
             for (const auto& [first, last] : runs(metrics->bendBelowMinimum)) {
                 const Material material = hose->material();
+                double smallest = std::numeric_limits<double>::max();
+                for (int j = first; j <= last; ++j)
+                    smallest = std::min(smallest, jointBendRadius(*hose, j));
                 problems.push_back(
                     {definition.id, first, last,
-                     QObject::tr("%1: bend radius %2 mm below the minimum %3 mm at joints %4–%5")
+                     QObject::tr("%1: kinked: bend radius %2 mm, below the minimum %3 mm, at "
+                                 "joints %4–%5")
                          .arg(name)
-                         .arg(metrics->smallestBendRadius * 1000.0, 0, 'f', 1)
+                         .arg(smallest * 1000.0, 0, 'f', 1)
                          .arg(material.bendLimit.value * 1000.0, 0, 'f', 1)
                          .arg(first)
                          .arg(last)});

@@ -3,8 +3,12 @@
 #include "chaintube/editor/commands.h"
 #include "chaintube/route.h"
 
+#include <QAbstractScrollArea>
 #include <QCheckBox>
 #include <QColorDialog>
+#include <QCoreApplication>
+#include <QKeyEvent>
+#include <QScrollBar>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -99,12 +103,28 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_diameter = spin(0.5, 500, 1, tr(" mm"), "diameter");
     m_diameterSlider = slider(1, 200, "diameterSlider");
     form->addRow(tr("Diameter"), row(m_diameter, m_diameterSlider));
-    m_length = spin(0.01, 1000, 3, tr(" m"), "routeLength");
-    m_length->setToolTip(tr("Length of the route polyline: changing it moves the last route "
-                            "point along the last leg"));
-    form->addRow(tr("Route length"), m_length);
+    m_length = spin(0.01, 1000, 3, tr(" m"), "hoseLength");
+    m_length->setToolTip(tr("The hose's length at rest. Dragging the hose never changes it; a "
+                            "longer hose gets slack between its fixed ends"));
+    m_addSlack = new QPushButton(tr("Add 5 % slack"));
+    m_addSlack->setObjectName("addSlack");
+    m_addSlack->setToolTip(tr("Makes the hose 5 % longer where it lies: the extra length hangs "
+                              "between its fixed ends"));
+    form->addRow(tr("Length"), row(m_length, m_addSlack));
     m_lengthInfo = new QLabel;
     form->addRow(QString(), m_lengthInfo);
+    auto* routePointRow = new QWidget;
+    auto* routePointLayout = new QHBoxLayout(routePointRow);
+    routePointLayout->setContentsMargins(0, 0, 0, 0);
+    for (int i = 0; i < 3; ++i) {
+        const char* axis[] = {"X", "Y", "Z"};
+        m_routePoint[i] = spin(-1e6, 1e6, 1, tr(" mm"), "");
+        m_routePoint[i]->setObjectName(QString("routePoint%1").arg(axis[i]));
+        m_routePoint[i]->setPrefix(QString(axis[i]) + " ");
+        routePointLayout->addWidget(m_routePoint[i]);
+    }
+    m_routePointLabel = new QLabel(tr("Route point"));
+    form->addRow(m_routePointLabel, routePointRow);
     m_segments = new QSpinBox;
     m_segments->setRange(1, 5000);
     m_segments->setKeyboardTracking(false);
@@ -199,8 +219,8 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_message->setStyleSheet("color: #ff6b5a;");
     layout->addWidget(m_message);
 
-    // --- fixing ---------------------------------------------------------------------------
-    m_fixGroup = new QGroupBox(tr("Fix segment to part"));
+    // --- fixing (fixControls(): placed by the window where scrolling does not move it) ----
+    m_fixGroup = new QGroupBox(tr("Fix hose points to a part"));
     m_fixGroup->setObjectName("fixGroup");
     auto* fixForm = new QFormLayout(m_fixGroup);
     m_fixFirst = new QSpinBox;
@@ -212,9 +232,14 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_fixPart->setMinimumWidth(10);
     m_fixPart->setWordWrap(true);
     fixForm->addRow(tr("Part"), m_fixPart);
-    m_fixButton = new QPushButton(tr("Fix to part"));
+    m_fixButton = new QPushButton(tr("Fix to selected part"));
     m_fixButton->setObjectName("fixButton");
-    fixForm->addRow(QString(), m_fixButton);
+    m_fixButton->setToolTip(tr("Fixes the selected hose points to the part shown above"));
+    m_pickPartButton = new QPushButton(tr("Fix to part… (Ctrl+F)"));
+    m_pickPartButton->setObjectName("pickPartButton");
+    m_pickPartButton->setToolTip(tr("Then click the part in the viewport to fix the selected "
+                                    "hose points to it (Ctrl+F; Esc cancels)"));
+    fixForm->addRow(QString(), row(m_fixButton, m_pickPartButton));
     m_attachments = new QListWidget;
     m_attachments->setObjectName("attachments");
     m_attachments->setMaximumHeight(80);
@@ -222,7 +247,6 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_detachButton = new QPushButton(tr("Detach"));
     m_detachButton->setObjectName("detachButton");
     fixForm->addRow(QString(), m_detachButton);
-    layout->addWidget(m_fixGroup);
 
     // --- part -----------------------------------------------------------------------------
     m_partGroup = new QGroupBox(tr("Selected part"));
@@ -259,6 +283,8 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     partForm->addRow(QString(), m_collider);
     layout->addWidget(m_partGroup);
     layout->addStretch(1);
+    watchFields(this);
+    watchFields(m_fixGroup);
 
     // --- wiring ---------------------------------------------------------------------------
     connect(&m_document, &Document::changed, this, &PropertiesPanel::onDocumentChanged);
@@ -288,23 +314,18 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         edit(MergeId::HoseDiameter, tr("Change diameter"),
              [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
     });
-    connect(m_length, &QDoubleSpinBox::valueChanged, this, [this, edit](double metres) {
+    connect(m_length, &QDoubleSpinBox::valueChanged, this, [this](double metres) {
         if (m_updating)
             return;
-        edit(MergeId::HoseRoute, tr("Change length"), [this, metres](formats::HoseDefinition& d) {
-            const double current = polylineLength(d.route);
-            auto& route = d.route;
-            const Vec3 leg = route.back() - route[route.size() - 2];
-            const double newLeg = leg.norm() + (metres - current);
-            if (newLeg <= 1e-3) {
-                refuse(tr("The route's last leg would vanish: lengthen or shorten by moving "
-                          "route points instead."));
-                d.route.clear(); // invalid on purpose: apply() refuses it
-                return;
-            }
-            route.back() = route[route.size() - 2] + leg.normalized() * newLeg;
-        });
+        setHoseLength(metres);
         m_document.closeMerge();
+    });
+    connect(m_addSlack, &QPushButton::clicked, this, [this] {
+        if (const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId)) {
+            m_document.closeMerge();
+            setHoseLength(1.05 * formats::hoseLength(m_document.project(), *definition));
+            m_document.closeMerge();
+        }
     });
     connect(m_segments, &QSpinBox::valueChanged, this, [this, edit](int n) {
         if (m_updating)
@@ -479,6 +500,30 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.setSelection(selection);
     });
     connect(m_fixButton, &QPushButton::clicked, this, &PropertiesPanel::fixSelectionToPart);
+    connect(m_pickPartButton, &QPushButton::clicked, this, &PropertiesPanel::fixToPartRequested);
+    for (int i = 0; i < 3; ++i)
+        connect(m_routePoint[i], &QDoubleSpinBox::valueChanged, this, [this, i](double mm) {
+            const Selection& selection = m_document.selection();
+            const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+            if (m_updating || !definition || selection.routePoint < 0 ||
+                selection.routePoint >= int(definition->route.size()))
+                return;
+            std::vector<Vec3> route = definition->route;
+            route[size_t(selection.routePoint)][i] = mm / 1000.0;
+            formats::HoseDefinition changed = *definition;
+            changed.route = route;
+            const std::string problem = m_document.validateHoseDefinition(changed);
+            if (!problem.empty()) {
+                refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+                refresh();
+                return;
+            }
+            m_document.closeMerge();
+            m_document.undoStack()->push(makeSetRoute(
+                m_document, m_hoseId, route,
+                tr("Move route point %1 of %2").arg(selection.routePoint).arg(hoseLabel())));
+            m_document.closeMerge();
+        });
     connect(m_detachButton, &QPushButton::clicked, this, [this] {
         const int row = m_attachments->currentRow();
         if (m_hoseId.empty() || row < 0)
@@ -515,6 +560,75 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
 }
 
 QString PropertiesPanel::lastRefusal() const { return m_message->text(); }
+
+QString PropertiesPanel::hoseLabel() const
+{
+    const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+    if (!definition)
+        return QString();
+    return QString::fromStdString(definition->name.empty() ? definition->id : definition->name);
+}
+
+QWidget* PropertiesPanel::fixControls() const { return m_fixGroup; }
+
+PropertiesPanel::~PropertiesPanel()
+{
+    if (m_fixGroup && !m_fixGroup->parent()) // never placed by a window
+        delete m_fixGroup.data();
+}
+
+bool PropertiesPanel::eventFilter(QObject* watched, QEvent* event)
+{
+    auto* field = qobject_cast<QWidget*>(watched);
+    if (!field)
+        return QWidget::eventFilter(watched, event);
+    if (event->type() == QEvent::Wheel && !field->hasFocus()) {
+        // Over a field it does not edit (only a field with the keyboard focus takes the
+        // wheel): the panel scrolls, as anywhere else in it.
+        for (QWidget* w = field->parentWidget(); w; w = w->parentWidget())
+            if (auto* area = qobject_cast<QAbstractScrollArea*>(w)) {
+                QCoreApplication::sendEvent(area->verticalScrollBar(), event);
+                break;
+            }
+        return true;
+    }
+    if (event->type() == QEvent::ShortcutOverride && !field->property("editing").toBool()) {
+        // Ctrl+Z / Ctrl+Y on a field that is not being typed in: the document's undo (the
+        // value was entered, so its edit is a document command), not the field's own text
+        // undo, which only applies while a value is being typed.
+        const auto* key = static_cast<QKeyEvent*>(event);
+        if (key->matches(QKeySequence::Undo) || key->matches(QKeySequence::Redo) ||
+            (key->key() == Qt::Key_Y && key->modifiers() == Qt::ControlModifier))
+            return true; // not accepted: the window's Undo/Redo shortcut runs
+    }
+    return QWidget::eventFilter(watched, event);
+}
+
+void PropertiesPanel::watchFields(QWidget* root)
+{
+    for (QWidget* field : root->findChildren<QWidget*>()) {
+        const bool spinBox = qobject_cast<QAbstractSpinBox*>(field) != nullptr;
+        auto* lineEdit = qobject_cast<QLineEdit*>(field);
+        const bool inSpinBox = lineEdit && qobject_cast<QAbstractSpinBox*>(field->parentWidget());
+        if (inSpinBox)
+            continue; // its spin box is watched
+        if (!spinBox && !lineEdit && !qobject_cast<QComboBox*>(field) &&
+            !qobject_cast<QSlider*>(field))
+            continue;
+        field->setFocusPolicy(Qt::StrongFocus); // the wheel gives no focus
+        field->installEventFilter(this);
+        // "editing" while the author types, until the value is entered (or put back).
+        QLineEdit* text = lineEdit ? lineEdit : field->findChild<QLineEdit*>();
+        if (!text)
+            continue;
+        connect(text, &QLineEdit::textEdited, field, [field] { field->setProperty("editing", true); });
+        connect(text, &QLineEdit::editingFinished, field,
+                [field] { field->setProperty("editing", false); });
+        if (auto* box = qobject_cast<QAbstractSpinBox*>(field))
+            connect(box, &QAbstractSpinBox::editingFinished, field,
+                    [field] { field->setProperty("editing", false); });
+    }
+}
 
 void PropertiesPanel::fixSelectionToPart()
 {
@@ -586,9 +700,24 @@ bool PropertiesPanel::apply(const formats::HoseDefinition& changed, int mergeId,
     m_message->clear();
     if (changed == currentDefinition())
         return true;
-    m_document.undoStack()->push(
-        makeSetHoseDefinition(m_document, m_hoseId, changed, static_cast<MergeId>(mergeId), text));
+    // The history says which hose: "Change diameter of left bracket to valve".
+    m_document.undoStack()->push(makeSetHoseDefinition(m_document, m_hoseId, changed,
+                                                       static_cast<MergeId>(mergeId),
+                                                       tr("%1 of %2").arg(text, hoseLabel())));
     return true;
+}
+
+void PropertiesPanel::setHoseLength(double metres)
+{
+    if (m_hoseId.empty())
+        return;
+    try {
+        m_document.undoStack()->push(makeSetHoseLength(m_document, m_hoseId, metres));
+        m_message->clear();
+    } catch (const std::exception& error) {
+        refuse(tr("Refused: %1").arg(QString::fromStdString(error.what())));
+        refresh(); // the field goes back to the document's value
+    }
 }
 
 void PropertiesPanel::refuse(const QString& message)
@@ -618,7 +747,11 @@ void PropertiesPanel::refresh()
         m_name->setText(QString::fromStdString(definition->name));
         m_diameter->setValue(definition->outerDiameter * 1000.0);
         m_diameterSlider->setValue(int(std::lround(definition->outerDiameter * 1000.0)));
-        m_length->setValue(polylineLength(definition->route));
+        try {
+            m_length->setValue(formats::hoseLength(m_document.project(), *definition));
+        } catch (const std::exception&) {
+            m_length->setValue(polylineLength(definition->route)); // cannot be built: see below
+        }
         const Hose* hose = m_document.hose(m_hoseId);
         m_lengthInfo->setText(hose ? tr("axis %1 m now, %2 m at rest")
                                          .arg(hose->currentLength(), 0, 'f', 3)
@@ -715,6 +848,27 @@ void PropertiesPanel::refresh()
                            ? QString::fromStdString(scene->nodes[size_t(selection.node)].path)
                            : tr("(select a part)"));
     m_fixButton->setEnabled(definition && scene && selection.node >= 0);
+    m_fixButton->setText(scene && selection.node >= 0
+                             ? tr("Fix to %1").arg(QString::fromStdString(
+                                   scene->nodes[size_t(selection.node)].name))
+                             : tr("Fix to selected part"));
+    m_pickPartButton->setEnabled(definition && selection.rangeFirst >= 0);
+    const bool routePoint = definition && selection.routePoint >= 0 &&
+                            selection.routePoint < int(definition->route.size());
+    const bool routeEditable = routePoint && !m_document.hoseFollowsMovedPart(m_hoseId);
+    m_routePointLabel->setText(routePoint ? tr("Route point %1").arg(selection.routePoint)
+                                          : tr("Route point"));
+    for (int i = 0; i < 3; ++i) {
+        m_routePoint[i]->setEnabled(routeEditable);
+        m_routePoint[i]->setSpecialValueText(routePoint ? QString() : QStringLiteral(" "));
+        m_routePoint[i]->setValue(routePoint
+                                      ? definition->route[size_t(selection.routePoint)][i] * 1000.0
+                                      : m_routePoint[i]->minimum());
+        m_routePoint[i]->setToolTip(routePoint && !routeEditable
+                                        ? tr("The hose is fixed to a moved part: its route is "
+                                             "kept at the file position")
+                                        : tr("Position of the selected route point (world)"));
+    }
     m_detachButton->setEnabled(definition && !definition->attachments.empty());
     m_updating = false;
     refreshGravityState();

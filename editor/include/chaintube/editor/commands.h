@@ -27,6 +27,7 @@ enum class MergeId : int {
     HoseProfile,
     HoseColour,
     HoseRoute,
+    HoseLength,
     HoseAttachments,
     HoseDefinition,
     NodeTransform,
@@ -158,6 +159,12 @@ QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
                            std::vector<Vec3> route, const QString& text,
                            MergeId mergeId = MergeId::None);
 
+/// Makes a hose `length` metres long where it lies (formats::withLength: the route becomes
+/// the hose's shape with the length added as slack between its held ends, or pulled in).
+/// Consecutive length edits of the same hose merge (a spin box held down). Throws
+/// InvalidArgument (an unknown hose, a length ≤ 0, no room for the attachments).
+QUndoCommand* makeSetHoseLength(Document& document, const std::string& hoseId, double length);
+
 /// Fixes axis points [first, last] of a hose to a scene node at their current place.
 /// Throws InvalidArgument if the range is outside the hose or overlaps an attachment.
 QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
@@ -167,7 +174,7 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index);
 
 /// Sets (or with nullopt clears) a node's transform override; merges while dragging. `text`
-/// names the step in the history ("" = "Move part").
+/// names the step in the history ("" = "Move <node name>").
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
                                    std::optional<formats::Mat4> localTransform,
                                    const QString& text = QString());

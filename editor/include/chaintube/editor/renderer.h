@@ -1,5 +1,6 @@
 // ChainTube editor — OpenGL 3.3 core renderer of a Document: scene meshes, hose surfaces,
-// route points, problem highlights, the part gizmo.
+// route points, problem highlights (overstretched or kinked rings, unreached attachments), the
+// part gizmo.
 //
 // The renderer draws into whatever framebuffer is bound when render() is called: the
 // viewport's QOpenGLWidget framebuffer, or a QOpenGLFramebufferObject in tests (offscreen, no
@@ -68,6 +69,9 @@ public:
     /// Radius (metres) of the rotate gizmo's rings: inside the arrows, so that the arrow tips
     /// stay apart from the rings.
     static double gizmoRingRadius(const Camera& camera);
+    /// The closed polyline (25 points) of the marker drawn around a kinked joint: a circle of
+    /// `radius` metres about `centre` in the plane facing `normal` (world).
+    static std::vector<Vec3> kinkRing(const Vec3& centre, const Vec3& normal, double radius);
     /// The closed polyline of the rotate ring about world axis `axis` (0 x, 1 y, 2 z) centred
     /// at `centre` (world metres): `segments` + 1 points, the last equal to the first. The
     /// viewport picks against the same points.
