@@ -8,6 +8,7 @@
 #include "chaintube/editor/commands.h"
 #include "chaintube/editor/export_integration.h"
 #include "export_dialog.h"
+#include "import_dialog.h"
 #include "main_window.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
@@ -16,6 +17,8 @@
 
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDialogButtonBox>
+#include <QRadioButton>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
@@ -669,6 +672,97 @@ fs::path writeGridObj(const fs::path& file, int n)
     return file;
 }
 
+/// When the Import dialog shows: `choose(dialog)` picks the author's settings, then Import is
+/// pressed with the mouse. Returns true if it did.
+bool pressImport(const std::function<void(QDialog&)>& choose)
+{
+    for (QWidget* widget : QApplication::topLevelWidgets()) {
+        auto* dialog = qobject_cast<QDialog*>(widget);
+        if (!dialog || dialog->objectName() != "importDialog" || !dialog->isVisible())
+            continue;
+        if (choose)
+            choose(*dialog);
+        auto* buttons = dialog->findChild<QDialogButtonBox*>("importButtons");
+        QTest::mouseClick(buttons->button(QDialogButtonBox::Ok), Qt::LeftButton);
+        return true;
+    }
+    return false;
+}
+
+/// An OBJ of one box, `size` file units wide, its low corner at `low` (file units).
+fs::path writeBoxObj(const fs::path& file, const Vec3& low, double size)
+{
+    std::ofstream out(file);
+    for (int corner = 0; corner < 8; ++corner)
+        out << "v " << low.x() + ((corner & 1) ? size : 0) << " "
+            << low.y() + ((corner & 2) ? size : 0) << " " << low.z() + ((corner & 4) ? size : 0)
+            << "\n";
+    out << "o box\n";
+    for (const char* face : {"1 3 4 2", "5 6 8 7", "1 2 6 5", "3 7 8 4", "1 5 7 3", "2 4 8 6"})
+        out << "f " << face << "\n";
+    return file;
+}
+
+// §4: the Import dialog says which units and up axis the reader assumed and where each came
+// from, lets the author change them, and places the scene at the origin (an empty project) or
+// beside what is there.
+TEST_F(MainWindowTest, ImportShowsTheAssumedUnitsAndPlacesTheScene)
+{
+    const fs::path folder = test::outputDir() / "import-dialog";
+    fs::create_directories(folder);
+    // A 400 mm box drawn in millimetres far from the origin; OBJ does not say its unit.
+    const fs::path box = writeBoxObj(folder / "box.obj", Vec3(5000, 2000, -3000), 400);
+    Document& document = m_window->document();
+    QString assumed;
+    QString size;
+    {
+    DialogDriver drive([&] {
+        pressImport([&](QDialog& dialog) {
+            assumed = dialog.findChild<QLabel*>("importAssumed")->text();
+            auto* unit = dialog.findChild<QComboBox*>("importUnit");
+            unit->setCurrentIndex(unit->findText("millimetre"));
+            size = dialog.findChild<QLabel*>("importSize")->text();
+            EXPECT_TRUE(dialog.findChild<QRadioButton*>("placeAtOrigin")->isChecked())
+                << "an empty project: at the origin";
+        });
+    });
+    ASSERT_TRUE(m_window->importSceneFile(QString::fromStdString(box.string())))
+        << m_errors.join('\n').toStdString();
+    } // the first import's dialog driver stops here
+    EXPECT_TRUE(assumed.contains("metre")) << assumed.toStdString();
+    EXPECT_TRUE(assumed.contains("assumed")) << assumed.toStdString();
+    EXPECT_TRUE(size.startsWith("0.4 × 0.4 × 0.4 m")) << size.toStdString();
+    ASSERT_EQ(document.project().scenes.size(), 1u);
+    const formats::SceneReference& first = document.project().scenes[0];
+    EXPECT_EQ(first.import.metresPerUnit, 0.001) << "kept in the project";
+    const auto [low, high] = sceneBounds(*document.scene(first.id));
+    EXPECT_NEAR(high.x() - low.x(), 0.4, 1e-6);
+    EXPECT_NEAR(0.5 * (low.x() + high.x()), 0.0, 1e-6) << "centred on the origin";
+    EXPECT_NEAR(0.5 * (low.z() + high.z()), 0.0, 1e-6);
+    EXPECT_NEAR(low.y(), 0.0, 1e-6) << "standing on the floor";
+
+    // The same file again: beside the first one, on the same floor.
+    DialogDriver again([&] {
+        pressImport([](QDialog& dialog) {
+            auto* unit = dialog.findChild<QComboBox*>("importUnit");
+            unit->setCurrentIndex(unit->findText("millimetre"));
+            EXPECT_TRUE(dialog.findChild<QRadioButton*>("placeBeside")->isChecked());
+        });
+    });
+    ASSERT_TRUE(m_window->importSceneFile(QString::fromStdString(box.string())));
+    ASSERT_EQ(document.project().scenes.size(), 2u);
+    const auto [low2, high2] = sceneBounds(*document.scene(document.project().scenes[1].id));
+    EXPECT_GT(low2.x(), high.x()) << "to the right of the first";
+    EXPECT_NEAR(low2.y(), 0.0, 1e-6);
+    EXPECT_EQ(document.undoStack()->count(), 2) << "one undo step per import";
+    // Saved and reopened, both are where they were placed.
+    const QString project = QString::fromStdString((folder / "placed.ctproj").string());
+    ASSERT_TRUE(m_window->saveAs(project)) << m_errors.join('\n').toStdString();
+    ASSERT_TRUE(m_window->openFile(project)) << m_errors.join('\n').toStdString();
+    const auto [low3, high3] = sceneBounds(*document.scene(document.project().scenes[1].id));
+    EXPECT_NEAR((low3 - low2).norm(), 0.0, 1e-9);
+}
+
 TEST_F(MainWindowTest, SceneImportShowsProgressAndCancelStopsIt)
 {
     const fs::path folder = test::outputDir() / "import-progress";
@@ -723,6 +817,7 @@ TEST_F(MainWindowTest, SceneImportProgressAdvancesToTheEnd)
             if (auto* progress = qobject_cast<QProgressDialog*>(widget))
                 if (progress->objectName() == "progressDialog" && progress->isVisible())
                     values.push_back(progress->value());
+        pressImport({});
     });
     ASSERT_TRUE(m_window->importSceneFile(QString::fromStdString(grid.string())))
         << m_errors.join('\n').toStdString();

@@ -5,6 +5,7 @@
 #include "chaintube/formats/scene_import.h"
 #include "chaintube/route.h"
 #include "export_dialog.h"
+#include "import_dialog.h"
 #include "import_runner.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
@@ -714,27 +715,79 @@ void MainWindow::newProject()
     m_document->reset();
 }
 
+Vec3 MainWindow::placementOf(const formats::ImportedScene& scene, int placement) const
+{
+    const auto [low, high] = sceneBounds(scene);
+    if (!(low.array() <= high.array()).all() ||
+        placement == int(ImportDialog::Placement::AsInFile))
+        return Vec3::Zero();
+    const Vec3 centre = 0.5 * (low + high);
+    if (placement == int(ImportDialog::Placement::AtOrigin))
+        return Vec3(-centre.x(), -low.y(), -centre.z());
+    // Beside: right of everything the project holds (its scenes as placed, its hoses), on
+    // its floor, centred on it in depth, a quarter of the new scene's width apart.
+    Vec3 haveLow = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 haveHigh = -haveLow;
+    for (const auto& [id, other] : m_document->scenes()) {
+        const auto [otherLow, otherHigh] = sceneBounds(other);
+        if ((otherLow.array() <= otherHigh.array()).all()) {
+            haveLow = haveLow.cwiseMin(otherLow);
+            haveHigh = haveHigh.cwiseMax(otherHigh);
+        }
+    }
+    for (const formats::HoseDefinition& definition : m_document->project().hoses)
+        if (const Hose* hose = m_document->hose(definition.id))
+            for (const Vec3& p : hose->points()) {
+                haveLow = haveLow.cwiseMin(p);
+                haveHigh = haveHigh.cwiseMax(p);
+            }
+    if (!(haveLow.array() <= haveHigh.array()).all())
+        return Vec3(-centre.x(), -low.y(), -centre.z());
+    const double gap = std::max(0.05, 0.25 * (high.x() - low.x()));
+    return Vec3(haveHigh.x() + gap - low.x(), haveLow.y() - low.y(),
+                0.5 * (haveLow.z() + haveHigh.z()) - centre.z());
+}
+
 bool MainWindow::importSceneFile(const QString& path)
 {
     const std::filesystem::path file = QFileInfo(path).absoluteFilePath().toStdString();
     formats::ImportedScene scene;
-    QString error;
-    bool cancelled = false;
-    if (!runWithProgress(
-            this, tr("Importing %1…").arg(QFileInfo(path).fileName()),
-            [&](const std::function<bool(double)>& progress) {
-                formats::ImportOptions options;
-                options.progress = progress;
-                scene = formats::importScene(file, options);
-            },
-            &error, &cancelled)) {
+    const auto read = [&](const formats::SceneImportSettings& settings) {
+        QString error;
+        bool cancelled = false;
+        if (runWithProgress(
+                this, tr("Importing %1…").arg(QFileInfo(path).fileName()),
+                [&](const std::function<bool(double)>& progress) {
+                    formats::ImportOptions options;
+                    options.metresPerUnit = settings.metresPerUnit;
+                    options.upAxis = settings.upAxis;
+                    options.progress = progress;
+                    scene = formats::importScene(file, options);
+                },
+                &error, &cancelled))
+            return true;
         if (cancelled)
             statusBar()->showMessage(tr("Import cancelled"), 5000);
         else
             showError(tr("Cannot import scene"), error);
         return false;
-    }
+    };
     formats::SceneReference reference;
+    if (!read(reference.import))
+        return false;
+    // What the reader assumed (units, up axis) and where the scene goes: shown, changeable.
+    const bool haveContent = !m_document->scenes().empty() || m_document->hoseCount() > 0;
+    ImportDialog choice(scene, haveContent, this);
+    if (choice.exec() != QDialog::Accepted) {
+        statusBar()->showMessage(tr("Import cancelled"), 5000);
+        return false;
+    }
+    reference.import.metresPerUnit = choice.metresPerUnit();
+    reference.import.upAxis = choice.upAxis();
+    if ((reference.import.metresPerUnit || reference.import.upAxis) && !read(reference.import))
+        return false;
+    reference.import.placement = placementOf(scene, int(choice.placement()));
+    formats::placeScene(scene, reference.import.placement);
     // A unique id from the file name.
     std::string base = file.stem().string();
     for (char& c : base)
