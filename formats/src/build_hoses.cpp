@@ -1,7 +1,5 @@
-#include "chaintube/formats/project_hoses.h"
-
 #include "chaintube/formats/collider_exemption.h"
-
+#include "chaintube/formats/project_hoses.h"
 #include "chaintube/material.h"
 #include "chaintube/route.h"
 
@@ -47,8 +45,10 @@ int segmentsForLength(const HoseDefinition& hose, double length)
     const double count = std::round(length / hose.segmentLength);
     if (!(count <= 1e6))
         throw InvalidArgument("hose '" + hose.id + "': segment length " +
-                              std::to_string(hose.segmentLength) + " m gives more than 1,000,000 "
-                              "segments for a " + std::to_string(length) + " m hose");
+                              std::to_string(hose.segmentLength) +
+                              " m gives more than 1,000,000 "
+                              "segments for a " +
+                              std::to_string(length) + " m hose");
     return std::max(1, static_cast<int>(count));
 }
 
@@ -76,8 +76,13 @@ double walkChords(const std::vector<Vec3>& polyline, int segments, double chord,
             }
             // The point at + t (b − at), t ∈ [0, 1], at distance `chord` from `from`.
             const Vec3 d = b - at, f = at - from;
-            const double qa = d.squaredNorm(), qb = 2.0 * d.dot(f), qc = f.squaredNorm() - chord * chord;
-            const double t = qa > 0.0 ? std::clamp((-qb + std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc))) / (2.0 * qa), 0.0, 1.0) : 1.0;
+            const double qa = d.squaredNorm(), qb = 2.0 * d.dot(f),
+                         qc = f.squaredNorm() - chord * chord;
+            const double t =
+                qa > 0.0 ? std::clamp((-qb + std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc))) /
+                                          (2.0 * qa),
+                                      0.0, 1.0)
+                         : 1.0;
             at = at + t * d;
             break;
         }
@@ -97,7 +102,8 @@ std::vector<Vec3> equalChordPoints(const std::vector<Vec3>& polyline, int segmen
     double lowMiss = -total, highMiss = walkChords(polyline, segments, high, nullptr) - total;
     double chord = high;
     int side = 0;
-    for (int round = 0; round < 100 && std::abs(highMiss) > 1e-14 * total && high - low > 1e-15 * high; ++round) {
+    for (int round = 0;
+         round < 100 && std::abs(highMiss) > 1e-14 * total && high - low > 1e-15 * high; ++round) {
         chord = (low * highMiss - high * lowMiss) / (highMiss - lowMiss);
         if (!(chord > low && chord < high)) chord = 0.5 * (low + high);
         const double miss = walkChords(polyline, segments, chord, nullptr) - total;
@@ -141,8 +147,8 @@ Hose layOut(const Project& project, const HoseDefinition& definition)
     if (!definition.length) return Hose::alongRoute(definition.route, spec);
     const double length = *definition.length;
     if (!(length > 0.0) || !std::isfinite(length))
-        throw InvalidArgument("hose '" + definition.id + "': length: expected a length > 0 m, got " +
-                              std::to_string(length));
+        throw InvalidArgument("hose '" + definition.id +
+                              "': length: expected a length > 0 m, got " + std::to_string(length));
     const int segments = segmentsForLength(definition, length);
     spec.segmentCount = segments;
     const std::vector<double> rest(static_cast<size_t>(segments), length / segments);
@@ -151,8 +157,8 @@ Hose layOut(const Project& project, const HoseDefinition& definition)
         if (holdsConstraints(asLaid)) return asLaid;
     }
     spec.validate();
-    return Hose::fromAxis(equalChordPoints(roundedRoute(definition.route, spec, segments), segments),
-                          rest, spec);
+    return Hose::fromAxis(
+        equalChordPoints(roundedRoute(definition.route, spec, segments), segments), rest, spec);
 }
 
 /// Step 2 of buildHose(): the attachments at the file pose.
@@ -198,15 +204,15 @@ UpdateResult settleBetweenRouteEnds(Hose& hose)
         pins.pop_back();
         result = hose.settle();
     }
-    for (int pin : pins) hose.detach(pin);
+    for (int pin : pins)
+        hose.detach(pin);
     return result;
 }
 
 /// Node index of every pose of the project in scene `sceneId` (−1 entries never occur: an
 /// unknown node path throws).
-std::vector<std::pair<int, const NodePose*>> posesOfScene(const Project& project,
-                                                          const ImportedScenes& scenes,
-                                                          const std::string& sceneId)
+std::vector<std::pair<int, const NodePose*>>
+posesOfScene(const Project& project, const ImportedScenes& scenes, const std::string& sceneId)
 {
     std::vector<std::pair<int, const NodePose*>> found;
     for (size_t i = 0; i < project.poses.size(); ++i) {
@@ -216,8 +222,7 @@ std::vector<std::pair<int, const NodePose*>> posesOfScene(const Project& project
         const int node = scene == scenes.end() ? -1 : scene->second.findNode(pose.node);
         if (node < 0)
             throw InvalidArgument("pose " + std::to_string(i) + " (/poses/" + std::to_string(i) +
-                                  "): scene '" + pose.scene + "' has no node '" + pose.node +
-                                  "'");
+                                  "): scene '" + pose.scene + "' has no node '" + pose.node + "'");
         found.emplace_back(node, &pose);
     }
     return found;
@@ -239,7 +244,8 @@ std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node,
                              mesh.positions[3 * v + 2]);
             positions.push_back(frame.applyInverse((world * local.homogeneous()).head<3>()));
         }
-        for (std::uint32_t index : mesh.indices) indices.push_back(base + index);
+        for (std::uint32_t index : mesh.indices)
+            indices.push_back(base + index);
     }
     if (indices.empty()) return nullptr;
     return MeshCollider::fromArrays(positions, indices, frame);
@@ -249,8 +255,7 @@ Mat4 posedWorldTransform(const Project& project, const ImportedScenes& scenes,
                          const std::string& sceneId, int node)
 {
     const auto scene = scenes.find(sceneId);
-    if (scene == scenes.end())
-        throw InvalidArgument("scene '" + sceneId + "' is not imported");
+    if (scene == scenes.end()) throw InvalidArgument("scene '" + sceneId + "' is not imported");
     const std::vector<SceneNode>& nodes = scene->second.nodes;
     if (node < 0 || node >= static_cast<int>(nodes.size()))
         throw InvalidArgument("scene '" + sceneId + "' has no node " + std::to_string(node));
@@ -306,8 +311,7 @@ ImportedScenes importProjectScenes(const Project& project, const std::filesystem
 
 void placeScene(ImportedScene& scene, const Vec3& placement)
 {
-    if (!scene.nodes.empty())
-        scene.nodes[0].localTransform.block<3, 1>(0, 3) += placement;
+    if (!scene.nodes.empty()) scene.nodes[0].localTransform.block<3, 1>(0, 3) += placement;
 }
 
 HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose)
@@ -422,7 +426,8 @@ HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
     inextensible.segmentCount = segments;
     inextensible.material.expansionCoefficient = 0.0;
     Hose laid = Hose::fromAxis(
-        points, std::vector<double>(static_cast<size_t>(segments), length / segments), inextensible);
+        points, std::vector<double>(static_cast<size_t>(segments), length / segments),
+        inextensible);
     attachAtFilePose(laid, changed, scenes);
     // Its status shows in the hose built from the result (measure(), Hose::attachmentGap).
     static_cast<void>(settleBetweenRouteEnds(laid));
@@ -430,11 +435,13 @@ HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
     return changed;
 }
 
-bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId, const std::string& nodePath)
+bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId,
+                       const std::string& nodePath)
 {
-    return std::any_of(hose.attachments.begin(), hose.attachments.end(), [&](const HoseAttachment& a) {
-        return a.scene == sceneId && attachmentExemptsPath(a.node, nodePath);
-    });
+    return std::any_of(hose.attachments.begin(), hose.attachments.end(),
+                       [&](const HoseAttachment& a) {
+                           return a.scene == sceneId && attachmentExemptsPath(a.node, nodePath);
+                       });
 }
 
 int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,
@@ -444,16 +451,18 @@ int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Proje
     std::vector<std::shared_ptr<const MeshCollider>> used;
     for (const ColliderNode& collider : project.colliders) {
         const auto scene = scenes.find(collider.scene);
-        if (scene == scenes.end() || attachmentsExempt(definition, collider.scene, collider.node)) continue;
+        if (scene == scenes.end() || attachmentsExempt(definition, collider.scene, collider.node))
+            continue;
         const int node = scene->second.findNode(collider.node);
         if (node < 0) continue;
-        if (std::shared_ptr<MeshCollider> mesh =
-                nodeCollider(scene->second, node, posedWorldTransform(project, scenes, collider.scene, node)))
+        if (std::shared_ptr<MeshCollider> mesh = nodeCollider(
+                scene->second, node, posedWorldTransform(project, scenes, collider.scene, node)))
             used.push_back(std::move(mesh));
     }
     hose.setColliders(std::move(used));
     int steps = 0;
-    while (steps < stepBudget && hose.step().movedPoints > 0) ++steps;
+    while (steps < stepBudget && hose.step().movedPoints > 0)
+        ++steps;
     hose.setColliders({});
     hose.markSettled();
     return steps;

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 #include <sstream>
-#include <numbers>
 
 namespace chaintube::formats {
 
@@ -23,14 +23,13 @@ namespace {
 // the stack.
 // Real projects are far below them (the 50-hose sample: 52 KB, 1,200 axis points).
 constexpr std::size_t kMaxProjectFileBytes = std::size_t{64} << 20; // 64 MiB of JSON
-constexpr int kMaxJsonDepth = 64;                // nesting of arrays and objects
-constexpr std::size_t kMaxJsonValues = 2000000; // values in the document (~150 MB DOM)
+constexpr int kMaxJsonDepth = 64;                                   // nesting of arrays and objects
+constexpr std::size_t kMaxJsonValues = 2000000;  // values in the document (~150 MB DOM)
 constexpr std::size_t kMaxProjectHoses = 100000; // hoses in one project
 constexpr std::size_t kMaxRoutePoints = 100000;  // route points of one hose
 // Axis points of all hoses together (segmentCount + 1 each; with segmentLength, the route
 // length divided by it).
 constexpr std::size_t kMaxProjectAxisPoints = 10000000;
-
 
 std::string describe(const json& value)
 {
@@ -220,8 +219,9 @@ Material readMaterialValues(const Cursor& cursor, std::initializer_list<const ch
         material.bendLimit = {BendLimit::Kind::MinBendRadius,
                               limit.key("minBendRadius").number(0, true, HUGE_VAL, false)};
     } else {
-        material.bendLimit = {BendLimit::Kind::DeflectionAngle,
-                              limit.key("deflectionAngle").number(0, true, std::numbers::pi, false)};
+        material.bendLimit = {
+            BendLimit::Kind::DeflectionAngle,
+            limit.key("deflectionAngle").number(0, true, std::numbers::pi, false)};
     }
     return material;
 }
@@ -387,8 +387,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         scene.path = entry.key("path").string();
         checkPath(entry.key("path"), scene.path, projectDirectory, options.roots);
         const Cursor import = entry.key("import");
-        import.object({"metresPerUnit", "upAxis", "chordalTolerance", "angularTolerance",
-                       "placement"});
+        import.object(
+            {"metresPerUnit", "upAxis", "chordalTolerance", "angularTolerance", "placement"});
         if (auto unit = import.optionalKey("metresPerUnit"))
             scene.import.metresPerUnit = unit->number(0, false, HUGE_VAL, false);
         if (auto up = import.optionalKey("upAxis")) {
@@ -402,7 +402,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         }
         scene.import.chordalTolerance =
             import.key("chordalTolerance").number(0, false, HUGE_VAL, false);
-        scene.import.angularTolerance = import.key("angularTolerance").number(0, false, std::numbers::pi, true);
+        scene.import.angularTolerance =
+            import.key("angularTolerance").number(0, false, std::numbers::pi, true);
         if (const auto placement = import.optionalKey("placement")) // 1.3
             scene.import.placement = readVec3(*placement);
         project.scenes.push_back(std::move(scene));
@@ -571,7 +572,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             const double determinant = pose.localTransform.topLeftCorner<3, 3>().determinant();
             if (!(std::abs(determinant) > 1e-12))
                 matrix.fail("expected an invertible transform (|det| of the 3x3 block > 1e-12), "
-                            "got det " + json(determinant).dump());
+                            "got det " +
+                            json(determinant).dump());
             project.poses.push_back(std::move(pose));
         }
     }
@@ -627,23 +629,27 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
         bool inString = false, escaped = false;
         for (const char c : text) {
             if (inString) {
-                if (escaped) escaped = false;
-                else if (c == '\\') escaped = true;
-                else if (c == '"') inString = false;
+                if (escaped)
+                    escaped = false;
+                else if (c == '\\')
+                    escaped = true;
+                else if (c == '"')
+                    inString = false;
                 continue;
             }
             if (c == '"') inString = true;
             if (c == '[' || c == '{') {
                 if (++depth > kMaxJsonDepth)
-                    throw ProjectFormatError(file, "", "JSON nested deeper than " +
-                                                           std::to_string(kMaxJsonDepth) +
-                                                           " levels (limit)");
+                    throw ProjectFormatError(file, "",
+                                             "JSON nested deeper than " +
+                                                 std::to_string(kMaxJsonDepth) + " levels (limit)");
             } else if (c == ']' || c == '}') {
                 --depth;
             }
             if ((c == ',' || c == '[' || c == '{') && ++values > kMaxJsonValues)
-                throw ProjectFormatError(file, "", "more than " + std::to_string(kMaxJsonValues) +
-                                                       " JSON values (limit)");
+                throw ProjectFormatError(file, "",
+                                         "more than " + std::to_string(kMaxJsonValues) +
+                                             " JSON values (limit)");
         }
         document = json::parse(text.begin(), text.end());
     } catch (const json::exception& error) { // parse_error, or out_of_range for 1e400

@@ -5,13 +5,11 @@
 #include "chaintube/editor/document.h"
 #include "test_support.h"
 
-#include <gtest/gtest.h>
-
 #include <Eigen/Geometry>
-
 #include <fstream>
-#include <iostream>
 #include <functional>
+#include <gtest/gtest.h>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -80,14 +78,14 @@ TEST(DocumentUndo, EveryHoseFieldChangeUndoesExactly)
     using formats::HoseDefinition;
     expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::outerDiameter,
                                                    0.031, MergeId::HoseDiameter, "diameter"));
-    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::segmentCount,
-                                                   24, MergeId::HoseSegments, "segments"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::segmentCount, 24,
+                                                   MergeId::HoseSegments, "segments"));
     expectExactUndo(*document,
                     makeChangeHoseField(*document, id, &HoseDefinition::name,
                                         std::string("renamed"), MergeId::HoseName, "name"));
     formats::Rgba colour{0.9, 0.1, 0.2, 1.0};
-    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::colour,
-                                                   colour, MergeId::HoseColour, "colour"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::colour, colour,
+                                                   MergeId::HoseColour, "colour"));
     Material material;
     material.expansionCoefficient = 0.2;
     material.bendLimit = BendLimit::deflectionAngle(0.5);
@@ -98,8 +96,8 @@ TEST(DocumentUndo, EveryHoseFieldChangeUndoesExactly)
     profile.shape = Profile::Shape::Rectangle;
     profile.width = 0.03;
     profile.height = 0.012;
-    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::profile,
-                                                   profile, MergeId::HoseProfile, "profile"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::profile, profile,
+                                                   MergeId::HoseProfile, "profile"));
 }
 
 TEST(DocumentUndo, RouteEditsUndoExactly)
@@ -249,7 +247,8 @@ TEST(DocumentLength, TwentyCommittedDragsWithinTheBandKeepTheRestLengthAndTheSha
     const std::filesystem::path folder = test::outputDir() / "twenty-drags";
     std::filesystem::remove_all(folder);
     std::filesystem::create_directories(folder / "scenes");
-    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf", folder / "scenes/test-rig.gltf");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf");
     const std::vector<Vec3> shape = document->hose(id)->points();
     document->save(folder / "test-rig.ctproj");
     Document reopened(roots());
@@ -294,8 +293,7 @@ TEST(DocumentPose, MovingAPartResolvesOnlyTheHosesItCarries)
     const formats::ImportedScene& rig = *document->scene("rig");
     std::map<std::string, int> shapeEvents;
     QObject::connect(document.get(), &Document::changed, [&](const ChangeEvent& event) {
-        if (event.kind == ChangeEvent::Kind::HoseShapeChanged)
-            ++shapeEvents[event.hoseId];
+        if (event.kind == ChangeEvent::Kind::HoseShapeChanged) ++shapeEvents[event.hoseId];
     });
     const auto revisions = [&] {
         std::map<std::string, std::uint64_t> r;
@@ -345,8 +343,7 @@ TEST(DocumentPose, ThePartCentreIsTheMiddleOfItsBoundingBoxAndFollowsThePose)
         bool under = false;
         for (int m = int(n); m >= 0; m = rig.nodes[size_t(m)].parent)
             under = under || m == valve;
-        if (!under)
-            continue;
+        if (!under) continue;
         for (int mesh : rig.nodes[n].meshes)
             for (size_t v = 0; v < rig.meshes[size_t(mesh)].vertexCount(); ++v) {
                 const float* p = &rig.meshes[size_t(mesh)].positions[3 * v];
@@ -360,9 +357,9 @@ TEST(DocumentPose, ThePartCentreIsTheMiddleOfItsBoundingBoxAndFollowsThePose)
     formats::Mat4 moved = document->nodeLocalTransform("rig", valve);
     moved.block<3, 1>(0, 3) += Vec3(0.1, 0.0, -0.05);
     document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
-    EXPECT_NEAR((document->partCentre("rig", valve) - 0.5 * (low + high) - Vec3(0.1, 0.0, -0.05))
-                    .norm(),
-                0.0, 1e-9);
+    EXPECT_NEAR(
+        (document->partCentre("rig", valve) - 0.5 * (low + high) - Vec3(0.1, 0.0, -0.05)).norm(),
+        0.0, 1e-9);
 }
 
 TEST(DocumentPose, TheRouteLineFollowsThePartsTheHoseIsFixedTo)
@@ -449,15 +446,15 @@ TEST(DocumentUndo, ASliderDragIsOneUndoStepAndTwoDragsAreTwo)
     const std::string id = document->project().hoses[0].id;
     const double original = document->hoseDefinition(id)->outerDiameter;
     for (double d : {0.021, 0.022, 0.023, 0.024})
-        document->undoStack()->push(makeChangeHoseField(
-            *document, id, &formats::HoseDefinition::outerDiameter, d, MergeId::HoseDiameter,
-            "diameter"));
+        document->undoStack()->push(makeChangeHoseField(*document, id,
+                                                        &formats::HoseDefinition::outerDiameter, d,
+                                                        MergeId::HoseDiameter, "diameter"));
     EXPECT_EQ(document->undoStack()->count(), 1);
     document->closeMerge(); // slider released
     for (double d : {0.025, 0.026})
-        document->undoStack()->push(makeChangeHoseField(
-            *document, id, &formats::HoseDefinition::outerDiameter, d, MergeId::HoseDiameter,
-            "diameter"));
+        document->undoStack()->push(makeChangeHoseField(*document, id,
+                                                        &formats::HoseDefinition::outerDiameter, d,
+                                                        MergeId::HoseDiameter, "diameter"));
     EXPECT_EQ(document->undoStack()->count(), 2);
     document->undoStack()->undo();
     EXPECT_EQ(document->hoseDefinition(id)->outerDiameter, 0.024);
@@ -469,9 +466,9 @@ TEST(DocumentUndo, DifferentHosesDoNotMerge)
 {
     auto document = openTestRig();
     for (const auto& hose : std::vector<formats::HoseDefinition>(document->project().hoses))
-        document->undoStack()->push(makeChangeHoseField(
-            *document, hose.id, &formats::HoseDefinition::outerDiameter, 0.03,
-            MergeId::HoseDiameter, "diameter"));
+        document->undoStack()->push(makeChangeHoseField(*document, hose.id,
+                                                        &formats::HoseDefinition::outerDiameter,
+                                                        0.03, MergeId::HoseDiameter, "diameter"));
     EXPECT_EQ(document->undoStack()->count(), 2);
 }
 
@@ -497,9 +494,9 @@ TEST(Document, SaveThenOpenGivesTheSameProject)
 {
     auto document = openTestRig();
     const std::string id = document->project().hoses[0].id;
-    document->undoStack()->push(makeChangeHoseField(
-        *document, id, &formats::HoseDefinition::outerDiameter, 0.027, MergeId::HoseDiameter,
-        "diameter"));
+    document->undoStack()->push(makeChangeHoseField(*document, id,
+                                                    &formats::HoseDefinition::outerDiameter, 0.027,
+                                                    MergeId::HoseDiameter, "diameter"));
     EXPECT_TRUE(document->isModified());
     // The relative scene path must stay valid: the scene is copied beside the saved file.
     const auto folder = test::outputDir() / "save-open";
@@ -593,12 +590,11 @@ TEST(Document, ChangeEventsNameWhatChanged)
         *document, id, &formats::HoseDefinition::segmentCount, 24, MergeId::HoseSegments, "s"));
     bool sawHoseChanged = false;
     for (const ChangeEvent& event : events)
-        sawHoseChanged = sawHoseChanged ||
-                         (event.kind == ChangeEvent::Kind::HoseChanged && event.hoseId == id);
+        sawHoseChanged =
+            sawHoseChanged || (event.kind == ChangeEvent::Kind::HoseChanged && event.hoseId == id);
     EXPECT_TRUE(sawHoseChanged);
     EXPECT_EQ(document->hose(id)->pointCount(), 25);
 }
-
 
 // --- live gravity and colliders (issue 7) -----------------------------------------------------
 
@@ -823,7 +819,7 @@ TEST(DocumentColliders, ALiveHoseStaysOutsideAFlaggedPartAndGoesThroughWhenTheFl
     moved.block<3, 1>(0, 3) = Vec3(middle.x(), middle.y() - 0.125, middle.z()); // top 25 mm below
     document->undoStack()->push(makeSetNodeTransform(*document, {"rig", bracket}, moved));
     EXPECT_NEAR(box->worldBounds().max.y(), middle.y() - 0.025, 1e-6); // float vertices
-    const Vec3 inside(middle.x(), middle.y() - 0.125, middle.z()); // the bracket's centre
+    const Vec3 inside(middle.x(), middle.y() - 0.125, middle.z());     // the bracket's centre
 
     const double tolerance = CollisionOptions{}.tolerance;
     const double flagged = dragIntoAndMeasure(*document, leftFeed, point, inside, *box);

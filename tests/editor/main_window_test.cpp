@@ -15,10 +15,10 @@
 #include "test_support.h"
 #include "viewport.h"
 
+#include <Eigen/Geometry>
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDialogButtonBox>
-#include <QRadioButton>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
@@ -33,8 +33,10 @@
 #include <QMouseEvent>
 #include <QProgressDialog>
 #include <QPushButton>
+#include <QRadioButton>
 #include <QRegularExpression>
 #include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
 #include <QSlider>
 #include <QSpinBox>
@@ -44,15 +46,10 @@
 #include <QTreeWidget>
 #include <QUndoView>
 #include <QWheelEvent>
-#include <QScrollBar>
-
-#include <gtest/gtest.h>
-
-#include <Eigen/Geometry>
-
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <map>
 #include <set>
 #include <vector>
@@ -189,8 +186,7 @@ QJsonObject readGlb(const fs::path& file)
     EXPECT_TRUE(in.open(QIODevice::ReadOnly)) << file;
     const QByteArray bytes = in.readAll();
     EXPECT_GE(bytes.size(), 20);
-    if (bytes.size() < 20)
-        return {};
+    if (bytes.size() < 20) return {};
     auto u32 = [&](int offset) {
         return quint32(quint8(bytes[offset])) | quint32(quint8(bytes[offset + 1])) << 8 |
                quint32(quint8(bytes[offset + 2])) << 16 | quint32(quint8(bytes[offset + 3])) << 24;
@@ -236,22 +232,23 @@ TEST_F(MainWindowTest, LayOutFixMoveUndoAndExportOnTheTestRig)
         if (hit.second.point.z() > 0.2 && std::abs(hit.second.point.x()) < 0.3)
             front.push_back(hit);
     ASSERT_GE(front.size(), 2u);
-    std::sort(front.begin(), front.end(), [](const auto& a, const auto& b) {
-        return a.second.point.x() < b.second.point.x();
-    });
+    std::sort(front.begin(), front.end(),
+              [](const auto& a, const auto& b) { return a.second.point.x() < b.second.point.x(); });
     // The valve spot farthest (on screen) from the hoses already fixed to the valve.
     auto clearance = [&](const QPoint& p) {
         double nearest = 1e9;
         for (const auto& hose : document.project().hoses)
             for (const Vec3& point : document.hose(hose.id)->points()) {
                 const QPoint q = viewport.toWidget(point);
-                nearest = std::min(nearest, std::hypot(double(p.x() - q.x()), double(p.y() - q.y())));
+                nearest =
+                    std::min(nearest, std::hypot(double(p.x() - q.x()), double(p.y() - q.y())));
             }
         return nearest;
     };
-    const auto& first = *std::max_element(valveTop.begin(), valveTop.end(), [&](const auto& a, const auto& b) {
-        return clearance(a.first) < clearance(b.first);
-    });
+    const auto& first =
+        *std::max_element(valveTop.begin(), valveTop.end(), [&](const auto& a, const auto& b) {
+            return clearance(a.first) < clearance(b.first);
+        });
     const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {first, front.front(),
                                                                  front.back()};
     QTest::keyClick(&viewport, Qt::Key_N);
@@ -300,8 +297,10 @@ TEST_F(MainWindowTest, LayOutFixMoveUndoAndExportOnTheTestRig)
     for (const Problem& problem : m_window->problems().problems()) {
         EXPECT_FALSE(problem.hoseId == newId && problem.text.contains("/test-rig/valve"))
             << problem.text.toStdString();
-        EXPECT_FALSE(problem.text.contains(QRegularExpression(" -[0-9]"))) << problem.text.toStdString();
-        floorListed = floorListed || (problem.hoseId == newId && problem.text.contains("/test-rig/floor_plate"));
+        EXPECT_FALSE(problem.text.contains(QRegularExpression(" -[0-9]")))
+            << problem.text.toStdString();
+        floorListed = floorListed ||
+                      (problem.hoseId == newId && problem.text.contains("/test-rig/floor_plate"));
     }
     EXPECT_TRUE(floorListed);
     screenshot("editor-test-rig.png");
@@ -364,7 +363,8 @@ TEST_F(MainWindowTest, LayOutFixMoveUndoAndExportOnTheTestRig)
         << m_window->exportDialog().summaryText().toStdString();
     // Each file written is listed with its size: the glTF and the descriptor apart.
     const QString summary = m_window->exportDialog().summaryText();
-    EXPECT_TRUE(summary.contains(QRegularExpression("rig\\.glb  [0-9.]+ (KB|MB|bytes)  \\(glTF\\)")))
+    EXPECT_TRUE(
+        summary.contains(QRegularExpression("rig\\.glb  [0-9.]+ (KB|MB|bytes)  \\(glTF\\)")))
         << summary.toStdString();
     if (fs::exists(output.parent_path() / "rig.hoses.json")) {
         EXPECT_TRUE(summary.contains(
@@ -385,8 +385,8 @@ TEST_F(MainWindowTest, EngineSceneLayOutFixAndMove)
 {
     if (!test::haveScenes())
         GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no 2CylinderEngine.glb: engine test skipped";
-    ASSERT_TRUE(m_window->openFile(
-        QString::fromStdString((test::samplesDir() / "engine.ctproj").string())))
+    ASSERT_TRUE(
+        m_window->openFile(QString::fromStdString((test::samplesDir() / "engine.ctproj").string())))
         << m_errors.join('\n').toStdString();
     Document& document = m_window->document();
     Viewport& viewport = m_window->viewport();
@@ -490,10 +490,10 @@ TEST_F(MainWindowTest, RotateGizmoTurnsAPartInSnappedStepsAndTheHosesFollow)
     EXPECT_EQ(document.undoStack()->undoText(), "Rotate valve");
     const Frame after = document.nodeWorldFrame("rig", valve);
     const Eigen::AngleAxisd turn(after.rotation * before.rotation.inverse());
-    EXPECT_NEAR((after.translation - (centre + turn.toRotationMatrix() *
-                                                   (before.translation - centre)))
-                    .norm(),
-                0.0, 1e-9)
+    EXPECT_NEAR(
+        (after.translation - (centre + turn.toRotationMatrix() * (before.translation - centre)))
+            .norm(),
+        0.0, 1e-9)
         << "rotation about the part's centre";
     EXPECT_NEAR((document.partCentre("rig", valve) - centre).norm(), 0.0, 1e-9)
         << "the centre stays where it is";
@@ -505,13 +505,13 @@ TEST_F(MainWindowTest, RotateGizmoTurnsAPartInSnappedStepsAndTheHosesFollow)
     // The fixed points turned rigidly with the valve, about its centre; the free middle of the
     // left hose moved with them.
     const Eigen::Matrix3d rotation = turn.toRotationMatrix();
-    EXPECT_NEAR((document.hose("right-return")->points().back() -
-                 (centre + rotation * (rightEnd - centre)))
-                    .norm(),
-                0.0, 1e-9);
-    EXPECT_NEAR((document.hose("left-feed")->point(16) - (centre + rotation * (leftEnd - centre)))
-                    .norm(),
-                0.0, 1e-9);
+    EXPECT_NEAR(
+        (document.hose("right-return")->points().back() - (centre + rotation * (rightEnd - centre)))
+            .norm(),
+        0.0, 1e-9);
+    EXPECT_NEAR(
+        (document.hose("left-feed")->point(16) - (centre + rotation * (leftEnd - centre))).norm(),
+        0.0, 1e-9);
     EXPECT_GT((document.hose("left-feed")->point(16) - leftEnd).norm(), 0.02);
     EXPECT_GT((document.hose("left-feed")->point(8) - leftMiddle).norm(), 1e-4)
         << "the hose followed live, not only its fixed points";
@@ -542,8 +542,7 @@ TEST_F(MainWindowTest, RotateGizmoTurnsAPartInSnappedStepsAndTheHosesFollow)
         int valves = 0;
         for (const auto& node : gltf["nodes"].toArray()) {
             const QJsonObject object = node.toObject();
-            if (object["name"].toString() != "valve")
-                continue;
+            if (object["name"].toString() != "valve") continue;
             ++valves;
             const QJsonArray q = object["rotation"].toArray();
             ASSERT_EQ(q.size(), 4);
@@ -666,8 +665,7 @@ fs::path writeGridObj(const fs::path& file, int n)
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, d = c + 1;
-            out << "f " << a << " " << c << " " << b << "\nf " << b << " " << c << " " << d
-                << "\n";
+            out << "f " << a << " " << c << " " << b << "\nf " << b << " " << c << " " << d << "\n";
         }
     return file;
 }
@@ -678,10 +676,8 @@ bool pressImport(const std::function<void(QDialog&)>& choose)
 {
     for (QWidget* widget : QApplication::topLevelWidgets()) {
         auto* dialog = qobject_cast<QDialog*>(widget);
-        if (!dialog || dialog->objectName() != "importDialog" || !dialog->isVisible())
-            continue;
-        if (choose)
-            choose(*dialog);
+        if (!dialog || dialog->objectName() != "importDialog" || !dialog->isVisible()) continue;
+        if (choose) choose(*dialog);
         auto* buttons = dialog->findChild<QDialogButtonBox*>("importButtons");
         QTest::mouseClick(buttons->button(QDialogButtonBox::Ok), Qt::LeftButton);
         return true;
@@ -716,18 +712,18 @@ TEST_F(MainWindowTest, ImportShowsTheAssumedUnitsAndPlacesTheScene)
     QString assumed;
     QString size;
     {
-    DialogDriver drive([&] {
-        pressImport([&](QDialog& dialog) {
-            assumed = dialog.findChild<QLabel*>("importAssumed")->text();
-            auto* unit = dialog.findChild<QComboBox*>("importUnit");
-            unit->setCurrentIndex(unit->findText("millimetre"));
-            size = dialog.findChild<QLabel*>("importSize")->text();
-            EXPECT_TRUE(dialog.findChild<QRadioButton*>("placeAtOrigin")->isChecked())
-                << "an empty project: at the origin";
+        DialogDriver drive([&] {
+            pressImport([&](QDialog& dialog) {
+                assumed = dialog.findChild<QLabel*>("importAssumed")->text();
+                auto* unit = dialog.findChild<QComboBox*>("importUnit");
+                unit->setCurrentIndex(unit->findText("millimetre"));
+                size = dialog.findChild<QLabel*>("importSize")->text();
+                EXPECT_TRUE(dialog.findChild<QRadioButton*>("placeAtOrigin")->isChecked())
+                    << "an empty project: at the origin";
+            });
         });
-    });
-    ASSERT_TRUE(m_window->importSceneFile(QString::fromStdString(box.string())))
-        << m_errors.join('\n').toStdString();
+        ASSERT_TRUE(m_window->importSceneFile(QString::fromStdString(box.string())))
+            << m_errors.join('\n').toStdString();
     } // the first import's dialog driver stops here
     EXPECT_TRUE(assumed.contains("metre")) << assumed.toStdString();
     EXPECT_TRUE(assumed.contains("assumed")) << assumed.toStdString();
@@ -782,8 +778,8 @@ TEST_F(MainWindowTest, SceneImportShowsProgressAndCancelStopsIt)
     DialogDriver cancel([&] {
         for (QWidget* widget : QApplication::topLevelWidgets()) {
             auto* progress = qobject_cast<QProgressDialog*>(widget);
-            if (!progress || progress->objectName() != "progressDialog" ||
-                !progress->isVisible() || pressed)
+            if (!progress || progress->objectName() != "progressDialog" || !progress->isVisible() ||
+                pressed)
                 continue;
             ++dialogs;
             label = progress->labelText();
@@ -828,8 +824,8 @@ TEST_F(MainWindowTest, SceneImportProgressAdvancesToTheEnd)
     EXPECT_EQ(document.scenes().begin()->second.instancedTriangleCount(), 2u * n * n);
     EXPECT_EQ(document.undoStack()->count(), 1) << "an import is one undo step";
     // The tree lists the imported node.
-    EXPECT_FALSE(m_window->sceneTree().findItems("grid", Qt::MatchExactly | Qt::MatchRecursive)
-                     .isEmpty());
+    EXPECT_FALSE(
+        m_window->sceneTree().findItems("grid", Qt::MatchExactly | Qt::MatchRecursive).isEmpty());
 }
 
 TEST_F(MainWindowTest, RecentFilesAreListedNewestFirstAndOpenFromTheMenu)
@@ -893,8 +889,7 @@ TEST_F(MainWindowTest, TheUnsavedChangesPromptIsARealDialogThatCanCancelOrDiscar
     QStringList texts;
     DialogDriver driver([&] {
         auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
-        if (!box || !box->isVisible() || box->property("driven").toBool())
-            return;
+        if (!box || !box->isVisible() || box->property("driven").toBool()) return;
         box->setProperty("driven", true);
         texts << box->text();
         ASSERT_TRUE(box->button(press));
@@ -1037,7 +1032,10 @@ TEST_F(MainWindowTest, HoseFieldsAreBlankWithNoHoseSelected)
     auto* name = m_window->findChild<QLineEdit*>("hoseName");
     auto* shape = m_window->findChild<QComboBox*>("shape");
     selectHose("left-feed");
-    EXPECT_EQ(diameter->text(), QString("%1 mm").arg(m_window->document().hoseDefinition("left-feed")->outerDiameter * 1000.0, 0, 'f', 1));
+    EXPECT_EQ(diameter->text(),
+              QString("%1 mm").arg(m_window->document().hoseDefinition("left-feed")->outerDiameter *
+                                       1000.0,
+                                   0, 'f', 1));
     EXPECT_FALSE(name->text().isEmpty());
     selectHose("");
     EXPECT_FALSE(diameter->isEnabled());
@@ -1052,7 +1050,8 @@ TEST_F(MainWindowTest, HoseFieldsAreBlankWithNoHoseSelected)
     settle();
     ASSERT_EQ(m_window->document().hose("left-feed")->spec().material.expansionCoefficient, 0.0);
     EXPECT_EQ(expansion->text(), "0.0 %");
-    EXPECT_EQ(segments->text(), QString::number(m_window->document().hose("left-feed")->segmentCount()));
+    EXPECT_EQ(segments->text(),
+              QString::number(m_window->document().hose("left-feed")->segmentCount()));
 }
 
 // The profile fields a shape is not made from cannot be edited: sides for circle and ellipse,
@@ -1092,7 +1091,8 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
     segments->setValue(9);
     settle();
     EXPECT_EQ(document.hoseDefinition("left-feed")->profile.cornerSegments, 9);
-    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape, Profile::Shape::RoundedRectangle);
+    EXPECT_EQ(document.hoseDefinition("left-feed")->profile.shape,
+              Profile::Shape::RoundedRectangle);
     screenshot("editor-rounded-rectangle.png"); // looked at, not compared
     document.undoStack()->undo();
     settle();
@@ -1111,8 +1111,8 @@ TEST_F(MainWindowTest, ProfileFieldsFollowTheShape)
     formats::HoseDefinition polygon = *document.hoseDefinition("left-feed");
     polygon.profile.shape = Profile::Shape::Polygon;
     polygon.profile.points = {Vec2(-0.008, -0.006), Vec2(0.008, -0.006), Vec2(0.0, 0.008)};
-    document.undoStack()->push(
-        makeSetHoseDefinition(document, "left-feed", polygon, MergeId::None, QStringLiteral("Polygon")));
+    document.undoStack()->push(makeSetHoseDefinition(document, "left-feed", polygon, MergeId::None,
+                                                     QStringLiteral("Polygon")));
     settle();
     EXPECT_EQ(shape->currentIndex(), 4);
     EXPECT_TRUE(shape->currentText().contains("Polygon"));
@@ -1153,7 +1153,6 @@ TEST_F(MainWindowTest, ProblemsPanelListsAnOverstretchAndSelectsItOnClick)
     screenshot("editor-problems.png");
 }
 
-
 /// Clicks a check box where a person would (its indicator), after scrolling it into view.
 void clickCheckBox(QCheckBox* box)
 {
@@ -1185,8 +1184,8 @@ TEST_F(MainWindowTest, GravityTorsionAndColliderControlsEditThroughTheUndoStack)
     ASSERT_TRUE(gravity && torsion && twistLimit && collider);
 
     // Nothing selected: every hose group and the part group are greyed out.
-    for (const char* group : {"hoseGroup", "materialGroup", "profileGroup", "physicsGroup",
-                              "fixGroup", "partGroup"}) {
+    for (const char* group :
+         {"hoseGroup", "materialGroup", "profileGroup", "physicsGroup", "fixGroup", "partGroup"}) {
         auto* box = m_window->findChild<QGroupBox*>(group);
         ASSERT_TRUE(box) << group;
         EXPECT_FALSE(box->isEnabled()) << group << " enabled with nothing selected";
@@ -1244,8 +1243,8 @@ TEST_F(MainWindowTest, GravityTorsionAndColliderControlsEditThroughTheUndoStack)
     QTest::keyClick(twistLimit, Qt::Key_A, Qt::ControlModifier);
     QTest::keyClicks(twistLimit, "12.5");
     QTest::keyClick(twistLimit, Qt::Key_Return);
-    EXPECT_NEAR(document.hoseDefinition(id)->torsion.twistLimit, 12.5 * 3.14159265358979323846 / 180.0,
-                1e-15);
+    EXPECT_NEAR(document.hoseDefinition(id)->torsion.twistLimit,
+                12.5 * 3.14159265358979323846 / 180.0, 1e-15);
     EXPECT_EQ(document.undoStack()->count(), 2);
     QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
     EXPECT_NEAR(document.hoseDefinition(id)->torsion.twistLimit, 0.1, 1e-15);
@@ -1423,10 +1422,10 @@ TEST_F(MainWindowTest, WheelOverPropertiesScrollsThePanelAndChangesNoValue)
         QApplication::sendEvent(widget, &event);
         QApplication::processEvents();
     };
-    for (QWidget* field : std::initializer_list<QWidget*>{
-             diameter, m_window->findChild<QComboBox*>("preset"),
-             m_window->findChild<QSlider*>("diameterSlider"),
-             m_window->findChild<QSpinBox*>("segments")})
+    for (QWidget* field :
+         std::initializer_list<QWidget*>{diameter, m_window->findChild<QComboBox*>("preset"),
+                                         m_window->findChild<QSlider*>("diameterSlider"),
+                                         m_window->findChild<QSpinBox*>("segments")})
         wheel(field, -2); // down: towards the end of the panel
     EXPECT_EQ(diameter->value(), value);
     EXPECT_EQ(document.undoStack()->count(), 0) << "no value changed";
@@ -1516,9 +1515,10 @@ TEST_F(MainWindowTest, FixingAHoseEndTakesOneGesture)
     // Click the floor plate (not under a hose).
     std::vector<std::pair<QPoint, ScenePickHit>> floor = topHits("/test-rig/floor_plate");
     ASSERT_FALSE(floor.empty());
-    const auto target = std::max_element(floor.begin(), floor.end(), [](const auto& a, const auto& b) {
-        return a.second.point.z() < b.second.point.z();
-    });
+    const auto target =
+        std::max_element(floor.begin(), floor.end(), [](const auto& a, const auto& b) {
+            return a.second.point.z() < b.second.point.z();
+        });
     QTest::mouseClick(&viewport, Qt::LeftButton, {}, target->first);
     settle();
     EXPECT_EQ(viewport.mode(), Viewport::Mode::Select);
@@ -1536,7 +1536,8 @@ TEST_F(MainWindowTest, FixingAHoseEndTakesOneGesture)
     screenshot("editor-fix-to-part.png");
 
     // Shift+click selects the range between the two points clicked.
-    QTest::mouseClick(&viewport, Qt::LeftButton, {}, viewport.toWidget(document.hose(id)->point(6)));
+    QTest::mouseClick(&viewport, Qt::LeftButton, {},
+                      viewport.toWidget(document.hose(id)->point(6)));
     QTest::mouseClick(&viewport, Qt::LeftButton, Qt::ShiftModifier,
                       viewport.toWidget(document.hose(id)->point(9)));
     EXPECT_EQ(document.selection().rangeFirst, 6);
@@ -1549,7 +1550,8 @@ TEST_F(MainWindowTest, FixingAHoseEndTakesOneGesture)
     // The fixing controls stay where they are while the panel scrolls.
     QWidget* controls = m_window->findChild<QWidget*>("fixGroup");
     QScrollArea* scroll = nullptr;
-    for (QWidget* w = m_window->findChild<QWidget*>("diameter"); w && !scroll; w = w->parentWidget())
+    for (QWidget* w = m_window->findChild<QWidget*>("diameter"); w && !scroll;
+         w = w->parentWidget())
         scroll = qobject_cast<QScrollArea*>(w);
     ASSERT_TRUE(controls && scroll);
     const QPoint placed = controls->mapTo(m_window.get(), QPoint(0, 0));
@@ -1579,7 +1581,8 @@ TEST_F(MainWindowTest, HistoryEntriesNameWhatAndWhich)
     const int valve = document.scene("rig")->findNode("/test-rig/valve");
     const Vec3 centre = document.partCentre("rig", valve);
     const QPoint a = viewport.toWidget(centre);
-    const QPoint b = viewport.toWidget(centre + Renderer::gizmoLength(viewport.camera()) * Vec3::UnitX());
+    const QPoint b =
+        viewport.toWidget(centre + Renderer::gizmoLength(viewport.camera()) * Vec3::UnitX());
     const QPoint grip = a + (b - a) * 0.8;
     drag(&viewport, grip, grip + (b - a) / 4);
     // A segment of the cantilever fixed to the left bracket by the panel's button.

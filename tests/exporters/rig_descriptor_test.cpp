@@ -45,15 +45,17 @@ TEST(RigDescriptor, AHoseExportedAwayFromItsRestShapeComesBackWithItsRestLengths
     // Stretch the exported axis by 1 % about its first point (within the material's band).
     const std::vector<Vec3> exported = hose.axis;
     const Vec3 first = hose.axis.front();
-    for (Vec3& point : hose.axis) point = first + 1.01 * (point - first);
+    for (Vec3& point : hose.axis)
+        point = first + 1.01 * (point - first);
     EXPECT_FALSE(rig::restLengthsMatch(hose));
     const Hose rebuilt = rig::rebuildHose(hose);
     ASSERT_EQ(rebuilt.pointCount(), static_cast<int>(hose.axis.size()));
     for (int s = 0; s + 1 < rebuilt.pointCount(); ++s) {
         EXPECT_EQ(rebuilt.restLength(s), hose.restLengths[static_cast<size_t>(s)]) << s;
-        EXPECT_NEAR((rebuilt.point(s + 1) - rebuilt.point(s)).norm(),
-                    1.01 * (exported[static_cast<size_t>(s) + 1] - exported[static_cast<size_t>(s)]).norm(),
-                    1e-9)
+        EXPECT_NEAR(
+            (rebuilt.point(s + 1) - rebuilt.point(s)).norm(),
+            1.01 * (exported[static_cast<size_t>(s) + 1] - exported[static_cast<size_t>(s)]).norm(),
+            1e-9)
             << s;
     }
 }

@@ -15,7 +15,10 @@ namespace {
 
 using json = nlohmann::json;
 
-Project sample(const std::string& name) { return loadProject(test_support::sampleProject(name)); }
+Project sample(const std::string& name)
+{
+    return loadProject(test_support::sampleProject(name));
+}
 
 /// A project as a version 1.2 file would have it: no hose lengths.
 std::string asVersion1_2(const Project& project)
@@ -70,7 +73,8 @@ TEST(HoseLength, AHoseWithoutALengthIsAsLongAsItsRouteAndWrittenWithoutOne)
     EXPECT_FALSE(saved["hoses"][0].contains("length"));
     EXPECT_EQ(parseProject(saved.dump(), "x.ctproj"), project) << "1.3 without a length stays so";
     const Hose built = buildHose(project, project.hoses[0], {});
-    const Hose alongRoute = Hose::alongRoute(project.hoses[0].route, hoseSpecOf(project, project.hoses[0]));
+    const Hose alongRoute =
+        Hose::alongRoute(project.hoses[0].route, hoseSpecOf(project, project.hoses[0]));
     EXPECT_EQ(built.points(), alongRoute.points());
     EXPECT_EQ(built.restLengthTotal(), alongRoute.restLengthTotal());
     EXPECT_EQ(hoseLength(project, project.hoses[0]), alongRoute.restLengthTotal());
@@ -105,7 +109,8 @@ TEST(HoseLength, AMigratedHoseLiesOnItsRouteAtRest)
         EXPECT_EQ(*definition.length, polylineLength(definition.route));
         for (int s = 0; s < built.segmentCount(); ++s) {
             EXPECT_NEAR((built.point(s) - definition.route[size_t(s)]).norm(), 0.0, 1e-15);
-            EXPECT_NEAR((built.point(s + 1) - built.point(s)).norm() / built.restLength(s), 1.0, 1e-5)
+            EXPECT_NEAR((built.point(s + 1) - built.point(s)).norm() / built.restLength(s), 1.0,
+                        1e-5)
                 << definition.id << ' ' << s;
         }
     }
@@ -148,7 +153,8 @@ TEST(HoseLength, ARouteThatIsAValidShapeIsTheAxisAsItIsWithTheSameRestLengths)
         importProjectScenes(rig, test_support::sampleProject("test-rig"), {});
     Hose hose = buildHose(rig, rig.hoses[0], scenes);
     std::vector<double> restBefore;
-    for (int s = 0; s < hose.segmentCount(); ++s) restBefore.push_back(hose.restLength(s));
+    for (int s = 0; s < hose.segmentCount(); ++s)
+        restBefore.push_back(hose.restLength(s));
     ASSERT_NE(hose.grab(8, hose.point(8) + Vec3(0.0, 0.03, 0.02)).status, Status::InvalidInput);
     ASSERT_GT(hose.currentLength(), *rig.hoses[0].length * 1.001) << "the grab stretched it";
     HoseDefinition reshaped = rig.hoses[0];
@@ -181,7 +187,8 @@ TEST(HoseLength, ALongerHoseGetsSlackBetweenItsEndsAndDoesNotReachPastItsLastRou
     // straight line between the ends, so it bows away from that line.
     for (int s = 0; s < hose.segmentCount(); ++s)
         EXPECT_NEAR((hose.point(s + 1) - hose.point(s)).norm(), hose.restLength(s),
-                    1e-9 * hose.restLength(s)) << s;
+                    1e-9 * hose.restLength(s))
+            << s;
     EXPECT_NEAR(hose.currentLength(), 1.1 * length, 1e-8);
     double bow = 0.0;
     for (const Vec3& point : hose.points())

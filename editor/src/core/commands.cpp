@@ -1,13 +1,15 @@
 #include "chaintube/editor/commands.h"
 
 #include <QCoreApplication>
-
 #include <algorithm>
 
 namespace chaintube::editor {
 
 namespace {
-QString tr(const char* text) { return QCoreApplication::translate("Commands", text); }
+QString tr(const char* text)
+{
+    return QCoreApplication::translate("Commands", text);
+}
 
 /// How the history names a hose: its name, or its id when it has none.
 QString hoseLabel(const formats::HoseDefinition& definition)
@@ -30,9 +32,15 @@ AddHoseCommand::AddHoseCommand(Document& document, formats::HoseDefinition defin
 {
 }
 
-void AddHoseCommand::redo() { m_document.insertHose(m_index, m_definition); }
+void AddHoseCommand::redo()
+{
+    m_document.insertHose(m_index, m_definition);
+}
 
-void AddHoseCommand::undo() { m_definition = m_document.removeHose(m_definition.id); }
+void AddHoseCommand::undo()
+{
+    m_definition = m_document.removeHose(m_definition.id);
+}
 
 RemoveHoseCommand::RemoveHoseCommand(Document& document, std::string hoseId)
     : QUndoCommand(tr("Delete %1")
@@ -46,21 +54,18 @@ RemoveHoseCommand::RemoveHoseCommand(Document& document, std::string hoseId)
 void RemoveHoseCommand::redo()
 {
     m_index = m_document.hoseIndex(m_hoseId);
-    if (m_index >= 0)
-        m_definition = m_document.removeHose(m_hoseId);
+    if (m_index >= 0) m_definition = m_document.removeHose(m_hoseId);
 }
 
 void RemoveHoseCommand::undo()
 {
-    if (m_index >= 0)
-        m_document.insertHose(m_index, m_definition);
+    if (m_index >= 0) m_document.insertHose(m_index, m_definition);
 }
 
 AddSceneCommand::AddSceneCommand(Document& document, formats::SceneReference reference,
                                  formats::ImportedScene scene)
     : QUndoCommand(tr("Import scene %1").arg(QString::fromStdString(reference.id))),
-      m_document(document), m_reference(std::move(reference)),
-      m_scene(std::move(scene))
+      m_document(document), m_reference(std::move(reference)), m_scene(std::move(scene))
 {
 }
 
@@ -81,24 +86,22 @@ QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseI
                                     const QString& text)
 {
     return new ChangeValue<formats::HoseDefinition>(
-        document, text,
-        [hoseId](Document& d) { return d.mutableHoseDefinition(hoseId); },
-        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(definition),
-        mergeId, hoseId);
+        document, text, [hoseId](Document& d) { return d.mutableHoseDefinition(hoseId); },
+        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(definition), mergeId,
+        hoseId);
 }
 
-QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
-                           std::vector<Vec3> route, const QString& text, MergeId mergeId)
+QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId, std::vector<Vec3> route,
+                           const QString& text, MergeId mergeId)
 {
-    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::route,
-                               std::move(route), mergeId, text);
+    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::route, std::move(route),
+                               mergeId, text);
 }
 
 QUndoCommand* makeSetHoseLength(Document& document, const std::string& hoseId, double length)
 {
     const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
-    if (!definition)
-        throw InvalidArgument("no hose '" + hoseId + "' to change");
+    if (!definition) throw InvalidArgument("no hose '" + hoseId + "' to change");
     formats::HoseDefinition changed =
         formats::withLength(document.project(), *definition, document.scenes(), length);
     return makeSetHoseDefinition(document, hoseId, std::move(changed), MergeId::HoseLength,
@@ -111,8 +114,7 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
     const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
     const Hose* hose = document.hose(hoseId);
     const formats::ImportedScene* scene = document.scene(sceneId);
-    if (!definition || !hose)
-        throw InvalidArgument("no hose '" + hoseId + "' to fix");
+    if (!definition || !hose) throw InvalidArgument("no hose '" + hoseId + "' to fix");
     if (!scene || node < 0 || node >= static_cast<int>(scene->nodes.size()))
         throw InvalidArgument("no scene node to fix the hose to");
     if (first < 0 || last < first || last >= hose->pointCount())
@@ -121,9 +123,8 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
                               " axis points");
     for (const formats::HoseAttachment& existing : definition->attachments)
         if (first <= existing.lastPoint && existing.firstPoint <= last)
-            throw InvalidArgument("points [" + std::to_string(first) + ", " +
-                                  std::to_string(last) + "] overlap the segment fixed to " +
-                                  existing.node);
+            throw InvalidArgument("points [" + std::to_string(first) + ", " + std::to_string(last) +
+                                  "] overlap the segment fixed to " + existing.node);
     formats::HoseAttachment attachment;
     attachment.scene = sceneId;
     attachment.node = scene->nodes[static_cast<size_t>(node)].path;
@@ -134,14 +135,13 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
     attachment.lastPoint = last;
     std::vector<formats::HoseAttachment> attachments = definition->attachments;
     attachments.push_back(attachment);
-    const QString points = first == last
-                               ? tr("point %1").arg(first)
-                               : tr("points %1–%2").arg(first).arg(last);
-    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::attachments,
-                               std::move(attachments), MergeId::None,
-                               tr("Fix %1 of %2 to %3")
-                                   .arg(points, hoseLabel(*definition),
-                                        nodeLabel(document, {sceneId, node})));
+    const QString points =
+        first == last ? tr("point %1").arg(first) : tr("points %1–%2").arg(first).arg(last);
+    return makeChangeHoseField(
+        document, hoseId, &formats::HoseDefinition::attachments, std::move(attachments),
+        MergeId::None,
+        tr("Fix %1 of %2 to %3")
+            .arg(points, hoseLabel(*definition), nodeLabel(document, {sceneId, node})));
 }
 
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index)
@@ -153,8 +153,8 @@ QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int inde
     std::vector<formats::HoseAttachment> attachments = definition->attachments;
     const formats::HoseAttachment& detached = attachments[static_cast<size_t>(index)];
     const std::string nodeName = detached.node.substr(detached.node.rfind('/') + 1);
-    const QString text = tr("Detach %1 from %2")
-                             .arg(hoseLabel(*definition), QString::fromStdString(nodeName));
+    const QString text =
+        tr("Detach %1 from %2").arg(hoseLabel(*definition), QString::fromStdString(nodeName));
     attachments.erase(attachments.begin() + index);
     return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::attachments,
                                std::move(attachments), MergeId::None, text);
@@ -195,8 +195,7 @@ QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPr
                              const QString& text)
 {
     return new ChangeValue<std::vector<formats::MaterialPreset>>(
-        document, text,
-        [](Document& d) { return &d.mutableProject().materialPresets; },
+        document, text, [](Document& d) { return &d.mutableProject().materialPresets; },
         [](Document& d) { d.presetsChanged(); }, std::move(presets), MergeId::None);
 }
 

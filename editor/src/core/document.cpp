@@ -2,11 +2,9 @@
 
 #include "chaintube/editor/commands.h"
 #include "chaintube/formats/collider_exemption.h"
-
-#include <QMetaType>
-
 #include "chaintube/route.h"
 
+#include <QMetaType>
 #include <algorithm>
 #include <fstream>
 #include <limits>
@@ -32,12 +30,12 @@ LoadedProject readProject(const fs::path& file, const formats::NamedRoots& roots
         const formats::NodePose& pose = loaded.project.poses[i];
         const auto imported = loaded.scenes.find(pose.scene);
         if (imported == loaded.scenes.end() || imported->second.findNode(pose.node) < 0)
-            throw formats::ProjectFormatError(
-                file, "/poses/" + std::to_string(i) + "/node",
-                "expected a node of scene '" + pose.scene + "' (" +
-                    (imported == loaded.scenes.end() ? std::string("not imported")
-                                                     : imported->second.file.string()) +
-                    "), got \"" + pose.node + "\"");
+            throw formats::ProjectFormatError(file, "/poses/" + std::to_string(i) + "/node",
+                                              "expected a node of scene '" + pose.scene + "' (" +
+                                                  (imported == loaded.scenes.end()
+                                                       ? std::string("not imported")
+                                                       : imported->second.file.string()) +
+                                                  "), got \"" + pose.node + "\"");
     }
     return loaded;
 }
@@ -116,8 +114,7 @@ const formats::ImportedScene* Document::scene(const std::string& sceneId) const
 int Document::hoseIndex(const std::string& hoseId) const
 {
     for (size_t i = 0; i < m_project.hoses.size(); ++i)
-        if (m_project.hoses[i].id == hoseId)
-            return static_cast<int>(i);
+        if (m_project.hoses[i].id == hoseId) return static_cast<int>(i);
     return -1;
 }
 
@@ -154,8 +151,7 @@ std::uint64_t Document::hoseBuildSerial(const std::string& hoseId) const
 const HoseMetrics* Document::hoseMetrics(const std::string& hoseId) const
 {
     const auto it = m_live.find(hoseId);
-    if (it == m_live.end() || !it->second.hose)
-        return nullptr;
+    if (it == m_live.end() || !it->second.hose) return nullptr;
     const LiveHose& live = it->second;
     const std::uint64_t revision = live.hose->revision() ^ (live.buildSerial << 40);
     if (!live.metrics || live.metricsRevision != revision) {
@@ -176,8 +172,7 @@ std::string Document::validateHoseDefinition(const formats::HoseDefinition& defi
     try {
         if (!(definition.outerDiameter > 0.0) || !std::isfinite(definition.outerDiameter))
             return "The outer diameter must be a positive number of metres.";
-        if (definition.route.size() < 2)
-            return "A hose needs at least two route points.";
+        if (definition.route.size() < 2) return "A hose needs at least two route points.";
         formats::hoseSpecOf(m_project, definition).validate();
         // Builds it as rebuildHose() would (attachment ranges, length, poses).
         static_cast<void>(formats::buildHose(m_project, definition, m_scenes));
@@ -191,16 +186,14 @@ std::string Document::unusedHoseId() const
 {
     for (int n = 1;; ++n) {
         std::string id = "hose-" + std::to_string(n);
-        if (hoseIndex(id) < 0)
-            return id;
+        if (hoseIndex(id) < 0) return id;
     }
 }
 
 formats::Mat4 Document::nodeLocalTransform(const std::string& sceneId, int node) const
 {
     const auto it = m_pose.find({sceneId, node});
-    if (it != m_pose.end() && it->second)
-        return *it->second;
+    if (it != m_pose.end() && it->second) return *it->second;
     const formats::ImportedScene* imported = scene(sceneId);
     if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
         return formats::Mat4::Identity();
@@ -249,8 +242,7 @@ Vec3 Document::partCentre(const std::string& sceneId, int node) const
         pending.pop_back();
         const formats::SceneNode& sceneNode = imported->nodes[static_cast<size_t>(n)];
         pending.insert(pending.end(), sceneNode.children.begin(), sceneNode.children.end());
-        if (sceneNode.meshes.empty())
-            continue;
+        if (sceneNode.meshes.empty()) continue;
         const formats::Mat4 world = nodeWorldTransform(sceneId, n);
         for (int meshIndex : sceneNode.meshes) {
             const formats::SceneMesh& mesh = imported->meshes[static_cast<size_t>(meshIndex)];
@@ -267,8 +259,7 @@ Vec3 Document::partCentre(const std::string& sceneId, int node) const
                 bounds = m_meshBounds.emplace(&mesh, std::make_pair(meshLow, meshHigh)).first;
             }
             const auto& [meshLow, meshHigh] = bounds->second;
-            if (!(meshLow.array() <= meshHigh.array()).all())
-                continue; // no vertices
+            if (!(meshLow.array() <= meshHigh.array()).all()) continue; // no vertices
             for (int corner = 0; corner < 8; ++corner) {
                 const Vec3 local((corner & 1) ? meshHigh.x() : meshLow.x(),
                                  (corner & 2) ? meshHigh.y() : meshLow.y(),
@@ -279,8 +270,7 @@ Vec3 Document::partCentre(const std::string& sceneId, int node) const
             }
         }
     }
-    if (!(low.array() <= high.array()).all())
-        return nodeWorldFrame(sceneId, node).translation;
+    if (!(low.array() <= high.array()).all()) return nodeWorldFrame(sceneId, node).translation;
     return 0.5 * (low + high);
 }
 
@@ -294,8 +284,7 @@ std::vector<Vec3> Document::displayRoute(const std::string& hoseId) const
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const Hose* live = hose(hoseId);
-    if (!definition)
-        return {};
+    if (!definition) return {};
     if (!live || !hoseAffectedByPose(*definition) || definition->attachments.empty())
         return definition->route;
     // Each attachment's motion (file pose → pose) and where it sits along the hose (0 … 1).
@@ -310,8 +299,7 @@ std::vector<Vec3> Document::displayRoute(const std::string& hoseId) const
         const formats::HoseAttachment& attachment = definition->attachments[a];
         const formats::ImportedScene* imported = scene(attachment.scene);
         const int node = imported ? imported->findNode(attachment.node) : -1;
-        if (node < 0)
-            return definition->route;
+        if (node < 0) return definition->route;
         Frame offset = attachment.offset;
         offset.rotation.normalize();
         const Frame filePose = imported->worldFrame(node) * offset;
@@ -326,8 +314,7 @@ std::vector<Vec3> Document::displayRoute(const std::string& hoseId) const
     std::vector<Vec3> carried;
     double walked = 0.0;
     for (size_t i = 0; i < route.size(); ++i) {
-        if (i > 0)
-            walked += (route[i] - route[i - 1]).norm();
+        if (i > 0) walked += (route[i] - route[i - 1]).norm();
         const double along = walked / total;
         size_t next = 0;
         while (next < motions.size() && motions[next].along < along)
@@ -349,8 +336,7 @@ std::vector<Vec3> Document::displayRoute(const std::string& hoseId) const
 
 void Document::setSelection(const Selection& selection)
 {
-    if (selection == m_selection)
-        return;
+    if (selection == m_selection) return;
     m_selection = selection;
     emitChanged(ChangeEvent::Kind::SelectionChanged, selection.hoseId);
 }
@@ -375,8 +361,7 @@ bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const Hose* live = hose(hoseId);
-    if (!definition || !live)
-        return false;
+    if (!definition || !live) return false;
     if (hoseAffectedByPose(*definition)) {
         if (why)
             *why = "This hose is fixed to a part that is moved from its file position; reset "
@@ -395,12 +380,10 @@ bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::
     changed.route = route;
     // The shape changes, the length does not: a hose without a length of its own keeps the
     // one it had (the stretch of the drag is not taken as new hose).
-    if (!changed.length)
-        changed.length = live->restLengthTotal();
+    if (!changed.length) changed.length = live->restLengthTotal();
     const std::string problem = validateHoseDefinition(changed);
     if (!problem.empty()) {
-        if (why)
-            *why = problem;
+        if (why) *why = problem;
         rebuildHose(hoseId);
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
         return false;
@@ -423,8 +406,7 @@ void Document::cancelHoseDrag(const std::string& hoseId)
 void Document::wakeGravity(const std::string& hoseId)
 {
     const auto it = m_live.find(hoseId);
-    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled)
-        return;
+    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled) return;
     it->second.gravitySettled = false;
     it->second.gravitySteps = 0;
     emit gravityStateChanged();
@@ -449,8 +431,7 @@ int Document::stepGravity()
     }
     for (const std::string& id : moved) // after the loop: listeners may read any hose
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, id);
-    if (stateChanged)
-        emit gravityStateChanged();
+    if (stateChanged) emit gravityStateChanged();
     return static_cast<int>(moved.size());
 }
 
@@ -490,8 +471,7 @@ Document::GravityState Document::gravityState(const std::string& hoseId) const
     const auto it = m_live.find(hoseId);
     if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled)
         return GravityState::Off;
-    if (it->second.gravitySettled)
-        return GravityState::Settled;
+    if (it->second.gravitySettled) return GravityState::Settled;
     return it->second.gravitySteps >= kGravityStepBudget ? GravityState::OutOfBudget
                                                          : GravityState::Settling;
 }
@@ -505,8 +485,7 @@ int Document::gravitySteps(const std::string& hoseId) const
 bool Document::isCollider(const std::string& sceneId, int node) const
 {
     const formats::ImportedScene* imported = scene(sceneId);
-    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
-        return false;
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size())) return false;
     const formats::ColliderNode key{sceneId, imported->nodes[static_cast<size_t>(node)].path};
     return std::find(m_project.colliders.begin(), m_project.colliders.end(), key) !=
            m_project.colliders.end();
@@ -525,8 +504,7 @@ void Document::rebuildColliders()
     for (const formats::ColliderNode& flagged : m_project.colliders) {
         const formats::ImportedScene* imported = scene(flagged.scene);
         const int node = imported ? imported->findNode(flagged.node) : -1;
-        if (node < 0)
-            continue; // readProject checked; a removed scene takes its parts with it
+        if (node < 0) continue; // readProject checked; a removed scene takes its parts with it
         std::shared_ptr<MeshCollider> collider =
             formats::nodeCollider(*imported, node, nodeWorldTransform(flagged.scene, node));
         if (collider) // a part without triangles cannot collide (the export refuses it)
@@ -540,14 +518,12 @@ void Document::applyColliders(const std::string& hoseId)
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     auto live = m_live.find(hoseId);
-    if (!definition || live == m_live.end() || !live->second.hose)
-        return;
+    if (!definition || live == m_live.end() || !live->second.hose) return;
     std::vector<std::shared_ptr<const MeshCollider>> used;
     std::vector<NodeKey> usedNodes;
     for (const LiveCollider& c : m_colliders) {
         const formats::ImportedScene* imported = scene(c.sceneId);
-        if (!imported)
-            continue;
+        if (!imported) continue;
         const auto parentOf = [&](int n) { return imported->nodes[static_cast<size_t>(n)].parent; };
         const bool exempt = std::any_of(
             definition->attachments.begin(), definition->attachments.end(),
@@ -562,8 +538,7 @@ void Document::applyColliders(const std::string& hoseId)
     }
     live->second.colliderNodes = std::move(usedNodes);
     Hose& hoseObject = *live->second.hose;
-    if (used == hoseObject.colliders())
-        return;
+    if (used == hoseObject.colliders()) return;
     hoseObject.setColliders(std::move(used));
     wakeGravity(hoseId); // a gravity hose settles again against what it now rests on
 }
@@ -580,8 +555,7 @@ void Document::collidersChanged(const NodeKey& node)
     // flag gives back exactly the shape before it.
     std::vector<std::string> rebuilt;
     for (const auto& [id, live] : m_live)
-        if (live.colliderNodes != before[id])
-            rebuilt.push_back(id);
+        if (live.colliderNodes != before[id]) rebuilt.push_back(id);
     for (const std::string& id : rebuilt) {
         rebuildHose(id);
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, id);
@@ -599,8 +573,7 @@ std::string Document::stateFingerprint() const
     out << formats::serialiseProject(m_project);
     out.precision(17);
     for (const auto& [key, transform] : m_pose) {
-        if (!transform)
-            continue;
+        if (!transform) continue;
         out << "pose " << key.first << ' ' << key.second;
         for (int i = 0; i < 16; ++i)
             out << ' ' << (*transform)(i % 4, i / 4);
@@ -653,14 +626,12 @@ void Document::syncProjectPoses()
     std::vector<formats::NodePose> poses;
     for (const formats::SceneReference& reference : m_project.scenes) {
         const formats::ImportedScene* imported = scene(reference.id);
-        if (!imported)
-            continue;
+        if (!imported) continue;
         for (const auto& [key, transform] : m_pose)
             if (key.first == reference.id && transform && key.second >= 0 &&
                 key.second < static_cast<int>(imported->nodes.size()))
-                poses.push_back({key.first,
-                                 imported->nodes[static_cast<size_t>(key.second)].path,
-                                 *transform});
+                poses.push_back(
+                    {key.first, imported->nodes[static_cast<size_t>(key.second)].path, *transform});
     }
     m_project.poses = std::move(poses);
 }
@@ -675,8 +646,7 @@ void Document::poseChanged(const NodeKey& node)
     const formats::ImportedScene* movedScene = scene(node.first);
     const auto carried = [&](int n) {
         for (; movedScene && n >= 0; n = movedScene->nodes[static_cast<size_t>(n)].parent)
-            if (n == node.second)
-                return true;
+            if (n == node.second) return true;
         return false;
     };
     // Colliders follow the pose: each one the part carries is placed again by the rigid part
@@ -688,17 +658,15 @@ void Document::poseChanged(const NodeKey& node)
             c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
             movedColliders.push_back(c.collider.get());
     for (const formats::HoseDefinition& definition : m_project.hoses) {
-        const bool attachedHere = std::any_of(
-            definition.attachments.begin(), definition.attachments.end(),
-            [&](const formats::HoseAttachment& attachment) {
-                return attachment.scene == node.first &&
-                       carried(movedScene->findNode(attachment.node));
-            });
-        if (!attachedHere)
-            continue;
+        const bool attachedHere =
+            std::any_of(definition.attachments.begin(), definition.attachments.end(),
+                        [&](const formats::HoseAttachment& attachment) {
+                            return attachment.scene == node.first &&
+                                   carried(movedScene->findNode(attachment.node));
+                        });
+        if (!attachedHere) continue;
         auto live = m_live.find(definition.id);
-        if (live == m_live.end() || !live->second.hose)
-            continue;
+        if (live == m_live.end() || !live->second.hose) continue;
         if (!hoseAffectedByPose(definition)) {
             rebuildHose(definition.id); // back at the file pose: exactly the built shape
         } else {
@@ -715,15 +683,13 @@ void Document::poseChanged(const NodeKey& node)
     }
     // A moved collider pushes the hoses it now overlaps out (as the runtime does).
     for (auto& [hoseId, live] : m_live) {
-        if (!live.hose || movedColliders.empty())
-            continue;
+        if (!live.hose || movedColliders.empty()) continue;
         const bool near = std::any_of(
             live.hose->colliders().begin(), live.hose->colliders().end(), [&](const auto& used) {
                 return std::find(movedColliders.begin(), movedColliders.end(), used.get()) !=
                        movedColliders.end();
             });
-        if (!near)
-            continue;
+        if (!near) continue;
         const std::uint64_t revision = live.hose->revision();
         live.lastUpdate = live.hose->resolveCollisions();
         if (live.hose->revision() != revision) {
@@ -809,8 +775,7 @@ void Document::rebuildHose(const std::string& hoseId)
         if (!live.hose->colliders().empty()) {
             Hose built = *live.hose;
             const UpdateResult pushed = live.hose->resolveCollisions();
-            if (pushed.status == Status::Infeasible)
-                *live.hose = std::move(built);
+            if (pushed.status == Status::Infeasible) *live.hose = std::move(built);
             live.lastUpdate = pushed;
         }
         wakeGravity(hoseId);
@@ -832,20 +797,17 @@ bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) con
 {
     for (const formats::HoseAttachment& attachment : definition.attachments) {
         const formats::ImportedScene* imported = scene(attachment.scene);
-        if (!imported)
-            continue;
+        if (!imported) continue;
         for (int n = imported->findNode(attachment.node); n >= 0;
              n = imported->nodes[static_cast<size_t>(n)].parent) {
             const auto it = m_pose.find({attachment.scene, n});
-            if (it != m_pose.end() && it->second)
-                return true;
+            if (it != m_pose.end() && it->second) return true;
         }
     }
     return false;
 }
 
-std::vector<Frame>
-Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
+std::vector<Frame> Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
 {
     std::vector<Frame> frames;
     for (const formats::HoseAttachment& attachment : definition.attachments) {

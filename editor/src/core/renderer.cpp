@@ -5,7 +5,6 @@
 #include <QOpenGLContext>
 #include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLShaderProgram>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -89,7 +88,10 @@ void main()
 }
 )";
 
-Eigen::Matrix4f toFloat(const Eigen::Matrix4d& m) { return m.cast<float>(); }
+Eigen::Matrix4f toFloat(const Eigen::Matrix4d& m)
+{
+    return m.cast<float>();
+}
 
 QColor linearToDisplay(const formats::Rgba& colour)
 {
@@ -141,8 +143,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
     {
         GpuMesh& gpu = meshes[&mesh];
         gpu.used = true;
-        if (gpu.vao)
-            return gpu;
+        if (gpu.vao) return gpu;
         glGenVertexArrays(1, &gpu.vao);
         glBindVertexArray(gpu.vao);
         glGenBuffers(1, &gpu.positions);
@@ -186,8 +187,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
         std::vector<float> flags(static_cast<size_t>(topology.vertexCount), 0.0f);
         for (size_t v = 0; v < flags.size(); ++v) {
             const std::uint32_t ring = topology.vertexRing[v];
-            if (ring < ringFlag.size() && ringFlag[ring])
-                flags[v] = 1.0f;
+            if (ring < ringFlag.size() && ringFlag[ring]) flags[v] = 1.0f;
         }
         return flags;
     }
@@ -199,8 +199,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
         gpu.used = true;
         const std::uint64_t serial = document.hoseBuildSerial(id);
         if (!gpu.surface || gpu.buildSerial != serial) {
-            if (gpu.vao)
-                deleteHose(gpu);
+            if (gpu.vao) deleteHose(gpu);
             gpu = GpuHose();
             gpu.used = true;
             gpu.buildSerial = serial;
@@ -221,8 +220,8 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
             glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
             glGenBuffers(1, &gpu.flags);
             glBindBuffer(GL_ARRAY_BUFFER, gpu.flags);
-            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(topology.vertexCount * sizeof(float)),
-                         nullptr, GL_DYNAMIC_DRAW);
+            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(topology.vertexCount * sizeof(float)), nullptr,
+                         GL_DYNAMIC_DRAW);
             glEnableVertexAttribArray(2);
             glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
             glGenBuffers(1, &gpu.indices);
@@ -264,8 +263,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
     void drawLines(const std::vector<Vec3>& points, GLenum mode, const QColor& colour,
                    float pointSize, const Eigen::Matrix4f& viewProjection)
     {
-        if (points.empty())
-            return;
+        if (points.empty()) return;
         std::vector<float> data;
         data.reserve(points.size() * 3);
         for (const Vec3& p : points)
@@ -290,8 +288,7 @@ Renderer::Renderer() : d(std::make_unique<Private>()) {}
 
 Renderer::~Renderer()
 {
-    if (d->context && QOpenGLContext::currentContext() == d->context)
-        releaseResources();
+    if (d->context && QOpenGLContext::currentContext() == d->context) releaseResources();
 }
 
 bool Renderer::initialize()
@@ -330,8 +327,7 @@ bool Renderer::initialize()
 
 void Renderer::releaseResources()
 {
-    if (!d->context)
-        return;
+    if (!d->context) return;
     for (auto& [mesh, gpu] : d->meshes)
         d->deleteMesh(gpu);
     for (auto& [id, gpu] : d->hoses)
@@ -360,9 +356,15 @@ std::vector<Vec3> Renderer::kinkRing(const Vec3& centre, const Vec3& normal, dou
     return ring;
 }
 
-double Renderer::gizmoLength(const Camera& camera) { return 0.18 * camera.distance; }
+double Renderer::gizmoLength(const Camera& camera)
+{
+    return 0.18 * camera.distance;
+}
 
-double Renderer::gizmoRingRadius(const Camera& camera) { return 0.65 * gizmoLength(camera); }
+double Renderer::gizmoRingRadius(const Camera& camera)
+{
+    return 0.65 * gizmoLength(camera);
+}
 
 std::vector<Vec3> Renderer::gizmoRing(const Vec3& centre, int axis, double radius, int segments)
 {
@@ -409,8 +411,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     gl.surfaceProgram.bind();
     gl.glUniformMatrix4fv(gl.surfaceProgram.uniformLocation("viewProjection"), 1, GL_FALSE,
                           viewProjection.data());
-    gl.surfaceProgram.setUniformValue("eye", QVector3D(float(eye.x()), float(eye.y()),
-                                                       float(eye.z())));
+    gl.surfaceProgram.setUniformValue("eye",
+                                      QVector3D(float(eye.x()), float(eye.y()), float(eye.z())));
     const int modelLocation = gl.surfaceProgram.uniformLocation("model");
     const int normalLocation = gl.surfaceProgram.uniformLocation("normalMatrix");
 
@@ -425,8 +427,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         }
         for (size_t n = 0; n < scene.nodes.size(); ++n) {
             const formats::SceneNode& node = scene.nodes[n];
-            if (node.meshes.empty())
-                continue;
+            if (node.meshes.empty()) continue;
             const Eigen::Matrix4d world = document.nodeWorldTransform(sceneId, int(n));
             const Eigen::Matrix4f model = toFloat(world);
             const Eigen::Matrix3f normalMatrix =
@@ -438,8 +439,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
             gl.surfaceProgram.setUniformValue("roughness", 0.6f);
             for (int meshIndex : node.meshes) {
                 const formats::SceneMesh& mesh = scene.meshes[static_cast<size_t>(meshIndex)];
-                if (mesh.indices.empty())
-                    continue;
+                if (mesh.indices.empty()) continue;
                 Private::GpuMesh& gpu = gl.meshFor(mesh);
                 gl.glBindVertexArray(gpu.vao);
                 gl.glDrawElements(GL_TRIANGLES, gpu.indexCount, GL_UNSIGNED_INT, nullptr);
@@ -451,8 +451,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     // Hoses.
     for (const formats::HoseDefinition& definition : document.project().hoses) {
         const Hose* hose = document.hose(definition.id);
-        if (!hose)
-            continue;
+        if (!hose) continue;
         gl.surfaceProgram.bind();
         const auto updateStart = std::chrono::steady_clock::now();
         Private::GpuHose& gpu =
@@ -467,8 +466,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         gl.glUniformMatrix4fv(modelLocation, 1, GL_FALSE, modelFloat.data());
         gl.glUniformMatrix3fv(normalLocation, 1, GL_FALSE, identity.data());
         gl.surfaceProgram.setUniformValue("colour", linearToDisplay(definition.colour));
-        gl.surfaceProgram.setUniformValue(
-            "highlight", definition.id == selection.hoseId ? 1.0f : 0.0f);
+        gl.surfaceProgram.setUniformValue("highlight",
+                                          definition.id == selection.hoseId ? 1.0f : 0.0f);
         gl.surfaceProgram.setUniformValue("roughness", float(definition.roughness));
         gl.glBindVertexArray(gpu.vao);
         gl.glDrawElements(GL_TRIANGLES, gpu.indexCount, GL_UNSIGNED_INT, nullptr);
@@ -486,8 +485,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
             gl.drawLines(axis, GL_POINTS, QColor(255, 255, 255), 5.0f, viewProjection);
             std::vector<Vec3> fixed;
             for (int i = 0; i < hose->pointCount(); ++i)
-                if (hose->isFixed(i))
-                    fixed.push_back(axis[static_cast<size_t>(i)]);
+                if (hose->isFixed(i)) fixed.push_back(axis[static_cast<size_t>(i)]);
             gl.drawLines(fixed, GL_POINTS, QColor(60, 200, 255), 9.0f, viewProjection);
             if (selection.rangeFirst >= 0 && selection.rangeLast < hose->pointCount()) {
                 std::vector<Vec3> range(axis.begin() + selection.rangeFirst,
@@ -512,12 +510,10 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         for (const formats::HoseDefinition& definition : document.project().hoses) {
             const Hose* hose = document.hose(definition.id);
             const HoseMetrics* metrics = hose ? document.hoseMetrics(definition.id) : nullptr;
-            if (!metrics)
-                continue;
+            if (!metrics) continue;
             for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
                 for (const Hose::Attachment& attachment : hose->attachments()) {
-                    if (attachment.id != unmet.id)
-                        continue;
+                    if (attachment.id != unmet.id) continue;
                     std::vector<Vec3> gap, targets;
                     for (int i = attachment.first; i <= attachment.last; ++i) {
                         const Vec3 target = attachment.frame.apply(
@@ -533,8 +529,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
             if (kinks.empty() && metrics->angleViolation > 1e-6)
                 kinks.push_back(metrics->angleViolationJoint);
             for (int joint : kinks) {
-                const std::vector<Vec3> ring = kinkRing(hose->point(joint), towardsViewer,
-                                                        2.5 * hose->outerRadius());
+                const std::vector<Vec3> ring =
+                    kinkRing(hose->point(joint), towardsViewer, 2.5 * hose->outerRadius());
                 gl.drawLines(ring, GL_LINE_STRIP, problem, 1.0f, viewProjection);
                 gl.drawLines(ring, GL_POINTS, problem, 3.0f, viewProjection);
             }
@@ -552,8 +548,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     if (!options.pendingRoute.empty()) {
         gl.drawLines(options.pendingRoute, GL_LINE_STRIP, QColor(120, 255, 140), 1.0f,
                      viewProjection);
-        gl.drawLines(options.pendingRoute, GL_POINTS, QColor(120, 255, 140), 10.0f,
-                     viewProjection);
+        gl.drawLines(options.pendingRoute, GL_POINTS, QColor(120, 255, 140), 10.0f, viewProjection);
     }
     if (options.showGizmo && document.scene(selection.sceneId) && selection.node >= 0) {
         const Frame frame = document.nodeWorldFrame(selection.sceneId, selection.node);
@@ -561,8 +556,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         const QColor colours[3] = {QColor(235, 60, 60), QColor(80, 220, 80), QColor(70, 120, 255)};
         for (int axis = 0; axis < 3; ++axis) {
             const Vec3 tip = frame.translation + length * Vec3::Unit(axis);
-            const QColor colour = axis == options.activeGizmoAxis ? QColor(255, 255, 80)
-                                                                  : colours[axis];
+            const QColor colour =
+                axis == options.activeGizmoAxis ? QColor(255, 255, 80) : colours[axis];
             gl.drawLines({frame.translation, tip}, GL_LINES, colour, 1.0f, viewProjection);
             gl.drawLines({tip}, GL_POINTS, colour, 12.0f, viewProjection);
         }
@@ -570,8 +565,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         // one-pixel lines a core profile allows.
         const double radius = gizmoRingRadius(camera);
         for (int axis = 0; axis < 3; ++axis) {
-            const QColor colour = axis == options.activeGizmoRing ? QColor(255, 255, 80)
-                                                                  : colours[axis];
+            const QColor colour =
+                axis == options.activeGizmoRing ? QColor(255, 255, 80) : colours[axis];
             const std::vector<Vec3> ring = gizmoRing(frame.translation, axis, radius);
             gl.drawLines(ring, GL_LINE_STRIP, colour, 1.0f, viewProjection);
             gl.drawLines(ring, GL_POINTS, colour, axis == options.activeGizmoRing ? 4.0f : 3.0f,

@@ -55,24 +55,23 @@ ExportDialog::ExportDialog(Document& document, QWidget* parent)
     const auto& settings = document.project().exportSettings;
     std::filesystem::path output;
     if (!document.fileName().empty()) {
-        output = document.fileName().parent_path() /
-                 (settings.path.empty() ? document.fileName().stem().string() + "." + settings.format
-                                        : settings.path);
+        output =
+            document.fileName().parent_path() /
+            (settings.path.empty() ? document.fileName().stem().string() + "." + settings.format
+                                   : settings.path);
     }
     m_output->setText(QString::fromStdString(output.string()));
     m_format->setCurrentIndex(settings.format == "gltf" ? 1 : 0);
     connect(m_format, &QComboBox::currentIndexChanged, this, [this](int index) {
         QString path = m_output->text();
         const int dot = path.lastIndexOf('.');
-        if (dot > 0)
-            path = path.left(dot);
+        if (dot > 0) path = path.left(dot);
         m_output->setText(path + (index == 1 ? ".gltf" : ".glb"));
     });
     connect(browse, &QPushButton::clicked, this, [this] {
-        const QString path = QFileDialog::getSaveFileName(
-            this, tr("Export to"), m_output->text(), tr("glTF (*.glb *.gltf)"));
-        if (!path.isEmpty())
-            m_output->setText(path);
+        const QString path = QFileDialog::getSaveFileName(this, tr("Export to"), m_output->text(),
+                                                          tr("glTF (*.glb *.gltf)"));
+        if (!path.isEmpty()) m_output->setText(path);
     });
     connect(m_exportButton, &QPushButton::clicked, this, [this] { runExport(); });
     connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
@@ -82,9 +81,15 @@ ExportDialog::ExportDialog(Document& document, QWidget* parent)
     }
 }
 
-void ExportDialog::setOutputPath(const QString& path) { m_output->setText(path); }
+void ExportDialog::setOutputPath(const QString& path)
+{
+    m_output->setText(path);
+}
 
-QString ExportDialog::summaryText() const { return m_summary->toPlainText(); }
+QString ExportDialog::summaryText() const
+{
+    return m_summary->toPlainText();
+}
 
 bool ExportDialog::runExport()
 {
@@ -125,8 +130,7 @@ bool ExportDialog::runExport()
                  .arg(summary.seconds, 0, 'f', 2)
                  .arg(QString::fromStdString(summary.gltfFile.parent_path().string()));
     lines << written(summary.gltfFile, tr("glTF"));
-    if (!summary.binFile.empty())
-        lines << written(summary.binFile, tr("glTF buffer"));
+    if (!summary.binFile.empty()) lines << written(summary.binFile, tr("glTF buffer"));
     if (!summary.descriptorFile.empty())
         lines << written(summary.descriptorFile, tr("hose descriptor"));
     lines << tr("%1 hoses, %2 joints, %3 scene nodes")

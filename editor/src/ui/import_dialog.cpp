@@ -8,7 +8,6 @@
 #include <QPushButton>
 #include <QRadioButton>
 #include <QVBoxLayout>
-
 #include <limits>
 #include <utility>
 
@@ -25,7 +24,10 @@ const std::pair<const char*, double> kUnits[] = {
     {QT_TRANSLATE_NOOP("chaintube::editor::ImportDialog", "foot"), 0.3048},
 };
 
-QString upAxisName(formats::UpAxis axis) { return formats::toString(axis); }
+QString upAxisName(formats::UpAxis axis)
+{
+    return formats::toString(axis);
+}
 
 } // namespace
 
@@ -34,8 +36,7 @@ std::pair<Vec3, Vec3> sceneBounds(const formats::ImportedScene& scene)
     Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
     Vec3 high = -low;
     for (size_t n = 0; n < scene.nodes.size(); ++n) {
-        if (scene.nodes[n].meshes.empty())
-            continue;
+        if (scene.nodes[n].meshes.empty()) continue;
         const formats::Mat4 world = scene.worldTransform(static_cast<int>(n));
         for (int meshIndex : scene.nodes[n].meshes) {
             const formats::SceneMesh& mesh = scene.meshes[static_cast<size_t>(meshIndex)];
@@ -57,13 +58,12 @@ ImportDialog::ImportDialog(const formats::ImportedScene& scene, bool haveContent
     setObjectName("importDialog");
     setWindowTitle(tr("Import %1").arg(QString::fromStdString(scene.file.filename().string())));
     const auto [low, high] = sceneBounds(scene);
-    m_detectedSize = (low.array() <= high.array()).all() ? Eigen::Vector3d(high - low)
-                                                         : Eigen::Vector3d::Zero();
+    m_detectedSize =
+        (low.array() <= high.array()).all() ? Eigen::Vector3d(high - low) : Eigen::Vector3d::Zero();
     auto* layout = new QVBoxLayout(this);
     auto* found = new QLabel(
         tr("%1 file. It was read in %2s (%3) with %4 up (%5).")
-            .arg(QString::fromStdString(scene.format),
-                 QString::fromStdString(m_detected.unitName),
+            .arg(QString::fromStdString(scene.format), QString::fromStdString(m_detected.unitName),
                  QString::fromUtf8(formats::toString(m_detected.unitSource)),
                  upAxisName(m_detected.upAxis),
                  QString::fromUtf8(formats::toString(m_detected.upAxisSource))));
@@ -119,15 +119,13 @@ ImportDialog::ImportDialog(const formats::ImportedScene& scene, bool haveContent
 
 std::optional<double> ImportDialog::metresPerUnit() const
 {
-    if (m_unit->currentIndex() <= 0)
-        return std::nullopt;
+    if (m_unit->currentIndex() <= 0) return std::nullopt;
     return m_unit->currentData().toDouble();
 }
 
 std::optional<formats::UpAxis> ImportDialog::upAxis() const
 {
-    if (m_upAxis->currentIndex() <= 0)
-        return std::nullopt;
+    if (m_upAxis->currentIndex() <= 0) return std::nullopt;
     return static_cast<formats::UpAxis>(m_upAxis->currentData().toInt());
 }
 
@@ -143,8 +141,7 @@ void ImportDialog::updateSize()
     // The size the scene will have: the detected size scaled to the chosen unit, its height
     // along the chosen up axis (a +Y / +Z swap exchanges height and depth).
     Eigen::Vector3d size = m_detectedSize;
-    if (const auto metres = metresPerUnit())
-        size *= *metres / m_detected.metresPerUnit;
+    if (const auto metres = metresPerUnit()) size *= *metres / m_detected.metresPerUnit;
     if (const auto axis = upAxis(); axis && *axis != m_detected.upAxis)
         std::swap(size.y(), size.z());
     m_size->setText(tr("%1 × %2 × %3 m (width × height × depth)")

@@ -6,7 +6,6 @@
 #include "chaintube/formats/scene.h"
 
 #include <QDialog>
-
 #include <optional>
 
 class QComboBox;

@@ -8,7 +8,6 @@
 #include <QMainWindow>
 #include <QMessageBox>
 #include <QTimer>
-
 #include <functional>
 #include <memory>
 

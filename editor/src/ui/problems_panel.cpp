@@ -1,12 +1,10 @@
 #include "problems_panel.h"
 
-#include <chaintube/export/clearance.h>
-
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
 #include <QResizeEvent>
-
+#include <chaintube/export/clearance.h>
 #include <cmath>
 #include <limits>
 
@@ -43,14 +41,14 @@ std::vector<Problem> findProblems(const Document& document)
 {
     std::vector<Problem> problems;
     for (const formats::HoseDefinition& definition : document.project().hoses) {
-        const QString name = QString::fromStdString(definition.name.empty() ? definition.id
-                                                                            : definition.name);
+        const QString name =
+            QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
         const Hose* hose = document.hose(definition.id);
         if (!hose) {
-            problems.push_back({definition.id, -1, -1,
-                                QObject::tr("%1: cannot be built: %2")
-                                    .arg(name, QString::fromStdString(
-                                                   document.hoseBuildError(definition.id)))});
+            problems.push_back(
+                {definition.id, -1, -1,
+                 QObject::tr("%1: cannot be built: %2")
+                     .arg(name, QString::fromStdString(document.hoseBuildError(definition.id)))});
             continue;
         }
         const HoseMetrics* metrics = document.hoseMetrics(definition.id);
@@ -142,7 +140,8 @@ struct ProblemsPanel::ClearanceCache
     bool matches(const Document& document) const
     {
         std::vector<std::pair<std::string, size_t>> now;
-        for (const auto& [id, scene] : document.scenes()) now.emplace_back(id, scene.nodes.size());
+        for (const auto& [id, scene] : document.scenes())
+            now.emplace_back(id, scene.nodes.size());
         return now == scenes && document.project().poses == poses;
     }
 };
@@ -153,7 +152,8 @@ void ProblemsPanel::resizeEvent(QResizeEvent* event)
 {
     QListWidget::resizeEvent(event);
     const QRect inside = contentsRect();
-    m_clearanceBar->setGeometry(inside.left(), inside.top(), inside.width(), m_clearanceBar->sizeHint().height());
+    m_clearanceBar->setGeometry(inside.left(), inside.top(), inside.width(),
+                                m_clearanceBar->sizeHint().height());
 }
 
 ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
@@ -173,8 +173,9 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
     m_clearanceThreshold->setDecimals(1);
     m_clearanceThreshold->setSuffix(tr(" mm"));
     m_clearanceThreshold->setValue(5.0);
-    m_clearanceThreshold->setToolTip(tr("Hoses closer than this to a scene object are listed and "
-                                        "marked in the viewport (nodes a hose is fixed to are skipped)"));
+    m_clearanceThreshold->setToolTip(
+        tr("Hoses closer than this to a scene object are listed and "
+           "marked in the viewport (nodes a hose is fixed to are skipped)"));
     bar->addWidget(m_clearanceEnabled);
     bar->addWidget(m_clearanceThreshold);
     bar->addStretch(1);
@@ -192,8 +193,7 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
     });
     connect(this, &QListWidget::itemClicked, this, [this](QListWidgetItem* item) {
         const int index = row(item);
-        if (index < 0 || index >= int(m_problems.size()))
-            return;
+        if (index < 0 || index >= int(m_problems.size())) return;
         const Problem& problem = m_problems[size_t(index)];
         Selection selection = m_document.selection();
         selection.hoseId = problem.hoseId;
@@ -216,7 +216,8 @@ void ProblemsPanel::refreshNow()
     if (m_clearanceEnabled->isChecked()) {
         if (!m_clearanceCache || !m_clearanceCache->matches(m_document)) {
             auto cache = std::make_unique<ClearanceCache>();
-            for (const auto& [id, scene] : m_document.scenes()) cache->scenes.emplace_back(id, scene.nodes.size());
+            for (const auto& [id, scene] : m_document.scenes())
+                cache->scenes.emplace_back(id, scene.nodes.size());
             cache->poses = m_document.project().poses;
             try {
                 cache->objects = exporting::sceneObjects(m_document.project(), m_document.scenes());
@@ -230,10 +231,12 @@ void ProblemsPanel::refreshNow()
             hoses.push_back(m_document.hose(definition.id));
         exporting::ClearanceOptions options;
         options.threshold = m_clearanceThreshold->value() / 1000.0;
-        for (const exporting::ClearanceFinding& finding :
-             exporting::clearanceViolations(m_document.project(), hoses, m_clearanceCache->objects, options)) {
-            const formats::HoseDefinition& definition = m_document.project().hoses[size_t(finding.hose)];
-            const QString name = QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+        for (const exporting::ClearanceFinding& finding : exporting::clearanceViolations(
+                 m_document.project(), hoses, m_clearanceCache->objects, options)) {
+            const formats::HoseDefinition& definition =
+                m_document.project().hoses[size_t(finding.hose)];
+            const QString name =
+                QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
             // The distance is signed (negative: the hose surface is inside the object); a
             // person reads "2.5 mm into", not "-2.5 mm from", and never "-0.0 mm".
             const double millimetres = finding.distance * 1000.0;
@@ -259,8 +262,7 @@ void ProblemsPanel::refreshNow()
         auto* item = new QListWidgetItem(problem.text, this);
         item->setForeground(QColor(255, 120, 100));
     }
-    if (m_problems.empty())
-        addItem(tr("No problems"));
+    if (m_problems.empty()) addItem(tr("No problems"));
 }
 
 } // namespace chaintube::editor

@@ -6,30 +6,28 @@
 #include <QAbstractScrollArea>
 #include <QCheckBox>
 #include <QColorDialog>
-#include <QCoreApplication>
-#include <QKeyEvent>
-#include <QScrollBar>
 #include <QComboBox>
+#include <QCoreApplication>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QInputDialog>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
 #include <QPushButton>
+#include <QScrollBar>
 #include <QSlider>
 #include <QSpinBox>
 #include <QStandardItemModel>
 #include <QVBoxLayout>
 #include <QVector3D>
-
-#include <iterator>
-#include <utility>
-
 #include <cmath>
+#include <iterator>
 #include <numbers>
+#include <utility>
 
 namespace chaintube::editor {
 
@@ -199,9 +197,9 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_gravityDirection = new QComboBox;
     m_gravityDirection->setObjectName("gravityDirection");
     for (const auto& [label, direction] : kGravityDirections)
-        m_gravityDirection->addItem(tr(label), QVariant::fromValue(QVector3D(
-                                                   float(direction.x()), float(direction.y()),
-                                                   float(direction.z()))));
+        m_gravityDirection->addItem(
+            tr(label), QVariant::fromValue(QVector3D(float(direction.x()), float(direction.y()),
+                                                     float(direction.z()))));
     physicsForm->addRow(tr("Gravity"), row(m_gravity, m_gravityDirection));
     m_gravityState = new QLabel;
     m_gravityState->setObjectName("gravityState");
@@ -290,22 +288,19 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     connect(&m_document, &Document::changed, this, &PropertiesPanel::onDocumentChanged);
     auto edit = [this](MergeId id, const QString& text,
                        std::function<void(formats::HoseDefinition&)> change) {
-        if (m_updating || m_hoseId.empty())
-            return;
+        if (m_updating || m_hoseId.empty()) return;
         formats::HoseDefinition changed = currentDefinition();
         change(changed);
         apply(changed, static_cast<int>(id), text);
     };
     connect(m_name, &QLineEdit::editingFinished, this, [this, edit] {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseName, tr("Rename hose"),
              [this](formats::HoseDefinition& d) { d.name = m_name->text().toStdString(); });
         m_document.closeMerge();
     });
     connect(m_diameter, &QDoubleSpinBox::valueChanged, this, [this, edit](double mm) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseDiameter, tr("Change diameter"),
              [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
         m_document.closeMerge();
@@ -315,8 +310,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
              [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
     });
     connect(m_length, &QDoubleSpinBox::valueChanged, this, [this](double metres) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         setHoseLength(metres);
         m_document.closeMerge();
     });
@@ -328,8 +322,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         }
     });
     connect(m_segments, &QSpinBox::valueChanged, this, [this, edit](int n) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseSegments, tr("Change resolution"),
              [n](formats::HoseDefinition& d) { d.segmentCount = n; });
         m_document.closeMerge();
@@ -360,31 +353,29 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.closeMerge();
     });
     connect(m_twistLimit, &QDoubleSpinBox::valueChanged, this, [this, edit](double degrees) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_document.closeMerge();
         edit(MergeId::HoseDefinition, tr("Change twist limit"),
-             [degrees](formats::HoseDefinition& d) { d.torsion.twistLimit = degrees * std::numbers::pi / 180.0; });
+             [degrees](formats::HoseDefinition& d) {
+                 d.torsion.twistLimit = degrees * std::numbers::pi / 180.0;
+             });
         m_document.closeMerge();
     });
     connect(&m_document, &Document::gravityStateChanged, this,
             &PropertiesPanel::refreshGravityState);
     connect(m_colour, &QPushButton::clicked, this, [this, edit] {
         const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
-        if (!definition)
-            return;
+        if (!definition) return;
         const QColor chosen =
             QColorDialog::getColor(toQColor(definition->colour), this, tr("Hose colour"));
-        if (!chosen.isValid())
-            return;
+        if (!chosen.isValid()) return;
         edit(MergeId::HoseColour, tr("Change colour"), [chosen](formats::HoseDefinition& d) {
             d.colour = {chosen.redF(), chosen.greenF(), chosen.blueF(), chosen.alphaF()};
         });
         m_document.closeMerge();
     });
     connect(m_preset, &QComboBox::activated, this, [this, edit](int index) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         if (index >= int(m_document.project().materialPresets.size()))
             return; // "custom": stays as it is until a value changes
         const std::string name = m_document.project().materialPresets[size_t(index)].name;
@@ -393,24 +384,20 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.closeMerge();
     });
     auto materialEdit = [this, edit](bool merge) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseMaterial, tr("Change material"),
              [this](formats::HoseDefinition& d) { d.material = currentMaterial(); });
-        if (!merge)
-            m_document.closeMerge();
+        if (!merge) m_document.closeMerge();
     };
     connect(m_expansion, &QDoubleSpinBox::valueChanged, this, [this, materialEdit](double) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_expansionSlider->setValue(int(std::lround(m_expansion->value())));
         m_updating = false;
         materialEdit(false);
     });
     connect(m_expansionSlider, &QSlider::valueChanged, this, [this, materialEdit](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_expansion->setValue(value);
         m_updating = false;
@@ -418,16 +405,14 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     });
     connect(m_bendKind, &QComboBox::activated, this, [materialEdit](int) { materialEdit(false); });
     connect(m_bendValue, &QDoubleSpinBox::valueChanged, this, [this, materialEdit](double) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_bendSlider->setValue(int(std::lround(m_bendValue->value())));
         m_updating = false;
         materialEdit(false);
     });
     connect(m_bendSlider, &QSlider::valueChanged, this, [this, materialEdit](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_bendValue->setValue(value);
         m_updating = false;
@@ -436,13 +421,11 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     for (QSlider* s : {m_diameterSlider, m_segmentsSlider, m_expansionSlider, m_bendSlider})
         connect(s, &QSlider::sliderReleased, this, &PropertiesPanel::sliderReleased);
     connect(m_savePreset, &QPushButton::clicked, this, [this] {
-        if (m_hoseId.empty())
-            return;
+        if (m_hoseId.empty()) return;
         const QString name = askPresetName ? askPresetName()
                                            : QInputDialog::getText(this, tr("Save material preset"),
                                                                    tr("Preset name:"));
-        if (name.trimmed().isEmpty())
-            return;
+        if (name.trimmed().isEmpty()) return;
         auto presets = m_document.project().materialPresets;
         for (const auto& preset : presets)
             if (preset.name == name.toStdString()) {
@@ -457,8 +440,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.undoStack()->push(makeSetPresets(m_document, presets, tr("Save preset")));
     });
     auto profileEdit = [this, edit] {
-        if (m_updating || m_shape->currentIndex() == kPolygonShapeIndex)
-            return;
+        if (m_updating || m_shape->currentIndex() == kPolygonShapeIndex) return;
         edit(MergeId::HoseProfile, tr("Change cross-section"), [this](formats::HoseDefinition& d) {
             formats::ProfileSpec p = d.profile;
             const Profile::Shape shapes[] = {Profile::Shape::Circle, Profile::Shape::Ellipse,
@@ -484,16 +466,14 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     connect(m_cornerSegments, &QSpinBox::valueChanged, this, profileEdit);
 
     connect(m_fixFirst, &QSpinBox::valueChanged, this, [this](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         Selection selection = m_document.selection();
         selection.rangeFirst = value;
         selection.rangeLast = std::max(value, m_fixLast->value());
         m_document.setSelection(selection);
     });
     connect(m_fixLast, &QSpinBox::valueChanged, this, [this](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         Selection selection = m_document.selection();
         selection.rangeLast = value;
         selection.rangeFirst = std::min(value, m_fixFirst->value());
@@ -526,8 +506,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         });
     connect(m_detachButton, &QPushButton::clicked, this, [this] {
         const int row = m_attachments->currentRow();
-        if (m_hoseId.empty() || row < 0)
-            return;
+        if (m_hoseId.empty() || row < 0) return;
         m_document.undoStack()->push(makeDetach(m_document, m_hoseId, row));
     });
 
@@ -549,8 +528,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     });
     connect(m_resetPart, &QPushButton::clicked, this, [this] {
         const Selection& selection = m_document.selection();
-        if (!m_document.scene(selection.sceneId) || selection.node < 0)
-            return;
+        if (!m_document.scene(selection.sceneId) || selection.node < 0) return;
         m_document.closeMerge();
         m_document.undoStack()->push(
             makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, std::nullopt));
@@ -559,17 +537,22 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     refresh();
 }
 
-QString PropertiesPanel::lastRefusal() const { return m_message->text(); }
+QString PropertiesPanel::lastRefusal() const
+{
+    return m_message->text();
+}
 
 QString PropertiesPanel::hoseLabel() const
 {
     const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
-    if (!definition)
-        return QString();
+    if (!definition) return QString();
     return QString::fromStdString(definition->name.empty() ? definition->id : definition->name);
 }
 
-QWidget* PropertiesPanel::fixControls() const { return m_fixGroup; }
+QWidget* PropertiesPanel::fixControls() const
+{
+    return m_fixGroup;
+}
 
 PropertiesPanel::~PropertiesPanel()
 {
@@ -580,8 +563,7 @@ PropertiesPanel::~PropertiesPanel()
 bool PropertiesPanel::eventFilter(QObject* watched, QEvent* event)
 {
     auto* field = qobject_cast<QWidget*>(watched);
-    if (!field)
-        return QWidget::eventFilter(watched, event);
+    if (!field) return QWidget::eventFilter(watched, event);
     if (event->type() == QEvent::Wheel && !field->hasFocus()) {
         // Over a field it does not edit (only a field with the keyboard focus takes the
         // wheel): the panel scrolls, as anywhere else in it.
@@ -610,8 +592,7 @@ void PropertiesPanel::watchFields(QWidget* root)
         const bool spinBox = qobject_cast<QAbstractSpinBox*>(field) != nullptr;
         auto* lineEdit = qobject_cast<QLineEdit*>(field);
         const bool inSpinBox = lineEdit && qobject_cast<QAbstractSpinBox*>(field->parentWidget());
-        if (inSpinBox)
-            continue; // its spin box is watched
+        if (inSpinBox) continue; // its spin box is watched
         if (!spinBox && !lineEdit && !qobject_cast<QComboBox*>(field) &&
             !qobject_cast<QSlider*>(field))
             continue;
@@ -619,9 +600,9 @@ void PropertiesPanel::watchFields(QWidget* root)
         field->installEventFilter(this);
         // "editing" while the author types, until the value is entered (or put back).
         QLineEdit* text = lineEdit ? lineEdit : field->findChild<QLineEdit*>();
-        if (!text)
-            continue;
-        connect(text, &QLineEdit::textEdited, field, [field] { field->setProperty("editing", true); });
+        if (!text) continue;
+        connect(text, &QLineEdit::textEdited, field,
+                [field] { field->setProperty("editing", true); });
         connect(text, &QLineEdit::editingFinished, field,
                 [field] { field->setProperty("editing", false); });
         if (auto* box = qobject_cast<QAbstractSpinBox*>(field))
@@ -634,9 +615,9 @@ void PropertiesPanel::fixSelectionToPart()
 {
     const Selection& selection = m_document.selection();
     try {
-        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId,
-                                                m_fixFirst->value(), m_fixLast->value(),
-                                                selection.sceneId, selection.node));
+        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId, m_fixFirst->value(),
+                                                m_fixLast->value(), selection.sceneId,
+                                                selection.node));
         m_message->clear();
     } catch (const std::exception& error) {
         refuse(QString::fromStdString(error.what()));
@@ -688,18 +669,15 @@ Material PropertiesPanel::currentMaterial() const
 bool PropertiesPanel::apply(const formats::HoseDefinition& changed, int mergeId,
                             const QString& text)
 {
-    const std::string problem = changed.route.empty()
-                                    ? std::string("invalid route")
-                                    : m_document.validateHoseDefinition(changed);
+    const std::string problem = changed.route.empty() ? std::string("invalid route")
+                                                      : m_document.validateHoseDefinition(changed);
     if (!problem.empty()) {
-        if (!changed.route.empty())
-            refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+        if (!changed.route.empty()) refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
         refresh(); // the widgets go back to the document's values
         return false;
     }
     m_message->clear();
-    if (changed == currentDefinition())
-        return true;
+    if (changed == currentDefinition()) return true;
     // The history says which hose: "Change diameter of left bracket to valve".
     m_document.undoStack()->push(makeSetHoseDefinition(m_document, m_hoseId, changed,
                                                        static_cast<MergeId>(mergeId),
@@ -709,8 +687,7 @@ bool PropertiesPanel::apply(const formats::HoseDefinition& changed, int mergeId,
 
 void PropertiesPanel::setHoseLength(double metres)
 {
-    if (m_hoseId.empty())
-        return;
+    if (m_hoseId.empty()) return;
     try {
         m_document.undoStack()->push(makeSetHoseLength(m_document, m_hoseId, metres));
         m_message->clear();
@@ -725,7 +702,10 @@ void PropertiesPanel::refuse(const QString& message)
     m_message->setText(message);
 }
 
-void PropertiesPanel::sliderReleased() { m_document.closeMerge(); }
+void PropertiesPanel::sliderReleased()
+{
+    m_document.closeMerge();
+}
 
 void PropertiesPanel::refresh()
 {
@@ -733,8 +713,8 @@ void PropertiesPanel::refresh()
     const Selection& selection = m_document.selection();
     m_hoseId = m_document.hoseDefinition(selection.hoseId) ? selection.hoseId : std::string();
     const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
-    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_materialGroup,
-                                                      m_profileGroup, m_physicsGroup, m_fixGroup})
+    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_materialGroup, m_profileGroup,
+                                                      m_physicsGroup, m_fixGroup})
         w->setEnabled(definition != nullptr);
     m_preset->clear();
     for (const auto& preset : m_document.project().materialPresets)
@@ -762,9 +742,9 @@ void PropertiesPanel::refresh()
         m_segmentsSlider->setValue(segments);
         const QColor colour = toQColor(definition->colour);
         m_colour->setText(colour.name());
-        m_colour->setStyleSheet(QString("background-color: %1; color: %2;")
-                                    .arg(colour.name(),
-                                         colour.lightnessF() > 0.5 ? "black" : "white"));
+        m_colour->setStyleSheet(
+            QString("background-color: %1; color: %2;")
+                .arg(colour.name(), colour.lightnessF() > 0.5 ? "black" : "white"));
         Material material;
         try {
             material = m_document.project().materialOf(*definition);
@@ -817,7 +797,10 @@ void PropertiesPanel::refresh()
             m_gravityDirection->removeItem(m_gravityDirection->count() - 1);
         if (directionIndex < 0) { // a direction written by hand: shown, kept unless changed
             m_gravityDirection->addItem(
-                tr("(%1, %2, %3)").arg(g.x(), 0, 'g', 3).arg(g.y(), 0, 'g', 3).arg(g.z(), 0, 'g', 3),
+                tr("(%1, %2, %3)")
+                    .arg(g.x(), 0, 'g', 3)
+                    .arg(g.y(), 0, 'g', 3)
+                    .arg(g.z(), 0, 'g', 3),
                 QVariant::fromValue(QVector3D(float(g.x()), float(g.y()), float(g.z()))));
             directionIndex = m_gravityDirection->count() - 1;
         }
@@ -837,8 +820,7 @@ void PropertiesPanel::refresh()
                                        .arg(attachment.firstPoint)
                                        .arg(attachment.lastPoint)
                                        .arg(QString::fromStdString(attachment.node)));
-        if (m_attachments->count() > 0)
-            m_attachments->setCurrentRow(0);
+        if (m_attachments->count() > 0) m_attachments->setCurrentRow(0);
     } else {
         m_hoseGroup->setTitle(tr("Hose (none selected)"));
         m_attachments->clear();
@@ -848,10 +830,10 @@ void PropertiesPanel::refresh()
                            ? QString::fromStdString(scene->nodes[size_t(selection.node)].path)
                            : tr("(select a part)"));
     m_fixButton->setEnabled(definition && scene && selection.node >= 0);
-    m_fixButton->setText(scene && selection.node >= 0
-                             ? tr("Fix to %1").arg(QString::fromStdString(
-                                   scene->nodes[size_t(selection.node)].name))
-                             : tr("Fix to selected part"));
+    m_fixButton->setText(
+        scene && selection.node >= 0
+            ? tr("Fix to %1").arg(QString::fromStdString(scene->nodes[size_t(selection.node)].name))
+            : tr("Fix to selected part"));
     m_pickPartButton->setEnabled(definition && selection.rangeFirst >= 0);
     const bool routePoint = definition && selection.routePoint >= 0 &&
                             selection.routePoint < int(definition->route.size());
@@ -894,7 +876,8 @@ void PropertiesPanel::showHoseValues(bool shown)
     m_lengthInfo->clear();
     m_colour->setText(QString());
     m_colour->setStyleSheet(QString());
-    for (QComboBox* box : {m_preset, m_bendKind, m_shape, m_gravityDirection}) box->setCurrentIndex(-1);
+    for (QComboBox* box : {m_preset, m_bendKind, m_shape, m_gravityDirection})
+        box->setCurrentIndex(-1);
     for (QSlider* slider : {m_diameterSlider, m_segmentsSlider, m_expansionSlider, m_bendSlider})
         slider->setValue(slider->minimum());
     m_gravity->setChecked(false);
@@ -911,7 +894,8 @@ void PropertiesPanel::refreshGravityState()
         m_gravityState->setText(tr("settling…"));
         break;
     case Document::GravityState::Settled:
-        m_gravityState->setText(tr("settled after %1 steps").arg(m_document.gravitySteps(m_hoseId)));
+        m_gravityState->setText(
+            tr("settled after %1 steps").arg(m_document.gravitySteps(m_hoseId)));
         break;
     case Document::GravityState::OutOfBudget:
         m_gravityState->setText(tr("still moving after %1 steps: left as it is")
@@ -935,17 +919,16 @@ void PropertiesPanel::refreshPart()
                                                 : QString());
     if (havePart) {
         m_partName->setText(QString::fromStdString(scene->nodes[size_t(selection.node)].path));
-        const formats::Mat4 local = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 local =
+            m_document.nodeLocalTransform(selection.sceneId, selection.node);
         Mat3 rotation = local.block<3, 3>(0, 0);
         for (int c = 0; c < 3; ++c)
-            if (rotation.col(c).norm() > 0)
-                rotation.col(c).normalize();
+            if (rotation.col(c).norm() > 0) rotation.col(c).normalize();
         const Eigen::Vector3d euler = rotation.eulerAngles(0, 1, 2);
         for (int i = 0; i < 3; ++i) {
             m_translation[i]->setValue(local(i, 3) * 1000.0);
             double degrees = euler[i] * 180.0 / std::numbers::pi;
-            if (degrees > 180.0)
-                degrees -= 360.0;
+            if (degrees > 180.0) degrees -= 360.0;
             m_rotation[i]->setValue(degrees);
         }
     } else {
@@ -956,20 +939,20 @@ void PropertiesPanel::refreshPart()
 
 void PropertiesPanel::setPartTransformFromFields(int translationAxis)
 {
-    if (m_updating)
-        return;
+    if (m_updating) return;
     const Selection& selection = m_document.selection();
-    if (!m_document.scene(selection.sceneId) || selection.node < 0)
-        return;
+    if (!m_document.scene(selection.sceneId) || selection.node < 0) return;
     const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
     Eigen::Vector3d scale;
     for (int c = 0; c < 3; ++c)
         scale[c] = current.block<3, 1>(0, c).norm();
-    const Mat3 rotation =
-        (Eigen::AngleAxisd(m_rotation[0]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(m_rotation[1]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(m_rotation[2]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ()))
-            .toRotationMatrix();
+    const Mat3 rotation = (Eigen::AngleAxisd(m_rotation[0]->value() * std::numbers::pi / 180.0,
+                                             Eigen::Vector3d::UnitX()) *
+                           Eigen::AngleAxisd(m_rotation[1]->value() * std::numbers::pi / 180.0,
+                                             Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(m_rotation[2]->value() * std::numbers::pi / 180.0,
+                                             Eigen::Vector3d::UnitZ()))
+                              .toRotationMatrix();
     formats::Mat4 local = current;
     // Only what was edited is taken from the (rounded) fields, so that moving a part along
     // one axis never perturbs the other coordinates or its rotation.

@@ -8,7 +8,6 @@
 
 #include <QPointer>
 #include <QWidget>
-
 #include <functional>
 
 class QCheckBox;
@@ -83,8 +82,8 @@ private:
     QLineEdit* m_name;
     QDoubleSpinBox* m_diameter;
     QSlider* m_diameterSlider;
-    QDoubleSpinBox* m_length;  ///< the hose's length (HoseDefinition::length), metres
-    QPushButton* m_addSlack;   ///< length + 5 %
+    QDoubleSpinBox* m_length; ///< the hose's length (HoseDefinition::length), metres
+    QPushButton* m_addSlack;  ///< length + 5 %
     QLabel* m_lengthInfo;
     QLabel* m_routePointLabel;
     QDoubleSpinBox* m_routePoint[3]; ///< the selected route point, world millimetres
@@ -112,7 +111,7 @@ private:
     QComboBox* m_gravityDirection; ///< world axis the hose falls along (−Y = the project's down)
     QLabel* m_gravityState;        ///< settling / settled / out of budget
     QCheckBox* m_torsion;
-    QDoubleSpinBox* m_twistLimit;  ///< degrees per joint (the model: radians)
+    QDoubleSpinBox* m_twistLimit; ///< degrees per joint (the model: radians)
     QLabel* m_message;
 
     /// Placed by the window outside the panel (fixControls()): it may be deleted before it.

@@ -2,15 +2,13 @@
 
 #include "chaintube/editor/commands.h"
 
+#include <Eigen/Geometry>
 #include <QMouseEvent>
-#include <QPainter>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
+#include <QPainter>
 #include <QSurfaceFormat>
 #include <QWheelEvent>
-
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,7 +21,7 @@ namespace {
 /// default hose radius) along the surface normal.
 constexpr double kRouteLift = 0.01;
 constexpr double kHandlePixels = 9.0;
-constexpr double kMoveSnapMetres = 0.01;          ///< Ctrl while moving a part
+constexpr double kMoveSnapMetres = 0.01;                       ///< Ctrl while moving a part
 constexpr double kRotateSnapRadians = std::numbers::pi / 12.0; ///< Ctrl while rotating a part: 15°
 } // namespace
 
@@ -58,8 +56,7 @@ Viewport::~Viewport()
 
 void Viewport::setMode(Mode mode)
 {
-    if (mode == m_mode)
-        return;
+    if (mode == m_mode) return;
     m_mode = mode;
     m_pendingRoute.clear();
     m_options.pendingRoute.clear();
@@ -85,7 +82,10 @@ void Viewport::finishRoute()
         emit statusMessage(tr("A hose needs at least two route points"));
 }
 
-void Viewport::cancelRoute() { setMode(Mode::Select); }
+void Viewport::cancelRoute()
+{
+    setMode(Mode::Select);
+}
 
 void Viewport::beginFixToPart()
 {
@@ -97,13 +97,14 @@ void Viewport::beginFixToPart()
         return;
     }
     setMode(Mode::FixToPart);
-    const QString points = selection.rangeFirst == selection.rangeLast
-                               ? tr("point %1").arg(selection.rangeFirst)
-                               : tr("points %1–%2").arg(selection.rangeFirst).arg(selection.rangeLast);
-    emit statusMessage(tr("Fix %1 of %2: click the part to fix it to (Esc cancels)")
-                           .arg(points, QString::fromStdString(definition->name.empty()
-                                                                   ? definition->id
-                                                                   : definition->name)));
+    const QString points =
+        selection.rangeFirst == selection.rangeLast
+            ? tr("point %1").arg(selection.rangeFirst)
+            : tr("points %1–%2").arg(selection.rangeFirst).arg(selection.rangeLast);
+    emit statusMessage(
+        tr("Fix %1 of %2: click the part to fix it to (Esc cancels)")
+            .arg(points, QString::fromStdString(definition->name.empty() ? definition->id
+                                                                         : definition->name)));
 }
 
 void Viewport::fixSelectionToPartAt(const QPointF& position)
@@ -116,9 +117,8 @@ void Viewport::fixSelectionToPartAt(const QPointF& position)
     Selection selection = m_document.selection();
     try {
         m_document.closeMerge();
-        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId,
-                                                selection.rangeFirst, selection.rangeLast,
-                                                hit.sceneId, hit.node));
+        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId, selection.rangeFirst,
+                                                selection.rangeLast, hit.sceneId, hit.node));
         m_document.closeMerge();
     } catch (const std::exception& error) {
         emit statusMessage(tr("Cannot fix: %1").arg(QString::fromStdString(error.what())));
@@ -153,8 +153,7 @@ void Viewport::frameAll()
         if (const Hose* hose = m_document.hose(definition.id))
             for (const Vec3& p : hose->points())
                 box.extend(p);
-    if (!box.empty())
-        m_camera.frame(box);
+    if (!box.empty()) m_camera.frame(box);
     update();
 }
 
@@ -182,8 +181,7 @@ void Viewport::frameSelection()
 QPoint Viewport::toWidget(const Vec3& world) const
 {
     Eigen::Vector2d pixel;
-    if (!m_camera.project(world, width(), height(), &pixel))
-        return QPoint(-1, -1);
+    if (!m_camera.project(world, width(), height(), &pixel)) return QPoint(-1, -1);
     return QPoint(int(std::lround(pixel.x())), int(std::lround(pixel.y())));
 }
 
@@ -198,7 +196,10 @@ bool Viewport::pickScene(const QPointF& position, ScenePickHit* hit)
     return m_picker.pick(rayAt(position), hit);
 }
 
-QImage Viewport::renderToImage() { return grabFramebuffer(); }
+QImage Viewport::renderToImage()
+{
+    return grabFramebuffer();
+}
 
 void Viewport::initializeGL()
 {
@@ -216,8 +217,7 @@ void Viewport::initializeGL()
 
 void Viewport::paintGL()
 {
-    if (!m_initialised)
-        return;
+    if (!m_initialised) return;
     if (!m_framedOnce) {
         m_framedOnce = true;
         frameAll();
@@ -225,15 +225,11 @@ void Viewport::paintGL()
     const auto start = std::chrono::steady_clock::now();
     m_options.pendingRoute = m_pendingRoute;
     const qreal ratio = devicePixelRatioF();
-    m_renderer.render(m_document, m_camera, int(width() * ratio), int(height() * ratio),
-                      m_options);
-    if (m_options.showProblems)
-        drawProblemLabels();
-    if (m_finishEachFrame)
-        context()->functions()->glFinish();
+    m_renderer.render(m_document, m_camera, int(width() * ratio), int(height() * ratio), m_options);
+    if (m_options.showProblems) drawProblemLabels();
+    if (m_finishEachFrame) context()->functions()->glFinish();
     m_lastFrameMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     ++m_paintCount;
 }
 
@@ -248,8 +244,7 @@ void Viewport::drawProblemLabels()
     painter.setFont(font);
     const auto label = [&](const Vec3& at, const QString& text) {
         const QPoint p = toWidget(at);
-        if (p.x() < 0)
-            return;
+        if (p.x() < 0) return;
         const QRect box = painter.fontMetrics().boundingRect(text).adjusted(-4, -2, 4, 2);
         const QRect placed = box.translated(p + QPoint(12, -12) - box.bottomLeft());
         painter.fillRect(placed, QColor(40, 10, 10, 200));
@@ -259,8 +254,7 @@ void Viewport::drawProblemLabels()
     for (const formats::HoseDefinition& definition : m_document.project().hoses) {
         const Hose* hose = m_document.hose(definition.id);
         const HoseMetrics* metrics = hose ? m_document.hoseMetrics(definition.id) : nullptr;
-        if (!metrics)
-            continue;
+        if (!metrics) continue;
         for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
             for (const Hose::Attachment& attachment : hose->attachments())
                 if (attachment.id == unmet.id)
@@ -281,16 +275,14 @@ void Viewport::onDocumentChanged(const ChangeEvent& event)
         m_framedOnce = false;
         setMode(Mode::Select);
     }
-    if (event.kind == ChangeEvent::Kind::FileStateChanged)
-        return;
+    if (event.kind == ChangeEvent::Kind::FileStateChanged) return;
     update();
 }
 
 int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
 {
     const Selection& selection = m_document.selection();
-    if (!m_document.scene(selection.sceneId) || selection.node < 0)
-        return -1;
+    if (!m_document.scene(selection.sceneId) || selection.node < 0) return -1;
     const Vec3 origin = gizmoCentre();
     const QPointF a = toWidget(origin);
     int best = -1;
@@ -299,8 +291,7 @@ int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
         const QPointF b = toWidget(origin + Renderer::gizmoLength(m_camera) * Vec3::Unit(axis));
         const QPointF ab = b - a;
         const double length2 = QPointF::dotProduct(ab, ab);
-        if (length2 < 1.0)
-            continue;
+        if (length2 < 1.0) continue;
         // Only the outer 70 % of an arrow grabs, so that the node itself stays clickable.
         const double s = std::clamp(QPointF::dotProduct(position - a, ab) / length2, 0.3, 1.0);
         const QPointF closest = a + s * ab;
@@ -310,16 +301,14 @@ int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
             best = axis;
         }
     }
-    if (pixels)
-        *pixels = bestDistance;
+    if (pixels) *pixels = bestDistance;
     return best;
 }
 
 int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
 {
     const Selection& selection = m_document.selection();
-    if (!m_document.scene(selection.sceneId) || selection.node < 0)
-        return -1;
+    if (!m_document.scene(selection.sceneId) || selection.node < 0) return -1;
     const Vec3 origin = gizmoCentre();
     int best = -1;
     double bestDistance = kHandlePixels;
@@ -332,9 +321,9 @@ int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
             const QPointF ab = next - previous;
             const double length2 = QPointF::dotProduct(ab, ab);
             const double s =
-                length2 > 0 ? std::clamp(QPointF::dotProduct(position - previous, ab) / length2,
-                                         0.0, 1.0)
-                            : 0.0;
+                length2 > 0
+                    ? std::clamp(QPointF::dotProduct(position - previous, ab) / length2, 0.0, 1.0)
+                    : 0.0;
             const QPointF closest = previous + s * ab;
             const double distance =
                 std::hypot(position.x() - closest.x(), position.y() - closest.y());
@@ -345,8 +334,7 @@ int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
             previous = next;
         }
     }
-    if (pixels)
-        *pixels = bestDistance;
+    if (pixels) *pixels = bestDistance;
     return best;
 }
 
@@ -392,8 +380,7 @@ Vec3 Viewport::onViewPlane(const QPointF& position, const Vec3& anchor) const
     const Ray ray = rayAt(position);
     const Vec3 normal = m_camera.forward();
     const double denominator = ray.direction.dot(normal);
-    if (std::abs(denominator) < 1e-9)
-        return anchor;
+    if (std::abs(denominator) < 1e-9) return anchor;
     const double t = (anchor - ray.origin).dot(normal) / denominator;
     return ray.origin + t * ray.direction;
 }
@@ -402,27 +389,24 @@ void Viewport::mousePressEvent(QMouseEvent* event)
 {
     const QPointF position = event->position();
     m_lastMouse = m_pressMouse = position;
-    const bool orbitButton = event->button() == Qt::MiddleButton ||
-                             event->button() == Qt::RightButton ||
-                             (event->button() == Qt::LeftButton &&
-                              (event->modifiers() & Qt::AltModifier));
+    const bool orbitButton =
+        event->button() == Qt::MiddleButton || event->button() == Qt::RightButton ||
+        (event->button() == Qt::LeftButton && (event->modifiers() & Qt::AltModifier));
     if (orbitButton) {
         m_drag = (event->modifiers() & Qt::ShiftModifier) ? Drag::Pan : Drag::Orbit;
         return;
     }
-    if (event->button() != Qt::LeftButton)
-        return;
+    if (event->button() != Qt::LeftButton) return;
 
     if (m_mode == Mode::LayRoute) {
         ScenePickHit hit;
         if (pickScene(position, &hit)) {
             m_pendingRoute.push_back(hit.point + kRouteLift * hit.normal);
-            emit statusMessage(tr("Route point %1 on %2")
-                                   .arg(m_pendingRoute.size())
-                                   .arg(QString::fromStdString(
-                                       m_document.scene(hit.sceneId)
-                                           ->nodes[size_t(hit.node)]
-                                           .name)));
+            emit statusMessage(
+                tr("Route point %1 on %2")
+                    .arg(m_pendingRoute.size())
+                    .arg(QString::fromStdString(
+                        m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name)));
         } else {
             emit statusMessage(tr("Click on a scene surface to place a route point"));
         }
@@ -502,8 +486,8 @@ void Viewport::mousePressEvent(QMouseEvent* event)
     }
     // 3. A hose, 4. a scene part, 5. nothing. Whichever is nearer along the ray wins.
     const Ray ray = rayAt(position);
-    const double pixelMetres = 2.0 * m_camera.distance * std::tan(m_camera.fieldOfViewY / 2) /
-                               std::max(height(), 1);
+    const double pixelMetres =
+        2.0 * m_camera.distance * std::tan(m_camera.fieldOfViewY / 2) / std::max(height(), 1);
     HosePickHit hoseHit;
     ScenePickHit sceneHit;
     const bool onHose = pickHose(m_document, ray, 3.0 * pixelMetres, &hoseHit);
@@ -514,13 +498,11 @@ void Viewport::mousePressEvent(QMouseEvent* event)
         // point, an end in particular, picks that point.
         if (const Hose* hose = m_document.hose(hoseHit.hoseId)) {
             const int nearest = axisPointAt(*hose, position);
-            if (nearest >= 0)
-                hoseHit.point = nearest, hoseHit.position = hose->point(nearest);
+            if (nearest >= 0) hoseHit.point = nearest, hoseHit.position = hose->point(nearest);
         }
         const bool extend = (event->modifiers() & Qt::ShiftModifier) &&
                             selection.hoseId == hoseHit.hoseId && selection.rangeFirst >= 0;
-        if (selection.hoseId != hoseHit.hoseId)
-            selection.routePoint = -1;
+        if (selection.hoseId != hoseHit.hoseId) selection.routePoint = -1;
         selection.hoseId = hoseHit.hoseId;
         selection.routePoint = -1;
         if (extend) {
@@ -542,18 +524,17 @@ void Viewport::mousePressEvent(QMouseEvent* event)
             // Keep the offset between the picked spot and the axis point while dragging.
             m_dragGrabOffset = hoseHit.position - onViewPlane(position, hoseHit.position);
         }
-        emit statusMessage(tr("Hose %1, axis point %2%3")
-                               .arg(QString::fromStdString(hoseHit.hoseId))
-                               .arg(hoseHit.point)
-                               .arg(hose && hose->isFixed(hoseHit.point) ? tr(" (fixed)")
-                                                                          : QString()));
+        emit statusMessage(
+            tr("Hose %1, axis point %2%3")
+                .arg(QString::fromStdString(hoseHit.hoseId))
+                .arg(hoseHit.point)
+                .arg(hose && hose->isFixed(hoseHit.point) ? tr(" (fixed)") : QString()));
     } else if (onScene) {
         selection.sceneId = sceneHit.sceneId;
         selection.node = sceneHit.node;
         m_document.setSelection(selection);
-        emit statusMessage(
-            tr("Part %1").arg(QString::fromStdString(
-                m_document.scene(sceneHit.sceneId)->nodes[size_t(sceneHit.node)].path)));
+        emit statusMessage(tr("Part %1").arg(QString::fromStdString(
+            m_document.scene(sceneHit.sceneId)->nodes[size_t(sceneHit.node)].path)));
     } else {
         m_document.setSelection(Selection());
     }
@@ -582,17 +563,16 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
     }
     case Drag::RoutePoint: {
         const formats::HoseDefinition* definition = m_document.hoseDefinition(m_dragHose);
-        if (!definition)
-            break;
+        if (!definition) break;
         std::vector<Vec3> route = definition->route;
         route[size_t(m_dragIndex)] = onViewPlane(position, m_dragAnchor);
-        m_document.undoStack()->push(makeSetRoute(
-            m_document, m_dragHose, route,
-            tr("Move route point %1 of %2")
-                .arg(m_dragIndex)
-                .arg(QString::fromStdString(definition->name.empty() ? definition->id
-                                                                     : definition->name)),
-            MergeId::HoseRoute));
+        m_document.undoStack()->push(
+            makeSetRoute(m_document, m_dragHose, route,
+                         tr("Move route point %1 of %2")
+                             .arg(m_dragIndex)
+                             .arg(QString::fromStdString(
+                                 definition->name.empty() ? definition->id : definition->name)),
+                         MergeId::HoseRoute));
         break;
     }
     case Drag::Gizmo: {
@@ -601,19 +581,21 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         const Vec3 a = Vec3::Unit(m_gizmoAxis);
         const Vec3 w = ray.origin - m_gizmoStartOrigin;
         const double b = ray.direction.dot(a);
-        const double parameter =
-            (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
+        const double parameter = (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
         Vec3 shift = (parameter - m_gizmoStartParameter) * a;
         // Ctrl snaps the move to whole centimetres.
         if (event->modifiers() & Qt::ControlModifier)
             shift = a * (std::round(shift.dot(a) / kMoveSnapMetres) * kMoveSnapMetres);
         // newLocal = parentWorld⁻¹ · T(shift) · parentWorld · startLocal.
-        const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
-        const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 world =
+            m_document.nodeWorldTransform(selection.sceneId, selection.node);
+        const formats::Mat4 current =
+            m_document.nodeLocalTransform(selection.sceneId, selection.node);
         const formats::Mat4 parentWorld = world * current.inverse();
         formats::Mat4 translation = formats::Mat4::Identity();
         translation.block<3, 1>(0, 3) = shift;
-        const formats::Mat4 local = parentWorld.inverse() * translation * parentWorld * m_gizmoStartLocal;
+        const formats::Mat4 local =
+            parentWorld.inverse() * translation * parentWorld * m_gizmoStartLocal;
         m_document.undoStack()->push(
             makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
         break;
@@ -634,8 +616,10 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         if (event->modifiers() & Qt::ControlModifier)
             angle = std::round(angle / kRotateSnapRadians) * kRotateSnapRadians;
         // newLocal = parentWorld⁻¹ · T(o) · R(angle about a) · T(−o) · parentWorld · startLocal.
-        const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
-        const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 world =
+            m_document.nodeWorldTransform(selection.sceneId, selection.node);
+        const formats::Mat4 current =
+            m_document.nodeLocalTransform(selection.sceneId, selection.node);
         const formats::Mat4 parentWorld = world * current.inverse();
         formats::Mat4 rotation = formats::Mat4::Identity();
         rotation.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle, a).toRotationMatrix();
@@ -645,8 +629,9 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
             parentWorld.inverse() * rotation * parentWorld * m_gizmoStartLocal;
         m_document.undoStack()->push(makeSetNodeTransform(
             m_document, {selection.sceneId, selection.node}, local,
-            tr("Rotate %1").arg(QString::fromStdString(
-                m_document.scene(selection.sceneId)->nodes[size_t(selection.node)].name))));
+            tr("Rotate %1")
+                .arg(QString::fromStdString(
+                    m_document.scene(selection.sceneId)->nodes[size_t(selection.node)].name))));
         emit statusMessage(tr("Rotate about %1: %2°%3")
                                .arg(QChar("XYZ"[m_gizmoAxis]))
                                .arg(angle * 180.0 / std::numbers::pi, 0, 'f', 1)
@@ -660,8 +645,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
             double arrowPixels = 0.0, ringPixels = 0.0;
             int axis = gizmoAxisAt(position, &arrowPixels);
             int ring = gizmoRingAt(position, &ringPixels);
-            if (ring >= 0 && axis >= 0)
-                (ringPixels < arrowPixels ? axis : ring) = -1;
+            if (ring >= 0 && axis >= 0) (ringPixels < arrowPixels ? axis : ring) = -1;
             if (axis != m_options.activeGizmoAxis || ring != m_options.activeGizmoRing) {
                 m_options.activeGizmoAxis = axis;
                 m_options.activeGizmoRing = ring;
@@ -697,8 +681,7 @@ void Viewport::mouseDoubleClickEvent(QMouseEvent* event)
         finishRoute();
         return;
     }
-    if (event->button() == Qt::LeftButton)
-        frameSelection();
+    if (event->button() == Qt::LeftButton) frameSelection();
 }
 
 void Viewport::wheelEvent(QWheelEvent* event)

@@ -10,7 +10,6 @@
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
-
 #include <memory>
 #include <vector>
 

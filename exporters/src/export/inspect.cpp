@@ -351,11 +351,13 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
         out << file.string() << ": hose rig " << descriptor.version << " ("
             << (descriptor.generator.empty() ? "unknown generator" : descriptor.generator) << "), "
             << descriptor.hoses.size() << " hose(s)\n";
-        out << "colliders: " << descriptor.colliders.size() << (descriptor.colliders.empty() ? "\n" : "");
+        out << "colliders: " << descriptor.colliders.size()
+            << (descriptor.colliders.empty() ? "\n" : "");
         for (size_t k = 0; k < descriptor.colliders.size(); ++k) {
             const int node = descriptor.colliders[k];
             out << (k == 0 ? " — " : ", ") << "node " << node;
-            if (runtime && node >= 0 && node < runtime->nodeCount()) out << " '" << runtime->node(node).name << "'";
+            if (runtime && node >= 0 && node < runtime->nodeCount())
+                out << " '" << runtime->node(node).name << "'";
             out << (k + 1 == descriptor.colliders.size() ? "\n" : "");
         }
         for (const rig::RigHose& d : descriptor.hoses) {

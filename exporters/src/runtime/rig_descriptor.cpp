@@ -567,7 +567,8 @@ bool withinStretchBand(const RigHose& hose)
         if (s >= hose.restLengths.size()) return false;
         const double length = (hose.axis[s + 1] - hose.axis[s]).norm();
         const double rest = hose.restLengths[s];
-        if (length > rest * (1.0 + band) * (1.0 + 1e-9) || length < rest * (1.0 - band) * (1.0 - 1e-9))
+        if (length > rest * (1.0 + band) * (1.0 + 1e-9) ||
+            length < rest * (1.0 - band) * (1.0 - 1e-9))
             return false;
     }
     return true;

@@ -1,7 +1,6 @@
 #include "chaintube/export/runtime.h"
 
 #include "chaintube/formats/collider_exemption.h"
-
 #include "gltf_container.h"
 #include "transform_math.h"
 

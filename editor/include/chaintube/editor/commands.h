@@ -10,7 +10,6 @@
 #include "chaintube/editor/document.h"
 
 #include <QUndoCommand>
-
 #include <functional>
 #include <string>
 #include <utility>
@@ -142,8 +141,8 @@ QUndoCommand* makeChangeHoseField(Document& document, const std::string& hoseId,
             formats::HoseDefinition* definition = d.mutableHoseDefinition(hoseId);
             return definition ? &(definition->*field) : nullptr;
         },
-        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(newValue),
-        mergeId, hoseId);
+        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(newValue), mergeId,
+        hoseId);
 }
 
 /// Replaces a hose's whole definition (the properties panel: one field changed, checked with
@@ -155,9 +154,8 @@ QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseI
 
 /// Replaces a hose's route (insert/delete/move a route point; commit of a grab-drag). Pass
 /// MergeId::HoseRoute while a route point is dragged so that the drag is one step.
-QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
-                           std::vector<Vec3> route, const QString& text,
-                           MergeId mergeId = MergeId::None);
+QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId, std::vector<Vec3> route,
+                           const QString& text, MergeId mergeId = MergeId::None);
 
 /// Makes a hose `length` metres long where it lies (formats::withLength: the route becomes
 /// the hose's shape with the length added as slack between its held ends, or pulled in).

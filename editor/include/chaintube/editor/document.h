@@ -41,7 +41,6 @@
 
 #include <QObject>
 #include <QUndoStack>
-
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -58,18 +57,18 @@ namespace chaintube::editor {
 struct ChangeEvent
 {
     enum class Kind {
-        ProjectReplaced,  ///< new/open/recover: everything changed
-        ScenesChanged,    ///< a scene was imported or removed
-        HoseAdded,        ///< hoseId was added
-        HoseRemoved,      ///< hoseId was removed
-        HoseChanged,      ///< hoseId's definition changed (and its live hose was rebuilt)
-        HoseShapeChanged, ///< hoseId's live axis moved (drag, a part it is fixed to moved)
-        PoseChanged,      ///< a scene node's transform override changed (sceneId, node)
-        CollidersChanged, ///< the project's collider flags changed (sceneId, node)
-        PresetsChanged,   ///< the project's material presets changed
+        ProjectReplaced,        ///< new/open/recover: everything changed
+        ScenesChanged,          ///< a scene was imported or removed
+        HoseAdded,              ///< hoseId was added
+        HoseRemoved,            ///< hoseId was removed
+        HoseChanged,            ///< hoseId's definition changed (and its live hose was rebuilt)
+        HoseShapeChanged,       ///< hoseId's live axis moved (drag, a part it is fixed to moved)
+        PoseChanged,            ///< a scene node's transform override changed (sceneId, node)
+        CollidersChanged,       ///< the project's collider flags changed (sceneId, node)
+        PresetsChanged,         ///< the project's material presets changed
         ProjectSettingsChanged, ///< name or export settings changed
-        SelectionChanged, ///< selection() changed (not an undoable edit)
-        FileStateChanged, ///< file name or modified flag changed
+        SelectionChanged,       ///< selection() changed (not an undoable edit)
+        FileStateChanged,       ///< file name or modified flag changed
     };
     Kind kind = Kind::ProjectReplaced;
     std::string hoseId;
@@ -81,11 +80,11 @@ struct ChangeEvent
 /// segment can be fixed to the node.
 struct Selection
 {
-    std::string hoseId;      ///< "" = none
-    int rangeFirst = -1;     ///< selected axis points [rangeFirst, rangeLast] of hoseId; −1 none
+    std::string hoseId;  ///< "" = none
+    int rangeFirst = -1; ///< selected axis points [rangeFirst, rangeLast] of hoseId; −1 none
     int rangeLast = -1;
-    int routePoint = -1;     ///< selected route point of hoseId, −1 none
-    std::string sceneId;     ///< selected scene node: scene id and node index, −1 none
+    int routePoint = -1; ///< selected route point of hoseId, −1 none
+    std::string sceneId; ///< selected scene node: scene id and node index, −1 none
     int node = -1;
     bool operator==(const Selection& o) const
     {
@@ -206,10 +205,7 @@ public:
     /// pose: the route (stored at the file pose) is then not edited by dragging.
     bool hoseFollowsMovedPart(const std::string& hoseId) const;
     /// Overrides set by the author (nullopt entries mean "back to the file pose").
-    const std::map<NodeKey, std::optional<formats::Mat4>>& poseOverrides() const
-    {
-        return m_pose;
-    }
+    const std::map<NodeKey, std::optional<formats::Mat4>>& poseOverrides() const { return m_pose; }
     /// Increments whenever any override changes (pickers rebuild instance transforms).
     std::uint64_t poseSerial() const { return m_poseSerial; }
 

@@ -13,7 +13,6 @@
 #include "chaintube/editor/document.h"
 
 #include <QColor>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,11 +22,11 @@ namespace chaintube::editor {
 /// What to draw besides the document.
 struct RenderOptions
 {
-    bool wireframe = false;    ///< polygon mode lines for scene meshes and hoses
-    bool showProblems = true;  ///< tint rings of problem regions red
-    bool showGizmo = true;     ///< axis arrows at the selected node
-    int activeGizmoAxis = -1;  ///< 0 x, 1 y, 2 z drawn highlighted (being dragged/hovered)
-    int activeGizmoRing = -1;  ///< rotate ring about x/y/z (0/1/2) drawn highlighted
+    bool wireframe = false;         ///< polygon mode lines for scene meshes and hoses
+    bool showProblems = true;       ///< tint rings of problem regions red
+    bool showGizmo = true;          ///< axis arrows at the selected node
+    int activeGizmoAxis = -1;       ///< 0 x, 1 y, 2 z drawn highlighted (being dragged/hovered)
+    int activeGizmoRing = -1;       ///< rotate ring about x/y/z (0/1/2) drawn highlighted
     std::vector<Vec3> pendingRoute; ///< route points of a hose being laid out (world)
     QColor background = QColor(58, 62, 70);
 };
@@ -35,7 +34,7 @@ struct RenderOptions
 /// What the last render() did.
 struct RenderStats
 {
-    int hosesUploaded = 0;     ///< hoses whose vertex buffers were updated
+    int hosesUploaded = 0; ///< hoses whose vertex buffers were updated
     int hosesDrawn = 0;
     long long trianglesDrawn = 0;
     double hoseUpdateMilliseconds = 0.0; ///< CPU time of surface updates + uploads

@@ -72,8 +72,8 @@ struct SceneImportSettings
     bool operator==(const SceneImportSettings& o) const
     {
         return metresPerUnit == o.metresPerUnit && upAxis == o.upAxis &&
-               chordalTolerance == o.chordalTolerance &&
-               angularTolerance == o.angularTolerance && placement == o.placement;
+               chordalTolerance == o.chordalTolerance && angularTolerance == o.angularTolerance &&
+               placement == o.placement;
     }
 };
 
@@ -156,8 +156,8 @@ struct Rgba
 /// that reshaping a hose never changes how long it is.
 struct HoseDefinition
 {
-    std::string id;          ///< unique within the project
-    std::string name;        ///< for people; may repeat
+    std::string id;   ///< unique within the project
+    std::string name; ///< for people; may repeat
     /// The shape at the file pose: world metres, ≥ 2 points, consecutive points distinct. A
     /// route with one point per axis point that is already a valid shape of the hose (every
     /// segment in its stretch band, every joint within its bend limit) is the axis itself (a
@@ -165,8 +165,8 @@ struct HoseDefinition
     /// radius and sampled at equal arc length (Hose::alongRoute). See buildHose().
     std::vector<Vec3> route;
     /// The hose's rest length (metres > 0, finite): every segment's rest length is length /
-    /// segments, whatever shape the route gives it (buildHose()). Unset: the length of the hose laid
-    /// along its route (routeRestLength()), which then follows route edits; the reader sets it
+    /// segments, whatever shape the route gives it (buildHose()). Unset: the length of the hose
+    /// laid along its route (routeRestLength()), which then follows route edits; the reader sets it
     /// for files before 1.3, the editor for every hose it creates.
     std::optional<double> length;
     MaterialChoice material = PresetName{"PVC hose"};

@@ -1,9 +1,9 @@
 // ChainTube formats — turning a project's hose definitions into chaintube::Hose objects.
 #pragma once
 
+#include "chaintube/collision.h"
 #include "chaintube/formats/project.h"
 #include "chaintube/formats/scene_import.h"
-#include "chaintube/collision.h"
 #include "chaintube/hose.h"
 
 #include <map>
@@ -97,7 +97,8 @@ std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node,
 /// True if one of `hose`'s attachments exempts node `nodePath` of scene `sceneId` from it
 /// (collider_exemption.h's rule on paths): the hose neither collides with that node nor is
 /// checked for clearance against it.
-bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId, const std::string& nodePath);
+bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId,
+                       const std::string& nodePath);
 
 /// How many gravity steps settleUnderGravity() takes at most; the editor's live gravity has
 /// the same budget per hose (editor::Document::kGravityStepBudget).
