@@ -699,7 +699,7 @@ fs::path writeBoxObj(const fs::path& file, const Vec3& low, double size)
     return file;
 }
 
-// §4: the Import dialog says which units and up axis the reader assumed and where each came
+// The Import dialog says which units and up axis the reader assumed and where each came
 // from, lets the author change them, and places the scene at the origin (an empty project) or
 // beside what is there.
 TEST_F(MainWindowTest, ImportShowsTheAssumedUnitsAndPlacesTheScene)
@@ -1331,7 +1331,7 @@ double worstBandExcess(const Hose& hose)
     return worst;
 }
 
-// Issue "Editing holds" §2: dragging a hose never makes it longer. Twenty mouse drags of a
+// Dragging a hose never makes it longer. Twenty mouse drags of a
 // point of left-feed, each committed on release, leave its rest length as it was (to 1e-9),
 // every segment in its band and the committed hose exactly where the drag left it; saving
 // and reopening gives back the same shape and the same length.
@@ -1366,7 +1366,7 @@ TEST_F(MainWindowTest, TwentyMouseDragsKeepTheHoseLengthAndSaveReopenKeepsShapeA
         EXPECT_NEAR((document.hose(id)->point(int(i)) - shape[i]).norm(), 0.0, 1e-12) << i;
 }
 
-// §2: the length is a field of its own; typing a longer one adds slack between the fixed ends.
+// The length is a field of its own; typing a longer one adds slack between the fixed ends.
 TEST_F(MainWindowTest, TypingALongerLengthAddsSlackBetweenTheFixedEnds)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("length-field")));
@@ -1393,7 +1393,7 @@ TEST_F(MainWindowTest, TypingALongerLengthAddsSlackBetweenTheFixedEnds)
     EXPECT_EQ(document.undoStack()->undoText(), "Change length of right bracket to valve");
 }
 
-// §4: the wheel over the Properties panel scrolls it; it never changes a value unless the
+// The wheel over the Properties panel scrolls it; it never changes a value unless the
 // field has the keyboard focus.
 TEST_F(MainWindowTest, WheelOverPropertiesScrollsThePanelAndChangesNoValue)
 {
@@ -1439,7 +1439,7 @@ TEST_F(MainWindowTest, WheelOverPropertiesScrollsThePanelAndChangesNoValue)
     EXPECT_EQ(document.undoStack()->count(), 1);
 }
 
-// §4: Ctrl+Z after typing a value and pressing Enter undoes the edit of the document; while
+// Ctrl+Z after typing a value and pressing Enter undoes the edit of the document; while
 // a value is being typed, Ctrl+Z undoes only the typing.
 TEST_F(MainWindowTest, CtrlZAfterEnterUndoesTheDocumentEdit)
 {
@@ -1487,7 +1487,7 @@ TEST_F(MainWindowTest, CtrlZAfterEnterUndoesTheDocumentEdit)
     EXPECT_EQ(name->text().toStdString(), oldName);
 }
 
-// §4: fixing a hose end takes one gesture: click the end point (it is not hidden under the
+// Fixing a hose end takes one gesture: click the end point (it is not hidden under the
 // route handle there), Ctrl+F (named in the tooltip), click the part. One undo step that says
 // what it did; the hose stays selected; the end does not move.
 TEST_F(MainWindowTest, FixingAHoseEndTakesOneGesture)
@@ -1565,7 +1565,7 @@ TEST_F(MainWindowTest, FixingAHoseEndTakesOneGesture)
     EXPECT_EQ(document.hoseDefinition(id)->attachments.size(), 1u);
 }
 
-// §4: the History panel says what each step did and to which object.
+// The History panel says what each step did and to which object.
 TEST_F(MainWindowTest, HistoryEntriesNameWhatAndWhich)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("history")));
