@@ -9,6 +9,7 @@
 #include <chaintube/formats/project_hoses.h>
 #include <chaintube/surface.h>
 #include <cmath>
+#include <optional>
 #include <tuple>
 
 namespace chaintube::exporting::testing {
@@ -292,7 +293,8 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
             local.rotation =
                 Quat(Eigen::AngleAxisd(0.05, Eigen::Vector3d(0.3, 1.0, 0.2).normalized())) *
                 local.rotation;
-            runtime.setNodeTransform(moved.gltfNode, local);
+            const std::vector<rig::HoseUpdate> updates =
+                runtime.setNodeTransform(moved.gltfNode, local);
 
             formats::ImportedScene& scene = reference.scenes.at(moved.scene);
             scene.nodes[static_cast<size_t>(moved.sceneNode)].localTransform = matrixOf(local);
@@ -332,17 +334,27 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                         frames.push_back(reference.scenes.at(sceneId).worldFrame(node) * offset);
                     }
                 }
+                std::optional<UpdateResult> viaLibrary;
                 if (ids.size() == 1) {
-                    reference.hoses[h].moveAttachment(ids[0], frames[0]);
+                    viaLibrary = reference.hoses[h].moveAttachment(ids[0], frames[0]);
                 } else if (!ids.empty()) {
-                    reference.hoses[h].moveAttachments(ids, frames);
+                    viaLibrary = reference.hoses[h].moveAttachments(ids, frames);
                 } else {
                     bool nearMovedCollider = false;
                     for (const auto& collider : reference.hoses[h].colliders())
                         nearMovedCollider = nearMovedCollider ||
                                             std::find(movedColliders.begin(), movedColliders.end(),
                                                       collider.get()) != movedColliders.end();
-                    if (nearMovedCollider) reference.hoses[h].resolveCollisions();
+                    if (nearMovedCollider) viaLibrary = reference.hoses[h].resolveCollisions();
+                }
+                // The runtime reports exactly the hoses it updated, with the library's result.
+                const auto update =
+                    std::find_if(updates.begin(), updates.end(), [&](const rig::HoseUpdate& u) {
+                        return u.hose == static_cast<int>(h);
+                    });
+                ASSERT_EQ(update != updates.end(), viaLibrary.has_value()) << "hose " << h;
+                if (viaLibrary) {
+                    EXPECT_EQ(update->result.status, viaLibrary->status) << "hose " << h;
                 }
             }
             ++steps;
@@ -362,7 +374,8 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
         }
         runtime.update();
         for (size_t h = 0; h < reference.hoses.size(); ++h) {
-            if (reference.hoses[h].spec().gravity.enabled) reference.hoses[h].step();
+            if (reference.hoses[h].spec().gravity.enabled)
+                static_cast<void>(reference.hoses[h].step()); // compared below, point by point
             reference.surfaces[h].update(reference.hoses[h]);
         }
         const Deviation d = compare(runtime, reference, exported);

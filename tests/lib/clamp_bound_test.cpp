@@ -47,8 +47,8 @@ TEST(ClampBetweenFixedPoints, IsDeterministic)
     Hose b = a;
     for (int trial = 0; trial < 5; ++trial) {
         const Vec3 target(0.5, 2.0 + trial, 0.5 * trial);
-        a.grab(15, target);
-        b.grab(15, target);
+        static_cast<void>(a.grab(15, target));
+        static_cast<void>(b.grab(15, target));
     }
     EXPECT_EQ(a.points(), b.points());
 }
@@ -111,12 +111,12 @@ TEST(ClampBetweenFixedPoints, ARepeatedGrabBeyondReachDoesNoWorkAndKeepsTheRevis
     EXPECT_EQ(hose.revision(), revision);
     EXPECT_EQ(hose.points(), atTheEdge);
 
-    hose.grab(k, target + Vec3(0.0, 1e-9, 0.0));
+    static_cast<void>(hose.grab(k, target + Vec3(0.0, 1e-9, 0.0)));
     EXPECT_GT(hose.revision(), revision) << "a moved target is a new request";
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
 
     Hose released = pulledHose();
-    released.grab(k, target);
+    static_cast<void>(released.grab(k, target));
     released.releaseGrab();
     const std::uint64_t beforeRegrab = released.revision();
     EXPECT_EQ(released.grab(k, target).status, Status::Clamped);
@@ -125,7 +125,7 @@ TEST(ClampBetweenFixedPoints, ARepeatedGrabBeyondReachDoesNoWorkAndKeepsTheRevis
     Hose withColliders = pulledHose();
     const std::vector<Vec3> far = {Vec3(10, 10, 10), Vec3(11, 10, 10), Vec3(10, 11, 10)};
     withColliders.setColliders({MeshCollider::fromArrays(far, {0, 1, 2}, Frame::identity())});
-    withColliders.grab(k, target);
+    static_cast<void>(withColliders.grab(k, target));
     const std::uint64_t beforeRepeat = withColliders.revision();
     EXPECT_EQ(withColliders.grab(k, target).status, Status::Clamped);
     EXPECT_GT(withColliders.revision(), beforeRepeat) << "colliders may have moved: the grab is done again";

@@ -104,11 +104,11 @@ TEST(GravityStep, IsDeterministic)
 {
     Hose a = hangingHose(1.2, 40), b = hangingHose(1.2, 40);
     for (int s = 0; s < 300; ++s) {
-        a.step();
-        b.step();
+        static_cast<void>(a.step());
+        static_cast<void>(b.step());
         if (s == 100) {
-            a.grab(20, Vec3(0.5, 0.1, 0.2));
-            b.grab(20, Vec3(0.5, 0.1, 0.2));
+            static_cast<void>(a.grab(20, Vec3(0.5, 0.1, 0.2)));
+            static_cast<void>(b.grab(20, Vec3(0.5, 0.1, 0.2)));
         }
     }
     EXPECT_EQ(a.points(), b.points());
@@ -123,7 +123,7 @@ TEST(GravityStep, HeldPointStaysWhileTheRestHangsAndFallsWhenReleased)
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.5, spec);
     hose.attach(0, 1, Frame::identity());
     const Vec3 target(0.9, 0.3, 0.0);
-    hose.grab(30, target);
+    static_cast<void>(hose.grab(30, target));
     EXPECT_EQ(hose.heldPoint(), 30);
     double worstLength = 0.0, worstAngle = 0.0;
     stepUntilSettled(hose, 5000, &worstLength, &worstAngle);
@@ -145,11 +145,11 @@ TEST(GravityStep, DraggingDoesNotFlingTheHose)
     Hose hose = hangingHose(1.2, 40);
     ASSERT_LT(stepUntilSettled(hose, 20000), 20000);
     hose.detach(hose.attachments().back().id);
-    hose.grab(40, Vec3(1.0, 0.5, 0.0));
+    static_cast<void>(hose.grab(40, Vec3(1.0, 0.5, 0.0)));
     stepUntilSettled(hose, 20000);
-    hose.grab(40, Vec3(1.3, 0.5, 0.3));
+    static_cast<void>(hose.grab(40, Vec3(1.3, 0.5, 0.3)));
     const std::vector<Vec3> afterGrab = hose.points();
-    hose.step(1);
+    static_cast<void>(hose.step(1));
     const double mean = hose.restLengthTotal() / 40;
     EXPECT_LT((hose.point(5) - afterGrab[5]).norm(), 0.2 * mean);
 }
@@ -227,7 +227,8 @@ double pinnedSag(double length, int segments, double radius, int* steps = nullpt
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
     if (used < maxSteps) { // settled: it never moves again
         const std::vector<Vec3> settled = hose.points();
-        for (int s = 0; s < 50; ++s) hose.step();
+        for (int s = 0; s < 50; ++s)
+            static_cast<void>(hose.step());
         EXPECT_EQ(hose.points(), settled) << radius;
     }
     return -lowestY(hose);
@@ -269,8 +270,8 @@ TEST(GravityStep, BendLimitedHoseIsDeterministicAndResettlesAfterAnAttachmentMov
 {
     Hose a = clampedArch(), b = clampedArch();
     for (int s = 0; s < 400; ++s) {
-        a.step();
-        b.step();
+        static_cast<void>(a.step());
+        static_cast<void>(b.step());
     }
     EXPECT_EQ(a.points(), b.points());
     ASSERT_LT(stepUntilSettled(a, 3000), 3000);
@@ -387,7 +388,8 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
 TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
 {
     Hose hose = valveTail();
-    for (int s = 0; s < 3; ++s) hose.step(); // falling, not settled
+    for (int s = 0; s < 3; ++s)
+        static_cast<void>(hose.step()); // falling, not settled
     const std::vector<Vec3> marked = hose.points();
     hose.markSettled();
     const std::uint64_t revision = hose.revision();
@@ -402,12 +404,12 @@ TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
     Hose fresh = Hose::fromAxis(marked, rest, hose.spec());
     fresh.attach(0, 1, Frame::identity());
     const Vec3 lift = hose.point(7) + Vec3(0.0, 0.02, 0.0);
-    hose.grab(7, lift);
-    fresh.grab(7, lift);
+    static_cast<void>(hose.grab(7, lift));
+    static_cast<void>(fresh.grab(7, lift));
     const double afterGrab = hose.points().back().y();
     for (int s = 0; s < 5; ++s) {
-        hose.step();
-        fresh.step();
+        static_cast<void>(hose.step());
+        static_cast<void>(fresh.step());
     }
     EXPECT_LT(hose.points().back().y(), afterGrab - 1e-4); // the free end falls again
     for (int i = 0; i < hose.pointCount(); ++i) EXPECT_EQ(hose.point(i), fresh.point(i)) << i;

@@ -42,7 +42,7 @@ enum class Status {
 
 const char* toString(Status status);
 
-struct UpdateResult
+struct [[nodiscard]] UpdateResult
 {
     Status status = Status::Ok;
     /// Largest length violation beyond the stretch band, relative to the rest length (0 = none).
