@@ -104,7 +104,7 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
     connect(m_viewport, &Viewport::routeFinished, this, &MainWindow::onRouteFinished);
     connect(&m_autosaveTimer, &QTimer::timeout, this, [this] { autosaveNow(); });
     m_autosaveTimer.start(kAutosaveIntervalMs);
-    // Live gravity (issue 7): runs only while a hose with gravity on is settling.
+    // Live gravity: runs only while a hose with gravity on is settling.
     m_gravityTimer.setInterval(kGravityIntervalMs);
     connect(&m_gravityTimer, &QTimer::timeout, this, [this] {
         m_document->stepGravity();

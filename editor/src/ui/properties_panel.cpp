@@ -186,7 +186,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     profileForm->addRow(tr("Corner segments"), m_cornerSegments);
     layout->addWidget(m_profileGroup);
 
-    // --- gravity and torsion (issue 7) ----------------------------------------------------
+    // --- gravity and torsion ----------------------------------------------------
     m_physicsGroup = new QGroupBox(tr("Gravity and torsion"));
     m_physicsGroup->setObjectName("physicsGroup");
     auto* physicsForm = new QFormLayout(m_physicsGroup);

@@ -1,6 +1,6 @@
 // ChainTube editor — the properties panel: the selected hose's parameters (live while a slider
 // moves; one undo step per drag), its material and presets, cross-section, colour, fixing a
-// segment to a scene part and detaching, gravity and torsion (issue 7), and the selected part's
+// segment to a scene part and detaching, gravity and torsion, and the selected part's
 // transform and collider flag. Groups are greyed out when nothing they apply to is selected.
 #pragma once
 
@@ -105,7 +105,7 @@ private:
     QSpinBox* m_cornerSegments;
     QGroupBox* m_materialGroup;
     QGroupBox* m_profileGroup;
-    /// Gravity and torsion of the hose (issue 7): HoseDefinition::gravity / ::torsion.
+    /// Gravity and torsion of the hose: HoseDefinition::gravity / ::torsion.
     QGroupBox* m_physicsGroup;
     QCheckBox* m_gravity;          ///< sags live in the viewport
     QComboBox* m_gravityDirection; ///< world axis the hose falls along (−Y = the project's down)
