@@ -138,7 +138,7 @@ public:
     /// Hose::measureViolation()'s 1e-9 (after up to `extraSteps` more projection steps), their
     /// state is the answer. The exact ChainTube pass from the fixed points (settleFrom) is only
     /// the fallback: run on a shape the rounds already made valid it re-propagates from the
-    /// fixed side and, between two clamps, undid the sag every step (issue 7).
+    /// fixed side and, between two clamps, would undo the sag every step.
     /// With `exactFallback` false (step(), whose state before is valid), a result the rounds
     /// could not make valid is undone instead (roundsFailed is set): the exact pass from the
     /// fixed points turns every joint over its limit about the fixed side, and near a steep

@@ -16,6 +16,9 @@ namespace chaintube::exporting::testing {
 namespace {
 
 constexpr double kTolerance = 1e-6; // metres
+// A hose once clamped, with independent frames (see Reference): input rounding grown by the
+// clamped solve, not an error of the pipeline.
+constexpr double kClampedTolerance = 1e-4; // metres
 
 /// The library side: the project's hoses, built as formats builds them, with their surfaces.
 struct LibraryReference
@@ -142,12 +145,14 @@ struct Deviation
 };
 
 /// Largest distance between runtime and library: axis points, surface vertices (world), and
-/// the exported bind-pose mesh skinned with the runtime's joint poses.
+/// the exported bind-pose mesh skinned with the runtime's joint poses; of hose `only`, or of
+/// every hose when `only` is negative.
 Deviation compare(const rig::HoseRuntime& runtime, const LibraryReference& reference,
-                  const GltfDocument& exported)
+                  const GltfDocument& exported, int only = -1)
 {
     Deviation deviation;
     for (int h = 0; h < runtime.hoseCount(); ++h) {
+        if (only >= 0 && h != only) continue;
         const Hose& library = reference.hoses[static_cast<size_t>(h)];
         const Hose& running = runtime.hose(h);
         EXPECT_EQ(running.pointCount(), library.pointCount());
@@ -234,8 +239,10 @@ Deviation compare(const rig::HoseRuntime& runtime, const LibraryReference& refer
 ///    node with the new local transform) — the library exactly as the editor would run it;
 ///  * SameFrames: the runtime's node world frame and the descriptor's offset, i.e. bit-identical
 ///    inputs, so any difference is the runtime's own. The solver is sensitive where a hose is
-///    clamped or infeasible (bisection), so 1e-16 differences in the inputs can grow; the
-///    second variant separates that from errors of the export/runtime pipeline.
+///    clamped or infeasible, so 1e-16 differences in the inputs can grow; the second variant
+///    separates that from errors of the export/runtime pipeline. With independent frames, a
+///    hose whose library update was ever Clamped or Infeasible is held to
+///    kClampedTolerance instead of kTolerance; with the same frames every hose is exact.
 enum class Reference { IndependentFrames, SameFrames };
 
 class RuntimeRoundTrip : public ::testing::TestWithParam<std::tuple<std::string, Reference>>
@@ -283,6 +290,9 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                                    reference.attachedNodes[static_cast<size_t>(h)][k].second});
         }
 
+    // Hoses whose library update was ever Clamped or Infeasible (see Reference).
+    std::vector<char> clamped(reference.hoses.size(), 0);
+    double worstClamped = 0.0;
     int steps = 0;
     for (int round = 0; round < 3; ++round) {
         // Move up to four scene objects: a translation and a rotation about a tilted axis.
@@ -355,6 +365,7 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                 ASSERT_EQ(update != updates.end(), viaLibrary.has_value()) << "hose " << h;
                 if (viaLibrary) {
                     EXPECT_EQ(update->result.status, viaLibrary->status) << "hose " << h;
+                    if (viaLibrary->status != Status::Ok) clamped[h] = 1;
                 }
             }
             ++steps;
@@ -370,6 +381,7 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
             const UpdateResult viaLibrary =
                 reference.hoses[static_cast<size_t>(h)].grab(point, target);
             EXPECT_EQ(viaRuntime.status, viaLibrary.status);
+            if (viaLibrary.status != Status::Ok) clamped[static_cast<size_t>(h)] = 1;
             ++steps;
         }
         runtime.update();
@@ -378,12 +390,19 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                 static_cast<void>(reference.hoses[h].step()); // compared below, point by point
             reference.surfaces[h].update(reference.hoses[h]);
         }
-        const Deviation d = compare(runtime, reference, exported);
-        worst.axis = std::max(worst.axis, d.axis);
-        worst.surface = std::max(worst.surface, d.surface);
-        worst.skinned = std::max(worst.skinned, d.skinned);
-        worst.staticPhase = std::max(worst.staticPhase, d.staticPhase);
+        for (int h = 0; h < runtime.hoseCount(); ++h) {
+            const Deviation d = compare(runtime, reference, exported, h);
+            if (!sameFrames && clamped[static_cast<size_t>(h)]) {
+                worstClamped = std::max({worstClamped, d.axis, d.surface, d.skinned});
+                continue;
+            }
+            worst.axis = std::max(worst.axis, d.axis);
+            worst.surface = std::max(worst.surface, d.surface);
+            worst.skinned = std::max(worst.skinned, d.skinned);
+            worst.staticPhase = std::max(worst.staticPhase, d.staticPhase);
+        }
     }
+    EXPECT_LT(worstClamped, kClampedTolerance);
     EXPECT_GE(steps, 3); // at least one grab per round
     EXPECT_LT(worst.axis, kTolerance);
     EXPECT_LT(worst.surface, kTolerance);
@@ -399,7 +418,7 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
               << (worst.staticPhase > 0 ? ", static meshes' ring phase within " +
                                               std::to_string(worst.staticPhase) + " rad"
                                         : std::string())
-              << "\n";
+              << "; hoses once clamped within " << worstClamped << " m\n";
 }
 
 INSTANTIATE_TEST_SUITE_P(

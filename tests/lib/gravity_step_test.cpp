@@ -176,7 +176,7 @@ TEST(GravityStep, SceneStepsOnlyHosesThatNeedIt)
     EXPECT_EQ(scene.step(), 0) << "settled";
 }
 
-// --- bend-limited hoses (issue 7: "bend-limited gravity between two fixed points does not settle")
+// --- bend-limited hoses: gravity between two fixed points settles
 
 namespace {
 // A 1 m-class hose of 40 segments clamped at both ends (two-point attachment runs, horizontal),

@@ -68,7 +68,7 @@ struct [[nodiscard]] UpdateResult
     bool ok() const { return status == Status::Ok; }
 };
 
-/// Per-frame gravity (issue 7). When enabled, every update ends with a bounded number of
+/// Per-frame gravity. When enabled, every update ends with a bounded number of
 /// warm-started settle rounds (see Hose::sag) and Hose::step() keeps settling on frames without
 /// input; a settled hose costs one comparison per frame.
 struct Gravity
@@ -77,7 +77,7 @@ struct Gravity
     Vec3 direction = Vec3(0.0, -1.0, 0.0); ///< world; need not be unit (finite, non-zero)
 };
 
-/// Torsion as an optional degree of freedom (issue 7): the roll of an attachment's frame about
+/// Torsion as an optional degree of freedom: the roll of an attachment's frame about
 /// the hose axis twists the rings; between two attachments the twist is spread over the joints
 /// between them, at most twistLimit per joint.
 struct Torsion
@@ -257,46 +257,33 @@ public:
     /// With colliders (setColliders) the contacts are constraints of the rounds too.
     SagResult sag(const SagOptions& options = SagOptions());
 
-    /// Per-frame gravity (HoseSpec::gravity; beyond the paper). Advances the settling of the
-    /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
-    /// step to step, so the hose falls and swings out over a few dozen frames); the rounds'
-    /// state is kept when it holds every constraint to 1e-9 (as sag()); else the step is run
-    /// again from rest (no velocity), then from rest with 1/4 and 1/16 of that gravity step;
-    /// the next step starts from the fraction that last worked, growing by 1.25 a step while
-    /// steps succeed (a tail near its bend limits falls on in smaller steps instead of
-    /// stopping mid-fall: test
-    /// GravityStep.AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag), and if the
-    /// rounds cannot make any of them valid, the hose stays where it was, without velocity (it
-    /// then counts as settled, see below). Unlike
-    /// sag(), a step never falls back on the exact ChainTube pass from the fixed points when
-    /// the state before it was valid: that pass turns every joint over its limit about the
-    /// fixed side, and below a steep attachment those turns swung a free end by 10–30 cm in
-    /// one frame (test GravityStep.AFreeEndOffASteepAttachmentFallsWithoutWhipping). Every
-    /// constraint holds after every step.
-    /// With colliders, contacts are projection constraints inside the rounds (each free point
-    /// keeps outerRadius() + tolerance/10 from the tangent plane at its closest point on a
-    /// collider; a touching point keeps no velocity, i.e. it sticks), then the sweeps of
-    /// setColliders run as for any update. The held
-    /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
-    /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
-    /// projection can leave a tiny two-round flip-flop), or (rounds ≥ 2) over the whole step,
-    /// or when its mean height has not come lower by 1 % of a segment for 120 steps while
-    /// staying within 1 % of a segment of its lowest (a projection cycle that moves points
-    /// without the hose coming lower, or a creep of micrometres a step: it stops where it is),
-    /// the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
-    /// revision()), step() returns at once without touching the hose, so a settled hose never
-    /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
-    /// with nothing fixed and nothing held has nothing to hang from: it does not fall (Ok,
-    /// nothing moves). With bend limits or contacts each round does at most 16 Newton steps of
-    /// the joint projection; a round whose projection diverges is undone (no NaN or Inf ever
-    /// leaves it); a step the rounds cannot make valid is undone as above (a hose locked by its
-    /// limits, e.g. every joint at its limit and every segment at its minimum length, stays
-    /// where it is and counts as settled); only when the state before the step was itself
-    /// invalid does the exact pass run (if it fails too, its result is kept and its status
-    /// returned). Known limit: a hose hanging between two pinned points with its bottom at the
-    /// bend limit and steep ends under high tension can keep cycling by ~0.6 mm per step near
-    /// the pins (README). Deterministic. Returns the constraint state; movedPoints is 0
-    /// when nothing was done.
+    /// Per-frame gravity (HoseSpec::gravity; beyond the paper): advances the free points'
+    /// settling by at most `rounds` damped rounds of sag()'s projection (lengths, bend limits and
+    /// contacts in one banded Newton system, at most 16 Newton steps a round). The velocity
+    /// carries over between steps, so a hose falls and swings out over a few dozen frames.
+    ///
+    /// Decided cases:
+    /// - A step the rounds cannot make valid (every constraint within 1e-9) is run again from
+    ///   rest with the whole, 1/4 and 1/16 of the gravity step; if none is valid the hose stays
+    ///   where it was, without velocity. The fraction that worked grows by 1.25 a successful step.
+    /// - From a valid state a step never falls back on the exact pass from the fixed points (it
+    ///   turns every joint over its limit about the fixed side and would swing a free end); from
+    ///   an invalid state the exact pass runs and its status is returned.
+    /// - Contacts: each free point keeps outerRadius() + tolerance/10 from the tangent plane at
+    ///   its closest collider point, a touching point keeps no velocity (it sticks), then the
+    ///   sweeps of setColliders run as for any update.
+    /// - The held point (the last grabbed, until releaseGrab()) stays where the grab put it.
+    /// - Settled: when no point moved more than 1e-6 of the mean rest length over the last two
+    ///   rounds or over the whole step, or the mean height has not come lower by 1 % of a
+    ///   segment in 120 steps, step() returns at once until an input changes (revision()).
+    /// - Nothing fixed and nothing held: the hose has nothing to hang from and does not fall.
+    /// - Between two pins with its bottom at the bend limit and steep ends under high tension,
+    ///   a hose can cycle by under a millimetre a step near the pins until the 120-step rule
+    ///   stops it.
+    ///
+    /// Cost: O(n) per Newton step, at most 16 × `rounds` (× 4 with the retries) of them; a
+    /// settled hose or gravity off: one comparison. Deterministic; never leaves NaN or Inf.
+    /// Returns the constraint state; movedPoints is 0 when nothing was done.
     UpdateResult step(int rounds = 4);
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
     /// releaseGrab() frees it; a grab of another point moves the hold there.
@@ -313,7 +300,7 @@ public:
     /// the scene use it to skip hoses whose inputs did not change.
     std::uint64_t revision() const { return m_revision; }
 
-    // --- collision with scene objects (issue 7; opt-in, one branch per update without) ------
+    // --- collision with scene objects (opt-in, one branch per update without) ---------------
     /// Make the hose stay outside these colliders (shared with other hoses; moving a collider's
     /// frame moves it for all). Every grab, attachment move and gravity step then ends with a
     /// continuous check of each moved point from its previous position (a sphere of
