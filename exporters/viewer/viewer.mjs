@@ -620,13 +620,21 @@ window.chaintubeViewer = {
       for (let i = 0; i < position.count; i += Math.max(1, Math.floor(position.count / 200))) {
         const a = new THREE.Vector3().fromBufferAttribute(position, i);
         const b = new THREE.Vector3().fromBufferAttribute(position, (i + 1) % position.count);
+        const c = new THREE.Vector3().fromBufferAttribute(position, (i + 2) % position.count);
+        candidates.push(o.localToWorld(a.clone().add(b).add(c).divideScalar(3)));
         candidates.push(o.localToWorld(a.lerp(b, 0.5)));
       }
     });
+    // A spot whose neighbours 4 px around are on the part too, so a click there is not on a
+    // silhouette edge or on a hose drawn over the part.
+    const onPart = (x, y) => {
+      const picked = pick(rayFromEvent({ clientX: x, clientY: y }));
+      return picked?.object !== undefined && partOf(picked.object) === node;
+    };
     for (const world of candidates) {
       const screen = toScreen(world);
-      const picked = pick(rayFromEvent({ clientX: screen.x, clientY: screen.y }));
-      if (picked?.object && partOf(picked.object) === node) return screen;
+      if ([[0, 0], [4, 0], [-4, 0], [0, 4], [0, -4]].every(([dx, dy]) => onPart(screen.x + dx, screen.y + dy)))
+        return screen;
     }
     return null;
   },
