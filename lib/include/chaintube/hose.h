@@ -12,6 +12,11 @@
 
 namespace chaintube {
 
+namespace detail {
+class ChainProjection;
+class SpanSolver;
+} // namespace detail
+
 /// What an update did. Always look at status.
 enum class Status {
     Ok,           ///< The request was met exactly; every constraint holds (1e-9 relative).
@@ -42,7 +47,7 @@ enum class Status {
 
 const char* toString(Status status);
 
-struct UpdateResult
+struct [[nodiscard]] UpdateResult
 {
     Status status = Status::Ok;
     /// Largest length violation beyond the stretch band, relative to the rest length (0 = none).
@@ -65,6 +70,9 @@ struct UpdateResult
     double penetration = 0.0;
     /// Collision: axis points touching a collider after the update.
     int contacts = 0;
+    /// Work done: Newton steps of the chain projection (each O(points between the outermost
+    /// pinned points)); 0 for the paper's propagation alone. Bounded per update.
+    int iterations = 0;
     bool ok() const { return status == Status::Ok; }
 };
 
@@ -354,6 +362,9 @@ private:
 
     friend class Solver;
     friend class SagRounds;
+    friend class PinnedSpans;
+    friend class detail::ChainProjection;
+    friend class detail::SpanSolver;
     HoseSpec m_spec;
     Vec3 m_origin = Vec3::Zero();
     std::vector<Vec3> m_local;
@@ -384,6 +395,9 @@ private:
     int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
     double m_gravityScale = 1.0;          ///< step(): fraction of the gravity step that last worked
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
+    /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
+    /// upper bound, −1 lower), bend; kept from update to update.
+    std::vector<signed char> m_workingSet;
     std::uint64_t m_revision = 1;
 
     /// Collision hook at the end of every update entry point (collision.cpp); no-op without
