@@ -117,8 +117,8 @@ run_fuzzers() {
   local ci=
   if [ "${2:-}" = ci ]; then
     # CI: seed 1 and a fixed number of runs (the time only a safety bound) fix the budget; the
-    # exploration still differs a little between runs (README, "Hardening"). scene_import starts
-    # the assimp reader program for most inputs (formats::importScene's process isolation:
+    # exploration still differs a little between runs (tests/README.md, "Fuzzing").
+    # scene_import starts the assimp reader program for most inputs (the reader processes:
     # assimp's aborts on malformed PLY faces are ImportErrors; its seeds include that file),
     # about 10 ms a run under ASan, so it gets 3,000 runs.
     ci=1
@@ -161,7 +161,7 @@ case "${1:-}" in
     install_test_clients
     timed "build (default)" build
     timed "tests (default)" ctest --preset default
-    # The hardening jobs of CI (issue 8; budget in README, "Hardening").
+    # The hardening jobs of CI (tests/README.md; their cost in tests/bench/PERFORMANCE-NOTES.md).
     timed "build + tests (asan)" sanitize
     timed "build (fuzz)" build_fuzzers
     timed "fuzzing" run_fuzzers "${CHAINTUBE_FUZZ_SECONDS:-25}" ci

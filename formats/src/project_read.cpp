@@ -17,8 +17,9 @@ using json = nlohmann::json;
 
 namespace {
 
-// Limits of the reader (README, "Hardening"): a hostile or corrupt file is refused with a
-// ProjectFormatError (a FileError for the size) instead of exhausting memory or the stack.
+// Limits of the reader (formats/README.md, "Errors and limits"): a hostile or corrupt file is
+// refused with a ProjectFormatError (a FileError for the size) instead of exhausting memory or
+// the stack.
 // Real projects are far below them (the 50-hose sample: 52 KB, 1,200 axis points).
 constexpr std::size_t kMaxProjectFileBytes = std::size_t{64} << 20; // 64 MiB of JSON
 constexpr int kMaxJsonDepth = 64;                // nesting of arrays and objects

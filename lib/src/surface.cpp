@@ -538,10 +538,9 @@ bool HoseSurface::update(const Hose& hose)
                              m_expandedY.data(), m_expandedNormalX.data(), m_expandedNormalY.data(),
                              m_positions.data(), m_normals.data()}};
     m_twistLimit = hose.spec().torsion.twistLimit;
-    // Frames first, then vertices, in two loops. Fusing the ring writes into the alignment
-    // chain (to fill its latency gaps) was faster on the Intel Xeon VM of sessions 1–9, but on
-    // this AMD EPYC (Zen 4) VM the two loops are faster: the 50-hose frame 210 → 183 µs, one
-    // hose's surface 2.99 → 2.47 µs (tests/bench/PERFORMANCE-NOTES.md, session 10).
+    // Frames first, then vertices, in two loops: on the project's AMD EPYC (Zen 4) machine this
+    // is faster than fusing the ring writes into the latency-bound alignment chain (figures
+    // under 331eb83 in tests/bench/PERFORMANCE-NOTES.md).
     m_maxTwist = computeRingFrames(hose, m_seed, m_frames);
 #if defined(__x86_64__) && defined(__GNUC__)
     if (cpuHasAvx512()) writeRingsAvx512Vl(m_frames, writer);

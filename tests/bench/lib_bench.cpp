@@ -1,4 +1,5 @@
-// Google Benchmark programs for the core library. Figures go into the README, never into tests.
+// Google Benchmark programs for the core library. Figures go into the performance notes
+// (tests/bench/PERFORMANCE-NOTES.md), never into tests.
 //   ./build/tests/bench/chaintube_bench --benchmark_min_time=0.2
 #include <chaintube/chaintube.h>
 

@@ -864,7 +864,8 @@ TEST_F(MainWindowTest, UnsavedChangesPromptAndAutosaveRecovery)
     ASSERT_FALSE(autosave.isEmpty());
     ASSERT_TRUE(QFile::exists(autosave));
     m_window.reset();
-    // A new session opens the project and is offered the autosave.
+    // A new main window (the editor started again) opens the project and is offered the
+    // autosave.
     m_window = makeWindow();
     m_answer = QMessageBox::Yes;
     m_questions.clear();

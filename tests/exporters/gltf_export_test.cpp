@@ -426,7 +426,7 @@ TEST(GltfExport, TheFiftyHoseEngineExportsEveryHoseWithItsJoints)
     for (const rig::RigHose& hose : report.descriptor.hoses)
         joints += static_cast<int>(hose.jointNodes.size());
     EXPECT_EQ(report.jointCount, joints);
-    // A measurement for the log, not an assertion (README "Export and the runtime" has timings).
+    // A measurement for the log, not an assertion (timings: tests/bench/PERFORMANCE-NOTES.md).
     std::cout << "[ timing ] engine-50-hoses: import + build + export " << report.seconds << " s, "
               << report.bytesWritten / 1024 << " KiB, " << report.jointCount << " joints\n";
 }

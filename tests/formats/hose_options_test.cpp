@@ -142,9 +142,9 @@ TEST(HoseOptions, BuiltHosesCarryGravityAndTorsionInTheirSpec)
 namespace chaintube::formats {
 namespace {
 // Gravity on both hoses of the test rig as built from the project (clamped at parts, bend
-// limited): every step keeps every constraint and moves no point by half a segment. Before the
-// step stopped handing failed rounds to the exact pass from the fixed side (lib, session 4),
-// left-feed jumped by up to 4.7 segments in a step and right-return by 8.4, again and again.
+// limited): every step keeps every constraint and moves no point by half a segment (a step
+// that fell back on the exact pass from the fixed side made both hoses jump by several
+// segments; see 350fa12).
 TEST(HoseOptions, GravityOnTheTestRigsHosesNeverJumps)
 {
     Project project = loadProject(kSamples / "test-rig.ctproj");

@@ -578,7 +578,7 @@ TEST(HoseCollision, SetCollidersRefusesBadOptions)
 TEST(HoseCollision, MillionTriangleSceneStaysInteractive)
 {
     // A 708 × 708 height field of 1,002,528 triangles, 2 m square, with bumps; the hose is
-    // dragged over it. Figures are printed for the README, never asserted.
+    // dragged over it. Figures are printed for the performance notes, never asserted.
     const int cells = 708;
     Mesh mesh;
     mesh.positions.reserve(static_cast<size_t>((cells + 1) * (cells + 1)));

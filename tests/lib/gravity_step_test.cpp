@@ -291,7 +291,8 @@ TEST(GravityStep, BendLimitedSagMatchesTheCatenaryWhenTheLimitDoesNotBindAndSags
     // catenary. Above it the bottom flattens and the sag falls towards the circle arc of
     // length 2 over the span (radius 0.52757 m, sag 0.69587), the only shape left at that
     // radius. A geometric limit is not a bending stiffness: below a there is no stiffening at
-    // all, beyond it the shape is the lowest one with curvature ≤ 1/R (README).
+    // all, beyond it the shape is the lowest one with curvature ≤ 1/R (figures in
+    // tests/bench/PERFORMANCE-NOTES.md, "Gravity").
     //
     // At R = 0.4 m (the bottom at its limit, the steep ends under high tension) the joint
     // projection ends its rounds in a cycle near the pinned ends that moves points 0.5-1.2 mm

@@ -12,7 +12,7 @@ class App;
 
 namespace chaintube::cli {
 
-/// Exit codes of every subcommand (documented in the README and in --help).
+/// Exit codes of every subcommand (documented in exporters/README.md and in --help).
 constexpr int kExitOk = 0; ///< done; for validate: the file is valid
 constexpr int kExitFailed =
     1; ///< the work failed: invalid file, export error, a batch project failed

@@ -1,4 +1,4 @@
-// ChainTube — collision with scene objects and clearance analysis (issue 7, sections 2 and 3).
+// ChainTube — collision with scene objects and clearance analysis (lib/README.md, "Collision").
 //
 // A scene object that hoses must stay out of is a MeshCollider: a rigid triangle mesh kept in
 // a bounding-volume hierarchy built once in the mesh's own frame, placed in the world by a
@@ -51,11 +51,10 @@ public:
     /// collide as segments or points. Throws InvalidArgument naming the field when positions or
     /// indices are null with a non-zero count, vertexCount or indexCount is 0, indexCount is
     /// not a multiple of 3, an index is out of range, a position is not finite, or the frame is
-    /// not finite. Building a 1-million-triangle mesh takes about a second (README).
-    /// Degenerate meshes (many triangles at one spot, long thin strips, all coplanar) are
-    /// answered exactly like any other: the hierarchy always halves its triangles (≤ 4 per leaf,
-    /// depth ⌈log2(count / 4)⌉) and its traversal never drops a subtree; coincident triangles
-    /// only cost time.
+    /// not finite. O(n log n) for n triangles. Degenerate meshes (many triangles at one spot,
+    /// long thin strips, all coplanar) are answered exactly like any other: the hierarchy always
+    /// halves its triangles (≤ 4 per leaf, depth ⌈log2(n / 4)⌉) and its traversal never drops a
+    /// subtree; coincident triangles only cost time.
     static std::shared_ptr<MeshCollider> fromArrays(const float* positions, std::size_t vertexCount,
                                                     const std::uint32_t* indices, std::size_t indexCount,
                                                     const Frame& frame = Frame::identity());

@@ -50,6 +50,8 @@ struct HoseMetrics
     }
 };
 
+/// Measures the hose's current shape against its material and attachments. O(points); never
+/// throws; every value finite.
 HoseMetrics measure(const Hose& hose);
 
 } // namespace chaintube

@@ -1,6 +1,6 @@
 // ChainTube — basic types and the library's error policy.
 //
-// Error policy (see README "Errors"):
+// Error policy (lib/README.md, "Error policy"):
 //  * Set-up functions (building a hose, a profile, a material, attaching) validate every
 //    argument and throw chaintube::InvalidArgument whose message names the parameter and
 //    what was expected. They never assert on caller input in release builds.

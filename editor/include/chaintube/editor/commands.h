@@ -172,7 +172,7 @@ QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
                                    std::optional<formats::Mat4> localTransform,
                                    const QString& text = QString());
 
-/// Flags (or unflags) a scene node as a collider (project().colliders; issue 7). A flag that
+/// Flags (or unflags) a scene node as a collider (project().colliders). A flag that
 /// is already as asked gives a command that changes nothing. The node must exist.
 QUndoCommand* makeSetCollider(Document& document, const NodeKey& node, bool collider);
 

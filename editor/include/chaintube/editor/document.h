@@ -94,7 +94,7 @@ struct Selection
 /// A scene node: scene id and node index.
 using NodeKey = std::pair<std::string, int>;
 
-/// Where a hose comes closer to a scene object than the clearance threshold (issue 7): set by
+/// Where a hose comes closer to a scene object than the clearance threshold: set by
 /// the problems panel, drawn by the renderer (a line from the hose surface to the object).
 struct ClearanceMarker
 {
@@ -208,7 +208,7 @@ public:
     /// Abandons a drag: the live hose is rebuilt from its definition.
     void cancelHoseDrag(const std::string& hoseId);
 
-    // --- live gravity (issue 7) -------------------------------------------------------------
+    // --- live gravity -----------------------------------------------------------------------
     /// At most this many steps per hose after it last changed; a hose still moving then is
     /// left where it is (reported by gravityUnsettledHoses()) so that the editor goes idle.
     static constexpr int kGravityStepBudget = 3000;
@@ -230,7 +230,7 @@ public:
     /// Steps made since the hose last changed.
     int gravitySteps(const std::string& hoseId) const;
 
-    // --- colliders (issue 7) ----------------------------------------------------------------
+    // --- colliders --------------------------------------------------------------------------
     /// True if the node is flagged as a collider in project().colliders.
     bool isCollider(const std::string& sceneId, int node) const;
     /// The colliders the live hose uses (empty for an unknown or unbuilt hose).

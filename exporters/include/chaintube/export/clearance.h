@@ -1,4 +1,4 @@
-// ChainTube — clearance analysis of a project (issue 7, section 3): how close each hose comes
+// ChainTube — clearance analysis of a project: how close each hose comes
 // to each scene object, and which pairs are closer than a threshold. Used by `chaintube check`
 // and by the editor's problems panel (the same functions).
 #pragma once

@@ -1,10 +1,9 @@
 // ChainTube formats — the error types of file reading and writing.
 //
-// Error policy of formats/ (STYLE.md lesson 5): everything that comes from a file is untrusted
-// input. Problems are reported by throwing a subclass of chaintube::Error whose what() names
-// the file, where in it (a JSON pointer for project files) and what was expected. Caller
-// mistakes that cannot come from a file (e.g. a negative tolerance in ImportOptions) throw
-// chaintube::InvalidArgument.
+// Error policy of formats/: everything that comes from a file is untrusted input. Problems are
+// reported by throwing a subclass of chaintube::Error whose what() names the file, where in it
+// (a JSON pointer for project files) and what was expected. Caller mistakes that cannot come
+// from a file (e.g. a negative tolerance in ImportOptions) throw chaintube::InvalidArgument.
 #pragma once
 
 #include "chaintube/types.h"
@@ -45,8 +44,8 @@ private:
 
 /// The third-party reader of a scene file did not come back: its process was ended by a signal
 /// (it crashed, e.g. an assertion inside assimp aborted on malformed data) or exited without an
-/// answer. importScene() runs assimp in a child process so that this is an error and not the
-/// end of the program. what() is "<file>: the <format> importer crashed on malformed data
+/// answer. importScene() runs every reader in a process of its own so that this is an error and
+/// not the end of the program. what() is "<file>: the <format> importer crashed on malformed data
 /// (signal 6, SIGABRT: Aborted); it wrote: <its last line>".
 class ImportError : public FileError
 {

@@ -1,8 +1,9 @@
 // ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
 //
-// The file is JSON, schema in formats/schema/project.schema.json, version "1.0":
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.2" (the format, its
+// versions and migrations: formats/README.md, "The project file"):
 //
-//   { "format": "chaintube-project", "version": "1.0", "name": "…",
+//   { "format": "chaintube-project", "version": "1.2", "name": "…",
 //     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
 //                            "chordalTolerance", "angularTolerance" } } ],
 //     "materialPresets": [ { "name", "description", "expansionCoefficient",
@@ -182,7 +183,7 @@ struct NodePose
     }
 };
 
-/// A scene node flagged as a collider: hoses stay outside its mesh (issue 7), except a hose
+/// A scene node flagged as a collider: hoses stay outside its mesh, except a hose
 /// attached to that node or to a node under it (formats/collider_exemption.h). The export
 /// lists it in the runtime descriptor (glTF node index) with its mesh.
 struct ColliderNode

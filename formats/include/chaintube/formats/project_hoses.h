@@ -66,9 +66,8 @@ constexpr int kSettleStepBudget = 3000;
 /// no point moves (at most stepBudget steps), against the project's colliders except those its
 /// attachments exempt (collider_exemption.h; colliders at the posed world transforms). The
 /// hose's own colliders are left empty again and it is marked settled (Hose::markSettled).
-/// Returns the steps taken (0 with gravity off).
-/// What the export writes for a gravity hose, so that Blender, three.js and the runtime start
-/// from the settled shape instead of the route (the runtime's first update no longer drops it).
+/// Returns the steps taken (0 with gravity off). The export writes gravity hoses in this shape,
+/// so viewers and the runtime start from the sag the editor shows.
 int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,
                        const ImportedScenes& scenes, int stepBudget = kSettleStepBudget);
 

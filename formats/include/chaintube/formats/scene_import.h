@@ -47,36 +47,15 @@ bool isSupportedSceneFile(const std::filesystem::path& file);
 /// on it; Cancelled if options.progress returned false; InvalidArgument for out-of-range
 /// options.
 ///
-/// Process isolation. assimp 5.2.5 as Debian ships it aborts the whole program on some
-/// malformed files (an ai_assert in TriangulateProcess on a PLY face without indices; no
-/// importer flag or property catches it: aiProcess_ValidateDataStructure and FindDegenerates /
-/// FindInvalidData were tried), and its readers have had crashes before. So every import runs
-/// in a process of its own: importScene starts a reader program with posix_spawn,
-/// `chaintube-scene-reader` (assimp) or `chaintube-step-reader` (OpenCASCADE, STEP), built in
-/// formats/ and found in $CHAINTUBE_READERS_DIR, else beside the running program, else where
-/// the build put them. The reader reads and converts, hands the result (meshes, nodes, units)
-/// back and ends; the caller's thread waits for it, forwarding progress
-/// messages to options.progress as they come. A reader that dies by a signal becomes
-/// ImportError ("the PLY importer (assimp) crashed on malformed data (signal 6, SIGABRT:
-/// Aborted); it wrote: ai_assert failure …"); the program goes on. The scene travels through a
-/// memory file (memfd) the caller maps, not the pipe. A missing reader program is a FileError
-/// that says where it was looked for. Linux only (memfd_create, posix_spawn's closefrom).
-///
-/// Why a fresh program and not fork() alone: the caller may have other threads (the Qt editor
-/// imports on a worker), and a forked copy of a multithreaded process may only run
-/// async-signal-safe code until it execs: a lock another thread held at the moment of the fork
-/// stays held in the copy. With glibc's malloc that happened to work; under AddressSanitizer
-/// (GCC 12's runtime has no fork handlers) a forked reader hung for good in CI when four threads
-/// imported at once. The reader gets the crash signals at their default actions (so a crash
-/// ends it by its signal, also when built with a sanitizer), only its own descriptors, stdin
-/// from /dev/null, and is killed if the caller's thread dies (PR_SET_PDEATHSIG). The caller's
-/// progress callback is never called in it. A reader that hangs is not timed out (the caller
-/// can cancel it).
-/// Cost: about 0.5 ms an import for the assimp reader (2CylinderEngine.glb: 20.2 against 19.9 ms
-/// median with the earlier fork); the STEP reader loads OpenCASCADE's libraries at each start
-/// (36 ms), so a STEP import costs ~60 ms more than in the caller's process (as1-oc-214.stp:
-/// ~270 against ~210 ms, measured under load), for isolation from OpenCASCADE's crashes and
-/// its memory handed back after each import.
+/// Every import runs in a reader process (formats/README.md, "The reader processes"):
+/// importScene starts `chaintube-scene-reader` (assimp) or `chaintube-step-reader`
+/// (OpenCASCADE) with posix_spawn, found in $CHAINTUBE_READERS_DIR, else beside the running
+/// program, else where the build put them; the calling thread waits, forwarding progress, and
+/// maps the scene the reader hands back. A reader that dies by a signal or exits without an
+/// answer becomes ImportError and the program goes on; a missing reader is a FileError naming
+/// where it was looked for. A hanging reader is not timed out (cancel it through
+/// options.progress). Thread-safe: imports from several threads run in separate readers.
+/// Linux only (memfd_create, posix_spawn).
 ImportedScene importScene(const std::filesystem::path& file, const ImportOptions& options = {});
 
 } // namespace chaintube::formats

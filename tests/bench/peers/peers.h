@@ -1,8 +1,10 @@
-// Peer solvers measured side by side with ChainTube in the speed-against-error report.
+// Peer solvers measured side by side with ChainTube in the speed-against-error report
+// (chaintube-bench-report) and the real-time benchmark (chaintube-bench-realtime).
 #pragma once
 
 #include <chaintube/types.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +26,11 @@ struct RodSetup
     Vec3 gravity = Vec3::Zero();
     double timeStep = 1.0 / 60.0;
     int sagRoundsPerFrame = 25;
+    /// A floor: axis points stay at or above this height (world y, metres), i.e. the floor's
+    /// surface plus the rod's radius. −∞ (the default): no floor. The XPBD rod lifts every free
+    /// point below it back to it after each sweep; the ChainTube rod gets a MeshCollider plane
+    /// (two triangles) at floorHeight − its outer radius; Bullet's rope ignores it.
+    double floorHeight = -std::numeric_limits<double>::infinity();
 };
 
 /// One frame of a scenario, solver-independent: optional frames for the fixed start and end

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #ifdef CHAINTUBE_HAVE_BULLET
 #include <BulletSoftBody/btDefaultSoftBodySolver.h>
@@ -11,7 +13,6 @@
 #include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 #include <btBulletDynamicsCommon.h>
-#include <numbers>
 #endif
 
 namespace chaintube::bench {
@@ -39,6 +40,11 @@ public:
     explicit ChainTubeRod(const RodSetup& setup)
         : m_hose(Hose::fromAxis(setup.axis, spec(setup))), m_gravity(setup.gravity), m_sagRounds(setup.sagRoundsPerFrame)
     {
+        if (setup.floorHeight > -std::numeric_limits<double>::infinity()) {
+            const double y = setup.floorHeight - m_hose.outerRadius(), far = 1e3;
+            m_hose.setColliders({MeshCollider::fromArrays(
+                {Vec3(-far, y, -far), Vec3(far, y, -far), Vec3(far, y, far), Vec3(-far, y, far)}, {0, 2, 1, 0, 3, 2})});
+        }
     }
     std::string name() const override { return "ChainTube"; }
     void fixStart(int count) override { m_start = m_hose.attach(0, count - 1, Frame::identity()); }
@@ -52,11 +58,12 @@ public:
         std::vector<Frame> frames;
         if (r.moveStart) ids.push_back(m_start), frames.push_back(r.start);
         if (r.moveEnd) ids.push_back(m_end), frames.push_back(r.end);
-        if (!ids.empty()) m_hose.moveAttachments(ids, frames);
-        for (const auto& [index, target] : r.grabs) m_hose.grab(index, target);
+        // The peers report no status: the results are measured from points() afterwards.
+        if (!ids.empty()) (void)m_hose.moveAttachments(ids, frames);
+        for (const auto& [index, target] : r.grabs) (void)m_hose.grab(index, target);
         // The runtime's per-frame gravity call: damped rounds whose velocity carries over
         // from frame to frame, as the peers' inertia does (a settled hose costs nothing).
-        if (m_gravity != Vec3::Zero()) m_hose.step(m_sagRounds);
+        if (m_gravity != Vec3::Zero()) (void)m_hose.step(m_sagRounds);
     }
     std::vector<Vec3> points() const override { return m_hose.points(); }
 
@@ -84,7 +91,8 @@ class XpbdRod final : public RodSolver
 {
 public:
     XpbdRod(const RodSetup& setup, int iterations)
-        : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations), m_gravity(setup.gravity), m_dt(setup.timeStep)
+        : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations), m_gravity(setup.gravity), m_dt(setup.timeStep),
+          m_floor(setup.floorHeight)
     {
         m_velocity.assign(m_x.size(), Vec3::Zero());
         const size_t n = m_x.size();
@@ -142,6 +150,9 @@ public:
             for (size_t s = 0; s + 1 < n; ++s) project(s, s + 1, m_minLength[s], m_maxLength[s]);
             for (size_t j = 1; j + 1 < n; ++j)
                 if (m_minChord[j] > 0.0) project(j - 1, j + 1, m_minChord[j], 1e300);
+            if (m_floor > -std::numeric_limits<double>::infinity())
+                for (size_t i = 0; i < n; ++i)
+                    if (m_inverseMass[i] > 0.0) m_x[i].y() = std::max(m_x[i].y(), m_floor);
         }
         if (inertia)
             for (size_t i = 0; i < n; ++i) m_velocity[i] = (1.0 - kDamping) * (m_x[i] - m_previous[i]) / m_dt;
@@ -170,6 +181,7 @@ private:
     int m_iterations;
     Vec3 m_gravity;
     double m_dt;
+    double m_floor; // lowest axis height (RodSetup::floorHeight)
     int m_startCount = 0, m_endCount = 0;
 };
 
