@@ -32,6 +32,9 @@ constexpr double kSweepTarget = 1e-4;
 constexpr double kNewtonFrom = 1e-2;
 /// Newton steps of the span solver per span and attempt.
 constexpr int kSpanSteps = 12;
+/// A grab: at most this many valid steps towards the target, of this many Newton steps each.
+constexpr int kAdvanceSteps = 4;
+constexpr int kAdvanceIterations = 6;
 /// Blocks of sweeps (+ projection) an attempt may take.
 constexpr int kBlocks = 3;
 /// A target beyond reach is brought this fraction inside the hose's reach.
@@ -647,7 +650,8 @@ public:
     /// A span ending at the held point (a grab beyond the last attachment) ends there, free
     /// when `heldSoft`. Returns whether every span is valid; `heldMet` whether the held point is
     /// where it was put.
-    bool solveSpans(int& iterations, bool heldSoft, bool& heldMet, bool writeAnyway = false)
+    bool solveSpans(int& iterations, bool heldSoft, bool& heldMet, bool writeAnyway = false,
+                    const Vec3* heldTarget = nullptr)
     {
         const int n = h.pointCount();
         auto pinned = [&](int i) { return h.m_fixed[static_cast<size_t>(i)] != 0 || i == held; };
@@ -683,9 +687,17 @@ public:
                 const bool endFixed = !(endIsHeld && heldSoft);
                 const Vec3 endTarget = h.m_local[static_cast<size_t>(end)];
                 detail::SpanSolver solver(h);
+                int moving = -2; // the held point's goal (−1: the span's end), −2: not in this span
+                for (size_t g = 0; g < goals.size(); ++g)
+                    if (goals[g].point == held) moving = static_cast<int>(g);
+                if (endIsHeld) moving = -1;
                 const detail::SpanSolver::Outcome out =
-                    solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
-                                 haveEnd ? &endDirection : nullptr, kSpanSteps, kConverged, writeAnyway);
+                    heldTarget && moving > -2
+                        ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
+                                         haveRoot ? &rootDirection : nullptr, haveEnd ? &endDirection : nullptr,
+                                         kAdvanceSteps, kAdvanceIterations, kConverged)
+                        : solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
+                                       haveEnd ? &endDirection : nullptr, kSpanSteps, kConverged, writeAnyway);
                 iterations += out.iterations;
                 valid = valid && out.valid;
                 if (!out.goalsMet) {
@@ -807,16 +819,28 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         if (goal != localTarget) status = Status::Clamped;
         const auto [lo, hi] = pinnedRange(m_attachments, index);
         PinnedSpans spans(*this, lo, hi, index);
-        // The spans from the current shape with the point at its goal: exactly there, else as
-        // near as they can bring it (the rest on the next updates).
-        m_local[k] = goal;
+        // From the current, valid shape the point goes towards its goal in valid steps: exactly
+        // there, else as near as the budget brings it (the rest on the next updates). A shape
+        // that was not valid is solved with the point at its goal, else as near as it gets.
         bool met = false;
-        bool solved = spans.solveSpans(result.iterations, false, met) && met;
+        bool solved = false;
+        if (!wasInvalid) {
+            solved = spans.solveSpans(result.iterations, false, met, false, &goal);
+            if (!met) status = Status::Clamped;
+        } else {
+            m_local[k] = goal;
+            solved = spans.solveSpans(result.iterations, false, met) && met;
+        }
         if (!solved) {
+            const int hardIterations = result.iterations;
             m_local = m_scratch;
             m_local[k] = goal;
             solved = spans.solveSpans(result.iterations, true, met);
             status = Status::Clamped;
+            if (std::getenv("CT_GRABLOG"))
+                std::fprintf(stderr, "grab soft: hard it %d soft it %d solved %d goal-start %.4g target-goal %.4g err %.4g\n",
+                             hardIterations, result.iterations - hardIterations, (int)solved, (goal - start).norm(),
+                             (localTarget - goal).norm(), (m_local[k] - goal).norm());
         }
         if (solved) {
             Solver tails(*this);
@@ -847,6 +871,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     }
     result.status = status;
     result.grabError = (m_local[k] - localTarget).norm();
+    if (std::getenv("CT_ITLOG")) std::fprintf(stderr, "grabit %d %s\n", result.iterations, toString(status));
     result.movedPoints = moved;
     m_held = index;
     if (moved > 0) ++m_revision;

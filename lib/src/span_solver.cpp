@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstdlib>
 
@@ -14,7 +15,6 @@ namespace {
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
 using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
-using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, 0, kMaxRows, 3>;
 
 /// Rotates x by the Cayley rotation of ω (exactly orthogonal, first order the rotation vector).
 Vec3 cayley(const Vec3& omega, const Vec3& x)
@@ -199,49 +199,58 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             const double sn = cross.norm();
             if (!(sn > 1e-12)) continue; // straight (or folded): no bend plane to limit in
             m_normal[k] = cross / sn;
+            if (before.dot(m_direction[k]) > h.m_cosHalfLimit[point(s)]) continue; // far inside: room enough
             m_room[k] = std::atan2(limitSin(s), limitCos(s)) - std::atan2(sn, before.dot(m_direction[k]));
         }
-        // The rows' sensitivity to joint s: R_s (rows × 3), δrows = R_s ω_s.
-        auto sensitivity = [&](int s, Rows3& r) {
-            const size_t k = static_cast<size_t>(s);
-            r.setZero(rows, 3);
-            for (int g = 0; g < goalCount; ++g) {
-                const int q = (goals[static_cast<size_t>(g)].point - root) * dir;
-                if (q <= s) continue;
-                const Vec3 v = m_position[static_cast<size_t>(q)] - m_position[k];
-                r.block<3, 3>(3 * g, 0) << 0, v.z(), -v.y(), -v.z(), 0, v.x(), v.y(), -v.x(), 0;
-            }
-            const Vec3 v = m_position[segments] - m_position[k];
-            r.block<3, 3>(3 * goalCount, 0) << 0, v.z(), -v.y(), -v.z(), 0, v.x(), v.y(), -v.x(), 0;
-            if (current.bendRow) r.row(3 * goalCount + 3) = bendAxis.transpose();
-        };
+        // Blocks of three rows (the goals, then the end) and the end's bend row. Joint s turns
+        // segments s … m−1 about position s: a block's point q > s moves by ω × (p_q − p_s)
+        // (rows R_b = −[v_b]×), the bend row by u·ω.
+        const int blocks = goalCount + 1;
+        int blockPoint[kMaxRows / 3];
+        for (int g = 0; g < goalCount; ++g) blockPoint[g] = (goals[static_cast<size_t>(g)].point - root) * dir;
+        blockPoint[goalCount] = m;
+        const Vec3 u = bendAxis;
         RowMatrix a;
         RowVector lambda, rhs;
-        Rows3 r;
         for (int pass = 0; pass < 4; ++pass) {
             // A joint held on its limit turns along it: its turn grows by exactly its room (≥ 0,
             // tiny), the rest of its rotation is free.
             a.setZero(rows, rows);
             rhs = -current.residual;
+            Vec3 v[kMaxRows / 3], c[kMaxRows / 3], e[kMaxRows / 3];
             for (int s = 0; s < m; ++s) {
                 const size_t k = static_cast<size_t>(s);
-                sensitivity(s, r);
                 const Vec3& d = m_direction[k];
-                Mat3 projector = Mat3::Identity() - d * d.transpose();
-                if (m_saturated[k]) {
-                    const Vec3& n = m_normal[k];
-                    projector -= n * n.transpose();
-                    rhs.noalias() -= r * (m_room[k] * n);
+                const bool held = m_saturated[k] != 0;
+                const Vec3& n = m_normal[k];
+                int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
+                while (first < blocks && blockPoint[first] <= s) ++first;
+                for (int b = first; b < blocks; ++b) {
+                    v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
+                    c[b] = v[b].cross(d);
+                    if (held) e[b] = v[b].cross(n);
                 }
-                a.noalias() += r * projector * r.transpose();
-                if (stretchable) {
-                    RowVector c = RowVector::Zero(rows);
-                    for (int g = 0; g < goalCount; ++g)
-                        if ((goals[static_cast<size_t>(g)].point - root) * dir > s) c.segment<3>(3 * g) = d;
-                    c.segment<3>(3 * goalCount) = d;
-                    a.noalias() += c * c.transpose();
+                for (int b = first; b < blocks; ++b) {
+                    for (int q = b; q < blocks; ++q) {
+                        Mat3 block = -v[q] * v[b].transpose() - c[b] * c[q].transpose();
+                        block.diagonal().array() += v[b].dot(v[q]);
+                        if (held) block -= e[b] * e[q].transpose();
+                        if (stretchable) block += d * d.transpose();
+                        a.block<3, 3>(3 * b, 3 * q) += block;
+                    }
+                    if (held) rhs.segment<3>(3 * b) -= m_room[k] * n.cross(v[b]);
+                }
+                if (current.bendRow) {
+                    Vec3 pu = u - u.dot(d) * d;
+                    if (held) pu -= u.dot(n) * n;
+                    a(rows - 1, rows - 1) += u.dot(pu);
+                    for (int b = first; b < blocks; ++b) a.block<3, 1>(3 * b, rows - 1) -= v[b].cross(pu);
+                    if (held) rhs(rows - 1) -= m_room[k] * u.dot(n);
                 }
             }
+            // Only the upper blocks were summed: mirror them.
+            for (int i = 0; i < rows; ++i)
+                for (int j = 0; j < i; ++j) a(i, j) = a(j, i);
             for (int g = 0; g < goalCount; ++g)
                 if (!goals[static_cast<size_t>(g)].hard)
                     for (int i = 0; i < 3; ++i) {
@@ -269,11 +278,15 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // ω_s = P_s R_sᵀ λ (+ the held turn). A free joint whose turn would pass its limit
             // is held on it; a held joint that this step would turn back inside is freed.
             bool changed = false;
+            Vec3 tail = current.bendRow ? Vec3(lambda(rows - 1) * u) : Vec3::Zero();
             for (int s = 0; s < m; ++s) {
                 const size_t k = static_cast<size_t>(s);
-                sensitivity(s, r);
-                const Vec3 full = r.transpose() * lambda;
                 const Vec3& d = m_direction[k];
+                Vec3 full = tail;
+                int first = 0;
+                while (first < blocks && blockPoint[first] <= s) ++first;
+                for (int b = first; b < blocks; ++b)
+                    full += (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k]).cross(Vec3(lambda.segment<3>(3 * b)));
                 Vec3 w = full - d.dot(full) * d;
                 const Vec3& n = m_normal[k];
                 const bool hasNormal = n.squaredNorm() > 0.0;
@@ -291,9 +304,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 omega[k] = w;
                 if (stretchable) {
                     double dl = 0.0;
-                    for (int g = 0; g < goalCount; ++g)
-                        if ((goals[static_cast<size_t>(g)].point - root) * dir > s) dl += d.dot(Vec3(lambda.segment<3>(3 * g)));
-                    dl += d.dot(Vec3(lambda.segment<3>(3 * goalCount)));
+                    for (int b = first; b < blocks; ++b) dl += d.dot(Vec3(lambda.segment<3>(3 * b)));
                     stretch[k] = dl;
                 }
             }
@@ -311,7 +322,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         std::swap(m_direction, m_trial);
         clampChain(m_direction);
         std::swap(m_direction, m_trial);
-        const std::vector<Vec3> savedPositions = m_position;
+        m_savedPositions = m_position;
         forward(m_trial, m_trialLength);
         std::swap(m_direction, m_trial);
         std::swap(m_length, m_trialLength);
@@ -332,7 +343,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // The soft goals are as near as they get: finish the closure alone.
             std::swap(m_direction, m_trial);
             std::swap(m_length, m_trialLength);
-            m_position = savedPositions;
+            m_position = m_savedPositions;
             polishing = true;
             damping = 0.0;
             evaluate(current);
@@ -340,7 +351,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // Undo, damp harder.
             std::swap(m_direction, m_trial);
             std::swap(m_length, m_trialLength);
-            m_position = savedPositions;
+            m_position = m_savedPositions;
             damping = std::max(4.0 * damping, 1e-4);
         }
     }
@@ -351,6 +362,44 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         if (!endFixed) p[point(m)] = m_position[segments];
     }
     out.closure = current.closure;
+    return out;
+}
+
+SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
+                                        int moving, const Vec3& target, const Vec3* rootDirection,
+                                        const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance)
+{
+    Outcome out;
+    out.valid = true;
+    std::vector<Vec3>& p = h.m_local;
+    const int dir = end > root ? 1 : -1;
+    const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
+    const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
+    double radius = std::numeric_limits<double>::infinity();
+    for (int step = 0; step < maxSteps; ++step) {
+        const Vec3 at = p[static_cast<size_t>(point)];
+        const double error = (target - at).norm();
+        if (error <= tolerance * rest) {
+            out.goalsMet = true;
+            break;
+        }
+        const Vec3 subGoal = error <= radius ? target : Vec3(at + (target - at) * (radius / error));
+        if (moving >= 0) goals[static_cast<size_t>(moving)].target = subGoal;
+        const int lo = std::min(root, end), hi = std::max(root, end);
+        m_saved.assign(p.begin() + lo, p.begin() + hi + 1);
+        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection, endDirection,
+                                stepIterations, tolerance);
+        out.iterations += o.iterations;
+        const double now = (target - (moving >= 0 || !o.valid ? p[static_cast<size_t>(point)] : subGoal)).norm();
+        if (std::getenv("CT_ADV")) std::fprintf(stderr, " adv step %d error %.4g radius %.3g valid %d met %d it %d closure %.3g now %.4g\n", step, error, radius, (int)o.valid, (int)o.goalsMet, o.iterations, o.closure, now);
+        if (o.valid && now < error - 1e-12 * rest) {
+            if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
+            if (o.goalsMet) radius = 2.0 * std::min(radius, error);
+        } else {
+            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+            radius = 0.5 * std::min(radius, error);
+        }
+    }
     return out;
 }
 

@@ -53,8 +53,19 @@ public:
                   const Vec3* rootDirection, const Vec3* endDirection, int maxIterations, double tolerance,
                   bool writeAnyway = false);
 
+    /// From a valid span (its end reached), brings one point towards `target` in steps that
+    /// each end valid: a sub-goal at most a trust radius away (doubled after a step that
+    /// reached it, halved after one that failed), solved with every other goal and the end
+    /// hard. `moving` is the index in `goals` of the point that moves, or −1 for the end
+    /// itself (a span ending at a grabbed point: `endTarget` is then ignored). The span stays
+    /// valid whatever happens; `goalsMet` says whether the point got to its target.
+    Outcome advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals, int moving,
+                    const Vec3& target, const Vec3* rootDirection, const Vec3* endDirection, int maxSteps,
+                    int stepIterations, double tolerance);
+
 private:
     Hose& h;
+    std::vector<Vec3> m_saved, m_savedPositions;
     std::vector<Vec3> m_direction, m_trial, m_position;
     std::vector<double> m_length, m_trialLength, m_room;
     std::vector<Vec3> m_normal;

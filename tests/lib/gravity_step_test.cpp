@@ -149,7 +149,7 @@ TEST(GravityStep, DraggingDoesNotFlingTheHose)
     stepUntilSettled(hose, 20000);
     hose.grab(40, Vec3(1.3, 0.5, 0.3));
     const std::vector<Vec3> afterGrab = hose.points();
-    hose.step(1);
+    (void)hose.step();
     const double mean = hose.restLengthTotal() / 40;
     EXPECT_LT((hose.point(5) - afterGrab[5]).norm(), 0.2 * mean);
 }

@@ -118,15 +118,14 @@ struct HoseSpec
 struct SagOptions
 {
     Vec3 gravityDirection = Vec3(0.0, -1.0, 0.0); ///< world, need not be unit (non-zero)
-    int maxRounds = 4000;    ///< bound on the work (each round is O(n))
-    double tolerance = 1e-7; ///< settled when no point moves more than this × mean rest length
-                             ///< over two rounds
+    int maxRounds = 4000;    ///< bound on the work: steps of Hose::step(), each O(n)
+    double tolerance = 1e-7; ///< > 0; kept for compatibility (rest is step()'s rule)
 };
 
 struct SagResult
 {
     UpdateResult update;  ///< constraint state after the final exact pass
-    int rounds = 0;       ///< rounds used
+    int rounds = 0;       ///< steps used
     bool settled = false; ///< converged within maxRounds
 };
 
@@ -250,62 +249,27 @@ public:
     /// built from raw points): propagates from the fixed points (or from point 0 if none).
     UpdateResult settle();
 
-    /// Let the free points settle under gravity while the stretch band and bend limits hold:
-    /// the quasi-static equilibrium of a chain with mass spread evenly along its rest length
-    /// (each point carries half of its adjacent rest lengths), found by damped position-based
-    /// rounds: a small gravity step, then a mass-weighted projection of the length band (a
-    /// direct tridiagonal solve, Goldenthal et al. 2007) or, with bend limits or colliders, of
-    /// the length band, the bend limits and the contacts together (one banded Newton system per
-    /// step, sag.cpp). The rounds' final state is kept when it holds every constraint to 1e-9;
-    /// only otherwise one exact ChainTube pass from the fixed points re-imposes them.
-    /// `settled` is false when maxRounds ran out first (the shape is then still the
-    /// best found; the constraints hold either way). Deterministic; a settled hose stays where it is (calling again
-    /// changes nothing beyond the tolerance). Without fixed points the hose falls without end:
-    /// returns InvalidInput and leaves it unchanged. Non-finite or zero direction: InvalidInput.
-    /// With colliders (setColliders) the contacts are constraints of the rounds too.
+    /// Let the free points settle under gravity to rest, every constraint holding: step() in
+    /// `options.gravityDirection` until the hose is at rest or maxRounds steps ran out
+    /// (`settled` false; the shape is then the last step's, valid). The held point is released
+    /// for the duration. Deterministic. Without a fixed point, or with a non-finite or zero
+    /// direction: InvalidInput, the hose unchanged. With colliders their contacts hold too.
     SagResult sag(const SagOptions& options = SagOptions());
 
-    /// Per-frame gravity (HoseSpec::gravity; beyond the paper). Advances the settling of the
-    /// free points by at most `rounds` of sag()'s damped rounds (the velocity carries over from
-    /// step to step, so the hose falls and swings out over a few dozen frames); the rounds'
-    /// state is kept when it holds every constraint to 1e-9 (as sag()); else the step is run
-    /// again from rest (no velocity), then from rest with 1/4 and 1/16 of that gravity step;
-    /// the next step starts from the fraction that last worked, growing by 1.25 a step while
-    /// steps succeed (a tail near its bend limits falls on in smaller steps instead of
-    /// stopping mid-fall: test
-    /// GravityStep.AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag), and if the
-    /// rounds cannot make any of them valid, the hose stays where it was, without velocity (it
-    /// then counts as settled, see below). Unlike
-    /// sag(), a step never falls back on the exact ChainTube pass from the fixed points when
-    /// the state before it was valid: that pass turns every joint over its limit about the
-    /// fixed side, and below a steep attachment those turns swung a free end by 10–30 cm in
-    /// one frame (test GravityStep.AFreeEndOffASteepAttachmentFallsWithoutWhipping). Every
-    /// constraint holds after every step.
-    /// With colliders, contacts are projection constraints inside the rounds (each free point
-    /// keeps outerRadius() + tolerance/10 from the tangent plane at its closest point on a
-    /// collider; a touching point keeps no velocity, i.e. it sticks), then the sweeps of
-    /// setColliders run as for any update. The held
-    /// point (the last one grabbed, until releaseGrab()) stays where the grab put it. When no
-    /// point moved more than 1e-6 of the mean rest length over the last two rounds (the
-    /// projection can leave a tiny two-round flip-flop), or (rounds ≥ 2) over the whole step,
-    /// or when its mean height has not come lower by 1 % of a segment for 120 steps while
-    /// staying within 1 % of a segment of its lowest (a projection cycle that moves points
-    /// without the hose coming lower, or a creep of micrometres a step: it stops where it is),
-    /// the hose counts as settled: until an input changes (a grab, an attachment move, a material change — any
-    /// revision()), step() returns at once without touching the hose, so a settled hose never
-    /// jitters and costs one comparison per frame; so does a hose with gravity off. A hose
-    /// with nothing fixed and nothing held has nothing to hang from: it does not fall (Ok,
-    /// nothing moves). With bend limits or contacts each round does at most 16 Newton steps of
-    /// the joint projection; a round whose projection diverges is undone (no NaN or Inf ever
-    /// leaves it); a step the rounds cannot make valid is undone as above (a hose locked by its
-    /// limits, e.g. every joint at its limit and every segment at its minimum length, stays
-    /// where it is and counts as settled); only when the state before the step was itself
-    /// invalid does the exact pass run (if it fails too, its result is kept and its status
-    /// returned). Known limit: a hose hanging between two pinned points with its bottom at the
-    /// bend limit and steep ends under high tension can keep cycling by ~0.6 mm per step near
-    /// the pins (README). Deterministic. Returns the constraint state; movedPoints is 0
-    /// when nothing was done.
-    UpdateResult step(int rounds = 4);
+    /// Per-frame gravity (HoseSpec::gravity; beyond the paper): one implicit step of 1/90 s.
+    /// The free points' predicted positions (their velocity, damped to 0.9 a step, plus
+    /// gravity at 9.81 m/s²) are projected onto the constraints: the mass-weighted closest
+    /// state with every length in its band, every joint within its limit and, with colliders,
+    /// every point outerRadius() outside the tangent plane of its nearest collider (a touching
+    /// point keeps no velocity). Bounded: at most two projections of a few O(n) Newton steps
+    /// (the second from rest); when neither ends valid the hose stays where it is, at rest.
+    /// Moves made by grabs and attachments carry no velocity. Fixed points and the held point
+    /// (the last grabbed, until releaseGrab()) stay. A hose at rest (no point moved more than
+    /// 1e-6 of a mean segment in a step, or no lower by 1 % of a segment in 120 steps) or with
+    /// gravity off costs one comparison until an input changes (any revision()); a hose with
+    /// nothing fixed and nothing held does not fall. Deterministic. Returns the constraint
+    /// state; movedPoints is 0 when nothing was done, iterations the projection's Newton steps.
+    UpdateResult step();
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
     /// releaseGrab() frees it; a grab of another point moves the hold there.
     int heldPoint() const { return m_held; }
@@ -361,7 +325,7 @@ private:
     double turnExcess(size_t j, const std::vector<Vec3>& points) const;
 
     friend class Solver;
-    friend class SagRounds;
+    friend class GravityStep;
     friend class PinnedSpans;
     friend class detail::ChainProjection;
     friend class detail::SpanSolver;
@@ -386,14 +350,12 @@ private:
     std::uint64_t m_edgeRevision = 0;     ///< m_revision right after that grab
     Vec3 m_edgeTarget = Vec3::Zero();     ///< that grab's local target
     UpdateResult m_edgeResult;            ///< and what it returned
-    std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one round back (velocity)
+    std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one step back (velocity)
     std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
-    std::vector<Vec3> m_gravityTwoBack;   ///< step(): positions two rounds back (settling test)
     std::uint64_t m_settledRevision = 0;  ///< step(): revision at which the hose settled
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
     double m_gravityLowestEnergy = 0.0;   ///< step(): lowest potential energy since an input changed
     int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
-    double m_gravityScale = 1.0;          ///< step(): fraction of the gravity step that last worked
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from update to update.
