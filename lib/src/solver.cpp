@@ -38,7 +38,7 @@ constexpr int kAdvanceIterations = 6;
 /// Blocks of sweeps (+ projection) an attempt may take.
 constexpr int kBlocks = 3;
 /// A target beyond reach is brought this fraction inside the hose's reach.
-constexpr double kReachMargin = 2e-4;
+constexpr double kReachMargin = 1e-6;
 
 Vec3 anyPerpendicular(const Vec3& u)
 {
@@ -671,7 +671,7 @@ public:
                 goals.push_back({i, h.m_local[static_cast<size_t>(i)], !(heldSoft && i == held)});
                 continue;
             }
-            if (i > anchor + 1) {
+            if (i > anchor + 1 || (i == anchor + 1 && (i == held || anchor == held))) {
                 // The span anchor … i, rooted at a fixed end: at the held point only if the
                 // other end is the held point at the range's end.
                 const bool reverse = anchor == held;
@@ -824,7 +824,20 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         // that was not valid is solved with the point at its goal, else as near as it gets.
         bool met = false;
         bool solved = false;
-        if (!wasInvalid) {
+        // A straight span the move would push shorter than it can be: bowed first (hose.h),
+        // then solved with the point at its goal.
+        m_local[k] = goal;
+        std::vector<Vec3> flat;
+        Solver bow(*this);
+        bow.grabbed = index;
+        if (!wasInvalid && bow.bowFlatCompressedSpans(flat)) {
+            solved = spans.solveSpans(result.iterations, false, met) && met;
+            if (!solved) m_local = m_scratch;
+        } else {
+            m_local[k] = start;
+        }
+        if (solved) {
+        } else if (!wasInvalid) {
             solved = spans.solveSpans(result.iterations, false, met, false, &goal);
             if (!met) status = Status::Clamped;
         } else {
@@ -874,7 +887,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     if (std::getenv("CT_ITLOG")) std::fprintf(stderr, "grabit %d %s\n", result.iterations, toString(status));
     result.movedPoints = moved;
     m_held = index;
-    if (moved > 0) ++m_revision;
+    if (moved > 0 || m_attachments.empty()) ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
     // Remember a grab that could not get nearer: the same target again is answered at once.
     m_edgePoint = status == Status::Clamped && moved == 0 ? index : -1;

@@ -199,7 +199,6 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             const double sn = cross.norm();
             if (!(sn > 1e-12)) continue; // straight (or folded): no bend plane to limit in
             m_normal[k] = cross / sn;
-            if (before.dot(m_direction[k]) > h.m_cosHalfLimit[point(s)]) continue; // far inside: room enough
             m_room[k] = std::atan2(limitSin(s), limitCos(s)) - std::atan2(sn, before.dot(m_direction[k]));
         }
         // Blocks of three rows (the goals, then the end) and the end's bend row. Joint s turns
@@ -300,6 +299,17 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 } else if (hasNormal && n.dot(w) > m_room[k]) {
                     m_saturated[k] = 1;
                     changed = true;
+                } else if (!hasNormal && limited(s)) {
+                    // A straight joint turns in the plane the step chooses: held on its limit
+                    // there if the step would turn it further.
+                    const double limit = std::atan2(limitSin(s), limitCos(s));
+                    const double turn = w.norm();
+                    if (turn > limit) {
+                        m_normal[k] = w / turn;
+                        m_room[k] = limit;
+                        m_saturated[k] = 1;
+                        changed = true;
+                    }
                 }
                 omega[k] = w;
                 if (stretchable) {
@@ -309,6 +319,18 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 }
             }
             if (!changed) break;
+        }
+        if (std::getenv("CT_JAC")) {
+            Vec3 predicted = Vec3::Zero();
+            for (int j = 0; j < m; ++j) predicted += omega[static_cast<size_t>(j)].cross(m_position[segments] - m_position[static_cast<size_t>(j)]);
+            const double eps = 1e-6;
+            Vec3 tot = Vec3::Zero(), end0 = m_position[0];
+            for (size_t j = 0; j < segments; ++j) {
+                tot += eps * omega[j];
+                end0 += m_length[j] * cayley(tot, m_direction[j]).normalized();
+            }
+            const Vec3 actual = (end0 - m_position[segments]) / eps;
+            std::fprintf(stderr, "    jac check: predicted %.5g %.5g %.5g actual %.5g %.5g %.5g  -residual %.5g %.5g %.5g\n", predicted.x(), predicted.y(), predicted.z(), actual.x(), actual.y(), actual.z(), -current.residual(3*goalCount), -current.residual(3*goalCount+1), -current.residual(3*goalCount+2));
         }
         // The step: joint rotations accumulate along the chain.
         Vec3 total = Vec3::Zero();
@@ -380,6 +402,8 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
         if (error <= tolerance * rest) {
+            // There to the tolerance: exactly there (the adjacent segments change by as much).
+            p[static_cast<size_t>(point)] = target;
             out.goalsMet = true;
             break;
         }
@@ -399,6 +423,10 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
             radius = 0.5 * std::min(radius, error);
         }
+    }
+    if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
+        p[static_cast<size_t>(point)] = target;
+        out.goalsMet = true;
     }
     return out;
 }
