@@ -691,6 +691,19 @@ public:
                 for (size_t g = 0; g < goals.size(); ++g)
                     if (goals[g].point == held) moving = static_cast<int>(g);
                 if (endIsHeld) moving = -1;
+                // A span ending at the held point: the end is free (so the span is valid after
+                // every step) and goes as near its target as the budget brings it.
+                if (heldTarget && moving == -1) {
+                    const detail::SpanSolver::Outcome out =
+                        solver.solve(root, end, false, *heldTarget, goals, haveRoot ? &rootDirection : nullptr,
+                                     nullptr, kSpanSteps, kConverged);
+                    iterations += out.iterations;
+                    heldMet = heldMet && out.goalsMet;
+                    if (out.goalsMet) h.m_local[static_cast<size_t>(end)] = *heldTarget;
+                    goals.clear();
+                    anchor = i;
+                    continue;
+                }
                 const detail::SpanSolver::Outcome out =
                     heldTarget && moving > -2
                         ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
@@ -811,11 +824,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         if (left >= 0 && right >= 0)
             goal = closestInTwoBalls(localTarget, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, index),
                                      m_local[static_cast<size_t>(right)], margin * reachBetween(*this, index, right));
-        else if (left >= 0 || right >= 0) {
-            const int pin = left >= 0 ? left : right;
-            goal = closestInTwoBalls(localTarget, m_local[static_cast<size_t>(pin)], margin * reachBetween(*this, pin, index),
-                                     Vec3::Zero(), -1.0);
-        }
+        // (Fixed on one side only, the free end goes as near the target as it can by itself.)
         if (goal != localTarget) status = Status::Clamped;
         const auto [lo, hi] = pinnedRange(m_attachments, index);
         PinnedSpans spans(*this, lo, hi, index);

@@ -150,7 +150,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         }
         const Vec3 r = m_position[segments] - endTarget;
         st.residual.segment<3>(3 * goalCount) = r;
-        st.merit += (endFixed ? 1.0 : kSoftWeight) * r.squaredNorm();
+        st.merit += (endFixed || goalCount == 0 ? 1.0 : kSoftWeight) * r.squaredNorm();
         st.closure = endFixed ? r.norm() / restEnd : 0.0;
         st.bendRow = false;
         if (endBendLimited) {
@@ -263,7 +263,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                             a(row, row) *= 1.0 + 1.0 / kSoftWeight;
                         }
                     }
-            if (!endFixed)
+            if (!endFixed && goalCount > 0)
                 for (int i = 0; i < 3; ++i) a(3 * goalCount + i, 3 * goalCount + i) *= 1.0 + 1.0 / kSoftWeight;
             const double scale = a.diagonal().cwiseAbs().maxCoeff() + 1e-300;
             for (int i = 0; i < rows; ++i) a(i, i) += damping * std::abs(a(i, i)) + 1e-13 * scale;
@@ -379,7 +379,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     }
     out.valid = current.closure <= tolerance || !endFixed;
     out.goalsMet = out.valid && current.goalError <= tolerance;
-    if (out.valid || writeAnyway) {
+    if ((out.valid || writeAnyway) && out.iterations > 0) {
         for (int s = 1; s < m; ++s) p[point(s)] = m_position[static_cast<size_t>(s)];
         if (!endFixed) p[point(m)] = m_position[segments];
     }
