@@ -17,30 +17,24 @@ class ChainProjection;
 class SpanSolver;
 } // namespace detail
 
-/// What an update did. Always look at status.
+/// What an update did. Always look at status. Every update does a bounded amount of work
+/// (UpdateResult::iterations) and, unless it says Infeasible, leaves every segment inside its
+/// stretch band and every joint within its deflection limit (1e-9 relative / radians).
 enum class Status {
-    Ok,           ///< The request was met exactly; every constraint holds (1e-9 relative).
-    Clamped,      ///< A grab target was out of reach. Every constraint holds. If the hose is
-                  ///< fixed on one side of the point only, the point goes to (nearly) the
-                  ///< reachable position closest to the target: FABRIK-style reaching, at most
-                  ///< 64 rounds, each ending with a pass from the fixed side that leaves every
-                  ///< constraint exact. If it is fixed on both sides, it moves along the
-                  ///< straight line from where it was towards the target and stops at the last
-                  ///< reachable position (bisection, 16 steps: to 1.5e-5 of the move; when the
-                  ///< last update was this point stopping at the edge of its reach, the smallest
-                  ///< step is tried first, so a target moving beyond reach costs one trial when
-                  ///< it cannot get closer; the same target again, with nothing else changed
-                  ///< since and no colliders, returns the same result without any work and
-                  ///< leaves revision() as it was).
-    Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
-                  ///< frame put it and the residual violation is reported. Two attachments
-                  ///< farther apart than the hose between them can stretch: the free points lie
-                  ///< on the straight line between them, every segment stretched by the same
-                  ///< fraction of its maximum length (the least worst overstretch). Other
-                  ///< contradictions (bends): the bounded relaxation's last state. A grab on a
-                  ///< hose that is already infeasible moves the point along the line towards
-                  ///< the target only as far as the length and bend violations do not grow
-                  ///< (bisection, 16 steps): a grab never makes an infeasible hose worse.
+    Ok,           ///< The request was met exactly.
+    Clamped,      ///< A grab target was not reached in this update: it is beyond the hose's
+                  ///< reach, or farther than this update's bounded work brings the point.
+                  ///< grabError says how far off. Held (the same target again), the point comes
+                  ///< nearer update by update, never farther, and comes to rest at the reachable
+                  ///< position nearest to the target; the same target again at rest costs no
+                  ///< work and leaves revision() as it was.
+    Infeasible,   ///< Attachments whose frames leave no valid shape. Lengths are never given
+                  ///< up: beyond the hose's reach, the moved attachment stops short of its frame,
+                  ///< on the way towards it, and the hose is taut (attachmentGap() says how far
+                  ///< off); ends whose positions and tangents leave no shape within the bend
+                  ///< limits keep their lengths and give up bends as little as the projection
+                  ///< can (angleViolation). Also a shape loaded in violation of its constraints
+                  ///< that a grab could not repair (the grab then never makes it worse).
     InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
                   ///< hose is unchanged.
 };
@@ -132,6 +126,13 @@ struct SagResult
 /// A hose: a chain of axis points p0 … pn with per-segment rest lengths, a stretch band and a
 /// per-joint deflection limit, plus attachments (runs of points fixed to frames).
 ///
+/// Updates: a free end follows by the paper's outward propagation (O(n), exact). A span between
+/// two pinned points (attachments, the held point) is solved in the span's own degrees of
+/// freedom, its segments' directions (and lengths, within the band): every length and bend
+/// limit holds by construction, damped Newton steps on the few closure rows (the far pin, a
+/// point the span passes through) cost O(span) each, at most a fixed number per update; a grab
+/// moves in steps that each end valid (lib/README.md, "Pinned spans, reach and gravity").
+///
 /// Positions are in world metres. Internally they are stored relative to a local origin
 /// (the first axis point at construction) so that a hose 1e5 m from the world origin keeps
 /// full precision in its constraints.
@@ -145,13 +146,12 @@ struct SagResult
 ///    incoming direction. Deterministic.
 ///  * A straight free span between two pinned points (fixed or grabbed) pushed shorter than
 ///    its segments' minimum lengths allow (e.g. the two end attachments of a straight
-///    inextensible hose moved closer): every sweep would keep it on its line, so it is bowed
-///    first onto the circular arc through both pins on which its segments, at rest length,
-///    are chords, bulging towards the same fixed perpendicular of the line as the fold-back
-///    rule (line direction × the world axis it has the smallest component along: +z for a
-///    span along +x, +x for one along +y); then relaxed as usual. If the bowed span does not
-///    relax (e.g. a rigid hose), the update is decided from the straight state as without
-///    the bow.
+///    inextensible hose moved closer): on its line it cannot be shorter, so it is first laid on
+///    the first buckling mode of a rod clamped at both pins, a (1 − cos 2πx/c)/2 over the chord
+///    c, its length the span's rest length, bulging towards the same fixed perpendicular of the
+///    line as the fold-back rule (line direction × the world axis it has the smallest component
+///    along: +z for a span along +x, +x for one along +y); then solved as usual. If that does
+///    not solve (e.g. a rigid hose), the update is decided from the straight state.
 ///  * Infeasible requests: see Status::Clamped and Status::Infeasible.
 ///  * A hose whose current shape violates its constraints (e.g. a route with corners sharper
 ///    than the bend limit, or after tightening the material) stays as it is until a point is
@@ -214,8 +214,11 @@ public:
     void setOuterDiameter(double metres);
 
     // --- interaction ----------------------------------------------------------------------
-    /// Move free axis point `index` to `target` (world) and let the rest of the hose follow
-    /// (the paper's outward propagation, O(n)). Fixed points never move. See Status.
+    /// Move free axis point `index` to `target` (world) and let the rest of the hose follow;
+    /// the point is held (heldPoint()) until the next grab or releaseGrab(). Fixed points never
+    /// move. Between fixed points the point goes towards the target in steps that each end
+    /// valid, at most a fixed number a call; a target beyond reach is replaced by the nearest
+    /// point within the reach of both sides. O(n) a step. See Status.
     UpdateResult grab(int index, const Vec3& target);
 
     /// Fix the run of points first … last (inclusive, 0 ≤ first ≤ last < pointCount(), not
@@ -223,7 +226,10 @@ public:
     /// Returns the attachment id (stable until detached). Throws InvalidArgument.
     int attach(int first, int last, const Frame& frame);
     /// Move an attachment's frame; its points move rigidly and the rest of the hose follows in
-    /// the same update. An unknown id or a non-finite frame gives Status::InvalidInput.
+    /// the same update. A frame beyond the hose's reach from the neighbouring fixed points
+    /// leaves the attachment short of it (Status::Infeasible, attachmentGap()); moved back
+    /// within reach it is met again. An unknown id or a non-finite frame gives
+    /// Status::InvalidInput and changes nothing.
     UpdateResult moveAttachment(int id, const Frame& frame);
     /// Move several attachments at once (one update); ids and frames have equal size.
     UpdateResult moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames);
