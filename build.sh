@@ -27,6 +27,7 @@ debian_packages=(
   xvfb xauth libgl1-mesa-dri
   python3 python3-jsonschema
   blender python3-numpy  # the exporter's Blender import test (python3-numpy: its glTF importer)
+  mono-devel  # the C ABI's C# test (mcs, mono: P/Invoke into the library as a Unity script does)
 )
 
 # Only for `./build.sh fuzz`: clang 14 with the libFuzzer/ASan/UBSan runtimes, llvm-symbolizer.

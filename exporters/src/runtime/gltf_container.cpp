@@ -1,5 +1,6 @@
 #include "gltf_container.h"
 
+#include "chaintube/export/runtime.h"
 #include "chaintube/formats/paths.h"
 #include "chaintube/types.h"
 
@@ -13,7 +14,7 @@ namespace chaintube::rig::detail {
 
 namespace {
 
-std::uint32_t readU32(const std::string& bytes, size_t at)
+std::uint32_t readU32(std::string_view bytes, size_t at)
 {
     std::uint32_t value = 0;
     std::memcpy(&value, bytes.data() + at, 4);
@@ -58,78 +59,92 @@ std::string percentDecoded(const std::string& uri, const std::string& where)
 std::string readFileBytes(const std::filesystem::path& file)
 {
     std::ifstream stream(file, std::ios::binary);
-    if (!stream) throw Error(file.string() + ": cannot be read (missing or no permission)");
+    if (!stream)
+        throw UnreadableFile(file.string() + ": cannot be read (missing or no permission)");
     return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
 }
 
-GltfContainer splitGltf(const std::filesystem::path& file, const std::string& bytes)
+GltfContainer splitGltf(const std::string& name, std::string_view bytes)
 {
     GltfContainer container;
     if (bytes.size() < 4 || bytes.compare(0, 4, "glTF") != 0) {
         container.json = bytes;
         return container;
     }
-    if (bytes.size() < 20) throw Error(file.string() + ": truncated GLB header");
+    if (bytes.size() < 20) throw Error(name + ": truncated GLB header");
     if (readU32(bytes, 4) != 2)
-        throw Error(file.string() + ": GLB container version " + std::to_string(readU32(bytes, 4)) +
+        throw Error(name + ": GLB container version " + std::to_string(readU32(bytes, 4)) +
                     ", expected 2");
     if (readU32(bytes, 8) != bytes.size())
-        throw Error(file.string() + ": GLB header length does not match the file size");
+        throw Error(name + ": GLB header length does not match the file size");
     const size_t jsonLength = readU32(bytes, 12);
     if (readU32(bytes, 16) != 0x4E4F534Au || 20 + jsonLength > bytes.size())
-        throw Error(file.string() + ": GLB's first chunk is not a complete JSON chunk");
+        throw Error(name + ": GLB's first chunk is not a complete JSON chunk");
     container.json = bytes.substr(20, jsonLength);
     const size_t binAt = 20 + jsonLength;
     if (binAt + 8 <= bytes.size()) {
         const size_t binLength = readU32(bytes, binAt);
         if (readU32(bytes, binAt + 4) != 0x004E4942u || binAt + 8 + binLength > bytes.size())
-            throw Error(file.string() + ": GLB's second chunk is not a complete BIN chunk");
+            throw Error(name + ": GLB's second chunk is not a complete BIN chunk");
         container.binChunk = bytes.substr(binAt + 8, binLength);
     }
     return container;
 }
 
-GltfFile readGltf(const std::filesystem::path& file)
+std::vector<std::string> gatherBuffers(const Json& gltf, const std::string& binChunk,
+                                       const std::string& name, const ExternalBuffer& external)
 {
-    GltfFile gltf;
-    const GltfContainer container = splitGltf(file, readFileBytes(file));
-    const std::string& text = container.json;
-    const std::string& binChunk = container.binChunk;
-    try {
-        gltf.json = Json::parse(text);
-    } catch (const Json::exception& error) {
-        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
-    }
-    const Json& buffers = gltf.json.value("buffers", Json::array());
+    std::vector<std::string> gathered;
+    const Json& buffers = gltf.value("buffers", Json::array());
     for (size_t b = 0; b < buffers.size(); ++b) {
-        const std::string where = file.string() + ": /buffers/" + std::to_string(b);
+        const std::string where = name + ": /buffers/" + std::to_string(b);
         std::string data;
         if (!buffers[b].contains("uri")) {
             if (b != 0) throw Error(where + ": only buffer 0 may omit its uri (the GLB BIN chunk)");
             data = binChunk;
         } else {
             if (!buffers[b]["uri"].is_string()) throw Error(where + "/uri: expected a string");
-            const std::string uri = buffers[b]["uri"].get<std::string>();
-            if (uri.rfind("data:", 0) == 0)
-                throw Error(where + "/uri: data URIs are not read by validate");
-            // A buffer is a file beside the glTF: never read what a hostile file points at
-            // elsewhere ("../../etc/passwd", "/dev/zero", a link out of the folder).
-            // The check is on the decoded name: "%2E%2E/x" is "../x".
-            const std::string name = percentDecoded(uri, where);
-            const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
-            const std::filesystem::path bufferFile = folder / name;
-            if (name.empty() || std::filesystem::path(name).is_absolute() ||
-                !formats::isInsideFolder(bufferFile, folder))
-                throw Error(where + "/uri: \"" + uri + "\"" +
-                            (name != uri ? " (decoded \"" + name + "\")" : std::string()) +
-                            " is outside the glTF's folder (only files beside it are read)");
-            data = readFileBytes(bufferFile);
+            data = external(b, buffers[b]["uri"].get<std::string>(), where);
         }
         if (data.size() < buffers[b].value("byteLength", std::size_t{0}))
             throw Error(where + "/byteLength: the buffer has only " + std::to_string(data.size()) +
                         " bytes");
-        gltf.buffers.push_back(std::move(data));
+        gathered.push_back(std::move(data));
     }
+    return gathered;
+}
+
+std::string readBufferBeside(const std::filesystem::path& file, const std::string& uri,
+                             const std::string& where)
+{
+    if (uri.rfind("data:", 0) == 0) throw Error(where + "/uri: data URIs are not read by validate");
+    // A buffer is a file beside the glTF: never read what a hostile file points at
+    // elsewhere ("../../etc/passwd", "/dev/zero", a link out of the folder).
+    // The check is on the decoded name: "%2E%2E/x" is "../x".
+    const std::string name = percentDecoded(uri, where);
+    const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
+    const std::filesystem::path bufferFile = folder / name;
+    if (name.empty() || std::filesystem::path(name).is_absolute() ||
+        !formats::isInsideFolder(bufferFile, folder))
+        throw Error(where + "/uri: \"" + uri + "\"" +
+                    (name != uri ? " (decoded \"" + name + "\")" : std::string()) +
+                    " is outside the glTF's folder (only files beside it are read)");
+    return readFileBytes(bufferFile);
+}
+
+GltfFile readGltf(const std::filesystem::path& file)
+{
+    GltfFile gltf;
+    const GltfContainer container = splitGltf(file.string(), readFileBytes(file));
+    try {
+        gltf.json = Json::parse(container.json);
+    } catch (const Json::exception& error) {
+        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
+    }
+    gltf.buffers = gatherBuffers(gltf.json, container.binChunk, file.string(),
+                                 [&](size_t, const std::string& uri, const std::string& where) {
+                                     return readBufferBeside(file, uri, where);
+                                 });
     return gltf;
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 namespace chaintube::rig {
@@ -60,23 +61,46 @@ bool finite(const NodeTransform& trs)
            trs.scale.allFinite() && trs.rotation.norm() > 0.5;
 }
 
-} // namespace
-
-HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
+/// Where an export's parts come from: a file and the files beside it, or memory.
+struct ExportParts
 {
-    const std::string bytes = detail::readFileBytes(file);
+    std::string name; ///< the file, or the in-memory export's name
+    detail::GltfContainer container;
+    detail::ExternalBuffer buffer; ///< a buffer with a uri
+    /// The sidecar descriptor: its name (for messages and the report) and a reader that throws
+    /// when it is absent, naming what was looked for.
+    std::string sidecarName;
+    std::function<std::string()> sidecar;
+};
+
+HoseRigDescriptor descriptorOf(const Json& gltf, const ExportParts& parts, RuntimeLoadReport& r)
+{
+    if (gltf.contains("extensions") && gltf["extensions"].contains(kExtensionName)) {
+        r.descriptorSource = parts.name + "#" + kExtensionName;
+        return parseDescriptor(gltf["extensions"][kExtensionName].dump(), r.descriptorSource);
+    }
+    const std::string text = parts.sidecar();
+    r.descriptorSource = parts.sidecarName;
+    r.warnings.push_back(parts.name + ": no " + kExtensionName +
+                         " extension; using the descriptor in " + parts.sidecarName);
+    return parseDescriptor(text, r.descriptorSource);
+}
+
+HoseRuntime loadParts(const ExportParts& parts, RuntimeLoadReport* report)
+{
+    const std::string& name = parts.name;
     Json gltf;
     try {
-        gltf = Json::parse(detail::splitGltf(file, bytes).json);
+        gltf = Json::parse(parts.container.json);
     } catch (const Json::exception& error) {
-        throw Error(file.string() + ": malformed glTF JSON: " + error.what());
+        throw Error(name + ": malformed glTF JSON: " + error.what());
     }
     std::vector<RigNode> nodes;
     try {
         const Json& jsonNodes = gltf.value("nodes", Json::array());
         nodes.resize(jsonNodes.size());
         for (size_t i = 0; i < jsonNodes.size(); ++i) {
-            const std::string where = file.string() + ": /nodes/" + std::to_string(i);
+            const std::string where = name + ": /nodes/" + std::to_string(i);
             nodes[i].name = jsonNodes[i].value("name", "");
             nodes[i].local = nodeTransformOf(jsonNodes[i], where);
             for (const Json& child : jsonNodes[i].value("children", Json::array())) {
@@ -89,29 +113,12 @@ HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
             }
         }
     } catch (const Json::exception& error) {
-        throw Error(file.string() + ": /nodes: " + error.what());
+        throw Error(name + ": /nodes: " + error.what());
     }
 
     RuntimeLoadReport local;
     RuntimeLoadReport& r = report ? *report : local;
-    const Json* extension = nullptr;
-    if (gltf.contains("extensions") && gltf["extensions"].contains(kExtensionName))
-        extension = &gltf["extensions"][kExtensionName];
-    HoseRigDescriptor descriptor;
-    if (extension) {
-        r.descriptorSource = file.string() + "#" + kExtensionName;
-        descriptor = parseDescriptor(extension->dump(), r.descriptorSource);
-    } else {
-        fs::path sidecar = file;
-        sidecar.replace_extension(".hoses.json");
-        if (!fs::exists(sidecar))
-            throw Error(file.string() + ": has no " + kExtensionName + " extension and no " +
-                        sidecar.filename().string() + " beside it");
-        r.descriptorSource = sidecar.string();
-        r.warnings.push_back(file.string() + ": no " + kExtensionName +
-                             " extension; using the descriptor in " + sidecar.string());
-        descriptor = parseDescriptor(detail::readFileBytes(sidecar), r.descriptorSource);
-    }
+    HoseRigDescriptor descriptor = descriptorOf(gltf, parts, r);
     const int skins = static_cast<int>(gltf.value("skins", Json::array()).size());
     const std::vector<std::string> problems =
         checkAgainstGltf(descriptor, static_cast<int>(nodes.size()), skins);
@@ -119,7 +126,10 @@ HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
     // Collider meshes: every triangle primitive of each collider node's mesh.
     std::vector<ColliderMesh> colliderMeshes;
     if (!descriptor.colliders.empty()) {
-        const detail::GltfFile withBuffers = detail::readGltf(file);
+        detail::GltfFile withBuffers;
+        withBuffers.buffers =
+            detail::gatherBuffers(gltf, parts.container.binChunk, name, parts.buffer);
+        withBuffers.json = std::move(gltf);
         for (size_t c = 0; c < descriptor.colliders.size(); ++c) {
             const int node = descriptor.colliders[c];
             const std::string where = r.descriptorSource + ": /colliders/" + std::to_string(c);
@@ -153,7 +163,52 @@ HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
             colliderMeshes.push_back(std::move(mesh));
         }
     }
-    return fromDescriptor(std::move(descriptor), std::move(nodes), &r, colliderMeshes);
+    return HoseRuntime::fromDescriptor(std::move(descriptor), std::move(nodes), &r, colliderMeshes);
+}
+
+} // namespace
+
+HoseRuntime HoseRuntime::load(const fs::path& file, RuntimeLoadReport* report)
+{
+    ExportParts parts;
+    parts.name = file.string();
+    parts.container = detail::splitGltf(parts.name, detail::readFileBytes(file));
+    parts.buffer = [&](size_t, const std::string& uri, const std::string& where) {
+        return detail::readBufferBeside(file, uri, where);
+    };
+    fs::path sidecar = file;
+    sidecar.replace_extension(".hoses.json");
+    parts.sidecarName = sidecar.string();
+    parts.sidecar = [&] {
+        if (!fs::exists(sidecar))
+            throw Error(file.string() + ": has no " + kExtensionName + " extension and no " +
+                        sidecar.filename().string() + " beside it");
+        return detail::readFileBytes(sidecar);
+    };
+    return loadParts(parts, report);
+}
+
+HoseRuntime HoseRuntime::loadFromMemory(const ExportInMemory& source, RuntimeLoadReport* report)
+{
+    ExportParts parts;
+    parts.name = source.name;
+    parts.container = detail::splitGltf(parts.name, source.gltf);
+    parts.buffer = [&](size_t index, const std::string& uri, const std::string& where) {
+        if (index >= source.buffers.size() || source.buffers[index].data() == nullptr)
+            throw Error(where + ": the buffer \"" + uri +
+                        "\" was not given (expected the bytes of "
+                        "buffer " +
+                        std::to_string(index) + " in the export's buffers)");
+        return std::string(source.buffers[index]);
+    };
+    parts.sidecarName = fs::path(source.name).replace_extension(".hoses.json").string();
+    parts.sidecar = [&] {
+        if (source.sidecarDescriptor.empty())
+            throw Error(source.name + ": has no " + kExtensionName +
+                        " extension and no sidecar descriptor was given");
+        return std::string(source.sidecarDescriptor);
+    };
+    return loadParts(parts, report);
 }
 
 std::shared_ptr<MeshCollider> HoseRuntime::buildCollider(const ColliderMesh& mesh,
@@ -210,7 +265,7 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                                             "lengths, so the hose starts stretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
         RunningHose running{
-            std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}};
+            std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}, {}, {}};
         for (int joint : d.jointNodes)
             running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
         runtime.m_hoses.push_back(std::move(running));
@@ -337,6 +392,8 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
                                         : m_hoses[h].hose.moveAttachments(ids, frames);
         updates.push_back(update);
     }
+    for (const HoseUpdate& update : updates)
+        combine(m_hoses[static_cast<size_t>(update.hose)].pendingResult, update.result);
     return updates;
 }
 
@@ -348,14 +405,55 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
     const std::vector<int>& grabbable =
         m_descriptor.hoses[static_cast<size_t>(hose)].grabbablePoints;
     if (!std::binary_search(grabbable.begin(), grabbable.end(), point)) return rejected;
-    return m_hoses[static_cast<size_t>(hose)].hose.grab(point, target);
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const UpdateResult result = running.hose.grab(point, target);
+    combine(running.pendingResult, result);
+    return result;
+}
+
+bool HoseRuntime::release(int hose)
+{
+    if (hose < 0 || hose >= hoseCount()) return false;
+    m_hoses[static_cast<size_t>(hose)].hose.releaseGrab();
+    return true;
 }
 
 int HoseRuntime::update()
 {
-    for (size_t h = 0; h < m_hoses.size(); ++h)
-        if (m_descriptor.hoses[h].gravity.enabled) m_hoses[h].hose.step();
+    for (size_t h = 0; h < m_hoses.size(); ++h) {
+        RunningHose& running = m_hoses[h];
+        if (m_descriptor.hoses[h].gravity.enabled)
+            combine(running.pendingResult, running.hose.step());
+        running.frameResult = running.pendingResult;
+        running.pendingResult = UpdateResult();
+    }
     return refresh();
+}
+
+void HoseRuntime::combine(UpdateResult& frame, const UpdateResult& result)
+{
+    if (result.status == Status::InvalidInput) return; // rejected: nothing changed
+    const auto rank = [](Status status) {
+        switch (status) { // no default: a new status must be ranked here
+        case Status::Ok:
+            return 0;
+        case Status::Clamped:
+            return 1;
+        case Status::Infeasible:
+            return 2;
+        case Status::InvalidInput:
+            return -1;
+        }
+        return -1;
+    };
+    if (rank(result.status) > rank(frame.status)) frame.status = result.status;
+    frame.lengthViolation = std::max(frame.lengthViolation, result.lengthViolation);
+    frame.angleViolation = std::max(frame.angleViolation, result.angleViolation);
+    frame.grabError = std::max(frame.grabError, result.grabError);
+    frame.movedPoints += result.movedPoints;
+    frame.blocked = frame.blocked || result.blocked;
+    frame.penetration = std::max(frame.penetration, result.penetration);
+    frame.contacts = std::max(frame.contacts, result.contacts);
 }
 
 int HoseRuntime::refresh()

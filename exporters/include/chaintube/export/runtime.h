@@ -55,6 +55,29 @@ struct HoseUpdate
     UpdateResult result;
 };
 
+/// A file of an export (the glTF, a buffer, the sidecar descriptor) cannot be read: missing or
+/// no permission. what() names the file.
+class UnreadableFile : public Error
+{
+public:
+    using Error::Error;
+};
+
+/// An export held in memory: a platform's asset bytes, or what a browser fetched.
+struct ExportInMemory
+{
+    /// Names the export in messages and the report, as a file name would ("rig.glb").
+    std::string name = "<memory>";
+    /// The .glb bytes, or a .gltf's JSON text.
+    std::string_view gltf;
+    /// buffers[i]: the bytes of /buffers/i for a buffer with a uri (a .gltf's .bin). Entries for
+    /// a GLB's BIN chunk (the buffer without a uri) are not used and may be empty.
+    std::vector<std::string_view> buffers;
+    /// The sidecar descriptor's text (<name>.hoses.json), used only when the glTF has no
+    /// CHAINTUBE_hose_rig extension; empty when not given.
+    std::string_view sidecarDescriptor;
+};
+
 /// Where the descriptor came from and what the loader noticed.
 struct RuntimeLoadReport
 {
@@ -72,9 +95,15 @@ public:
     /// MeshCollider per descriptor collider node, built from the node's glTF mesh, which every
     /// hose stays outside of unless one of its attachments is on that node or on a node under
     /// it (formats/collider_exemption.h). The exported shape is the starting
-    /// state (no push-out at load). Throws DescriptorError (file + JSON pointer) or
-    /// chaintube::Error naming the file for unreadable or inconsistent input.
+    /// state (no push-out at load). Throws UnreadableFile, DescriptorError (file + JSON
+    /// pointer) or chaintube::Error naming the file for malformed or inconsistent input.
     static HoseRuntime load(const std::filesystem::path& file, RuntimeLoadReport* report = nullptr);
+
+    /// load() from bytes in memory: the same checks and the same runtime, messages prefixed with
+    /// source.name. Buffers are needed only for collider meshes; a needed buffer that was not
+    /// given is an Error naming it. The bytes are copied: they may be freed after the call.
+    static HoseRuntime loadFromMemory(const ExportInMemory& source,
+                                      RuntimeLoadReport* report = nullptr);
 
     /// For a platform that parses glTF itself: the descriptor, the glTF's nodes (index order,
     /// parents, local transforms) and, per descriptor collider (same order), its node's mesh.
@@ -127,10 +156,24 @@ public:
     /// that is not in grabbablePoints.
     UpdateResult grab(int hose, int point, const Vec3& target);
 
+    /// Lets go of the hose's held point (Hose::releaseGrab): with gravity it falls again on the
+    /// next update(). False (and nothing changes) for a hose index out of range.
+    bool release(int hose);
+
     /// Advances every hose with gravity by one Hose::step() (a settled hose costs one
     /// comparison), then brings every changed hose's surface and joint poses up to date.
-    /// Returns how many hoses were recomputed.
+    /// Closes the frame (frameResult). Returns how many hoses were recomputed.
     int update();
+
+    /// What happened to a hose in the frame the last update() closed: every setNodeTransform,
+    /// grab and gravity step since the update() before it, combined: the worst status (Ok <
+    /// Clamped < Infeasible), the largest violations, grab error, penetration and contact
+    /// count, blocked if any was, movedPoints summed. Rejected calls (InvalidInput) are not in
+    /// it: they changed nothing. All Ok and 0 when nothing touched the hose in that frame.
+    const UpdateResult& frameResult(int hose) const
+    {
+        return m_hoses.at(static_cast<size_t>(hose)).frameResult;
+    }
 
     /// Joint poses of a hose, in axis order, as of the last update(). Local poses are relative
     /// to the joint node's current parent world transform. Empty for a static hose (a plain
@@ -153,8 +196,11 @@ private:
         std::vector<JointPose> poses;
         std::uint64_t posedRevision = 0;
         std::vector<int> jointParents;
+        UpdateResult pendingResult; ///< the frame being built, since the last update()
+        UpdateResult frameResult;   ///< the frame the last update() closed
     };
     HoseRuntime() = default;
+    static void combine(UpdateResult& frame, const UpdateResult& result);
     void recomputeWorld();
     int refresh(); ///< update() without the gravity step
     void poseJoints(RunningHose& running, const RigHose& description);

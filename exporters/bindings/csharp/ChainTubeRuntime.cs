@@ -1,0 +1,241 @@
+// C# binding of the ChainTube runtime's C ABI (chaintube/runtime_c.h), for Unity and any .NET
+// or Mono program: copy this file into the project and the native library
+// (libchaintube_runtime_c.so / chaintube_runtime_c.dll) where the player finds plugins.
+//
+// Native mirrors the header one to one (blittable structs, float/double arrays, status codes);
+// Rig wraps a handle and turns a failing status into a ChainTubeException carrying the status
+// and the library's message. Units, frames and buffer layouts: see the header. C# 7, no unsafe
+// code; strings cross the boundary as UTF-8 bytes on every platform.
+using System;
+using System.Runtime.InteropServices;
+using System.Text;
+
+namespace ChainTube
+{
+    public enum Status : int
+    {
+        Ok = 0,
+        InvalidArgument = 1,
+        OutOfRange = 2,
+        BufferTooSmall = 3,
+        NotFound = 4,
+        NotGrabbable = 5,
+        AbiMismatch = 6,
+        UnreadableFile = 7,
+        Malformed = 8,
+        OutOfMemory = 9,
+        Internal = 10,
+    }
+
+    public enum HoseStatus : int
+    {
+        Ok = 0,
+        Clamped = 1,
+        Infeasible = 2,
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct HoseInfo
+    {
+        public IntPtr id; // UTF-8, owned by the rig: read with Native.String
+        public IntPtr name;
+        public double restLength;  // metres
+        public double outerRadius; // metres
+        public int pointCount;
+        public int jointCount; // 0 for a static hose
+        public int grabbableCount;
+        public int vertexCount;
+        public int indexCount;
+        public int meshNode;
+        public int skin;
+        public int isStatic;
+        public int hasGravity;
+        public int hasTorsion;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct NodeInfo
+    {
+        public IntPtr name;
+        public int parent;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct HoseResult
+    {
+        public HoseStatus status;
+        public int blocked;
+        public double lengthViolation; // relative to the rest length
+        public double angleViolation;  // radians
+        public double grabError;       // metres
+        public double penetration;     // metres
+        public int movedPoints;
+        public int contacts;
+    }
+
+    [StructLayout(LayoutKind.Sequential)]
+    public struct Bytes
+    {
+        public IntPtr data;
+        public UIntPtr size;
+    }
+
+    /// <summary>The C functions, as declared in chaintube/runtime_c.h.</summary>
+    public static class Native
+    {
+        const string Library = "chaintube_runtime_c";
+
+        /// <summary>CHAINTUBE_RUNTIME_ABI_VERSION of the header this binding was written for.</summary>
+        public const uint AbiVersion = (1u << 16) | 0u;
+
+        [DllImport(Library)] public static extern uint chaintube_runtime_abi_version();
+        [DllImport(Library)] public static extern IntPtr chaintube_status_name(Status status);
+        [DllImport(Library)] public static extern IntPtr chaintube_last_error();
+
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_load_file(uint abiVersion, byte[] utf8Path, out IntPtr rig);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_load_memory(uint abiVersion, byte[] utf8Name, byte[] gltf,
+            UIntPtr gltfSize, Bytes[] buffers, int bufferCount, byte[] sidecar, UIntPtr sidecarSize,
+            out IntPtr rig);
+        [DllImport(Library)] public static extern Status chaintube_rig_destroy(IntPtr rig);
+
+        [DllImport(Library)] public static extern Status chaintube_rig_warning_count(IntPtr rig, out int count);
+        [DllImport(Library)] public static extern Status chaintube_rig_warning(IntPtr rig, int index, out IntPtr text);
+        [DllImport(Library)] public static extern Status chaintube_rig_hose_count(IntPtr rig, out int count);
+        [DllImport(Library)] public static extern Status chaintube_rig_node_count(IntPtr rig, out int count);
+        [DllImport(Library)] public static extern Status chaintube_rig_find_hose(IntPtr rig, byte[] utf8Id, out int hose);
+        [DllImport(Library)] public static extern Status chaintube_rig_find_node(IntPtr rig, byte[] utf8Name, out int node);
+        [DllImport(Library)] public static extern Status chaintube_rig_hose_info(IntPtr rig, int hose, out HoseInfo info);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_grabbable_points(IntPtr rig, int hose, [Out] int[] points, int capacity);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_joint_nodes(IntPtr rig, int hose, [Out] int[] nodes, int capacity);
+        [DllImport(Library)] public static extern Status chaintube_rig_node_info(IntPtr rig, int node, out NodeInfo info);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_node_transform(IntPtr rig, int node, [Out] double[] trs);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_set_node_transform(IntPtr rig, int node, double[] trs);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_grab(IntPtr rig, int hose, int point, double[] target, out HoseResult result);
+        [DllImport(Library)] public static extern Status chaintube_rig_release(IntPtr rig, int hose);
+        [DllImport(Library)] public static extern Status chaintube_rig_update(IntPtr rig, out int recomputed);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_hose_result(IntPtr rig, int hose, out HoseResult result);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_joint_poses(IntPtr rig, int hose, [Out] float[] local,
+            int localCapacity, [Out] float[] world, int worldCapacity);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_joint_poses_f64(IntPtr rig, int hose, [Out] double[] local,
+            int localCapacity, [Out] double[] world, int worldCapacity);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_surface(IntPtr rig, int hose, [Out] float[] positions,
+            int positionsCapacity, [Out] float[] normals, int normalsCapacity);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_surface_topology(IntPtr rig, int hose, [Out] uint[] indices,
+            int indicesCapacity, [Out] float[] uvs, int uvsCapacity);
+
+        /// <summary>A NUL-terminated UTF-8 string for the library.</summary>
+        public static byte[] Utf8(string text)
+        {
+            return text == null ? null : Encoding.UTF8.GetBytes(text + "\0");
+        }
+
+        /// <summary>A string the library returned (UTF-8, NUL-terminated).</summary>
+        public static string String(IntPtr text)
+        {
+            if (text == IntPtr.Zero) return null;
+            int length = 0;
+            while (Marshal.ReadByte(text, length) != 0) ++length;
+            var bytes = new byte[length];
+            Marshal.Copy(text, bytes, 0, length);
+            return Encoding.UTF8.GetString(bytes);
+        }
+
+        public static string LastError() { return String(chaintube_last_error()); }
+    }
+
+    public class ChainTubeException : Exception
+    {
+        public readonly Status Status;
+        public ChainTubeException(Status status, string message) : base(message) { Status = status; }
+    }
+
+    /// <summary>A loaded rig; Dispose frees it. Not thread-safe (see the header).</summary>
+    public sealed class Rig : IDisposable
+    {
+        public IntPtr Handle { get; private set; }
+
+        Rig(IntPtr handle) { Handle = handle; }
+
+        static void Check(Status status)
+        {
+            if (status != Status.Ok) throw new ChainTubeException(status, Native.LastError());
+        }
+
+        public static Rig LoadFile(string path)
+        {
+            IntPtr handle;
+            Check(Native.chaintube_rig_load_file(Native.AbiVersion, Native.Utf8(path), out handle));
+            return new Rig(handle);
+        }
+
+        /// <summary>A .glb's bytes (e.g. a TextAsset's bytes in Unity).</summary>
+        public static Rig LoadMemory(string name, byte[] glb)
+        {
+            IntPtr handle;
+            Check(Native.chaintube_rig_load_memory(Native.AbiVersion, Native.Utf8(name), glb,
+                (UIntPtr)glb.Length, null, 0, null, UIntPtr.Zero, out handle));
+            return new Rig(handle);
+        }
+
+        public int HoseCount { get { int n; Check(Native.chaintube_rig_hose_count(Handle, out n)); return n; } }
+        public int NodeCount { get { int n; Check(Native.chaintube_rig_node_count(Handle, out n)); return n; } }
+
+        public int FindHose(string id) { int h; Check(Native.chaintube_rig_find_hose(Handle, Native.Utf8(id), out h)); return h; }
+        public int FindNode(string name) { int n; Check(Native.chaintube_rig_find_node(Handle, Native.Utf8(name), out n)); return n; }
+        public HoseInfo Info(int hose) { HoseInfo info; Check(Native.chaintube_rig_hose_info(Handle, hose, out info)); return info; }
+
+        public int[] GrabbablePoints(int hose)
+        {
+            var points = new int[Info(hose).grabbableCount];
+            Check(Native.chaintube_rig_grabbable_points(Handle, hose, points, points.Length));
+            return points;
+        }
+
+        /// <summary>trs: translation x, y, z; rotation x, y, z, w; scale x, y, z (glTF frame).</summary>
+        public void SetNodeTransform(int node, double[] trs) { Check(Native.chaintube_rig_set_node_transform(Handle, node, trs)); }
+
+        public HoseResult Grab(int hose, int point, double x, double y, double z)
+        {
+            HoseResult result;
+            Check(Native.chaintube_rig_grab(Handle, hose, point, new[] { x, y, z }, out result));
+            return result;
+        }
+
+        public void Release(int hose) { Check(Native.chaintube_rig_release(Handle, hose)); }
+        public int Update() { int n; Check(Native.chaintube_rig_update(Handle, out n)); return n; }
+        public HoseResult Result(int hose) { HoseResult r; Check(Native.chaintube_rig_hose_result(Handle, hose, out r)); return r; }
+
+        /// <summary>local: 10 floats a joint (TRS), world: 7 (translation, rotation); either may be null.</summary>
+        public void JointPoses(int hose, float[] local, float[] world)
+        {
+            Check(Native.chaintube_rig_joint_poses(Handle, hose, local, local == null ? 0 : local.Length,
+                world, world == null ? 0 : world.Length));
+        }
+
+        /// <summary>3 floats a vertex each, world metres and unit normals; either may be null.</summary>
+        public void Surface(int hose, float[] positions, float[] normals)
+        {
+            Check(Native.chaintube_rig_surface(Handle, hose, positions, positions == null ? 0 : positions.Length,
+                normals, normals == null ? 0 : normals.Length));
+        }
+
+        public void Dispose()
+        {
+            if (Handle == IntPtr.Zero) return;
+            Native.chaintube_rig_destroy(Handle);
+            Handle = IntPtr.Zero;
+        }
+    }
+}

@@ -1,0 +1,271 @@
+/* ChainTube runtime, C ABI: loads an exported hose rig (glTF/GLB with its CHAINTUBE_hose_rig
+ * descriptor) and runs its hoses, for platforms that bind C: Unity (P/Invoke), Unreal plugins,
+ * Godot (GDExtension), WebAssembly. Library: libchaintube_runtime_c (C99; the C++ runtime
+ * rig::HoseRuntime inside, linked statically). Integration guide: exporters/README.md.
+ *
+ * Conventions
+ * - Every function except chaintube_runtime_abi_version, chaintube_status_name and
+ *   chaintube_last_error returns a chaintube_status. On failure nothing changed (no output
+ *   written, the rig as before) and chaintube_last_error() names the function, the argument or
+ *   the file and field, and what was expected. No exception crosses this boundary.
+ * - Units: metres, radians. Frames: glTF's (right-handed, +Y up). Quaternions are x, y, z, w
+ *   (glTF order). A transform ("TRS", 10 numbers) is translation x, y, z; rotation x, y, z, w;
+ *   scale x, y, z; a node's is relative to its parent (parent <- node = T * R * S).
+ *   A rigid pose (7 numbers) is translation x, y, z; rotation x, y, z, w.
+ * - Indices are 0-based. A buffer's capacity is a count of elements (floats, doubles or
+ *   integers, not bytes) and must be at least what the function writes; more is fine.
+ * - Ownership: a load function creates a rig, chaintube_rig_destroy frees it. Strings the rig
+ *   returns (ids, names, warnings) are UTF-8, owned by the rig and valid until it is destroyed.
+ *   Bytes given to a load function are copied: the caller may free them after the call.
+ * - Threads: a rig is not thread-safe; call its functions from one thread at a time. Different
+ *   rigs may run on different threads at once. The last-error text is per thread.
+ * - A frame: chaintube_rig_set_node_transform for scene objects that moved, chaintube_rig_grab
+ *   for held points, chaintube_rig_update, then chaintube_rig_joint_poses (skinned meshes) or
+ *   chaintube_rig_surface (vertex buffers), and chaintube_rig_hose_result for each hose.
+ */
+#ifndef CHAINTUBE_RUNTIME_C_H
+#define CHAINTUBE_RUNTIME_C_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32)
+#if defined(CHAINTUBE_RUNTIME_C_BUILD)
+#define CHAINTUBE_API __declspec(dllexport)
+#else
+#define CHAINTUBE_API __declspec(dllimport)
+#endif
+#elif defined(__GNUC__)
+#define CHAINTUBE_API __attribute__((visibility("default")))
+#else
+#define CHAINTUBE_API
+#endif
+
+/* ABI version: a caller passes CHAINTUBE_RUNTIME_ABI_VERSION, as compiled, to the load
+ * functions. A library of another major version, or of an older minor version than the
+ * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add. */
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR 1
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 0
+#define CHAINTUBE_RUNTIME_ABI_VERSION                                                              \
+    ((uint32_t)((CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | CHAINTUBE_RUNTIME_ABI_VERSION_MINOR))
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum chaintube_status {
+    CHAINTUBE_OK = 0,
+    CHAINTUBE_ERROR_INVALID_ARGUMENT = 1, /* a NULL pointer, NaN/Inf, a zero scale or quaternion */
+    CHAINTUBE_ERROR_OUT_OF_RANGE = 2,     /* a hose, node, point or warning index */
+    CHAINTUBE_ERROR_BUFFER_TOO_SMALL = 3, /* a capacity below what the call writes */
+    CHAINTUBE_ERROR_NOT_FOUND = 4,        /* chaintube_rig_find_*: no such name */
+    CHAINTUBE_ERROR_NOT_GRABBABLE = 5,    /* a point fixed by an attachment, or a static hose */
+    CHAINTUBE_ERROR_ABI_MISMATCH = 6,     /* the caller was built against another ABI version */
+    CHAINTUBE_ERROR_UNREADABLE_FILE = 7, /* the glTF, a buffer or the sidecar: missing, no access */
+    CHAINTUBE_ERROR_MALFORMED = 8,       /* glTF, GLB or descriptor malformed or inconsistent */
+    CHAINTUBE_ERROR_OUT_OF_MEMORY = 9,
+    CHAINTUBE_ERROR_INTERNAL = 10 /* a bug: please report the message */
+} chaintube_status;
+
+/* A hose's state after an update (chaintube_hose_result.status). */
+typedef enum chaintube_hose_status {
+    CHAINTUBE_HOSE_OK = 0,        /* every request met, every constraint holds */
+    CHAINTUBE_HOSE_CLAMPED = 1,   /* a grab target was out of reach; every constraint holds */
+    CHAINTUBE_HOSE_INFEASIBLE = 2 /* attachments contradict each other; violations reported */
+} chaintube_hose_status;
+
+/* An opaque loaded rig. */
+typedef struct chaintube_rig chaintube_rig;
+
+/* Bytes held by the caller (a glTF buffer). */
+typedef struct chaintube_bytes
+{
+    const void* data;
+    size_t size;
+} chaintube_bytes;
+
+/* One hose of the rig (chaintube_rig_hose_info). */
+typedef struct chaintube_hose_info
+{
+    const char* id;          /* the descriptor's id, unique in the rig (chaintube_rig_find_hose) */
+    const char* name;        /* display name */
+    double rest_length;      /* metres: the sum of the segments' rest lengths */
+    double outer_radius;     /* metres: half the outer diameter */
+    int32_t point_count;     /* axis points (= rings), >= 2 */
+    int32_t joint_count;     /* poses written by chaintube_rig_joint_poses: point_count, or 0
+                                for a static hose (a plain mesh that its node carries) */
+    int32_t grabbable_count; /* free axis points (chaintube_rig_grabbable_points) */
+    int32_t vertex_count;    /* surface vertices (chaintube_rig_surface) */
+    int32_t index_count;     /* triangle indices, 3 per triangle (chaintube_rig_surface_topology) */
+    int32_t mesh_node;       /* glTF node carrying the hose's mesh */
+    int32_t skin;            /* glTF skin of the mesh, -1 for a static hose */
+    int32_t is_static;       /* 1: every point is fixed to one node; the hose never deforms */
+    int32_t has_gravity;     /* 1: the hose sags under gravity on every update */
+    int32_t has_torsion;     /* 1: turning an attachment about the axis twists the rings */
+} chaintube_hose_info;
+
+/* One glTF node (chaintube_rig_node_info). */
+typedef struct chaintube_node_info
+{
+    const char* name; /* "" when the glTF gives none */
+    int32_t parent;   /* parent node index, -1 at the scene root */
+} chaintube_node_info;
+
+/* What happened to a hose (chaintube_rig_grab, chaintube_rig_hose_result). */
+typedef struct chaintube_hose_result
+{
+    int32_t status;          /* chaintube_hose_status */
+    int32_t blocked;         /* 1: a collider kept the request from being met */
+    double length_violation; /* largest segment length beyond the stretch band, relative to
+                                its rest length; 0 = none */
+    double angle_violation;  /* radians beyond a joint's bend limit; 0 = none */
+    double grab_error;       /* metres between a grab's target and where the point ended */
+    double penetration;      /* metres the hose is inside a collider; 0 = none */
+    int32_t moved_points;    /* axis points that moved */
+    int32_t contacts;        /* axis points touching a collider */
+} chaintube_hose_result;
+
+/* The library's ABI version (CHAINTUBE_RUNTIME_ABI_VERSION of its build). */
+CHAINTUBE_API uint32_t chaintube_runtime_abi_version(void);
+
+/* The enumerator's name ("CHAINTUBE_ERROR_BUFFER_TOO_SMALL"); "unknown status" otherwise.
+ * A static string. */
+CHAINTUBE_API const char* chaintube_status_name(chaintube_status status);
+
+/* What the last failing call on this thread got wrong, "" if none failed yet. Owned by the
+ * library; valid until the next failing call on this thread. Successful calls leave it. */
+CHAINTUBE_API const char* chaintube_last_error(void);
+
+/* Loads an exported .glb, or .gltf with its buffers beside it; the descriptor comes from the
+ * CHAINTUBE_hose_rig extension, or from <name>.hoses.json beside the file when the glTF has
+ * none (a warning says so). path: UTF-8. abi_version: CHAINTUBE_RUNTIME_ABI_VERSION.
+ * On success *rig is a new rig (free it with chaintube_rig_destroy); on failure *rig is not
+ * written. The hoses start as exported. */
+CHAINTUBE_API chaintube_status chaintube_rig_load_file(uint32_t abi_version, const char* path,
+                                                       chaintube_rig** rig);
+
+/* chaintube_rig_load_file from memory. gltf: the .glb bytes or the .gltf JSON text (gltf_size
+ * bytes). buffers[i] (buffer_count entries): the bytes of the glTF's buffer i when it has a
+ * uri (a .gltf's .bin); an entry for a GLB's BIN chunk is not read and may be {NULL, 0};
+ * buffers may be NULL when buffer_count is 0. Buffers are read only for collider meshes; one
+ * that is needed and not given is an error naming it. sidecar: the <name>.hoses.json text,
+ * used only when the glTF has no extension; may be NULL (sidecar_size 0). name: names the
+ * export in messages and warnings ("rig.glb"); NULL gives "<memory>". Everything is copied. */
+CHAINTUBE_API chaintube_status chaintube_rig_load_memory(uint32_t abi_version, const char* name,
+                                                         const void* gltf, size_t gltf_size,
+                                                         const chaintube_bytes* buffers,
+                                                         int32_t buffer_count, const void* sidecar,
+                                                         size_t sidecar_size, chaintube_rig** rig);
+
+/* Frees a rig and every string it returned. NULL is accepted and does nothing (CHAINTUBE_OK). */
+CHAINTUBE_API chaintube_status chaintube_rig_destroy(chaintube_rig* rig);
+
+/* The load report's warnings (e.g. the descriptor came from the sidecar; a hose was exported
+ * stretched): *count of them, and warning `index` in [0, count). */
+CHAINTUBE_API chaintube_status chaintube_rig_warning_count(const chaintube_rig* rig,
+                                                           int32_t* count);
+CHAINTUBE_API chaintube_status chaintube_rig_warning(const chaintube_rig* rig, int32_t index,
+                                                     const char** text);
+
+/* Number of hoses and of glTF nodes. Hose indices are in descriptor order, node indices the
+ * glTF's. */
+CHAINTUBE_API chaintube_status chaintube_rig_hose_count(const chaintube_rig* rig, int32_t* count);
+CHAINTUBE_API chaintube_status chaintube_rig_node_count(const chaintube_rig* rig, int32_t* count);
+
+/* Index of the hose with descriptor id `id`, or of the first node named `name` (UTF-8).
+ * CHAINTUBE_ERROR_NOT_FOUND when there is none (the index is not written). */
+CHAINTUBE_API chaintube_status chaintube_rig_find_hose(const chaintube_rig* rig, const char* id,
+                                                       int32_t* hose);
+CHAINTUBE_API chaintube_status chaintube_rig_find_node(const chaintube_rig* rig, const char* name,
+                                                       int32_t* node);
+
+/* A hose's properties. */
+CHAINTUBE_API chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig, int32_t hose,
+                                                       chaintube_hose_info* info);
+
+/* The axis points chaintube_rig_grab accepts for a hose, ascending: writes grabbable_count
+ * integers; capacity >= grabbable_count (points may be NULL when it is 0). */
+CHAINTUBE_API chaintube_status chaintube_rig_grabbable_points(const chaintube_rig* rig,
+                                                              int32_t hose, int32_t* points,
+                                                              int32_t capacity);
+
+/* The glTF node of each joint of a hose, in axis order: joint_count integers (none for a
+ * static hose); capacity >= joint_count. */
+CHAINTUBE_API chaintube_status chaintube_rig_joint_nodes(const chaintube_rig* rig, int32_t hose,
+                                                         int32_t* nodes, int32_t capacity);
+
+/* A node's name and parent. */
+CHAINTUBE_API chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,
+                                                       chaintube_node_info* info);
+
+/* A node's current local transform: trs[10] (TRS, relative to its parent). */
+CHAINTUBE_API chaintube_status chaintube_rig_node_transform(const chaintube_rig* rig, int32_t node,
+                                                            double trs[10]);
+
+/* A scene object moved: sets node's local transform trs[10] (TRS, relative to its parent; the
+ * rotation need not be exactly unit, it is normalised) and moves every attachment and collider
+ * on that node or under it; the hoses follow. Refused: a non-finite number, a rotation of
+ * length 0.5 or less, a zero scale. The hoses' outcome is in chaintube_rig_hose_result after the
+ * next chaintube_rig_update. */
+CHAINTUBE_API chaintube_status chaintube_rig_set_node_transform(chaintube_rig* rig, int32_t node,
+                                                                const double trs[10]);
+
+/* Moves axis point `point` of a hose to target[3] (world metres); the hose follows, the point
+ * is held there until chaintube_rig_release or a grab of another point. An unreachable target
+ * is not an error: the point goes as far as the hose allows (status CLAMPED, grab_error).
+ * The point must be one of chaintube_rig_grabbable_points (else
+ * CHAINTUBE_ERROR_NOT_GRABBABLE). result (may be NULL) receives this grab's outcome. */
+CHAINTUBE_API chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t point,
+                                                  const double target[3],
+                                                  chaintube_hose_result* result);
+
+/* Lets go of the hose's held point; with gravity it falls again from the next update. */
+CHAINTUBE_API chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose);
+
+/* Ends a frame: steps every hose with gravity (bounded work; a settled hose costs one
+ * comparison), then brings the changed hoses' joint poses and surfaces up to date.
+ * recomputed (may be NULL): how many hoses changed. */
+CHAINTUBE_API chaintube_status chaintube_rig_update(chaintube_rig* rig, int32_t* recomputed);
+
+/* What happened to a hose in the frame the last chaintube_rig_update ended: its node moves,
+ * grabs and gravity step combined (the worst status, the largest violations, grab error,
+ * penetration and contacts, blocked if any was, moved points summed). All 0 (OK) when nothing
+ * touched the hose. Refused calls are not in it: they changed nothing. */
+CHAINTUBE_API chaintube_status chaintube_rig_hose_result(const chaintube_rig* rig, int32_t hose,
+                                                         chaintube_hose_result* result);
+
+/* Joint poses of a hose as of the last update, in axis order (joint_count joints; none for a
+ * static hose). local: 10 floats per joint, the TRS to write into the joint node (relative to
+ * its glTF parent's current world transform); world: 7 per joint, the rigid world pose (ring
+ * centre; rotation with columns ring alignment, binormal, tangent). Either may be NULL to skip
+ * it, not both; capacities in floats: >= 10 * joint_count and >= 7 * joint_count. */
+CHAINTUBE_API chaintube_status chaintube_rig_joint_poses(const chaintube_rig* rig, int32_t hose,
+                                                         float* local, int32_t local_capacity,
+                                                         float* world, int32_t world_capacity);
+
+/* chaintube_rig_joint_poses in double precision (e.g. Unreal's double transforms). */
+CHAINTUBE_API chaintube_status chaintube_rig_joint_poses_f64(const chaintube_rig* rig, int32_t hose,
+                                                             double* local, int32_t local_capacity,
+                                                             double* world, int32_t world_capacity);
+
+/* A hose's surface as of the last update: positions (world metres) and unit normals, 3 floats
+ * per vertex (vertex_count vertices: rings, each with a seam vertex, then the two caps).
+ * Either may be NULL to skip it, not both; capacities >= 3 * vertex_count. */
+CHAINTUBE_API chaintube_status chaintube_rig_surface(const chaintube_rig* rig, int32_t hose,
+                                                     float* positions, int32_t positions_capacity,
+                                                     float* normals, int32_t normals_capacity);
+
+/* The surface's fixed parts: indices (index_count, 3 per triangle, counter-clockwise seen from
+ * outside) and uvs (2 floats per vertex: u around the profile 0..1, v along the axis in metres
+ * of rest length). Either may be NULL to skip it, not both; capacities >= index_count and
+ * >= 2 * vertex_count. */
+CHAINTUBE_API chaintube_status chaintube_rig_surface_topology(const chaintube_rig* rig,
+                                                              int32_t hose, uint32_t* indices,
+                                                              int32_t indices_capacity, float* uvs,
+                                                              int32_t uvs_capacity);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* CHAINTUBE_RUNTIME_C_H */

@@ -1,0 +1,198 @@
+// The C++ runtime's figures for the C ABI tests: loads an export with rig::HoseRuntime, runs
+// four frames of inputs chosen from the rig (a scene part moved, a point grabbed, grabbed out
+// of reach, released and the part moved back, a frame without input), and writes the inputs
+// and, after every update, every hose's frame result, joint poses and surface to a reference
+// file. The C and C# tests replay the inputs through the C ABI and compare.
+//
+//   capi_reference <export.glb> <reference.txt>
+//
+// Reference lines (numbers %.17g, floats %.9g: both read back exactly):
+//   rig <hoses> <nodes>
+//   hose <hose> <points> <joints> <grabbable> <vertices> <indices> <static> <restLength>
+//        <outerRadius> <id…>                    the id runs to the end of the line
+//   node-name <node> <name…>                    find_node(name) gives <node>
+//   move <node> <10 TRS numbers>                input: chaintube_rig_set_node_transform
+//   grab <hose> <point> <x> <y> <z>             input: chaintube_rig_grab, then its result:
+//   grab-result <result>
+//   release <hose>                              input: chaintube_rig_release
+//   update                                      input: chaintube_rig_update
+//   result <hose> <result>                      chaintube_rig_hose_result
+//   pose <hose> <joint> <node> <10 local> <7 world>
+//   surface <hose> <vertices> <sum of positions> <sum of normals> <sum of indices> <sum of uvs>
+//   vertex <hose> <vertex> <px> <py> <pz> <nx> <ny> <nz>   every 7th vertex
+// where <result> is: status blocked movedPoints contacts lengthViolation angleViolation
+// grabError penetration (status 0 Ok, 1 Clamped, 2 Infeasible).
+#include <chaintube/export/runtime.h>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+namespace {
+
+using namespace chaintube;
+
+int statusCode(Status status)
+{
+    switch (status) {
+    case Status::Ok:
+        return 0;
+    case Status::Clamped:
+        return 1;
+    case Status::Infeasible:
+        return 2;
+    case Status::InvalidInput:
+        return -1;
+    }
+    return -1;
+}
+
+void writeResult(std::FILE* out, const UpdateResult& r)
+{
+    std::fprintf(out, "%d %d %d %d %.17g %.17g %.17g %.17g\n", statusCode(r.status),
+                 r.blocked ? 1 : 0, r.movedPoints, r.contacts, r.lengthViolation, r.angleViolation,
+                 r.grabError, r.penetration);
+}
+
+void writeState(std::FILE* out, const rig::HoseRuntime& runtime)
+{
+    for (int h = 0; h < runtime.hoseCount(); ++h) {
+        std::fprintf(out, "result %d ", h);
+        writeResult(out, runtime.frameResult(h));
+        const std::vector<rig::JointPose>& poses = runtime.jointPoses(h);
+        for (size_t j = 0; j < poses.size(); ++j) {
+            const rig::JointPose& p = poses[j];
+            std::fprintf(out,
+                         "pose %d %zu %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g "
+                         "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n",
+                         h, j, p.node, p.local.translation.x(), p.local.translation.y(),
+                         p.local.translation.z(), p.local.rotation.x(), p.local.rotation.y(),
+                         p.local.rotation.z(), p.local.rotation.w(), p.local.scale.x(),
+                         p.local.scale.y(), p.local.scale.z(), p.world.translation.x(),
+                         p.world.translation.y(), p.world.translation.z(), p.world.rotation.x(),
+                         p.world.rotation.y(), p.world.rotation.z(), p.world.rotation.w());
+        }
+        const std::vector<float> positions = runtime.worldPositions(h);
+        const std::span<const float> normals = runtime.surface(h).normals();
+        const SurfaceTopology& topology = runtime.surface(h).topology();
+        double positionSum = 0.0, normalSum = 0.0, indexSum = 0.0, uvSum = 0.0;
+        for (size_t k = 0; k < positions.size(); ++k) {
+            positionSum += positions[k];
+            normalSum += normals[k];
+        }
+        for (std::uint32_t index : topology.indices)
+            indexSum += index;
+        for (float uv : topology.uvs)
+            uvSum += uv;
+        const size_t vertices = positions.size() / 3;
+        std::fprintf(out, "surface %d %zu %.17g %.17g %.17g %.17g\n", h, vertices, positionSum,
+                     normalSum, indexSum, uvSum);
+        for (size_t v = 0; v < vertices; v += 7)
+            std::fprintf(out, "vertex %d %zu %.9g %.9g %.9g %.9g %.9g %.9g\n", h, v,
+                         positions[3 * v], positions[3 * v + 1], positions[3 * v + 2],
+                         normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+    }
+}
+
+void writeMove(std::FILE* out, int node, const rig::NodeTransform& t)
+{
+    std::fprintf(out, "move %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", node,
+                 t.translation.x(), t.translation.y(), t.translation.z(), t.rotation.x(),
+                 t.rotation.y(), t.rotation.z(), t.rotation.w(), t.scale.x(), t.scale.y(),
+                 t.scale.z());
+}
+
+/// Sets the transform as the C ABI does: the numbers as written, read back exactly.
+void move(std::FILE* out, rig::HoseRuntime& runtime, int node, const rig::NodeTransform& t)
+{
+    writeMove(out, node, t);
+    for (const rig::HoseUpdate& update : runtime.setNodeTransform(node, t))
+        if (update.result.status == Status::InvalidInput)
+            throw Error("node " + std::to_string(node) + ": the runtime refused the move");
+}
+
+void grab(std::FILE* out, rig::HoseRuntime& runtime, int hose, int point, const Vec3& target)
+{
+    std::fprintf(out, "grab %d %d %.17g %.17g %.17g\n", hose, point, target.x(), target.y(),
+                 target.z());
+    const UpdateResult result = runtime.grab(hose, point, target);
+    if (result.status == Status::InvalidInput)
+        throw Error("hose " + std::to_string(hose) + ": the runtime refused the grab");
+    std::fprintf(out, "grab-result ");
+    writeResult(out, result);
+}
+
+void update(std::FILE* out, rig::HoseRuntime& runtime)
+{
+    std::fprintf(out, "update\n");
+    runtime.update();
+    writeState(out, runtime);
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    if (argc != 3) {
+        std::fprintf(stderr, "usage: capi_reference <export.glb> <reference.txt>\n");
+        return 2;
+    }
+    try {
+        rig::HoseRuntime runtime = rig::HoseRuntime::load(argv[1]);
+        std::FILE* out = std::fopen(argv[2], "w");
+        if (!out) throw Error(std::string(argv[2]) + ": cannot be written");
+        std::fprintf(out, "rig %d %d\n", runtime.hoseCount(), runtime.nodeCount());
+        for (int h = 0; h < runtime.hoseCount(); ++h) {
+            const rig::RigHose& d = runtime.description(h);
+            std::fprintf(out, "hose %d %d %zu %zu %zu %zu %d %.17g %.17g %s\n", h,
+                         runtime.hose(h).pointCount(), runtime.jointPoses(h).size(),
+                         d.grabbablePoints.size(), runtime.surface(h).vertexCount(),
+                         runtime.surface(h).topology().indices.size(), d.isStatic ? 1 : 0,
+                         runtime.hose(h).restLengthTotal(), runtime.hose(h).outerRadius(),
+                         d.id.c_str());
+        }
+        // The part to move: the first attachment node of a hose that deforms; the point to
+        // grab: the middle free point of the first hose that has free points.
+        int part = -1, grabbed = -1;
+        for (int h = 0; h < runtime.hoseCount(); ++h) {
+            const rig::RigHose& d = runtime.description(h);
+            if (d.isStatic) continue;
+            for (const rig::RigAttachment& a : d.attachments)
+                if (part < 0 && a.node >= 0) part = a.node;
+            if (grabbed < 0 && !d.grabbablePoints.empty()) grabbed = h;
+        }
+        if (part < 0 || grabbed < 0) throw Error("no attachment node or no grabbable point");
+        const std::string& partName = runtime.node(part).name;
+        if (!partName.empty() && runtime.findNode(partName) == part)
+            std::fprintf(out, "node-name %d %s\n", part, partName.c_str());
+        const std::vector<int>& free = runtime.description(grabbed).grabbablePoints;
+        const int point = free[free.size() / 2];
+        const rig::NodeTransform original = runtime.node(part).local;
+
+        rig::NodeTransform moved = original;
+        moved.translation += Vec3(0.02, -0.015, 0.01);
+        moved.rotation = original.rotation * Quat(Eigen::AngleAxisd(0.05, Vec3::UnitY()));
+        // Frame 1: the part moves, a point is grabbed a few centimetres away.
+        move(out, runtime, part, moved);
+        const Vec3 start = runtime.hose(grabbed).point(point);
+        grab(out, runtime, grabbed, point, start + Vec3(0.03, 0.04, -0.02));
+        update(out, runtime);
+        // Frame 2: the hand goes far beyond reach.
+        grab(out, runtime, grabbed, point, start + Vec3(1.0, 0.5, 0.0));
+        update(out, runtime);
+        // Frame 3: the hand lets go, the part goes back.
+        std::fprintf(out, "release %d\n", grabbed);
+        if (!runtime.release(grabbed)) throw Error("release refused");
+        move(out, runtime, part, original);
+        update(out, runtime);
+        // Frame 4: no input (gravity hoses go on falling).
+        update(out, runtime);
+        if (std::fclose(out) != 0) throw Error(std::string(argv[2]) + ": cannot be written");
+        std::printf("capi_reference: %s: moved node %d (\"%s\"), grabbed hose %d point %d -> %s\n",
+                    argv[1], part, partName.c_str(), grabbed, point, argv[2]);
+        return 0;
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "capi_reference: %s\n", error.what());
+        return 1;
+    }
+}
