@@ -185,7 +185,7 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
             frames.push_back(
                 rigidPart(posedWorldTransform(project, scenes, attachment.scene, node)) * offset);
         }
-        hose.moveAttachments(ids, frames);
+        (void)hose.moveAttachments(ids, frames); // what it leaves is reported by measure() in the export checks
     }
     return hose;
 }
