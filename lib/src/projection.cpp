@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <cstdio>
-#include <cstdlib>
 
 namespace chaintube::detail {
 
@@ -286,10 +284,6 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
         worst = next;
         merit = m_merit;
         m_damping = m_damping > 1e-6 ? 0.25 * m_damping : 0.0;
-        if (std::getenv("CT_DEBUG")) {
-            size_t nw = 0; for (const Row& r : m_rows) nw += r.working;
-            std::fprintf(stderr, "  it %d rows %zu working %zu worst %.3g damping %.2g\n", out.iterations, m_rows.size(), nw, worst, m_damping);
-        }
     }
     out.violation = worst;
     out.converged = worst <= tolerance;

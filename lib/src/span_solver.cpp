@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <cstdio>
-#include <cstdlib>
 
 namespace chaintube::detail {
 
@@ -320,18 +318,6 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             }
             if (!changed) break;
         }
-        if (std::getenv("CT_JAC")) {
-            Vec3 predicted = Vec3::Zero();
-            for (int j = 0; j < m; ++j) predicted += omega[static_cast<size_t>(j)].cross(m_position[segments] - m_position[static_cast<size_t>(j)]);
-            const double eps = 1e-6;
-            Vec3 tot = Vec3::Zero(), end0 = m_position[0];
-            for (size_t j = 0; j < segments; ++j) {
-                tot += eps * omega[j];
-                end0 += m_length[j] * cayley(tot, m_direction[j]).normalized();
-            }
-            const Vec3 actual = (end0 - m_position[segments]) / eps;
-            std::fprintf(stderr, "    jac check: predicted %.5g %.5g %.5g actual %.5g %.5g %.5g  -residual %.5g %.5g %.5g\n", predicted.x(), predicted.y(), predicted.z(), actual.x(), actual.y(), actual.z(), -current.residual(3*goalCount), -current.residual(3*goalCount+1), -current.residual(3*goalCount+2));
-        }
         // The step: joint rotations accumulate along the chain.
         Vec3 total = Vec3::Zero();
         for (size_t s = 0; s < segments; ++s) {
@@ -352,10 +338,6 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         evaluate(next);
         bool finite = true;
         for (const Vec3& x : m_position) finite = finite && x.allFinite();
-        if (std::getenv("CT_DEBUG")) {
-            int sat = 0; for (auto x : m_saturated) sat += x;
-            std::fprintf(stderr, "   span it %d merit %.3g -> %.3g closure %.3g goal %.3g damping %.2g sat %d bendrow %d\n", out.iterations, current.merit, next.merit, next.closure, next.goalError, damping, sat, (int)next.bendRow);
-        }
         const bool better = next.merit < current.merit ||
                             (next.closure < current.closure && next.merit <= current.merit * (1.0 + 1e-9));
         if (finite && better) {
@@ -415,7 +397,6 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                                 stepIterations, tolerance);
         out.iterations += o.iterations;
         const double now = (target - (moving >= 0 || !o.valid ? p[static_cast<size_t>(point)] : subGoal)).norm();
-        if (std::getenv("CT_ADV")) std::fprintf(stderr, " adv step %d error %.4g radius %.3g valid %d met %d it %d closure %.3g now %.4g\n", step, error, radius, (int)o.valid, (int)o.goalsMet, o.iterations, o.closure, now);
         if (o.valid && now < error - 1e-12 * rest) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
             if (o.goalsMet) radius = 2.0 * std::min(radius, error);
