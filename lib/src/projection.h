@@ -30,7 +30,7 @@ struct ProjectionOutcome
 /// closest point to y, for dynamics). A constraint touches at most three consecutive points,
 /// so J W Jᵀ is banded (half-bandwidth ≤ 8) and one step costs O(last − first) through a banded
 /// LDLᵀ. Inequalities (stretch bands, bend limits, contacts) are handled by a working set
-/// kept from step to step and from update to update (Hose::m_workingSet): rows on their bound
+/// kept from Newton step to Newton step (Hose::m_workingSet): rows on their bound
 /// are held there, rows whose multiplier pulls leave it, rows the step would violate join it
 /// (up to four solves of one linearisation). Deterministic; never produces NaN or Inf (a
 /// non-finite step is not taken).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace chaintube {
@@ -14,8 +15,15 @@ namespace {
 constexpr double kFrameTime = 1.0 / 90.0;      ///< seconds a step advances (a headset's frame)
 constexpr double kGravity = 9.81;              ///< m/s²
 constexpr double kDamping = 0.9;               ///< fraction of the velocity a step carries on
-constexpr int kProjectionSteps = 6;            ///< Newton steps of one attempt
+constexpr int kProjectionSteps = 8;            ///< Newton steps of one attempt
+/// The attempts of one step: the full prediction, then from rest with the fall scaled by these
+/// factors (a smaller move from the valid start is nearer the constraints, so Newton's
+/// quadratic convergence reaches them within the attempt's steps).
+constexpr double kFallFactors[] = {1.0, 0.25, 1.0 / 16.0};
 constexpr double kConverged = 1e-10;           ///< relative length, radians, contact depth
+/// Largest violation left by the projection that the span solver closes (relative length,
+/// radians): its moves are then of the order of the violation, so contacts stay respected.
+constexpr double kCloseFrom = 1e-5;
 constexpr double kSettledMotion = 1e-6;        ///< of the mean rest length, per step
 constexpr int kStallSteps = 120;               ///< steps without coming lower: at rest
 constexpr double kHover = 0.01;                ///< of the mean rest length, in mean height
@@ -26,10 +34,10 @@ constexpr double kHover = 0.01;                ///< of the mean rest length, in 
 class GravityStep
 {
 public:
-    GravityStep(Hose& hose, int held) : h(hose), projection(hose), held(held)
+    GravityStep(Hose& hose, int heldPoint) : h(hose), projection(hose), held(heldPoint)
     {
         projection.setRange(0, h.pointCount() - 1);
-        projection.useMassesFromRestLengths(held);
+        projection.useMassesFromRestLengths(heldPoint);
         meanRest = h.restLengthTotal() / h.segmentCount();
     }
 
@@ -65,22 +73,21 @@ public:
         }
     }
 
-    /// Projects `predicted` (written into the hose) onto the constraints. Returns whether every
-    /// constraint holds afterwards.
+    /// Projects `predicted` (written into the hose) onto the constraints by the fast
+    /// projection (Goldenthal et al. 2007): Newton steps of the smallest mass-weighted move onto
+    /// the linearised constraints, from the predicted positions, at most kProjectionSteps. Where
+    /// they end close but not within the tolerance (bend limits switching on and off near
+    /// their bounds converge slowly), the span solver closes the rest exactly
+    /// (Hose::closeSpans). Returns whether every constraint holds afterwards.
     bool project(const std::vector<Vec3>& predicted, const std::vector<Vec3>& from, int& iterations)
     {
         gatherContacts(predicted, from);
         h.m_local = predicted;
-        projection.setPredicted(&predicted);
-        detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
+        projection.setPredicted(nullptr);
+        const detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
         iterations += out.iterations;
-        if (!out.converged) {
-            // Finish from where it got: the minimal moves onto the constraints.
-            projection.setPredicted(nullptr);
-            out = projection.run(kProjectionSteps, kConverged);
-            iterations += out.iterations;
-        }
-        return out.converged && h.measureViolation().status == Status::Ok;
+        if (out.converged && h.measureViolation().status == Status::Ok) return true;
+        return out.violation <= kCloseFrom && h.closeSpans(held, from, iterations);
     }
 
     Hose& h;
@@ -162,21 +169,57 @@ UpdateResult Hose::step()
     const std::vector<Vec3> start = m_local;
     GravityStep engine(*this, m_held);
     const std::vector<double>& w = engine.projection.inverseMass();
+    if (m_dirtyViolation) {
+        // The shape violates its constraints (bends that gave way to an attachment move, a shape
+        // built in violation): this step brings it nearer to valid instead of falling, from
+        // rest, and is kept only if it leaves the worst violation smaller.
+        const UpdateResult before = measureViolation();
+        if (before.status != Status::Ok) {
+            engine.gatherContacts(start, start);
+            engine.projection.setPredicted(nullptr);
+            const detail::ProjectionOutcome out = engine.projection.run(kProjectionSteps, kConverged);
+            result.iterations = std::max(out.iterations, 1);
+            if (out.violation <= kCloseFrom) (void)closeSpans(m_held, start, result.iterations);
+            const UpdateResult after = measureViolation();
+            const double worstBefore = std::max(before.lengthViolation, before.angleViolation);
+            if (!(std::max(after.lengthViolation, after.angleViolation) < worstBefore)) {
+                m_local = start; // no nearer within the budget: it stays until an input changes
+                m_gravityPrevious = start;
+                m_gravityLast = start;
+                m_settledRevision = m_revision;
+                return before;
+            }
+            ++m_revision;
+            m_dirtyViolation = after.status != Status::Ok;
+            m_gravityPrevious = m_local;
+            m_gravityLast = m_local;
+            m_gravityInputRevision = m_revision;
+            result.status = after.status;
+            result.lengthViolation = after.lengthViolation;
+            result.angleViolation = after.angleViolation;
+            for (size_t i = 0; i < n; ++i) result.movedPoints += m_local[i] != start[i] ? 1 : 0;
+            if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
+            return result;
+        }
+        m_dirtyViolation = false;
+    }
     const Vec3 fall = m_spec.gravity.direction.normalized() * (kGravity * kFrameTime * kFrameTime);
-    std::vector<Vec3> predicted = start;
-    for (size_t i = 0; i < n; ++i)
-        if (w[i] != 0.0) predicted[i] += kDamping * (start[i] - m_gravityPrevious[i]) + fall;
-    bool valid = engine.project(predicted, start, result.iterations);
-    if (!valid) {
-        // Again from rest (the carried velocity made the move too large for the budget).
-        predicted = start;
+    std::vector<Vec3> predicted(n);
+    bool valid = false;
+    for (size_t attempt = 0; attempt <= std::size(kFallFactors) && !valid; ++attempt) {
+        // Attempt 0 carries the velocity; the others start from rest with a smaller fall.
+        const double velocity = attempt == 0 ? kDamping : 0.0;
+        const Vec3 move = fall * (attempt == 0 ? 1.0 : kFallFactors[attempt - 1]);
         for (size_t i = 0; i < n; ++i)
-            if (w[i] != 0.0) predicted[i] += fall;
+            predicted[i] = w[i] != 0.0 ? Vec3(start[i] + velocity * (start[i] - m_gravityPrevious[i]) + move) : start[i];
         valid = engine.project(predicted, start, result.iterations);
     }
     if (!valid) {
-        m_local = start; // nothing valid within the budget: the hose stays, at rest
+        // Nothing valid within the budget: the hose stays where it is, at rest, until an input
+        // changes.
+        m_local = start;
         m_gravityPrevious = start;
+        m_gravityLast = start;
         result = measureViolation();
         m_settledRevision = m_revision;
         return result;

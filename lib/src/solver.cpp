@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <numbers>
 
@@ -18,25 +16,19 @@ namespace {
 constexpr double kLengthTolerance = 1e-12;   // relative, when deciding whether to correct
 /// The projection's tolerance (relative length, radians): well inside measureViolation()'s 1e-9.
 constexpr double kConverged = 1e-10;
-/// Newton steps of one projection attempt; an update makes at most kAttempts attempts.
+/// Newton steps of one projection attempt (the bends giving way: half with soft bends, then
+/// this many on the lengths alone).
 constexpr int kProjectionSteps = 8;
-/// Inverse mass of a point that should stay where it was put but may give way (a grab target
-/// or an attachment beyond reach), relative to a free point's.
-constexpr double kSoftInverseMass = 1e-3;
 /// Compliance of the bend rows when the bends must give way to the lengths.
 constexpr double kSoftBendCompliance = 0.1;
-/// Sweep rounds before the projection takes over, and the violation it takes over at.
-constexpr int kSweepRounds = 12;
-constexpr double kSweepTarget = 1e-4;
-/// The projection takes over from the sweeps below this violation.
-constexpr double kNewtonFrom = 1e-2;
 /// Newton steps of the span solver per span and attempt.
 constexpr int kSpanSteps = 12;
+/// The same when closing a shape that nearly holds its constraints (Hose::closeSpans): near a
+/// solution with saturated joints the steps converge linearly (about a third a step).
+constexpr int kCloseSpanSteps = 32;
 /// A grab: at most this many valid steps towards the target, of this many Newton steps each.
 constexpr int kAdvanceSteps = 4;
 constexpr int kAdvanceIterations = 6;
-/// Blocks of sweeps (+ projection) an attempt may take.
-constexpr int kBlocks = 3;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
 
@@ -323,89 +315,6 @@ public:
         p[j + 1] = p[j] + rightLength * rightDirection;
     }
 
-
-    /// Largest violation near the boundaries of pinned runs: after a backward sweep these are
-    /// the only places a constraint can still be violated (every free point was placed against
-    /// its neighbour). Length excess is relative, turn excess in radians.
-    double boundaryViolation(const std::vector<int>& boundaries) const
-    {
-        const int n = h.pointCount();
-        double worst = 0.0;
-        for (int b : boundaries) {
-            for (int s = std::max(0, b - 2); s <= std::min(n - 2, b + 1); ++s) {
-                const size_t k = static_cast<size_t>(s);
-                const double length = (p[k + 1] - p[k]).norm();
-                worst = std::max(worst, std::max(length - h.m_maxLength[k], h.m_minLength[k] - length) /
-                                            h.m_restLength[k]);
-            }
-            for (int j = std::max(1, b - 2); j <= std::min(n - 2, b + 2); ++j)
-                worst = std::max(worst, h.turnExcess(static_cast<size_t>(j), p));
-        }
-        return worst;
-    }
-
-    /// Alternating sweeps over the free points of lo … hi (FABRIK-style: forward, then
-    /// backward, each point placed against its already-placed neighbour), at most `rounds`
-    /// rounds, until the violation near the pinned points is at most `target`. Robust from any
-    /// start; converges linearly. Returns the violation left.
-    double relax(int lo, int hi, int rounds, double target)
-    {
-#if defined(__x86_64__) && defined(__GNUC__)
-        static const bool fma = __builtin_cpu_supports("fma");
-        if (fma) return relaxFma(lo, hi, rounds, target);
-#endif
-        return relaxWith<false>(lo, hi, rounds, target);
-    }
-#if defined(__x86_64__) && defined(__GNUC__)
-    __attribute__((target("fma"))) double relaxFma(int lo, int hi, int rounds, double target)
-    {
-        return relaxWith<true>(lo, hi, rounds, target);
-    }
-#endif
-
-    template <bool Fma>
-    [[gnu::always_inline]] inline double relaxWith(int lo, int hi, int rounds, double target)
-    {
-        const int n = h.pointCount();
-        thread_local std::vector<int> boundaries;
-        boundaries.clear();
-        for (int i = lo; i <= hi; ++i) {
-            if (!pinned(i)) continue;
-            const bool freeBefore = i > 0 && !pinned(i - 1);
-            const bool freeAfter = i + 1 < n && !pinned(i + 1);
-            if (freeBefore || freeAfter) boundaries.push_back(i);
-        }
-        double last = boundaryViolation(boundaries);
-        for (int round = 0; round < rounds && last > target; ++round) {
-            for (int pass = 0; pass < 2; ++pass) {
-                const int step = pass == 0 ? +1 : -1;
-                const int begin = pass == 0 ? lo : hi; // pinned: the first free point follows it
-                // The direction place() returns for a point is the next point's incoming
-                // direction; the placed position is the next anchor, kept in registers.
-                Vec3 carried = Vec3::Zero(), anchor = Vec3::Zero();
-                int carriedFor = -1;
-                for (int i = begin; i >= lo && i <= hi; i += step) {
-                    if (pinned(i)) continue;
-                    const int a = i - step;
-                    const int before = a - step;
-                    Vec3 incoming;
-                    const bool haveIncoming = before >= 0 && before < n;
-                    if (carriedFor != a) {
-                        anchor = p[static_cast<size_t>(a)];
-                        if (haveIncoming) incoming = (anchor - p[static_cast<size_t>(before)]).normalized();
-                    } else {
-                        incoming = carried;
-                    }
-                    place<Fma>(i, a, anchor, haveIncoming ? &incoming : nullptr, anchor, carried, anchor);
-                    carriedFor = i;
-                }
-            }
-            const double violation = boundaryViolation(boundaries);
-            last = violation;
-        }
-        return last;
-    }
-
     /// The paper's pass from a solved range lo … hi out into the free tails beyond it: each
     /// tail point is placed against its neighbour towards the range (length band, then the
     /// bend at that neighbour). With `full` every tail point is visited (for a shape that may
@@ -431,11 +340,10 @@ public:
 
     /// Free spans between two pinned points (fixed or grabbed) that lie on the straight line
     /// between them (every free point within 1e-9 of the span's minimum length from the line)
-    /// while that line is shorter than the span's minimum length: laid on the circular arc
-    /// through both pins on which the span's segments, at their rest lengths, are chords
-    /// (the arc's curvature by bisection, 64 steps), bulging towards anyPerpendicular(line),
-    /// the fixed perpendicular of the fold-back rule. Returns whether a span was bowed; `before`
-    /// receives the state before (only then).
+    /// while that line is shorter than the span's minimum length: laid on the first buckling
+    /// mode of a rod clamped at both pins (below) with the span's rest length, bulging towards
+    /// anyPerpendicular(line), the fixed perpendicular of the fold-back rule. Returns whether a
+    /// span was bowed; `before` receives the state before (only then).
     bool bowFlatCompressedSpans(std::vector<Vec3>& before)
     {
         if (h.m_attachments.empty()) return false; // a grabbed point alone bounds no span
@@ -505,7 +413,6 @@ public:
         }
         return bowed;
     }
-
 
     Hose& h;
     std::vector<Vec3>& p;
@@ -696,7 +603,7 @@ public:
                 if (heldTarget && moving == -1) {
                     const detail::SpanSolver::Outcome out =
                         solver.solve(root, end, false, *heldTarget, goals, haveRoot ? &rootDirection : nullptr,
-                                     nullptr, kSpanSteps, kConverged);
+                                     nullptr, spanSteps, kConverged);
                     iterations += out.iterations;
                     heldMet = heldMet && out.goalsMet;
                     if (out.goalsMet) h.m_local[static_cast<size_t>(end)] = *heldTarget;
@@ -710,7 +617,7 @@ public:
                                          haveRoot ? &rootDirection : nullptr, haveEnd ? &endDirection : nullptr,
                                          kAdvanceSteps, kAdvanceIterations, kConverged)
                         : solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
-                                       haveEnd ? &endDirection : nullptr, kSpanSteps, kConverged, writeAnyway);
+                                       haveEnd ? &endDirection : nullptr, spanSteps, kConverged, writeAnyway);
                 iterations += out.iterations;
                 valid = valid && out.valid;
                 if (!out.goalsMet) {
@@ -733,7 +640,7 @@ public:
     }
 
     /// Pinned points stay, every constraint holds: solveSpans() with the held point hard.
-    bool hard(int& iterations, int /*blocks*/)
+    bool hard(int& iterations)
     {
         bool met = false;
         return solveSpans(iterations, false, met) && met;
@@ -761,7 +668,7 @@ public:
     Hose& h;
     detail::ChainProjection projection;
     int lo, hi, held;
-    std::vector<Vec3> m_backup;
+    int spanSteps = kSpanSteps; ///< Newton steps of the span solver per span
 };
 
 namespace {
@@ -854,15 +761,10 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             solved = spans.solveSpans(result.iterations, false, met) && met;
         }
         if (!solved) {
-            const int hardIterations = result.iterations;
             m_local = m_scratch;
             m_local[k] = goal;
             solved = spans.solveSpans(result.iterations, true, met);
             status = Status::Clamped;
-            if (std::getenv("CT_GRABLOG"))
-                std::fprintf(stderr, "grab soft: hard it %d soft it %d solved %d goal-start %.4g target-goal %.4g err %.4g\n",
-                             hardIterations, result.iterations - hardIterations, (int)solved, (goal - start).norm(),
-                             (localTarget - goal).norm(), (m_local[k] - goal).norm());
         }
         if (solved) {
             Solver tails(*this);
@@ -893,7 +795,6 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     }
     result.status = status;
     result.grabError = (m_local[k] - localTarget).norm();
-    if (std::getenv("CT_ITLOG")) std::fprintf(stderr, "grabit %d %s\n", result.iterations, toString(status));
     result.movedPoints = moved;
     m_held = index;
     if (moved > 0 || m_attachments.empty()) ++m_revision;
@@ -962,10 +863,10 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         Solver bow(*this);
         std::vector<Vec3> flat;
         if (bow.bowFlatCompressedSpans(flat)) {
-            solved = spans.hard(result.iterations, kBlocks);
+            solved = spans.hard(result.iterations);
             if (!solved) m_local = std::move(flat);
         }
-        if (!solved) solved = spans.hard(result.iterations, kBlocks);
+        if (!solved) solved = spans.hard(result.iterations);
         // The ends leave no shape within the bend limits: the bends give way (a kink).
         if (!solved) solved = spans.bendsGiveWay(result.iterations);
         if (solved) break;
@@ -988,6 +889,18 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
 
 UpdateResult Hose::settle() { return settleFrom(-1); }
 
+bool Hose::closeSpans(int held, const std::vector<Vec3>& before, int& iterations)
+{
+    const auto [lo, hi] = pinnedRange(m_attachments, held);
+    if (lo > hi) return false;
+    PinnedSpans spans(*this, lo, hi, held);
+    spans.spanSteps = kCloseSpanSteps;
+    if (!spans.hard(iterations)) return false;
+    Solver tails(*this);
+    tails.sweepTails(lo, hi, before, true);
+    return measureViolation().status == Status::Ok;
+}
+
 UpdateResult Hose::settleFrom(int held)
 {
     if (held >= pointCount() || (held >= 0 && m_fixed[static_cast<size_t>(held)])) held = -1;
@@ -996,7 +909,7 @@ UpdateResult Hose::settleFrom(int held)
     m_scratch = m_local;
     UpdateResult result;
     PinnedSpans spans(*this, lo, hi, held);
-    if (!spans.hard(result.iterations, kBlocks) && !spans.bendsGiveWay(result.iterations)) m_local = m_scratch;
+    if (!spans.hard(result.iterations) && !spans.bendsGiveWay(result.iterations)) m_local = m_scratch;
     Solver tails(*this);
     tails.sweepTails(lo, hi, m_scratch, true);
     const UpdateResult violation = measureViolation();

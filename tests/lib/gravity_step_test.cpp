@@ -104,11 +104,11 @@ TEST(GravityStep, IsDeterministic)
 {
     Hose a = hangingHose(1.2, 40), b = hangingHose(1.2, 40);
     for (int s = 0; s < 300; ++s) {
-        a.step();
-        b.step();
+        (void)a.step();
+        (void)b.step();
         if (s == 100) {
-            a.grab(20, Vec3(0.5, 0.1, 0.2));
-            b.grab(20, Vec3(0.5, 0.1, 0.2));
+            (void)a.grab(20, Vec3(0.5, 0.1, 0.2));
+            (void)b.grab(20, Vec3(0.5, 0.1, 0.2));
         }
     }
     EXPECT_EQ(a.points(), b.points());
@@ -123,11 +123,21 @@ TEST(GravityStep, HeldPointStaysWhileTheRestHangsAndFallsWhenReleased)
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.5, spec);
     hose.attach(0, 1, Frame::identity());
     const Vec3 target(0.9, 0.3, 0.0);
-    hose.grab(30, target);
-    EXPECT_EQ(hose.heldPoint(), 30);
+    // A hand holds the end at the target: every frame a grab, then a gravity step. The grab
+    // covers the way to the target within its budget over the first frames; the step never
+    // moves the held point, and every constraint holds after each call.
     double worstLength = 0.0, worstAngle = 0.0;
-    stepUntilSettled(hose, 5000, &worstLength, &worstAngle);
-    EXPECT_LT((hose.point(30) - target).norm(), 1e-12) << "the held end stays at its grab target";
+    for (int frame = 0; frame < 600; ++frame) {
+        const UpdateResult g = hose.grab(30, target);
+        const UpdateResult r = hose.step();
+        for (const UpdateResult& u : {g, r}) {
+            EXPECT_NE(u.status, Status::Infeasible) << frame;
+            worstLength = std::max(worstLength, u.lengthViolation);
+            worstAngle = std::max(worstAngle, u.angleViolation);
+        }
+    }
+    EXPECT_EQ(hose.heldPoint(), 30);
+    EXPECT_LT((hose.point(30) - target).norm(), 1e-9) << "the held end is at its grab target";
     EXPECT_LT(hose.point(15).y(), -0.05) << "the middle sags between the clamp and the hand";
     EXPECT_LE(worstLength, 1e-9);
     EXPECT_LE(worstAngle, 1e-9);
@@ -145,9 +155,9 @@ TEST(GravityStep, DraggingDoesNotFlingTheHose)
     Hose hose = hangingHose(1.2, 40);
     ASSERT_LT(stepUntilSettled(hose, 20000), 20000);
     hose.detach(hose.attachments().back().id);
-    hose.grab(40, Vec3(1.0, 0.5, 0.0));
+    (void)hose.grab(40, Vec3(1.0, 0.5, 0.0));
     stepUntilSettled(hose, 20000);
-    hose.grab(40, Vec3(1.3, 0.5, 0.3));
+    (void)hose.grab(40, Vec3(1.3, 0.5, 0.3));
     const std::vector<Vec3> afterGrab = hose.points();
     (void)hose.step();
     const double mean = hose.restLengthTotal() / 40;
@@ -227,7 +237,7 @@ double pinnedSag(double length, int segments, double radius, int* steps = nullpt
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
     if (used < maxSteps) { // settled: it never moves again
         const std::vector<Vec3> settled = hose.points();
-        for (int s = 0; s < 50; ++s) hose.step();
+        for (int s = 0; s < 50; ++s) (void)hose.step();
         EXPECT_EQ(hose.points(), settled) << radius;
     }
     return -lowestY(hose);
@@ -269,8 +279,8 @@ TEST(GravityStep, BendLimitedHoseIsDeterministicAndResettlesAfterAnAttachmentMov
 {
     Hose a = clampedArch(), b = clampedArch();
     for (int s = 0; s < 400; ++s) {
-        a.step();
-        b.step();
+        (void)a.step();
+        (void)b.step();
     }
     EXPECT_EQ(a.points(), b.points());
     ASSERT_LT(stepUntilSettled(a, 3000), 3000);
@@ -387,7 +397,7 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
 TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
 {
     Hose hose = valveTail();
-    for (int s = 0; s < 3; ++s) hose.step(); // falling, not settled
+    for (int s = 0; s < 3; ++s) (void)hose.step(); // falling, not settled
     const std::vector<Vec3> marked = hose.points();
     hose.markSettled();
     const std::uint64_t revision = hose.revision();
@@ -402,13 +412,16 @@ TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
     Hose fresh = Hose::fromAxis(marked, rest, hose.spec());
     fresh.attach(0, 1, Frame::identity());
     const Vec3 lift = hose.point(7) + Vec3(0.0, 0.02, 0.0);
-    hose.grab(7, lift);
-    fresh.grab(7, lift);
+    (void)hose.grab(7, lift);
+    (void)fresh.grab(7, lift);
     const double afterGrab = hose.points().back().y();
     for (int s = 0; s < 5; ++s) {
-        hose.step();
-        fresh.step();
+        (void)hose.step();
+        (void)fresh.step();
     }
     EXPECT_LT(hose.points().back().y(), afterGrab - 1e-4); // the free end falls again
-    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_EQ(hose.point(i), fresh.point(i)) << i;
+    // The fresh hose holds the same world positions relative to another origin (its first
+    // point), so its local coordinates differ in the last bits: equal to rounding, not bit for
+    // bit. Velocity carried from before the mark would show at the millimetre scale.
+    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_LT((hose.point(i) - fresh.point(i)).norm(), 1e-9) << i;
 }

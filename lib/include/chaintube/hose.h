@@ -64,22 +64,23 @@ struct [[nodiscard]] UpdateResult
     double penetration = 0.0;
     /// Collision: axis points touching a collider after the update.
     int contacts = 0;
-    /// Work done: Newton steps of the chain projection (each O(points between the outermost
-    /// pinned points)); 0 for the paper's propagation alone. Bounded per update.
+    /// Work done: Newton steps of the span solver and the chain projection (each O(points of
+    /// the span or range it solves)); 0 for the paper's propagation alone. Bounded per update
+    /// (lib/README.md, "Pinned spans, reach and gravity").
     int iterations = 0;
     bool ok() const { return status == Status::Ok; }
 };
 
-/// Per-frame gravity (issue 7). When enabled, every update ends with a bounded number of
-/// warm-started settle rounds (see Hose::sag) and Hose::step() keeps settling on frames without
-/// input; a settled hose costs one comparison per frame.
+/// Per-frame gravity. When enabled, Hose::step() advances the hose by one implicit step of
+/// 1/90 s a call (call it once a frame); a hose at rest costs one comparison per call.
+/// Hose::sag() settles to rest regardless of this switch.
 struct Gravity
 {
     bool enabled = false;
     Vec3 direction = Vec3(0.0, -1.0, 0.0); ///< world; need not be unit (finite, non-zero)
 };
 
-/// Torsion as an optional degree of freedom (issue 7): the roll of an attachment's frame about
+/// Torsion as an optional degree of freedom: the roll of an attachment's frame about
 /// the hose axis twists the rings; between two attachments the twist is spread over the joints
 /// between them, at most twistLimit per joint.
 struct Torsion
@@ -113,12 +114,12 @@ struct SagOptions
 {
     Vec3 gravityDirection = Vec3(0.0, -1.0, 0.0); ///< world, need not be unit (non-zero)
     int maxRounds = 4000;    ///< bound on the work: steps of Hose::step(), each O(n)
-    double tolerance = 1e-7; ///< > 0; kept for compatibility (rest is step()'s rule)
+    double tolerance = 1e-7; ///< > 0; not used: rest is decided by step()'s rule
 };
 
 struct SagResult
 {
-    UpdateResult update;  ///< constraint state after the final exact pass
+    UpdateResult update;  ///< constraint state of the final shape
     int rounds = 0;       ///< steps used
     bool settled = false; ///< converged within maxRounds
 };
@@ -155,7 +156,8 @@ struct SagResult
 ///  * Infeasible requests: see Status::Clamped and Status::Infeasible.
 ///  * A hose whose current shape violates its constraints (e.g. a route with corners sharper
 ///    than the bend limit, or after tightening the material) stays as it is until a point is
-///    moved; settle() re-imposes the constraints.
+///    moved; settle() re-imposes the constraints, and with gravity on each step() brings it
+///    nearer to valid.
 class Hose
 {
 public:
@@ -263,18 +265,21 @@ public:
     SagResult sag(const SagOptions& options = SagOptions());
 
     /// Per-frame gravity (HoseSpec::gravity; beyond the paper): one implicit step of 1/90 s.
-    /// The free points' predicted positions (their velocity, damped to 0.9 a step, plus
-    /// gravity at 9.81 m/s²) are projected onto the constraints: the mass-weighted closest
-    /// state with every length in its band, every joint within its limit and, with colliders,
-    /// every point outerRadius() outside the tangent plane of its nearest collider (a touching
-    /// point keeps no velocity). Bounded: at most two projections of a few O(n) Newton steps
-    /// (the second from rest); when neither ends valid the hose stays where it is, at rest.
-    /// Moves made by grabs and attachments carry no velocity. Fixed points and the held point
-    /// (the last grabbed, until releaseGrab()) stay. A hose at rest (no point moved more than
-    /// 1e-6 of a mean segment in a step, or no lower by 1 % of a segment in 120 steps) or with
-    /// gravity off costs one comparison until an input changes (any revision()); a hose with
-    /// nothing fixed and nothing held does not fall. Deterministic. Returns the constraint
-    /// state; movedPoints is 0 when nothing was done, iterations the projection's Newton steps.
+    /// The free points' predicted positions (their velocity, damped to 0.9 a step, plus the
+    /// fall under 9.81 m/s²) are projected onto the constraints by at most 8 O(n) Newton steps
+    /// of the smallest mass-weighted move: every length in its band, every joint within its
+    /// limit and, with colliders, every point outerRadius() outside the tangent plane of its
+    /// nearest collider (a touching point keeps no velocity); a projection that ends close is
+    /// finished exactly by the span solver. Bounded: at most 4 attempts (then from rest, with
+    /// the fall, a quarter and a sixteenth of it); when none ends valid the hose stays where it
+    /// is, at rest. After every call every constraint holds (1e-9). Moves made by grabs and
+    /// attachments carry no velocity; fixed points and the held point (the last grabbed, until
+    /// releaseGrab()) stay. A shape that violates its constraints is brought nearer to valid
+    /// instead of falling. At rest (no point moved more than 1e-6 of a mean segment in a step,
+    /// or no lower by 1 % of a mean segment in 120 steps), with gravity off, or with nothing
+    /// fixed and nothing held, a call costs one comparison until an input changes (any
+    /// revision()). Deterministic. Returns the constraint state; movedPoints is 0 when nothing
+    /// was done, iterations the Newton steps.
     UpdateResult step();
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
     /// releaseGrab() frees it; a grab of another point moves the hold there.
@@ -291,7 +296,7 @@ public:
     /// the scene use it to skip hoses whose inputs did not change.
     std::uint64_t revision() const { return m_revision; }
 
-    // --- collision with scene objects (issue 7; opt-in, one branch per update without) ------
+    // --- collision with scene objects (opt-in, one branch per update without) --------------
     /// Make the hose stay outside these colliders (shared with other hoses; moving a collider's
     /// frame moves it for all). Every grab, attachment move and gravity step then ends with a
     /// continuous check of each moved point from its previous position (a sphere of
@@ -327,6 +332,12 @@ private:
 
     /// settle(), with `held` (≥ 0) pinned like a fixed point.
     UpdateResult settleFrom(int held);
+    /// Makes a shape that nearly holds its constraints hold them exactly, without giving way:
+    /// the spans between pinned points (fixed, and `held` ≥ 0) by the span solver from the
+    /// current positions, the free tails by the paper's pass (`before`: the positions before
+    /// the update, for its fold-back rule). Bounded (the span solver's steps per span, one
+    /// pass). Returns whether every constraint holds; the points may have moved either way.
+    bool closeSpans(int held, const std::vector<Vec3>& before, int& iterations);
     /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
     double turnExcess(size_t j, const std::vector<Vec3>& points) const;
 
@@ -349,7 +360,7 @@ private:
     std::vector<double> m_chordLimit2; ///< 4 sin²(θ/2) + tolerance, the solver's turn test
     std::vector<unsigned char> m_fixed;
     std::vector<Attachment> m_attachments;
-    std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs
+    std::vector<Vec3> m_scratch; ///< the shape before the current update (restored if it fails)
     int m_nextAttachmentId = 1;
     int m_held = -1;                      ///< see heldPoint()
     int m_edgePoint = -1;                 ///< point last grabbed to the edge of its reach
@@ -364,7 +375,7 @@ private:
     int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
-    /// upper bound, −1 lower), bend; kept from update to update.
+    /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;
     std::uint64_t m_revision = 1;
 
