@@ -554,7 +554,7 @@ void Document::poseChanged(const NodeKey& node)
                 ids.push_back(attachment.id);
             const std::vector<Frame> frames = posedAttachmentFrames(definition);
             if (ids.size() == frames.size())
-                hoseObject.moveAttachments(ids, frames);
+                (void)hoseObject.moveAttachments(ids, frames); // measure() reports what it leaves in Problems
             wakeGravity(definition.id);
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
@@ -571,7 +571,7 @@ void Document::poseChanged(const NodeKey& node)
         if (!near)
             continue;
         const std::uint64_t revision = live.hose->revision();
-        live.hose->resolveCollisions();
+        (void)live.hose->resolveCollisions(); // what stays is reported by measure() and clearance
         if (live.hose->revision() != revision) {
             wakeGravity(hoseId);
             emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
