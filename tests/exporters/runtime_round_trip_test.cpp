@@ -333,16 +333,16 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                     }
                 }
                 if (ids.size() == 1) {
-                    reference.hoses[h].moveAttachment(ids[0], frames[0]);
+                    (void)reference.hoses[h].moveAttachment(ids[0], frames[0]);
                 } else if (!ids.empty()) {
-                    reference.hoses[h].moveAttachments(ids, frames);
+                    (void)reference.hoses[h].moveAttachments(ids, frames);
                 } else {
                     bool nearMovedCollider = false;
                     for (const auto& collider : reference.hoses[h].colliders())
                         nearMovedCollider = nearMovedCollider ||
                                             std::find(movedColliders.begin(), movedColliders.end(),
                                                       collider.get()) != movedColliders.end();
-                    if (nearMovedCollider) reference.hoses[h].resolveCollisions();
+                    if (nearMovedCollider) (void)reference.hoses[h].resolveCollisions();
                 }
             }
             ++steps;
@@ -362,7 +362,7 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
         }
         runtime.update();
         for (size_t h = 0; h < reference.hoses.size(); ++h) {
-            if (reference.hoses[h].spec().gravity.enabled) reference.hoses[h].step();
+            if (reference.hoses[h].spec().gravity.enabled) (void)reference.hoses[h].step();
             reference.surfaces[h].update(reference.hoses[h]);
         }
         const Deviation d = compare(runtime, reference, exported);

@@ -211,7 +211,7 @@ TEST(NodePoses, BuiltHosesFollowTheMovedPartAndTheSceneCarriesThePose)
                                                        rig.findNode(definition.node))) *
                          definition.offset);
     }
-    manual.moveAttachments(ids, frames);
+    (void)manual.moveAttachments(ids, frames);
     for (int p = 0; p < manual.pointCount(); ++p)
         EXPECT_EQ(manual.point(p), after[0].point(p)) << p;
 

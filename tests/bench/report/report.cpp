@@ -542,7 +542,7 @@ double surfaceMicroseconds(int segments, int sides, int repeats)
     spec.segmentCount = segments;
     spec.profile = Profile::circle(kHoseRadius, sides);
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), kHoseLength, spec);
-    hose.grab(segments / 2, Vec3(0.5, 0.2, 0.1));
+    (void)hose.grab(segments / 2, Vec3(0.5, 0.2, 0.1));
     HoseSurface surface(hose);
     const int loops = std::max(50, 20000 / segments) * repeats;
     const auto start = std::chrono::steady_clock::now();
@@ -583,7 +583,7 @@ double frameMicroseconds(int moving, int frames, int rounds, size_t& vertexBytes
         for (int f = 0; f < frames; ++f, ++frame) {
             for (int i = 0; i < moving; ++i) {
                 const double phase = 0.05 * frame + 0.3 * i;
-                scene.hose(i).grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i));
+                (void)scene.hose(i).grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i));
             }
             scene.updateSurfaces();
         }
@@ -645,10 +645,10 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
             if (rollClamp) { // turn the clamp about the hose's axis there (+x), a quarter turn
                 Frame frame;
                 frame.rotation = Quat(Eigen::AngleAxisd(0.5 * std::numbers::pi * (f + 1) / frames, Vec3::UnitX()));
-                hose.moveAttachment(clamp, frame);
+                (void)hose.moveAttachment(clamp, frame);
             }
-            hose.grab(middle, laid + 0.02 * Vec3(std::cos(phase) - 1, std::sin(phase), 0));
-            hose.step(); // per-frame gravity; one comparison when it is off
+            (void)hose.grab(middle, laid + 0.02 * Vec3(std::cos(phase) - 1, std::sin(phase), 0));
+            (void)hose.step(); // per-frame gravity; one comparison when it is off
             surface.update(hose);
         }
         best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames);
