@@ -199,7 +199,7 @@ TEST(DocumentUndo, CommittedDragUndoesExactly)
     const std::vector<Vec3> pointsBefore = document->hose(id)->points();
     const Vec3 start = document->hose(id)->point(8);
     for (int step = 1; step <= 10; ++step)
-        document->dragHosePoint(id, 8, start + Vec3(0, 0.006 * step, 0.004 * step));
+        (void)document->dragHosePoint(id, 8, start + Vec3(0, 0.006 * step, 0.004 * step));
     EXPECT_NE(pointsBefore, document->hose(id)->points());
     EXPECT_EQ(before, document->stateFingerprint()) << "a drag is not an edit until committed";
     // (The hose may be taut before the target: compare with where the drag left it.)
@@ -222,7 +222,7 @@ TEST(DocumentUndo, DragOfAHoseFixedToAMovedPartIsRefusedWithAReason)
     moved(1, 3) += 0.02;
     document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
     const std::string id = document->project().hoses[1].id;
-    document->dragHosePoint(id, 5, document->hose(id)->point(5) + Vec3(0, 0.05, 0));
+    (void)document->dragHosePoint(id, 5, document->hose(id)->point(5) + Vec3(0, 0.05, 0));
     std::string why;
     EXPECT_FALSE(document->commitHoseDrag(id, &why));
     EXPECT_NE(why.find("moved"), std::string::npos) << why;
@@ -581,7 +581,7 @@ double dragIntoAndMeasure(Document& document, const std::string& id, int point, 
 {
     const Vec3 start = document.hose(id)->point(point);
     for (int k = 1; k <= 10; ++k)
-        document.dragHosePoint(id, point, start + (target - start) * (k / 10.0));
+        (void)document.dragHosePoint(id, point, start + (target - start) * (k / 10.0));
     const Clearance c = clearance(*document.hose(id), collider);
     document.cancelHoseDrag(id);
     return c.found ? c.distance : 1.0;

@@ -142,7 +142,7 @@ public:
             if (live->isFixed(point)) return false;
             const Vec3 start = live->point(point);
             for (int step = 1; step <= 3; ++step)
-                d.dragHosePoint(id, point, start + step * randomVector(0.01));
+                (void)d.dragHosePoint(id, point, start + step * randomVector(0.01));
             if (d.commitHoseDrag(id)) return true;
             return false; // fixed to a moved part: refused, the shape was restored
         }

@@ -182,7 +182,7 @@ TEST_F(RendererTest, OnlyTheDraggedHoseIsUploadedPerFrame)
     EXPECT_EQ(m_renderer.lastStats().hosesDrawn, 2);
     render();
     EXPECT_EQ(m_renderer.lastStats().hosesUploaded, 0);
-    m_document.dragHosePoint("left-feed", 8,
+    (void)m_document.dragHosePoint("left-feed", 8,
                              m_document.hose("left-feed")->point(8) + Vec3(0, 0.03, 0));
     render();
     EXPECT_EQ(m_renderer.lastStats().hosesUploaded, 1);
