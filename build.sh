@@ -10,6 +10,11 @@
 #   ./build.sh fuzz [SECONDS [TARGET...]]  build the libFuzzer targets with clang (preset fuzz,
 #                     build-fuzz/) and run each (or the TARGETs: project descriptor gltf
 #                     scene_import) for SECONDS (default 60) from its seeds and earlier finds
+#   ./build.sh web [PORT]  install emscripten, build, export the samples, then serve the web
+#                     viewer (exporters/viewer) on http://127.0.0.1:PORT (default 8000)
+#
+# Every build also builds the runtime as WebAssembly (preset wasm, build-wasm/) when Debian's
+# emscripten is installed; `test` and `web` install it (and chromium, for the browser tests).
 #
 # Safe to run again: it installs only what is missing and rebuilds incrementally (ccache).
 set -euo pipefail
@@ -33,6 +38,10 @@ debian_packages=(
 # Only for `./build.sh fuzz`: clang 14 with the libFuzzer/ASan/UBSan runtimes, llvm-symbolizer.
 fuzz_packages=(clang libclang-rt-14-dev llvm)
 
+# For `./build.sh test` and `web`: emscripten builds the WebAssembly runtime; the browser tests
+# run the web viewer in chromium (headless, driven by puppeteer-core from npm).
+web_packages=(emscripten chromium)
+
 install_missing_packages() {
   local missing=()
   for package in "${debian_packages[@]}" "$@"; do
@@ -48,18 +57,22 @@ install_missing_packages() {
     "${missing[@]}" >/dev/null
 }
 
-# The real glTF clients of the exporter tests (Khronos glTF-Validator, three.js) come from npm,
-# pinned by tests/clients/package-lock.json; installed once, when node_modules is missing.
-install_test_clients() {
-  [ -d tests/clients/node_modules ] && return 0
-  if ! command -v npm >/dev/null; then
-    echo "build.sh: npm not found: installing Debian's nodejs and npm" >&2
-    local sudo=""
-    [ "$(id -u)" -ne 0 ] && sudo="sudo"
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
-      nodejs npm >/dev/null
-  fi
-  (cd tests/clients && npm ci --no-audit --no-fund --loglevel=error)
+# npm packages, pinned by each folder's package-lock.json: the real clients of the tests
+# (tests/clients: Khronos glTF-Validator, three.js, puppeteer-core) and the web viewer's three.js
+# (exporters/viewer). `npm ci` runs when node_modules is missing or older than the lock file.
+install_npm_packages() {
+  local folder
+  for folder in "$@"; do
+    [ "$folder/node_modules/.package-lock.json" -nt "$folder/package-lock.json" ] && continue
+    if ! command -v npm >/dev/null; then
+      echo "build.sh: npm not found: installing Debian's nodejs and npm" >&2
+      local sudo=""
+      [ "$(id -u)" -ne 0 ] && sudo="sudo"
+      DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
+        nodejs npm >/dev/null
+    fi
+    (cd "$folder" && npm ci --no-audit --no-fund --loglevel=error)
+  done
 }
 
 # The main job: export the bundled samples to glTF hose rigs in build/export and validate them.
@@ -83,8 +96,32 @@ export_samples() {
 }
 
 build() {
+  build_native
+  build_wasm
+}
+
+build_native() {
   cmake --preset default >/dev/null
   cmake --build --preset default
+}
+
+# The runtime as a WebAssembly ES module with its JavaScript API: build-wasm/chaintube/ (only
+# the runtime's sources, one Release configuration; the preset sets NODE_PATH for emscripten).
+build_wasm() {
+  if ! command -v emcmake >/dev/null; then
+    echo "build.sh: emscripten is not installed: skipping the WebAssembly runtime (build-wasm/)" >&2
+    return 0
+  fi
+  cmake --preset wasm >/dev/null
+  cmake --build --preset wasm
+}
+
+# Serves the repository on 127.0.0.1:PORT; the viewer opens the exported test rig.
+serve_viewer() {
+  local port=${1:-8000}
+  echo "build.sh: the web viewer: http://127.0.0.1:$port/exporters/viewer/?file=../../build/export/test-rig.glb" >&2
+  echo "build.sh: (any export: Open…, or drop a .glb on the page; Ctrl+C stops the server)" >&2
+  python3 -m http.server --bind 127.0.0.1 --directory . "$port"
 }
 
 # Prints how long a phase took and the CPU it used (user + sys of every process it waited for),
@@ -158,9 +195,10 @@ case "${1:-}" in
     export_samples
     ;;
   test)
-    install_missing_packages "${fuzz_packages[@]}"
-    install_test_clients
-    timed "build (default)" build
+    install_missing_packages "${fuzz_packages[@]}" "${web_packages[@]}"
+    install_npm_packages tests/clients exporters/viewer
+    timed "build (default)" build_native
+    timed "build (wasm)" build_wasm
     timed "tests (default)" ctest --preset default
     # The hardening jobs of CI (tests/README.md; their cost in tests/bench/PERFORMANCE-NOTES.md).
     timed "build + tests (asan)" sanitize
@@ -176,8 +214,15 @@ case "${1:-}" in
     build_fuzzers
     run_fuzzers "${2:-60}" explore "${@:3}"
     ;;
+  web)
+    install_missing_packages "${web_packages[@]}"
+    install_npm_packages exporters/viewer
+    build
+    export_samples
+    serve_viewer "${2:-8000}"
+    ;;
   *)
-    echo "usage: $0 run|test|sanitize|fuzz [SECONDS [TARGET...]]" >&2
+    echo "usage: $0 run|test|sanitize|fuzz [SECONDS [TARGET...]]|web [PORT]" >&2
     exit 2
     ;;
 esac

@@ -1,8 +1,10 @@
-#include "chaintube/formats/project_hoses.h"
-
 #include "chaintube/formats/collider_exemption.h"
+#include "chaintube/formats/project_hoses.h"
+#include "chaintube/material.h"
+#include "chaintube/route.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace chaintube::formats {
 
@@ -26,11 +28,191 @@ Profile profileOf(const HoseDefinition& hose)
     throw InvalidArgument("hose '" + hose.id + "': unknown profile shape");
 }
 
+/// A route this close to a valid shape of its hose (relative length excess beyond the stretch
+/// band, radians beyond a bend limit) is taken as the axis as it is.
+constexpr double kShapeTolerance = 1e-6;
+
+bool holdsConstraints(const Hose& hose)
+{
+    const UpdateResult violation = hose.measureViolation();
+    return violation.lengthViolation <= kShapeTolerance &&
+           violation.angleViolation <= kShapeTolerance;
+}
+
+int segmentsForLength(const HoseDefinition& hose, double length)
+{
+    if (hose.segmentCount > 0) return hose.segmentCount;
+    const double count = std::round(length / hose.segmentLength);
+    if (!(count <= 1e6))
+        throw InvalidArgument("hose '" + hose.id + "': segment length " +
+                              std::to_string(hose.segmentLength) +
+                              " m gives more than 1,000,000 "
+                              "segments for a " +
+                              std::to_string(length) + " m hose");
+    return std::max(1, static_cast<int>(count));
+}
+
+/// Where `segments` steps of chord `chord` from the polyline's first point lead, each step to
+/// the first point farther along the polyline at that straight distance from the last: the
+/// arc-length position reached (beyond the polyline's length when it ran out) and the points.
+double walkChords(const std::vector<Vec3>& polyline, int segments, double chord,
+                  std::vector<Vec3>* points)
+{
+    if (points) points->assign(1, polyline.front());
+    Vec3 from = polyline.front();
+    size_t leg = 0;   // the polyline segment [leg, leg + 1] the walk is on
+    double along = 0; // arc length of polyline[leg]
+    Vec3 at = from;   // where on that segment the walk is
+    for (int step = 0; step < segments; ++step) {
+        for (;;) {
+            if (leg + 1 >= polyline.size()) // ran out: count the steps left as overshoot
+                return along + chord * (segments - step);
+            const Vec3& b = polyline[leg + 1];
+            if ((b - from).norm() < chord) { // the whole rest of this leg is nearer: next leg
+                along += (b - polyline[leg]).norm();
+                at = b;
+                ++leg;
+                continue;
+            }
+            // The point at + t (b − at), t ∈ [0, 1], at distance `chord` from `from`.
+            const Vec3 d = b - at, f = at - from;
+            const double qa = d.squaredNorm(), qb = 2.0 * d.dot(f),
+                         qc = f.squaredNorm() - chord * chord;
+            const double t =
+                qa > 0.0 ? std::clamp((-qb + std::sqrt(std::max(0.0, qb * qb - 4.0 * qa * qc))) /
+                                          (2.0 * qa),
+                                      0.0, 1.0)
+                         : 1.0;
+            at = at + t * d;
+            break;
+        }
+        from = at;
+        if (points) points->push_back(at);
+    }
+    return along + (at - polyline[leg]).norm();
+}
+
+/// `segments` + 1 points along the polyline from its first to its last point with all chords
+/// equal (a hose laid there is at rest with equal rest lengths; equal arc-length samples are
+/// shorter on curves). The chord is found by regula falsi (Illinois) on where the walk ends.
+std::vector<Vec3> equalChordPoints(const std::vector<Vec3>& polyline, int segments)
+{
+    const double total = polylineLength(polyline);
+    double low = 0.0, high = total / segments; // walks ending short of / at or past the end
+    double lowMiss = -total, highMiss = walkChords(polyline, segments, high, nullptr) - total;
+    double chord = high;
+    int side = 0;
+    for (int round = 0;
+         round < 100 && std::abs(highMiss) > 1e-14 * total && high - low > 1e-15 * high; ++round) {
+        chord = (low * highMiss - high * lowMiss) / (highMiss - lowMiss);
+        if (!(chord > low && chord < high)) chord = 0.5 * (low + high);
+        const double miss = walkChords(polyline, segments, chord, nullptr) - total;
+        if (miss < 0.0) {
+            low = chord, lowMiss = miss;
+            if (side == -1) highMiss *= 0.5;
+            side = -1;
+        } else {
+            high = chord, highMiss = miss;
+            if (side == +1) lowMiss *= 0.5;
+            side = +1;
+        }
+        if (miss == 0.0) break;
+    }
+    std::vector<Vec3> points;
+    walkChords(polyline, segments, high, &points);
+    points.resize(static_cast<size_t>(segments) + 1, polyline.back());
+    points.back() = polyline.back();
+    return points;
+}
+
+/// The route with its corners rounded as Hose::alongRoute rounds them (the minimum bend radius,
+/// 0.1 % larger so the chords stay inside the bend limit, at most the legs allow).
+std::vector<Vec3> roundedRoute(const std::vector<Vec3>& route, const HoseSpec& spec, int segments)
+{
+    const double rawLength = polylineLength(route);
+    const double nominalSegment = rawLength / segments;
+    const BendLimit& limit = spec.material.bendLimit;
+    double radius = limit.kind == BendLimit::Kind::MinBendRadius
+                        ? limit.value
+                        : bendRadiusOfTurn(nominalSegment, limit.value);
+    radius = std::min(radius * 1.001, 1e3 * rawLength);
+    return filletRoute(route, radius, std::max(nominalSegment / 32.0, 1e-9 * rawLength));
+}
+
+/// Step 1 of buildHose(): the hose's shape before any attachment, every rest length
+/// length / segments.
+Hose layOut(const Project& project, const HoseDefinition& definition)
+{
+    HoseSpec spec = hoseSpecOf(project, definition);
+    if (!definition.length) return Hose::alongRoute(definition.route, spec);
+    const double length = *definition.length;
+    if (!(length > 0.0) || !std::isfinite(length))
+        throw InvalidArgument("hose '" + definition.id +
+                              "': length: expected a length > 0 m, got " + std::to_string(length));
+    const int segments = segmentsForLength(definition, length);
+    spec.segmentCount = segments;
+    const std::vector<double> rest(static_cast<size_t>(segments), length / segments);
+    if (definition.route.size() == static_cast<size_t>(segments) + 1) {
+        Hose asLaid = Hose::fromAxis(definition.route, rest, spec);
+        if (holdsConstraints(asLaid)) return asLaid;
+    }
+    spec.validate();
+    return Hose::fromAxis(
+        equalChordPoints(roundedRoute(definition.route, spec, segments), segments), rest, spec);
+}
+
+/// Step 2 of buildHose(): the attachments at the file pose.
+void attachAtFilePose(Hose& hose, const HoseDefinition& definition, const ImportedScenes& scenes)
+{
+    for (const HoseAttachment& attachment : definition.attachments) {
+        const auto scene = scenes.find(attachment.scene);
+        if (scene == scenes.end())
+            throw InvalidArgument("hose '" + definition.id + "': scene '" + attachment.scene +
+                                  "' is not imported");
+        const int node = scene->second.findNode(attachment.node);
+        if (node < 0)
+            throw InvalidArgument("hose '" + definition.id + "': scene '" + attachment.scene +
+                                  "' has no node '" + attachment.node + "'");
+        if (attachment.lastPoint >= hose.pointCount())
+            throw InvalidArgument("hose '" + definition.id + "': attachment points [" +
+                                  std::to_string(attachment.firstPoint) + ", " +
+                                  std::to_string(attachment.lastPoint) + "] outside the hose's " +
+                                  std::to_string(hose.pointCount()) + " axis points");
+        Frame offset = attachment.offset;
+        offset.rotation.normalize();
+        hose.attach(attachment.firstPoint, attachment.lastPoint,
+                    scene->second.worldFrame(node) * offset);
+    }
+}
+
+/// Step 3 of buildHose() (and withLength()): settle() with the route's two ends held where
+/// they are (a hose that gets longer bows between them instead of reaching past the end);
+/// when it cannot reach, the last point is let go unless an attachment holds it.
+UpdateResult settleBetweenRouteEnds(Hose& hose)
+{
+    std::vector<int> pins;
+    const int last = hose.pointCount() - 1;
+    if (!hose.isFixed(0)) pins.push_back(hose.attach(0, 0, Frame::identity()));
+    int endPin = -1;
+    if (!hose.isFixed(last)) {
+        endPin = hose.attach(last, last, Frame::identity());
+        pins.push_back(endPin);
+    }
+    UpdateResult result = hose.settle();
+    if (!result.ok() && endPin >= 0) {
+        hose.detach(endPin);
+        pins.pop_back();
+        result = hose.settle();
+    }
+    for (int pin : pins)
+        hose.detach(pin);
+    return result;
+}
+
 /// Node index of every pose of the project in scene `sceneId` (−1 entries never occur: an
 /// unknown node path throws).
-std::vector<std::pair<int, const NodePose*>> posesOfScene(const Project& project,
-                                                          const ImportedScenes& scenes,
-                                                          const std::string& sceneId)
+std::vector<std::pair<int, const NodePose*>>
+posesOfScene(const Project& project, const ImportedScenes& scenes, const std::string& sceneId)
 {
     std::vector<std::pair<int, const NodePose*>> found;
     for (size_t i = 0; i < project.poses.size(); ++i) {
@@ -40,8 +222,7 @@ std::vector<std::pair<int, const NodePose*>> posesOfScene(const Project& project
         const int node = scene == scenes.end() ? -1 : scene->second.findNode(pose.node);
         if (node < 0)
             throw InvalidArgument("pose " + std::to_string(i) + " (/poses/" + std::to_string(i) +
-                                  "): scene '" + pose.scene + "' has no node '" + pose.node +
-                                  "'");
+                                  "): scene '" + pose.scene + "' has no node '" + pose.node + "'");
         found.emplace_back(node, &pose);
     }
     return found;
@@ -63,7 +244,8 @@ std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node,
                              mesh.positions[3 * v + 2]);
             positions.push_back(frame.applyInverse((world * local.homogeneous()).head<3>()));
         }
-        for (std::uint32_t index : mesh.indices) indices.push_back(base + index);
+        for (std::uint32_t index : mesh.indices)
+            indices.push_back(base + index);
     }
     if (indices.empty()) return nullptr;
     return MeshCollider::fromArrays(positions, indices, frame);
@@ -73,8 +255,7 @@ Mat4 posedWorldTransform(const Project& project, const ImportedScenes& scenes,
                          const std::string& sceneId, int node)
 {
     const auto scene = scenes.find(sceneId);
-    if (scene == scenes.end())
-        throw InvalidArgument("scene '" + sceneId + "' is not imported");
+    if (scene == scenes.end()) throw InvalidArgument("scene '" + sceneId + "' is not imported");
     const std::vector<SceneNode>& nodes = scene->second.nodes;
     if (node < 0 || node >= static_cast<int>(nodes.size()))
         throw InvalidArgument("scene '" + sceneId + "' has no node " + std::to_string(node));
@@ -121,10 +302,16 @@ ImportedScenes importProjectScenes(const Project& project, const std::filesystem
             options.progress = [&](double fraction) {
                 return progress((static_cast<double>(i) + fraction) / count);
             };
-        scenes.emplace(reference.id,
-                       importScene(resolveScenePath(reference, projectFile, roots), options));
+        ImportedScene scene = importScene(resolveScenePath(reference, projectFile, roots), options);
+        placeScene(scene, reference.import.placement);
+        scenes.emplace(reference.id, std::move(scene));
     }
     return scenes;
+}
+
+void placeScene(ImportedScene& scene, const Vec3& placement)
+{
+    if (!scene.nodes.empty()) scene.nodes[0].localTransform.block<3, 1>(0, 3) += placement;
 }
 
 HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose)
@@ -140,28 +327,40 @@ HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose)
     return spec;
 }
 
-Hose buildHose(const Project& project, const HoseDefinition& definition,
-               const ImportedScenes& scenes)
+double routeRestLength(const Project& project, const HoseDefinition& hose)
 {
-    Hose hose = Hose::alongRoute(definition.route, hoseSpecOf(project, definition));
-    for (const HoseAttachment& attachment : definition.attachments) {
-        const auto scene = scenes.find(attachment.scene);
-        if (scene == scenes.end())
-            throw InvalidArgument("hose '" + definition.id + "': scene '" + attachment.scene +
-                                  "' is not imported");
-        const int node = scene->second.findNode(attachment.node);
-        if (node < 0)
-            throw InvalidArgument("hose '" + definition.id + "': scene '" + attachment.scene +
-                                  "' has no node '" + attachment.node + "'");
-        if (attachment.lastPoint >= hose.pointCount())
-            throw InvalidArgument("hose '" + definition.id + "': attachment points [" +
-                                  std::to_string(attachment.firstPoint) + ", " +
-                                  std::to_string(attachment.lastPoint) + "] outside the hose's " +
-                                  std::to_string(hose.pointCount()) + " axis points");
-        Frame offset = attachment.offset;
-        offset.rotation.normalize();
-        hose.attach(attachment.firstPoint, attachment.lastPoint,
-                    scene->second.worldFrame(node) * offset);
+    const HoseSpec spec = hoseSpecOf(project, hose);
+    const int segments = Hose::alongRoute(hose.route, spec).segmentCount();
+    // An axis of the hose (a committed drag, a generated sample): as long as it is, when it is
+    // a valid shape at its mean chord.
+    if (hose.route.size() == static_cast<size_t>(segments) + 1) {
+        const double length = polylineLength(hose.route);
+        HoseSpec counted = spec;
+        counted.segmentCount = segments;
+        const Hose asLaid = Hose::fromAxis(
+            hose.route, std::vector<double>(static_cast<size_t>(segments), length / segments),
+            counted);
+        if (holdsConstraints(asLaid)) return length;
+    }
+    const std::vector<Vec3> points =
+        equalChordPoints(roundedRoute(hose.route, spec, segments), segments);
+    return segments * (points[1] - points[0]).norm();
+}
+
+double hoseLength(const Project& project, const HoseDefinition& hose)
+{
+    return hose.length ? *hose.length : routeRestLength(project, hose);
+}
+
+Hose buildHose(const Project& project, const HoseDefinition& definition,
+               const ImportedScenes& scenes, UpdateResult* lastUpdate)
+{
+    if (lastUpdate) *lastUpdate = UpdateResult();
+    Hose hose = layOut(project, definition);
+    attachAtFilePose(hose, definition, scenes);
+    if (definition.length && !holdsConstraints(hose)) {
+        const UpdateResult settled = settleBetweenRouteEnds(hose);
+        if (lastUpdate) *lastUpdate = settled;
     }
     // Pose overrides: the attachments go to the posed frames in one update (the editor's
     // Document does the same when it rebuilds a hose).
@@ -185,16 +384,64 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
             frames.push_back(
                 rigidPart(posedWorldTransform(project, scenes, attachment.scene, node)) * offset);
         }
-        (void)hose.moveAttachments(ids, frames); // what it leaves is reported by measure() in the export checks
+        const UpdateResult moved = hose.moveAttachments(ids, frames);
+        // Without a caller that asks, the hose itself keeps what the move could not do:
+        // measure() and Hose::attachmentGap report it to whoever draws or exports it.
+        if (lastUpdate) *lastUpdate = moved;
     }
     return hose;
 }
 
-bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId, const std::string& nodePath)
+HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
+                          const ImportedScenes& scenes, double length)
 {
-    return std::any_of(hose.attachments.begin(), hose.attachments.end(), [&](const HoseAttachment& a) {
-        return a.scene == sceneId && attachmentExemptsPath(a.node, nodePath);
-    });
+    if (!(length > 0.0) || !std::isfinite(length))
+        throw InvalidArgument("hose '" + hose.id + "': length: expected a length > 0 m, got " +
+                              std::to_string(length));
+    Hose current = layOut(project, hose);
+    attachAtFilePose(current, hose, scenes);
+    HoseDefinition changed = hose;
+    changed.length = length;
+    const int segments = segmentsForLength(hose, length);
+    std::vector<Vec3> points = current.points();
+    if (segments != current.segmentCount()) {
+        points = resampleByArcLength(points, segments);
+        const int shift = segments - current.segmentCount();
+        for (HoseAttachment& attachment : changed.attachments)
+            if (attachment.lastPoint == current.segmentCount()) {
+                attachment.firstPoint = std::max(0, attachment.firstPoint + shift);
+                attachment.lastPoint += shift;
+            }
+        for (size_t a = 0; a < changed.attachments.size(); ++a)
+            for (size_t b = 0; b < a; ++b)
+                if (changed.attachments[a].firstPoint <= changed.attachments[b].lastPoint &&
+                    changed.attachments[b].firstPoint <= changed.attachments[a].lastPoint)
+                    throw InvalidArgument("hose '" + hose.id + "': at " + std::to_string(length) +
+                                          " m its " + std::to_string(segments) +
+                                          " segments leave no room between its attachments");
+    }
+    // Settled with no stretch: the new length shows where it goes (as slack between the
+    // held ends, or pulled in), not as segments compressed or stretched within their band.
+    HoseSpec inextensible = hoseSpecOf(project, hose);
+    inextensible.segmentCount = segments;
+    inextensible.material.expansionCoefficient = 0.0;
+    Hose laid = Hose::fromAxis(
+        points, std::vector<double>(static_cast<size_t>(segments), length / segments),
+        inextensible);
+    attachAtFilePose(laid, changed, scenes);
+    // Its status shows in the hose built from the result (measure(), Hose::attachmentGap).
+    static_cast<void>(settleBetweenRouteEnds(laid));
+    changed.route = laid.points();
+    return changed;
+}
+
+bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId,
+                       const std::string& nodePath)
+{
+    return std::any_of(hose.attachments.begin(), hose.attachments.end(),
+                       [&](const HoseAttachment& a) {
+                           return a.scene == sceneId && attachmentExemptsPath(a.node, nodePath);
+                       });
 }
 
 int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,
@@ -204,16 +451,18 @@ int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Proje
     std::vector<std::shared_ptr<const MeshCollider>> used;
     for (const ColliderNode& collider : project.colliders) {
         const auto scene = scenes.find(collider.scene);
-        if (scene == scenes.end() || attachmentsExempt(definition, collider.scene, collider.node)) continue;
+        if (scene == scenes.end() || attachmentsExempt(definition, collider.scene, collider.node))
+            continue;
         const int node = scene->second.findNode(collider.node);
         if (node < 0) continue;
-        if (std::shared_ptr<MeshCollider> mesh =
-                nodeCollider(scene->second, node, posedWorldTransform(project, scenes, collider.scene, node)))
+        if (std::shared_ptr<MeshCollider> mesh = nodeCollider(
+                scene->second, node, posedWorldTransform(project, scenes, collider.scene, node)))
             used.push_back(std::move(mesh));
     }
     hose.setColliders(std::move(used));
     int steps = 0;
-    while (steps < stepBudget && hose.step().movedPoints > 0) ++steps;
+    while (steps < stepBudget && hose.step().movedPoints > 0)
+        ++steps;
     hose.setColliders({});
     hose.markSettled();
     return steps;

@@ -52,11 +52,12 @@ bool HoseDefinition::operator==(const HoseDefinition& o) const
 {
     const bool sameResolution =
         segmentCount == o.segmentCount && (segmentCount > 0 || segmentLength == o.segmentLength);
-    return id == o.id && name == o.name && route == o.route && material == o.material &&
-           profile == o.profile && outerDiameter == o.outerDiameter && sameResolution &&
-           colour == o.colour && roughness == o.roughness && attachments == o.attachments &&
-           gravity.enabled == o.gravity.enabled && gravity.direction == o.gravity.direction &&
-           torsion.enabled == o.torsion.enabled && torsion.twistLimit == o.torsion.twistLimit;
+    return id == o.id && name == o.name && route == o.route && length == o.length &&
+           material == o.material && profile == o.profile && outerDiameter == o.outerDiameter &&
+           sameResolution && colour == o.colour && roughness == o.roughness &&
+           attachments == o.attachments && gravity.enabled == o.gravity.enabled &&
+           gravity.direction == o.gravity.direction && torsion.enabled == o.torsion.enabled &&
+           torsion.twistLimit == o.torsion.twistLimit;
 }
 
 Project Project::withStandardPresets(std::string name)

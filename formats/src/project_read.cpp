@@ -1,14 +1,15 @@
 // Reading *.ctproj: a hand-written validator over nlohmann::json that reports the file, the
 // JSON pointer and what was expected (no C++ JSON Schema library exists in Debian 12).
 #include "chaintube/formats/project.h"
+#include "chaintube/formats/project_hoses.h"
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 #include <sstream>
-#include <numbers>
 
 namespace chaintube::formats {
 
@@ -22,14 +23,13 @@ namespace {
 // the stack.
 // Real projects are far below them (the 50-hose sample: 52 KB, 1,200 axis points).
 constexpr std::size_t kMaxProjectFileBytes = std::size_t{64} << 20; // 64 MiB of JSON
-constexpr int kMaxJsonDepth = 64;                // nesting of arrays and objects
-constexpr std::size_t kMaxJsonValues = 2000000; // values in the document (~150 MB DOM)
+constexpr int kMaxJsonDepth = 64;                                   // nesting of arrays and objects
+constexpr std::size_t kMaxJsonValues = 2000000;  // values in the document (~150 MB DOM)
 constexpr std::size_t kMaxProjectHoses = 100000; // hoses in one project
 constexpr std::size_t kMaxRoutePoints = 100000;  // route points of one hose
 // Axis points of all hoses together (segmentCount + 1 each; with segmentLength, the route
 // length divided by it).
 constexpr std::size_t kMaxProjectAxisPoints = 10000000;
-
 
 std::string describe(const json& value)
 {
@@ -219,8 +219,9 @@ Material readMaterialValues(const Cursor& cursor, std::initializer_list<const ch
         material.bendLimit = {BendLimit::Kind::MinBendRadius,
                               limit.key("minBendRadius").number(0, true, HUGE_VAL, false)};
     } else {
-        material.bendLimit = {BendLimit::Kind::DeflectionAngle,
-                              limit.key("deflectionAngle").number(0, true, std::numbers::pi, false)};
+        material.bendLimit = {
+            BendLimit::Kind::DeflectionAngle,
+            limit.key("deflectionAngle").number(0, true, std::numbers::pi, false)};
     }
     return material;
 }
@@ -360,10 +361,13 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
                     ProjectLoadReport& report)
 {
     const fs::path projectDirectory = fs::absolute(file).parent_path();
-    const bool newerMinor = [&] {
+    const int fileMinor = [&] {
         const Cursor root(document, "", file, false, nullptr);
-        return readVersion(root.key("version")).second > kProjectFormatMinor;
+        return readVersion(root.key("version")).second;
     }();
+    const bool newerMinor = fileMinor > kProjectFormatMinor;
+    // Before 1.3 a hose was as long as its route: that length becomes its own (see below).
+    const bool migrateLengths = fileMinor < 3;
     const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
     root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "poses",
                  "colliders", "export"});
@@ -383,7 +387,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         scene.path = entry.key("path").string();
         checkPath(entry.key("path"), scene.path, projectDirectory, options.roots);
         const Cursor import = entry.key("import");
-        import.object({"metresPerUnit", "upAxis", "chordalTolerance", "angularTolerance"});
+        import.object(
+            {"metresPerUnit", "upAxis", "chordalTolerance", "angularTolerance", "placement"});
         if (auto unit = import.optionalKey("metresPerUnit"))
             scene.import.metresPerUnit = unit->number(0, false, HUGE_VAL, false);
         if (auto up = import.optionalKey("upAxis")) {
@@ -397,7 +402,10 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         }
         scene.import.chordalTolerance =
             import.key("chordalTolerance").number(0, false, HUGE_VAL, false);
-        scene.import.angularTolerance = import.key("angularTolerance").number(0, false, std::numbers::pi, true);
+        scene.import.angularTolerance =
+            import.key("angularTolerance").number(0, false, std::numbers::pi, true);
+        if (const auto placement = import.optionalKey("placement")) // 1.3
+            scene.import.placement = readVec3(*placement);
         project.scenes.push_back(std::move(scene));
     }
 
@@ -422,8 +430,9 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     double projectAxisPoints = 0; // limit: kMaxProjectAxisPoints (a hostile file must not OOM)
     for (size_t i = 0, n = hoses.arraySize(0, kMaxProjectHoses); i < n; ++i) {
         const Cursor entry = hoses[i];
-        entry.object({"id", "name", "route", "material", "profile", "outerDiameter", "segmentCount",
-                      "segmentLength", "colour", "roughness", "attachments", "gravity", "torsion"});
+        entry.object({"id", "name", "route", "length", "material", "profile", "outerDiameter",
+                      "segmentCount", "segmentLength", "colour", "roughness", "attachments",
+                      "gravity", "torsion"});
         HoseDefinition hose;
         hose.id = entry.key("id").string();
         if (!hoseIds.insert(hose.id).second)
@@ -436,6 +445,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             if (p > 0 && hose.route[p] == hose.route[p - 1])
                 route[p].fail("expected a route point distinct from the previous one");
         }
+        if (const auto length = entry.optionalKey("length")) // 1.3
+            hose.length = length->number(0, false, HUGE_VAL, false);
 
         const Cursor material = entry.key("material");
         if (material.raw().is_string()) {
@@ -465,8 +476,9 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         double routeLength = 0;
         for (size_t p = 1; p < hose.route.size(); ++p)
             routeLength += (hose.route[p] - hose.route[p - 1]).norm();
-        projectAxisPoints += 1.0 + (byCount ? double(hose.segmentCount)
-                                            : std::min(1e7, routeLength / hose.segmentLength));
+        projectAxisPoints +=
+            1.0 + (byCount ? double(hose.segmentCount)
+                           : std::min(1e7, hose.length.value_or(routeLength) / hose.segmentLength));
         if (projectAxisPoints > double(kMaxProjectAxisPoints))
             entry.key(byCount ? "segmentCount" : "segmentLength")
                 .fail("the project's hoses together would have more than " +
@@ -519,6 +531,14 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             hose.torsion.twistLimit =
                 torsion->key("twistLimit").number(0, false, 3.141592653589793, true);
         }
+        if (migrateLengths && !hose.length) {
+            // The length the hose had when the file was written. A hose that cannot be laid
+            // out (e.g. a profile out of range) stays without one: building it reports why.
+            try {
+                hose.length = routeRestLength(project, hose);
+            } catch (const InvalidArgument&) {
+            }
+        }
         project.hoses.push_back(std::move(hose));
     }
 
@@ -552,7 +572,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             const double determinant = pose.localTransform.topLeftCorner<3, 3>().determinant();
             if (!(std::abs(determinant) > 1e-12))
                 matrix.fail("expected an invertible transform (|det| of the 3x3 block > 1e-12), "
-                            "got det " + json(determinant).dump());
+                            "got det " +
+                            json(determinant).dump());
             project.poses.push_back(std::move(pose));
         }
     }
@@ -608,23 +629,27 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
         bool inString = false, escaped = false;
         for (const char c : text) {
             if (inString) {
-                if (escaped) escaped = false;
-                else if (c == '\\') escaped = true;
-                else if (c == '"') inString = false;
+                if (escaped)
+                    escaped = false;
+                else if (c == '\\')
+                    escaped = true;
+                else if (c == '"')
+                    inString = false;
                 continue;
             }
             if (c == '"') inString = true;
             if (c == '[' || c == '{') {
                 if (++depth > kMaxJsonDepth)
-                    throw ProjectFormatError(file, "", "JSON nested deeper than " +
-                                                           std::to_string(kMaxJsonDepth) +
-                                                           " levels (limit)");
+                    throw ProjectFormatError(file, "",
+                                             "JSON nested deeper than " +
+                                                 std::to_string(kMaxJsonDepth) + " levels (limit)");
             } else if (c == ']' || c == '}') {
                 --depth;
             }
             if ((c == ',' || c == '[' || c == '{') && ++values > kMaxJsonValues)
-                throw ProjectFormatError(file, "", "more than " + std::to_string(kMaxJsonValues) +
-                                                       " JSON values (limit)");
+                throw ProjectFormatError(file, "",
+                                         "more than " + std::to_string(kMaxJsonValues) +
+                                             " JSON values (limit)");
         }
         document = json::parse(text.begin(), text.end());
     } catch (const json::exception& error) { // parse_error, or out_of_range for 1e400
@@ -659,7 +684,8 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
         out.migrated = true;
     }
     // 1.0 → 1.1 added only the optional "poses", 1.1 → 1.2 the optional per-hose "gravity" and
-    // "torsion" (off when absent) and "colliders" (none): nothing to rewrite.
+    // "torsion" (off when absent) and "colliders" (none): nothing to rewrite; 1.2 → 1.3 the
+    // hose's "length", which readProject() sets from the route.
     if (major == 1 && minor < kProjectFormatMinor) out.migrated = true;
     return readProject(document, file, options, out);
 }

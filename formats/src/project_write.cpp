@@ -130,6 +130,8 @@ std::string serialiseProject(const Project& project)
             import["upAxis"] = *scene.import.upAxis == UpAxis::PositiveY ? "+Y" : "+Z";
         import["chordalTolerance"] = scene.import.chordalTolerance;
         import["angularTolerance"] = scene.import.angularTolerance;
+        if (scene.import.placement != Vec3::Zero())
+            import["placement"] = vec3(scene.import.placement);
         entry["import"] = import;
         scenes.push_back(entry);
     }
@@ -156,6 +158,7 @@ std::string serialiseProject(const Project& project)
         for (const Vec3& point : hose.route)
             route.push_back(vec3(point));
         entry["route"] = route;
+        if (hose.length) entry["length"] = *hose.length;
         if (const auto* preset = std::get_if<PresetName>(&hose.material))
             entry["material"] = preset->name;
         else

@@ -1,7 +1,5 @@
 #include "chaintube/formats/scene.h"
 
-#include <Eigen/SVD>
-
 namespace chaintube::formats {
 
 const char* toString(UnitSource source)
@@ -67,21 +65,6 @@ std::size_t ImportedScene::meshTriangleCount() const
     for (const SceneMesh& mesh : meshes)
         count += mesh.triangleCount();
     return count;
-}
-
-Frame rigidPart(const Mat4& transform)
-{
-    Frame frame;
-    frame.translation = transform.block<3, 1>(0, 3);
-    const Eigen::Matrix3d linear = transform.block<3, 3>(0, 0);
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(linear, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    const Eigen::Vector3d singular = svd.singularValues();
-    if (!(singular(2) > 1e-12 * std::max(1.0, singular(0))) || !linear.allFinite()) return frame;
-    Eigen::Matrix3d u = svd.matrixU();
-    if ((u * svd.matrixV().transpose()).determinant() < 0) u.col(2) = -u.col(2);
-    const Eigen::Matrix3d rotation = u * svd.matrixV().transpose();
-    frame.rotation = Quat(rotation).normalized();
-    return frame;
 }
 
 } // namespace chaintube::formats

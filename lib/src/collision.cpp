@@ -1,4 +1,4 @@
-// Collision with scene objects and clearance (issue 7, sections 2 and 3).
+// Collision with scene objects and clearance.
 //
 // The triangle hierarchy: median split on the longest centroid axis, ≤ 4 triangles per leaf,
 // built iteratively (degenerate inputs cannot overflow a recursion), triangles stored in leaf

@@ -179,7 +179,7 @@ UpdateResult Hose::step()
             engine.projection.setPredicted(nullptr);
             const detail::ProjectionOutcome out = engine.projection.run(kProjectionSteps, kConverged);
             result.iterations = std::max(out.iterations, 1);
-            if (out.violation <= kCloseFrom) (void)closeSpans(m_held, start, result.iterations);
+            if (out.violation <= kCloseFrom) static_cast<void>(closeSpans(m_held, start, result.iterations));
             const UpdateResult after = measureViolation();
             const double worstBefore = std::max(before.lengthViolation, before.angleViolation);
             if (!(std::max(after.lengthViolation, after.angleViolation) < worstBefore)) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 namespace chaintube {
 
@@ -54,7 +55,6 @@ void normalizeScalar(double* x, double* y, double* z, size_t count)
 #if defined(__x86_64__) && defined(__GNUC__)
 } // namespace chaintube
 #include <immintrin.h>
-#include <numbers>
 namespace chaintube {
 namespace {
 bool cpuHasAvx2()

@@ -72,7 +72,8 @@ void BM_Frame50Hoses(benchmark::State& state)
         ++frame;
         for (int i = 0; i < moving; ++i) {
             const double phase = 0.05 * frame + 0.3 * i;
-            (void)scene.hose(i).grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i));
+            benchmark::DoNotOptimize(scene.hose(i).grab(
+                50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i)));
         }
         benchmark::DoNotOptimize(scene.updateSurfaces());
     }
@@ -101,7 +102,7 @@ namespace {
 Hose bentHose()
 {
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, benchSpec(99));
-    (void)hose.grab(50, Vec3(0.5, 0.3, 0.1));
+    benchmark::DoNotOptimize(hose.grab(50, Vec3(0.5, 0.3, 0.1)));
     return hose;
 }
 
@@ -150,7 +151,7 @@ void BM_GrabBetweenFixedEnds(benchmark::State& state)
     closer.translation = Vec3(-0.2, 0.0, 0.0);
     for (int k = 1; k <= 20; ++k) {
         closer.translation = Vec3(-0.01 * k, 0.0, 0.0);
-        (void)hose.moveAttachment(end, closer);
+        benchmark::DoNotOptimize(hose.moveAttachment(end, closer));
     }
     int frame = 0;
     for (auto _ : state) {

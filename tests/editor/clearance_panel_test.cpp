@@ -1,4 +1,4 @@
-// The problems panel's clearance check (issue 7 §3): listed with a threshold in the UI, marked
+// The problems panel's clearance check: listed with a threshold in the UI, marked
 // for the viewport, and a click selects the hose point and the object. Runs offscreen (the
 // panel is a plain list widget; no viewport is created).
 #include "problems_panel.h"

@@ -5,13 +5,12 @@
 #include "chaintube/editor/document.h"
 #include "test_support.h"
 
-#include <gtest/gtest.h>
-
 #include <Eigen/Geometry>
-
 #include <fstream>
-#include <iostream>
 #include <functional>
+#include <gtest/gtest.h>
+#include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -79,14 +78,14 @@ TEST(DocumentUndo, EveryHoseFieldChangeUndoesExactly)
     using formats::HoseDefinition;
     expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::outerDiameter,
                                                    0.031, MergeId::HoseDiameter, "diameter"));
-    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::segmentCount,
-                                                   24, MergeId::HoseSegments, "segments"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::segmentCount, 24,
+                                                   MergeId::HoseSegments, "segments"));
     expectExactUndo(*document,
                     makeChangeHoseField(*document, id, &HoseDefinition::name,
                                         std::string("renamed"), MergeId::HoseName, "name"));
     formats::Rgba colour{0.9, 0.1, 0.2, 1.0};
-    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::colour,
-                                                   colour, MergeId::HoseColour, "colour"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::colour, colour,
+                                                   MergeId::HoseColour, "colour"));
     Material material;
     material.expansionCoefficient = 0.2;
     material.bendLimit = BendLimit::deflectionAngle(0.5);
@@ -97,8 +96,8 @@ TEST(DocumentUndo, EveryHoseFieldChangeUndoesExactly)
     profile.shape = Profile::Shape::Rectangle;
     profile.width = 0.03;
     profile.height = 0.012;
-    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::profile,
-                                                   profile, MergeId::HoseProfile, "profile"));
+    expectExactUndo(*document, makeChangeHoseField(*document, id, &HoseDefinition::profile, profile,
+                                                   MergeId::HoseProfile, "profile"));
 }
 
 TEST(DocumentUndo, RouteEditsUndoExactly)
@@ -199,7 +198,9 @@ TEST(DocumentUndo, CommittedDragUndoesExactly)
     const std::vector<Vec3> pointsBefore = document->hose(id)->points();
     const Vec3 start = document->hose(id)->point(8);
     for (int step = 1; step <= 10; ++step)
-        (void)document->dragHosePoint(id, 8, start + Vec3(0, 0.006 * step, 0.004 * step));
+        ASSERT_NE(
+            document->dragHosePoint(id, 8, start + Vec3(0, 0.006 * step, 0.004 * step)).status,
+            Status::InvalidInput);
     EXPECT_NE(pointsBefore, document->hose(id)->points());
     EXPECT_EQ(before, document->stateFingerprint()) << "a drag is not an edit until committed";
     // (The hose may be taut before the target: compare with where the drag left it.)
@@ -214,6 +215,214 @@ TEST(DocumentUndo, CommittedDragUndoesExactly)
     EXPECT_EQ(pointsBefore, document->hose(id)->points());
 }
 
+TEST(DocumentLength, TwentyCommittedDragsWithinTheBandKeepTheRestLengthAndTheShape)
+{
+    auto document = openTestRig();
+    const std::string id = "left-feed";
+    const double length = *document->hoseDefinition(id)->length;
+    ASSERT_NEAR(document->hose(id)->restLengthTotal(), length, 1e-12);
+    for (int drag = 0; drag < 20; ++drag) {
+        const int point = 4 + drag % 9;
+        const Vec3 start = document->hose(id)->point(point);
+        // Up and out by a centimetre, then a little more: the hose stretches within its band.
+        const Vec3 offset = Vec3(0.0, 0.004 + 0.0005 * drag, drag % 2 ? 0.006 : -0.006);
+        for (int step = 1; step <= 5; ++step)
+            static_cast<void>(document->dragHosePoint(id, point, start + offset * step / 5.0));
+        const std::vector<Vec3> dragged = document->hose(id)->points();
+        ASSERT_TRUE(document->commitHoseDrag(id, point)) << drag;
+        const Hose& hose = *document->hose(id);
+        EXPECT_NEAR(hose.restLengthTotal(), length, 1e-9) << drag;
+        EXPECT_EQ(*document->hoseDefinition(id)->length, length) << drag;
+        for (int i = 0; i < hose.pointCount(); ++i)
+            ASSERT_NEAR((hose.point(i) - dragged[size_t(i)]).norm(), 0.0, 1e-9)
+                << "drag " << drag << ": the committed hose is the dragged one, point " << i;
+        for (int s = 0; s < hose.segmentCount(); ++s) {
+            const double segment = (hose.point(s + 1) - hose.point(s)).norm();
+            EXPECT_LE(segment, hose.maxLength(s) * (1 + 1e-9)) << drag << ' ' << s;
+            EXPECT_GE(segment, hose.minLength(s) * (1 - 1e-9)) << drag << ' ' << s;
+        }
+    }
+    EXPECT_EQ(document->undoStack()->count(), 20);
+    // Save and reopen: the same shape and the same length.
+    const std::filesystem::path folder = test::outputDir() / "twenty-drags";
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder / "scenes");
+    std::filesystem::copy_file(samplesDir() / "scenes/test-rig.gltf",
+                               folder / "scenes/test-rig.gltf");
+    const std::vector<Vec3> shape = document->hose(id)->points();
+    document->save(folder / "test-rig.ctproj");
+    Document reopened(roots());
+    reopened.adopt(readProject(folder / "test-rig.ctproj", roots()));
+    EXPECT_EQ(*reopened.hoseDefinition(id)->length, length);
+    EXPECT_NEAR(reopened.hose(id)->restLengthTotal(), length, 1e-9);
+    for (int i = 0; i < reopened.hose(id)->pointCount(); ++i)
+        EXPECT_NEAR((reopened.hose(id)->point(i) - shape[size_t(i)]).norm(), 0.0, 1e-12) << i;
+}
+
+TEST(DocumentLength, AHoseWithoutALengthKeepsTheOneItHadWhenADragIsCommitted)
+{
+    auto document = openTestRig();
+    const std::string id = test::addCantilever(*document); // made in code: no length of its own
+    ASSERT_FALSE(document->hoseDefinition(id)->length);
+    const double length = document->hose(id)->restLengthTotal();
+    const Vec3 end = document->hose(id)->point(16);
+    static_cast<void>(document->dragHosePoint(id, 16, end + Vec3(-0.05, 0.0, 0.0)));
+    ASSERT_GT(document->hose(id)->currentLength(), length * 1.01) << "pulled within its band";
+    ASSERT_TRUE(document->commitHoseDrag(id, 16));
+    ASSERT_TRUE(document->hoseDefinition(id)->length);
+    EXPECT_NEAR(*document->hoseDefinition(id)->length, length, 1e-12);
+    EXPECT_NEAR(document->hose(id)->restLengthTotal(), length, 1e-12);
+}
+
+TEST(DocumentLength, ChangingTheLengthIsOneUndoStepNamedAfterTheHose)
+{
+    auto document = openTestRig();
+    const std::string id = "right-return";
+    const double length = *document->hoseDefinition(id)->length;
+    expectExactUndo(*document, makeSetHoseLength(*document, id, 1.1 * length));
+    document->undoStack()->push(makeSetHoseLength(*document, id, 1.1 * length));
+    EXPECT_EQ(document->undoStack()->text(document->undoStack()->count() - 1).toStdString(),
+              "Change length of right bracket to valve");
+    EXPECT_NEAR(document->hose(id)->restLengthTotal(), 1.1 * length, 1e-12);
+    EXPECT_THROW(makeSetHoseLength(*document, id, -1.0), InvalidArgument);
+}
+
+TEST(DocumentPose, MovingAPartResolvesOnlyTheHosesItCarries)
+{
+    auto document = openTestRig();
+    const formats::ImportedScene& rig = *document->scene("rig");
+    std::map<std::string, int> shapeEvents;
+    QObject::connect(document.get(), &Document::changed, [&](const ChangeEvent& event) {
+        if (event.kind == ChangeEvent::Kind::HoseShapeChanged) ++shapeEvents[event.hoseId];
+    });
+    const auto revisions = [&] {
+        std::map<std::string, std::uint64_t> r;
+        for (const auto& hose : document->project().hoses)
+            r[hose.id] = document->hose(hose.id)->revision();
+        return r;
+    };
+    // The left bracket carries only left-feed's first segment: right-return, fixed to the
+    // same scene (the right bracket and the valve), is not touched.
+    const int bracket = rig.findNode("/test-rig/bracket_left");
+    const auto before = revisions();
+    formats::Mat4 moved = document->nodeLocalTransform("rig", bracket);
+    moved(1, 3) += 0.01;
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", bracket}, moved));
+    EXPECT_NE(revisions()["left-feed"], before.at("left-feed"));
+    EXPECT_EQ(revisions()["right-return"], before.at("right-return"));
+    EXPECT_EQ(shapeEvents["left-feed"], 1);
+    EXPECT_EQ(shapeEvents["right-return"], 0);
+    EXPECT_EQ(document->undoStack()->undoText(), "Move bracket_left");
+    // The valve carries right-return's end and, through its child valve_inlet, left-feed's.
+    shapeEvents.clear();
+    const int valve = rig.findNode("/test-rig/valve");
+    formats::Mat4 valveMoved = document->nodeLocalTransform("rig", valve);
+    valveMoved(0, 3) += 0.01;
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, valveMoved));
+    EXPECT_EQ(shapeEvents["left-feed"], 1);
+    EXPECT_EQ(shapeEvents["right-return"], 1);
+    // The floor plate carries no hose: nothing is re-solved.
+    shapeEvents.clear();
+    const auto still = revisions();
+    const int floor = rig.findNode("/test-rig/floor_plate");
+    formats::Mat4 floorMoved = document->nodeLocalTransform("rig", floor);
+    floorMoved(1, 3) -= 0.01;
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", floor}, floorMoved));
+    EXPECT_TRUE(shapeEvents.empty());
+    EXPECT_EQ(revisions(), still);
+}
+
+TEST(DocumentPose, ThePartCentreIsTheMiddleOfItsBoundingBoxAndFollowsThePose)
+{
+    auto document = openTestRig();
+    const formats::ImportedScene& rig = *document->scene("rig");
+    const int valve = rig.findNode("/test-rig/valve");
+    // Independently: every vertex of the valve and its children at their world transforms.
+    Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
+    for (size_t n = 0; n < rig.nodes.size(); ++n) {
+        bool under = false;
+        for (int m = int(n); m >= 0; m = rig.nodes[size_t(m)].parent)
+            under = under || m == valve;
+        if (!under) continue;
+        for (int mesh : rig.nodes[n].meshes)
+            for (size_t v = 0; v < rig.meshes[size_t(mesh)].vertexCount(); ++v) {
+                const float* p = &rig.meshes[size_t(mesh)].positions[3 * v];
+                const Vec3 world =
+                    (rig.worldTransform(int(n)) * Vec3(p[0], p[1], p[2]).homogeneous()).head<3>();
+                low = low.cwiseMin(world);
+                high = high.cwiseMax(world);
+            }
+    }
+    EXPECT_NEAR((document->partCentre("rig", valve) - 0.5 * (low + high)).norm(), 0.0, 1e-9);
+    formats::Mat4 moved = document->nodeLocalTransform("rig", valve);
+    moved.block<3, 1>(0, 3) += Vec3(0.1, 0.0, -0.05);
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
+    EXPECT_NEAR(
+        (document->partCentre("rig", valve) - 0.5 * (low + high) - Vec3(0.1, 0.0, -0.05)).norm(),
+        0.0, 1e-9);
+}
+
+TEST(DocumentPose, TheRouteLineFollowsThePartsTheHoseIsFixedTo)
+{
+    auto document = openTestRig();
+    const std::string id = "right-return";
+    const std::vector<Vec3> route = document->hoseDefinition(id)->route;
+    EXPECT_EQ(document->displayRoute(id), route) << "at the file pose: the route itself";
+    const int valve = document->scene("rig")->findNode("/test-rig/valve");
+    formats::Mat4 moved = document->nodeLocalTransform("rig", valve);
+    const Vec3 shift(0.02, 0.03, 0.0);
+    moved.block<3, 1>(0, 3) += shift;
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
+    const std::vector<Vec3> shown = document->displayRoute(id);
+    ASSERT_EQ(shown.size(), route.size());
+    // The end fixed to the valve moves with it, the one on the (unmoved) bracket stays, and in
+    // between the route point moves part of the way.
+    EXPECT_NEAR((shown.back() - (route.back() + shift)).norm(), 0.0, 1e-9);
+    EXPECT_NEAR((shown.front() - route.front()).norm(), 0.0, 1e-9);
+    const Vec3 middle = shown[route.size() / 2] - route[route.size() / 2];
+    EXPECT_GT(middle.norm(), 0.2 * shift.norm());
+    EXPECT_LT(middle.norm(), 0.8 * shift.norm());
+    EXPECT_EQ(document->hoseDefinition(id)->route, route) << "the route itself is unchanged";
+}
+
+TEST(DocumentColliders, FlaggingAPartAHoseRunsThroughPushesItOutOrKeepsItsLengthsAndSaysHowDeep)
+{
+    auto document = openTestRig();
+    const formats::ImportedScene& rig = *document->scene("rig");
+    // Move the right bracket onto left-feed's middle, then flag it. left-feed is not fixed to
+    // that bracket: it is pushed out, as a collider moved onto it would push it, or, where its
+    // length cannot go round the bracket, it keeps its shape with every segment in its band
+    // and its result says how deep it runs in (the Problems panel lists that).
+    const int bracket = rig.findNode("/test-rig/bracket_right");
+    const Vec3 middle = document->hose("left-feed")->point(8);
+    formats::Mat4 moved = document->nodeLocalTransform("rig", bracket);
+    moved.block<3, 1>(0, 3) = Vec3(middle.x(), middle.y() - 0.09, middle.z()); // 1 cm into it
+    document->undoStack()->push(makeSetNodeTransform(*document, {"rig", bracket}, moved));
+    const std::vector<Vec3> through = document->hose("left-feed")->points();
+    const std::shared_ptr<MeshCollider> box =
+        formats::nodeCollider(rig, bracket, document->nodeWorldTransform("rig", bracket));
+    ASSERT_LT(clearance(*document->hose("left-feed"), *box).distance, -0.005) << "runs through";
+    document->undoStack()->push(makeSetCollider(*document, {"rig", bracket}, true));
+    const Hose& hose = *document->hose("left-feed");
+    for (int s = 0; s < hose.segmentCount(); ++s) {
+        const double segment = (hose.point(s + 1) - hose.point(s)).norm();
+        EXPECT_LE(segment, hose.maxLength(s) * (1 + 1e-9)) << "segment " << s;
+        EXPECT_GE(segment, hose.minLength(s) * (1 - 1e-9)) << "segment " << s;
+    }
+    const UpdateResult result = document->lastUpdate("left-feed");
+    if (result.status == Status::Infeasible) {
+        EXPECT_GT(result.penetration, 0.005) << "says how deep it runs in";
+        EXPECT_EQ(hose.points(), through) << "keeps the shape it had";
+    } else {
+        EXPECT_GE(clearance(hose, *box).distance, -CollisionOptions{}.tolerance - 1e-9)
+            << "pushed out";
+    }
+    std::cout << "[ colliders ] flagged onto left-feed: status " << int(result.status)
+              << ", penetration " << result.penetration << " m" << std::endl;
+    document->undoStack()->undo();
+    EXPECT_EQ(document->hose("left-feed")->points(), through) << "undo: as before the flag";
+}
+
 TEST(DocumentUndo, DragOfAHoseFixedToAMovedPartIsRefusedWithAReason)
 {
     auto document = openTestRig();
@@ -222,9 +431,11 @@ TEST(DocumentUndo, DragOfAHoseFixedToAMovedPartIsRefusedWithAReason)
     moved(1, 3) += 0.02;
     document->undoStack()->push(makeSetNodeTransform(*document, {"rig", valve}, moved));
     const std::string id = document->project().hoses[1].id;
-    (void)document->dragHosePoint(id, 5, document->hose(id)->point(5) + Vec3(0, 0.05, 0));
+    ASSERT_NE(
+        document->dragHosePoint(id, 5, document->hose(id)->point(5) + Vec3(0, 0.05, 0)).status,
+        Status::InvalidInput);
     std::string why;
-    EXPECT_FALSE(document->commitHoseDrag(id, &why));
+    EXPECT_FALSE(document->commitHoseDrag(id, 5, &why));
     EXPECT_NE(why.find("moved"), std::string::npos) << why;
     EXPECT_EQ(document->undoStack()->count(), 1);
 }
@@ -235,15 +446,15 @@ TEST(DocumentUndo, ASliderDragIsOneUndoStepAndTwoDragsAreTwo)
     const std::string id = document->project().hoses[0].id;
     const double original = document->hoseDefinition(id)->outerDiameter;
     for (double d : {0.021, 0.022, 0.023, 0.024})
-        document->undoStack()->push(makeChangeHoseField(
-            *document, id, &formats::HoseDefinition::outerDiameter, d, MergeId::HoseDiameter,
-            "diameter"));
+        document->undoStack()->push(makeChangeHoseField(*document, id,
+                                                        &formats::HoseDefinition::outerDiameter, d,
+                                                        MergeId::HoseDiameter, "diameter"));
     EXPECT_EQ(document->undoStack()->count(), 1);
     document->closeMerge(); // slider released
     for (double d : {0.025, 0.026})
-        document->undoStack()->push(makeChangeHoseField(
-            *document, id, &formats::HoseDefinition::outerDiameter, d, MergeId::HoseDiameter,
-            "diameter"));
+        document->undoStack()->push(makeChangeHoseField(*document, id,
+                                                        &formats::HoseDefinition::outerDiameter, d,
+                                                        MergeId::HoseDiameter, "diameter"));
     EXPECT_EQ(document->undoStack()->count(), 2);
     document->undoStack()->undo();
     EXPECT_EQ(document->hoseDefinition(id)->outerDiameter, 0.024);
@@ -255,9 +466,9 @@ TEST(DocumentUndo, DifferentHosesDoNotMerge)
 {
     auto document = openTestRig();
     for (const auto& hose : std::vector<formats::HoseDefinition>(document->project().hoses))
-        document->undoStack()->push(makeChangeHoseField(
-            *document, hose.id, &formats::HoseDefinition::outerDiameter, 0.03,
-            MergeId::HoseDiameter, "diameter"));
+        document->undoStack()->push(makeChangeHoseField(*document, hose.id,
+                                                        &formats::HoseDefinition::outerDiameter,
+                                                        0.03, MergeId::HoseDiameter, "diameter"));
     EXPECT_EQ(document->undoStack()->count(), 2);
 }
 
@@ -283,9 +494,9 @@ TEST(Document, SaveThenOpenGivesTheSameProject)
 {
     auto document = openTestRig();
     const std::string id = document->project().hoses[0].id;
-    document->undoStack()->push(makeChangeHoseField(
-        *document, id, &formats::HoseDefinition::outerDiameter, 0.027, MergeId::HoseDiameter,
-        "diameter"));
+    document->undoStack()->push(makeChangeHoseField(*document, id,
+                                                    &formats::HoseDefinition::outerDiameter, 0.027,
+                                                    MergeId::HoseDiameter, "diameter"));
     EXPECT_TRUE(document->isModified());
     // The relative scene path must stay valid: the scene is copied beside the saved file.
     const auto folder = test::outputDir() / "save-open";
@@ -379,14 +590,13 @@ TEST(Document, ChangeEventsNameWhatChanged)
         *document, id, &formats::HoseDefinition::segmentCount, 24, MergeId::HoseSegments, "s"));
     bool sawHoseChanged = false;
     for (const ChangeEvent& event : events)
-        sawHoseChanged = sawHoseChanged ||
-                         (event.kind == ChangeEvent::Kind::HoseChanged && event.hoseId == id);
+        sawHoseChanged =
+            sawHoseChanged || (event.kind == ChangeEvent::Kind::HoseChanged && event.hoseId == id);
     EXPECT_TRUE(sawHoseChanged);
     EXPECT_EQ(document->hose(id)->pointCount(), 25);
 }
 
-
-// --- live gravity and colliders (issue 7) -----------------------------------------------------
+// --- live gravity and colliders ---------------------------------------------------------------------
 
 /// Steps gravity as the editor's timer does until nothing moves; returns the steps that moved
 /// something (bounded by the document's step budget).
@@ -581,7 +791,7 @@ double dragIntoAndMeasure(Document& document, const std::string& id, int point, 
 {
     const Vec3 start = document.hose(id)->point(point);
     for (int k = 1; k <= 10; ++k)
-        (void)document.dragHosePoint(id, point, start + (target - start) * (k / 10.0));
+        static_cast<void>(document.dragHosePoint(id, point, start + (target - start) * (k / 10.0)));
     const Clearance c = clearance(*document.hose(id), collider);
     document.cancelHoseDrag(id);
     return c.found ? c.distance : 1.0;
@@ -609,7 +819,7 @@ TEST(DocumentColliders, ALiveHoseStaysOutsideAFlaggedPartAndGoesThroughWhenTheFl
     moved.block<3, 1>(0, 3) = Vec3(middle.x(), middle.y() - 0.125, middle.z()); // top 25 mm below
     document->undoStack()->push(makeSetNodeTransform(*document, {"rig", bracket}, moved));
     EXPECT_NEAR(box->worldBounds().max.y(), middle.y() - 0.025, 1e-6); // float vertices
-    const Vec3 inside(middle.x(), middle.y() - 0.125, middle.z()); // the bracket's centre
+    const Vec3 inside(middle.x(), middle.y() - 0.125, middle.z());     // the bracket's centre
 
     const double tolerance = CollisionOptions{}.tolerance;
     const double flagged = dragIntoAndMeasure(*document, leftFeed, point, inside, *box);

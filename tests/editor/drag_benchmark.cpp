@@ -63,7 +63,7 @@ TEST(DragBenchmark, FiftyHosesInTheEngineScene)
         const double phase = 2.0 * M_PI * frame / 100.0;
         const Vec3 target = start + 0.03 * Vec3(std::sin(phase), 1.0 - std::cos(phase), 0.5 * std::sin(2 * phase));
         const auto t0 = std::chrono::steady_clock::now();
-        (void)document.dragHosePoint(id, point, target);
+        static_cast<void>(document.dragHosePoint(id, point, target));
         const auto t1 = std::chrono::steady_clock::now();
         // Wait for the frame to be painted and composed (update() as a mouse move does).
         const long long painted = viewport.paintCount();

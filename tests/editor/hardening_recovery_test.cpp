@@ -1,4 +1,4 @@
-// Hardening (issue 8, "nothing lost"): the real chaintube-studio binary, killed with SIGKILL
+// Hardening ("nothing lost"): the real chaintube-studio binary, killed with SIGKILL
 // while it holds unsaved edits, offers the autosaved state on restart, and the recovered
 // project equals what was on screen at the last autosave (serialised project compare).
 //

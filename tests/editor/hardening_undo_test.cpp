@@ -1,4 +1,4 @@
-// Hardening (issue 8, "nothing lost"): 10,000 random edits of a document through its undo
+// Hardening ("nothing lost"): 10,000 random edits of a document through its undo
 // commands, then undoing all of them restores the original project exactly and redoing all of
 // them restores the final one (compared through Document::stateFingerprint, i.e.
 // serialiseProject plus pose overrides and scene ids, at every step of the way), and the live
@@ -142,7 +142,11 @@ public:
             if (live->isFixed(point)) return false;
             const Vec3 start = live->point(point);
             for (int step = 1; step <= 3; ++step)
-                (void)d.dragHosePoint(id, point, start + step * randomVector(0.01));
+                if (d.dragHosePoint(id, point, start + step * randomVector(0.01)).status ==
+                    Status::InvalidInput) {
+                    d.cancelHoseDrag(id);
+                    return false;
+                }
             if (d.commitHoseDrag(id)) return true;
             return false; // fixed to a moved part: refused, the shape was restored
         }

@@ -182,8 +182,11 @@ TEST_F(RendererTest, OnlyTheDraggedHoseIsUploadedPerFrame)
     EXPECT_EQ(m_renderer.lastStats().hosesDrawn, 2);
     render();
     EXPECT_EQ(m_renderer.lastStats().hosesUploaded, 0);
-    (void)m_document.dragHosePoint("left-feed", 8,
-                             m_document.hose("left-feed")->point(8) + Vec3(0, 0.03, 0));
+    ASSERT_NE(m_document
+                  .dragHosePoint("left-feed", 8,
+                                 m_document.hose("left-feed")->point(8) + Vec3(0, 0.03, 0))
+                  .status,
+              Status::InvalidInput);
     render();
     EXPECT_EQ(m_renderer.lastStats().hosesUploaded, 1);
 }

@@ -3,6 +3,7 @@
 
 #include "chaintube/editor/commands.h"
 #include "chaintube/editor/document.h"
+#include "chaintube/test_support/files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +12,9 @@
 
 namespace chaintube::editor::test {
 
-/// Folder of the repository's samples (samples/).
-inline std::filesystem::path samplesDir() { return CHAINTUBE_SAMPLES_DIR; }
-/// Folder of the third-party scenes; may not exist.
-inline std::filesystem::path scenesDir() { return CHAINTUBE_SCENES_DIR; }
-inline bool haveScenes() { return std::filesystem::exists(scenesDir() / "2CylinderEngine.glb"); }
+using test_support::haveScenes;
+using test_support::samplesDir;
+using test_support::scenesDir;
 inline formats::NamedRoots roots() { return {{"scenes", scenesDir()}}; }
 /// Folder for files the tests write (created; inside the build tree).
 inline std::filesystem::path outputDir()

@@ -1,4 +1,4 @@
-// Clearance analysis of projects (issue 7, section 3) and `chaintube check`.
+// Clearance analysis of projects and `chaintube check`.
 #include "cli_run.h"
 #include "export_test_support.h"
 
@@ -50,6 +50,7 @@ fs::path writeProject(const fs::path& folder, bool attachToNear = false)
     formats::HoseDefinition& hose = project.hoses[0];
     hose.id = "probe";
     hose.route = {{0, 0, 0}, {1, 0, 0}};
+    hose.length = 1.0; // the sample's hose is 0.6 m long: this one is as long as its route
     hose.outerDiameter = 0.02;
     hose.segmentCount = 20;
     hose.attachments.clear();

@@ -1,4 +1,4 @@
-// `chaintube info` (issue 7): per hose gravity on/off and direction, torsion on/off and twist
+// `chaintube info`: per hose gravity on/off and direction, torsion on/off and twist
 // limit, and the project's / descriptor's collider objects, read from the real CLI's output.
 #include "cli_run.h"
 #include "export_test_support.h"

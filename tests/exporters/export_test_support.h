@@ -1,6 +1,8 @@
 // Helpers for exporter tests: temporary folders, the samples, reading GLB chunks and accessors.
 #pragma once
 
+#include "chaintube/test_support/files.h"
+
 #include <chaintube/export/gltf_export.h>
 #include <chaintube/formats/project_hoses.h>
 #include <cstdint>
@@ -10,7 +12,6 @@
 #include <gtest/gtest.h>
 #include <iterator>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -19,54 +20,18 @@ namespace chaintube::exporting::testing {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-class TemporaryFolder
-{
-public:
-    TemporaryFolder()
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::random_device random;
-        m_path = fs::temp_directory_path() /
-                 ("chaintube-export-" + std::string(info ? info->name() : "test") + "-" +
-                  std::to_string(random()));
-        fs::create_directories(m_path);
-    }
-    ~TemporaryFolder()
-    {
-        std::error_code ignored;
-        fs::permissions(m_path, fs::perms::owner_all, fs::perm_options::add, ignored);
-        fs::remove_all(m_path, ignored);
-    }
-    const fs::path& path() const { return m_path; }
-    fs::path operator/(const std::string& name) const { return m_path / name; }
-
-private:
-    fs::path m_path;
-};
-
+using test_support::haveScenes;
+using test_support::samplesDir;
+using test_support::scenesDir;
+using test_support::TemporaryFolder;
+/// The whole file's bytes.
 inline std::string readBytes(const fs::path& file)
 {
-    std::ifstream stream(file, std::ios::binary);
-    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
+    return test_support::readText(file);
 }
-
 inline void writeBytes(const fs::path& file, const std::string& bytes)
 {
-    std::ofstream stream(file, std::ios::binary);
-    stream << bytes;
-}
-
-inline fs::path samplesDir()
-{
-    return CHAINTUBE_SAMPLES_DIR;
-}
-inline fs::path scenesDir()
-{
-    return CHAINTUBE_SCENES_DIR;
-}
-inline bool haveScenes()
-{
-    return fs::exists(scenesDir() / "2CylinderEngine.glb");
+    test_support::writeText(file, bytes);
 }
 /// Test projects of this folder (data/), e.g. rig-options.ctproj (root "samples:").
 inline fs::path testDataDir()

@@ -211,7 +211,7 @@ TEST(NodePoses, BuiltHosesFollowTheMovedPartAndTheSceneCarriesThePose)
                                                        rig.findNode(definition.node))) *
                          definition.offset);
     }
-    (void)manual.moveAttachments(ids, frames);
+    EXPECT_NE(manual.moveAttachments(ids, frames).status, Status::InvalidInput);
     for (int p = 0; p < manual.pointCount(); ++p)
         EXPECT_EQ(manual.point(p), after[0].point(p)) << p;
 
@@ -239,6 +239,79 @@ TEST(NodePoses, APoseOfAMissingNodeIsAnErrorNamingIt)
         EXPECT_NE(std::string(error.what()).find("/test-rig/no-such-part"), std::string::npos);
     }
     EXPECT_THROW(buildHoses(project, scenes), InvalidArgument);
+}
+
+// One rigidPart (chaintube/types.h) serves the attachments, the colliders and the runtime: its
+// answer on the node transforms CAD files do contain.
+TEST(NodeFrames, AMirroredNodeGivesAProperRotationFlippingItsThinnestAxis)
+{
+    // Scale (−1, 2, 3): x mirrored and the smallest singular value, so x is the axis flipped
+    // back and the rigid part is the node's rotation itself.
+    const Mat4 turn = rigid(Vec3(0, 1, 0), 0.4, Vec3(1, 2, 3));
+    Mat4 mirrored = turn;
+    mirrored.topLeftCorner<3, 3>() = turn.topLeftCorner<3, 3>() * Vec3(-1, 2, 3).asDiagonal();
+    const Frame frame = rigidPart(mirrored);
+    const Mat3 rotation = frame.rotation.toRotationMatrix();
+    EXPECT_NEAR(rotation.determinant(), 1.0, 1e-12);
+    EXPECT_NEAR((rotation - turn.topLeftCorner<3, 3>()).norm(), 0.0, 1e-12);
+    EXPECT_EQ(frame.translation, Vec3(1, 2, 3));
+}
+
+TEST(NodeFrames, AShearedAndScaledNodeGivesTheNearestRotationIndependentOfScale)
+{
+    const Mat4 turn = rigid(Vec3(1, 1, 0), 0.7, Vec3(-0.5, 0.25, 4));
+    Mat4 sheared = turn;
+    Mat3 stretch = Mat3::Identity();
+    stretch(0, 1) = 0.3; // shear x by y
+    stretch(2, 2) = 25.4;
+    sheared.topLeftCorner<3, 3>() = turn.topLeftCorner<3, 3>() * stretch;
+    const Frame frame = rigidPart(sheared);
+    const Mat3 rotation = frame.rotation.toRotationMatrix();
+    EXPECT_NEAR(rotation.determinant(), 1.0, 1e-12);
+    // Polar decomposition: rotation⁻¹ · block is symmetric positive definite.
+    const Mat3 symmetric = rotation.transpose() * sheared.topLeftCorner<3, 3>();
+    EXPECT_NEAR((symmetric - symmetric.transpose()).norm(), 0.0, 1e-9);
+    EXPECT_GT(symmetric.determinant(), 0.0);
+    // Scaling the whole block by 1e-6 or 1e6 (millimetres, kilometres) changes nothing.
+    for (double scale : {1e-6, 1e6}) {
+        Mat4 scaled = sheared;
+        scaled.topLeftCorner<3, 3>() *= scale;
+        EXPECT_TRUE(rigidPart(scaled).rotation.isApprox(frame.rotation, 1e-9)) << scale;
+    }
+}
+
+TEST(NodeFrames, ANearSingularNodeGivesTheIdentityRotationAndNoNaN)
+{
+    // A part flattened to nothing along z (scale 1e-14 against 1): the relative cut (1e-12 of
+    // the largest singular value) calls it degenerate; an absolute 1e-300 cut would have turned
+    // rounding noise into a rotation.
+    Mat4 flat = rigid(Vec3(0, 0, 1), 0.3, Vec3(0.1, 0.2, 0.3));
+    flat.col(2).head<3>() *= 1e-14;
+    const Frame frame = rigidPart(flat);
+    EXPECT_TRUE(frame.rotation.isApprox(Quat::Identity(), 0.0));
+    EXPECT_EQ(frame.translation, Vec3(0.1, 0.2, 0.3));
+    // Just above the cut it is still a node with a rotation (a micrometre-thin part in metres).
+    Mat4 thin = rigid(Vec3(0, 0, 1), 0.3, Vec3::Zero());
+    thin.col(2).head<3>() *= 1e-9;
+    EXPECT_NEAR(Eigen::AngleAxisd(Eigen::Quaterniond(rigidPart(thin).rotation)).angle(), 0.3,
+                1e-12);
+}
+
+TEST(NodeFrames, ANonFiniteNodeGivesTheIdentityRotationAndAFrameTheHoseRefuses)
+{
+    for (double bad : {std::nan(""), HUGE_VAL}) {
+        Mat4 broken = rigid(Vec3(0, 1, 0), 0.2, Vec3(1, 0, 0));
+        broken(1, 1) = bad;
+        const Frame frame = rigidPart(broken);
+        EXPECT_TRUE(frame.rotation.coeffs().allFinite());
+        EXPECT_TRUE(frame.rotation.isApprox(Quat::Identity(), 0.0)) << bad;
+        EXPECT_EQ(frame.translation, Vec3(1, 0, 0));
+        broken(0, 3) = bad; // a non-finite translation stays non-finite: refused downstream
+        EXPECT_FALSE(isFiniteFrame(rigidPart(broken)));
+        Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, HoseSpec());
+        const int id = hose.attach(0, 1, Frame::identity());
+        EXPECT_EQ(hose.moveAttachment(id, rigidPart(broken)).status, Status::InvalidInput);
+    }
 }
 
 } // namespace

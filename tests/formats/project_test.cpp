@@ -160,7 +160,7 @@ TEST(ProjectReader, NewerMajorVersionIsAClearError)
 TEST(ProjectReader, NewerMinorVersionLoadsIgnoringAndReportingUnknownKeys)
 {
     json document = exampleJson();
-    document["version"] = "1.3";
+    document["version"] = "1." + std::to_string(kProjectFormatMinor + 1);
     document["hoses"][0]["temperatureRating"] = 120;
     ProjectLoadReport report;
     const Project project = parseProject(document.dump(), "x.ctproj", {}, &report);
@@ -244,6 +244,7 @@ Project randomProject(std::mt19937& random)
         if (unit(random) < 0.5)
             scene.import.upAxis = unit(random) < 0.5 ? UpAxis::PositiveY : UpAxis::PositiveZ;
         scene.import.chordalTolerance = 1e-5 + unit(random) * 1e-3;
+        if (unit(random) < 0.5) scene.import.placement = Vec3(coordinate(random), 0.0, -1.5);
         scene.import.angularTolerance = 0.1 + unit(random);
         project.scenes.push_back(scene);
     }
@@ -304,6 +305,7 @@ Project randomProject(std::mt19937& random)
         }
         hose.colour = {unit(random), unit(random), unit(random), unit(random)};
         hose.roughness = unit(random);
+        if (unit(random) < 0.5) hose.length = 1e-3 + unit(random) * 5.0;
         if (!project.scenes.empty() && hose.segmentCount >= 2) {
             const Quat rotation = Quat(Eigen::AngleAxisd(
                 unit(random) * 6, Vec3(unit(random), unit(random), 1).normalized()));
@@ -349,6 +351,12 @@ TEST(ProjectRoundTrip, EqualityNoticesEveryKindOfChange)
     EXPECT_NE(changed, base);
     changed = base;
     changed.materialPresets[2].material.expansionCoefficient = 0.3;
+    EXPECT_NE(changed, base);
+    changed = base;
+    changed.hoses[1].length = 1.25;
+    EXPECT_NE(changed, base);
+    changed = base;
+    changed.scenes[0].import.placement = Vec3(0.0, 0.0, 1e-9);
     EXPECT_NE(changed, base);
 }
 

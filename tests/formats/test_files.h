@@ -1,54 +1,22 @@
-// Helpers for formats tests: a temporary folder and small generated scene files.
+// Helpers for formats tests: small generated scene files (and the shared test support).
 #pragma once
+
+#include "chaintube/test_support/files.h"
 
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
-#include <random>
 #include <string>
 
 namespace chaintube::formats::testing {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder under the system temp dir, removed at the end of the test.
-class TemporaryFolder
-{
-public:
-    TemporaryFolder()
-    {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::random_device random;
-        m_path =
-            fs::temp_directory_path() / ("chaintube-" + std::string(info ? info->name() : "test") +
-                                         "-" + std::to_string(random()));
-        fs::create_directories(m_path);
-    }
-    ~TemporaryFolder()
-    {
-        std::error_code ignored;
-        fs::remove_all(m_path, ignored);
-    }
-    const fs::path& path() const { return m_path; }
-    fs::path operator/(const std::string& name) const { return m_path / name; }
-
-private:
-    fs::path m_path;
-};
-
-inline void writeText(const fs::path& file, const std::string& text)
-{
-    std::ofstream stream(file, std::ios::binary);
-    stream << text;
-}
-
-inline std::string readText(const fs::path& file)
-{
-    std::ifstream stream(file, std::ios::binary);
-    return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-}
+using test_support::readText;
+using test_support::TemporaryFolder;
+using test_support::writeText;
 
 /// A binary STL with `triangles` triangles tiling a strip in the XY plane (unit: 1 per cell).
 inline void writeBinaryStl(const fs::path& file, std::uint32_t triangles)

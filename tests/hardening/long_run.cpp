@@ -1,4 +1,4 @@
-// chaintube-long-run — a long run of the runtime (issue 8 §5): random drags of grabbable points
+// chaintube-long-run — a long run of the runtime: random drags of grabbable points
 // and random moves of the scene objects hoses are fixed to, on a 50-hose rig loaded through
 // rig::HoseRuntime, with a frame update (surfaces + joint poses) every few steps.
 //

@@ -131,7 +131,7 @@ TEST(ClampBetweenFixedPoints, ARepeatedGrabBeyondReachDoesNoWorkAndKeepsTheRevis
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
 
     Hose released = pulledHose();
-    (void)atRest(released, k);
+    static_cast<void>(atRest(released, k));
     released.releaseGrab();
     const UpdateResult regrab = released.grab(k, target);
     EXPECT_EQ(regrab.status, Status::Clamped);
@@ -140,7 +140,7 @@ TEST(ClampBetweenFixedPoints, ARepeatedGrabBeyondReachDoesNoWorkAndKeepsTheRevis
     Hose withColliders = pulledHose();
     const std::vector<Vec3> far = {Vec3(10, 10, 10), Vec3(11, 10, 10), Vec3(10, 11, 10)};
     withColliders.setColliders({MeshCollider::fromArrays(far, {0, 1, 2}, Frame::identity())});
-    (void)atRest(withColliders, k);
+    static_cast<void>(atRest(withColliders, k));
     const UpdateResult repeat = withColliders.grab(k, target);
     EXPECT_EQ(repeat.status, Status::Clamped);
     EXPECT_GT(repeat.iterations, 0) << "colliders may have moved: the grab is done again";

@@ -1,4 +1,4 @@
-// Collision with scene objects and clearance (issue 7, sections 2 and 3).
+// Collision with scene objects and clearance.
 #include "test_util.h"
 
 #include <chaintube/collision.h>
@@ -461,7 +461,7 @@ TEST(HoseCollision, GravityLaysTheHoseOnAFloorSettlesAndStopsWithoutPenetratingO
     auto floor = mesh.collider();
     hose.setColliders({floor});
     for (int frame = 0; frame < 100; ++frame) {
-        (void)hose.step();
+        static_cast<void>(hose.step());
         for (int i = 0; i < hose.pointCount(); ++i)
             ASSERT_LE(hose.point(i).y(), 0.3 + 1e-9) << "bounced: frame " << frame << " point " << i;
     }
@@ -603,7 +603,8 @@ TEST(HoseCollision, MillionTriangleSceneStaysInteractive)
     for (int s = 1; s <= updates; ++s) {
         const double a = 0.05 * s;
         const auto u0 = std::chrono::steady_clock::now();
-        (void)hose.grab(50, Vec3(-0.5 + std::cos(a) * 0.8, -0.05, std::sin(a) * 0.8)); // below the ground
+        static_cast<void>(hose.grab(
+            50, Vec3(-0.5 + std::cos(a) * 0.8, -0.05, std::sin(a) * 0.8))); // below the ground
         worst = std::max(worst, std::chrono::duration<double>(std::chrono::steady_clock::now() - u0).count());
     }
     const auto t2 = std::chrono::steady_clock::now();

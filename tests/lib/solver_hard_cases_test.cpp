@@ -30,7 +30,7 @@ TEST(SolverHardCases, FoldBackRequestOf180DegreesIsDecidedAndStaysWithinLimits)
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
     // Deterministic: the same request gives the same answer.
     Hose again = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(10, 0.1, 60));
-    (void)again.grab(10, p[9] - (p[10] - p[9]));
+    static_cast<void>(again.grab(10, p[9] - (p[10] - p[9])));
     for (int i = 0; i < hose.pointCount(); ++i) EXPECT_EQ(hose.point(i), again.point(i));
 }
 
@@ -200,16 +200,16 @@ TEST(SolverHardCases, HoseFarFromTheOriginKeepsFullPrecision)
 TEST(SolverHardCases, ExpansionZeroIsInextensible)
 {
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(25, 0.0, 45));
-    (void)hose.grab(12, Vec3(0.3, 0.4, 0.1));
-    (void)hose.grab(0, Vec3(-0.2, 0.0, 0.3));
+    static_cast<void>(hose.grab(12, Vec3(0.3, 0.4, 0.1)));
+    static_cast<void>(hose.grab(0, Vec3(-0.2, 0.0, 0.3)));
     for (int s = 0; s < 25; ++s) EXPECT_NEAR((hose.point(s + 1) - hose.point(s)).norm(), 0.04, 1e-12);
 }
 
 TEST(SolverHardCases, DeflectionZeroIsRigid)
 {
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(25, 0.0, 0));
-    (void)hose.grab(12, Vec3(0.48, 0.3, 0.0));
-    (void)hose.grab(25, Vec3(0.0, 2.0, 0.0));
+    static_cast<void>(hose.grab(12, Vec3(0.48, 0.3, 0.0)));
+    static_cast<void>(hose.grab(25, Vec3(0.0, 2.0, 0.0)));
     const Vec3 direction = (hose.point(25) - hose.point(0)).normalized();
     for (int i = 0; i < 26; ++i) {
         const Vec3 offset = hose.point(i) - hose.point(0);
@@ -340,7 +340,8 @@ TEST(SolverHardCases, PullingAFreeEndOutOfReachReachesTowardsTheTarget)
 TEST(SolverHardCases, AHoseRebuiltFromADeformedShapeKeepsItsRestLengths)
 {
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(10, 0.2, 40));
-    (void)hose.grab(10, Vec3(1.15, 0.0, 0.0)); // stretched: every segment longer than its rest length
+    static_cast<void>(hose.grab(
+        10, Vec3(1.15, 0.0, 0.0))); // stretched: every segment longer than its rest length
     std::vector<double> rest;
     for (int s = 0; s < hose.segmentCount(); ++s) rest.push_back(hose.restLength(s));
     const Hose rebuilt = Hose::fromAxis(hose.points(), rest, hose.spec());

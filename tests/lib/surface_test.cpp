@@ -7,8 +7,8 @@ namespace {
 Hose wiggly(int segments = 30)
 {
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(segments, 0.1, 40));
-    (void)hose.grab(segments / 3, Vec3(0.3, 0.2, 0.1));
-    (void)hose.grab(2 * segments / 3, Vec3(0.6, -0.1, 0.3));
+    static_cast<void>(hose.grab(segments / 3, Vec3(0.3, 0.2, 0.1)));
+    static_cast<void>(hose.grab(2 * segments / 3, Vec3(0.6, -0.1, 0.3)));
     return hose;
 }
 
@@ -148,7 +148,7 @@ TEST(Surface, FirstRingDoesNotPopBetweenFrames)
     HoseSurface surface(hose);
     Vec3 previous = surface.frames()[0].alignment;
     for (int step = 0; step < 100; ++step) {
-        (void)hose.grab(0, hose.point(0) + Vec3(0.0, 0.005, 0.003));
+        static_cast<void>(hose.grab(0, hose.point(0) + Vec3(0.0, 0.005, 0.003)));
         surface.update(hose);
         const Vec3 now = surface.frames()[0].alignment;
         EXPECT_GT(now.dot(previous), 0.99) << step;
@@ -166,7 +166,7 @@ TEST(Surface, EveryProfileShapeGivesFiniteUnitNormals)
         HoseSpec spec = paperSpec(8);
         spec.profile = profile;
         Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 0.5, spec);
-        (void)hose.grab(4, Vec3(0.2, 0.1, 0.0));
+        static_cast<void>(hose.grab(4, Vec3(0.2, 0.1, 0.0)));
         const HoseSurface surface(hose);
         for (size_t k = 0; k < surface.normals().size(); k += 3) {
             const Vec3 n(surface.normals()[k], surface.normals()[k + 1], surface.normals()[k + 2]);
@@ -186,8 +186,8 @@ TEST(Surface, EveryRingVertexIsItsProfilePointInTheRingFrameForEverySideCount)
             HoseSpec spec = paperSpec(segments, 0.1, 40);
             spec.profile = Profile::circle(0.01, sides);
             Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
-            (void)hose.grab(segments / 3, Vec3(0.3, 0.2, 0.1));
-            (void)hose.grab(2 * segments / 3, Vec3(0.6, -0.1, 0.3));
+            static_cast<void>(hose.grab(segments / 3, Vec3(0.3, 0.2, 0.1)));
+            static_cast<void>(hose.grab(2 * segments / 3, Vec3(0.6, -0.1, 0.3)));
             const HoseSurface surface(hose);
             const Profile& profile = hose.profile();
             const int ringVertices = surface.topology().ringVertexCount;

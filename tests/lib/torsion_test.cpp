@@ -102,7 +102,7 @@ TEST(Torsion, TurnsAccumulateBeyondHalfATurn)
     double angle = 0.0;
     for (int step = 0; step < 20; ++step) { // two full turns in steps of 0.2 π
         angle += 0.2 * 3.14159265358979323846;
-        (void)hose.moveAttachment(end, rollAboutX(angle));
+        static_cast<void>(hose.moveAttachment(end, rollAboutX(angle)));
         surface.update(hose);
     }
     EXPECT_NEAR(surface.maxTwistPerJoint(), angle / (kSegments - 2), 1e-9) << "two turns, not zero";
@@ -118,7 +118,7 @@ TEST(Torsion, BendingTheAttachmentAlongWithTheHoseAddsNoTwist)
     for (int step = 1; step <= 10; ++step) {
         Frame f = Frame::identity();
         f.rotation = Quat(Eigen::AngleAxisd(0.05 * step, Vec3::UnitZ()));
-        (void)hose.moveAttachment(id, f);
+        static_cast<void>(hose.moveAttachment(id, f));
         surface.update(hose);
         EXPECT_NEAR(surface.maxTwistPerJoint(), 0.0, 1e-12);
         for (const RingFrame& ring : surface.frames()) {

@@ -1,47 +1,71 @@
 #include "chaintube/editor/commands.h"
 
 #include <QCoreApplication>
-
 #include <algorithm>
 
 namespace chaintube::editor {
 
 namespace {
-QString tr(const char* text) { return QCoreApplication::translate("Commands", text); }
+QString tr(const char* text)
+{
+    return QCoreApplication::translate("Commands", text);
+}
+
+/// How the history names a hose: its name, or its id when it has none.
+QString hoseLabel(const formats::HoseDefinition& definition)
+{
+    return QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+}
+
+QString nodeLabel(const Document& document, const NodeKey& node)
+{
+    const formats::ImportedScene* imported = document.scene(node.first);
+    if (!imported || node.second < 0 || node.second >= static_cast<int>(imported->nodes.size()))
+        return tr("part");
+    return QString::fromStdString(imported->nodes[static_cast<size_t>(node.second)].name);
+}
 } // namespace
 
 AddHoseCommand::AddHoseCommand(Document& document, formats::HoseDefinition definition)
-    : QUndoCommand(tr("Add hose")), m_document(document), m_definition(std::move(definition)),
-      m_index(document.hoseCount())
+    : QUndoCommand(tr("Add %1").arg(hoseLabel(definition))), m_document(document),
+      m_definition(std::move(definition)), m_index(document.hoseCount())
 {
 }
 
-void AddHoseCommand::redo() { m_document.insertHose(m_index, m_definition); }
+void AddHoseCommand::redo()
+{
+    m_document.insertHose(m_index, m_definition);
+}
 
-void AddHoseCommand::undo() { m_definition = m_document.removeHose(m_definition.id); }
+void AddHoseCommand::undo()
+{
+    m_definition = m_document.removeHose(m_definition.id);
+}
 
 RemoveHoseCommand::RemoveHoseCommand(Document& document, std::string hoseId)
-    : QUndoCommand(tr("Delete hose")), m_document(document), m_hoseId(std::move(hoseId))
+    : QUndoCommand(tr("Delete %1")
+                       .arg(document.hoseDefinition(hoseId)
+                                ? hoseLabel(*document.hoseDefinition(hoseId))
+                                : QString::fromStdString(hoseId))),
+      m_document(document), m_hoseId(std::move(hoseId))
 {
 }
 
 void RemoveHoseCommand::redo()
 {
     m_index = m_document.hoseIndex(m_hoseId);
-    if (m_index >= 0)
-        m_definition = m_document.removeHose(m_hoseId);
+    if (m_index >= 0) m_definition = m_document.removeHose(m_hoseId);
 }
 
 void RemoveHoseCommand::undo()
 {
-    if (m_index >= 0)
-        m_document.insertHose(m_index, m_definition);
+    if (m_index >= 0) m_document.insertHose(m_index, m_definition);
 }
 
 AddSceneCommand::AddSceneCommand(Document& document, formats::SceneReference reference,
                                  formats::ImportedScene scene)
-    : QUndoCommand(tr("Import scene")), m_document(document), m_reference(std::move(reference)),
-      m_scene(std::move(scene))
+    : QUndoCommand(tr("Import scene %1").arg(QString::fromStdString(reference.id))),
+      m_document(document), m_reference(std::move(reference)), m_scene(std::move(scene))
 {
 }
 
@@ -62,17 +86,26 @@ QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseI
                                     const QString& text)
 {
     return new ChangeValue<formats::HoseDefinition>(
-        document, text,
-        [hoseId](Document& d) { return d.mutableHoseDefinition(hoseId); },
-        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(definition),
-        mergeId, hoseId);
+        document, text, [hoseId](Document& d) { return d.mutableHoseDefinition(hoseId); },
+        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(definition), mergeId,
+        hoseId);
 }
 
-QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
-                           std::vector<Vec3> route, const QString& text, MergeId mergeId)
+QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId, std::vector<Vec3> route,
+                           const QString& text, MergeId mergeId)
 {
-    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::route,
-                               std::move(route), mergeId, text);
+    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::route, std::move(route),
+                               mergeId, text);
+}
+
+QUndoCommand* makeSetHoseLength(Document& document, const std::string& hoseId, double length)
+{
+    const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
+    if (!definition) throw InvalidArgument("no hose '" + hoseId + "' to change");
+    formats::HoseDefinition changed =
+        formats::withLength(document.project(), *definition, document.scenes(), length);
+    return makeSetHoseDefinition(document, hoseId, std::move(changed), MergeId::HoseLength,
+                                 tr("Change length of %1").arg(hoseLabel(*definition)));
 }
 
 QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
@@ -81,8 +114,7 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
     const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
     const Hose* hose = document.hose(hoseId);
     const formats::ImportedScene* scene = document.scene(sceneId);
-    if (!definition || !hose)
-        throw InvalidArgument("no hose '" + hoseId + "' to fix");
+    if (!definition || !hose) throw InvalidArgument("no hose '" + hoseId + "' to fix");
     if (!scene || node < 0 || node >= static_cast<int>(scene->nodes.size()))
         throw InvalidArgument("no scene node to fix the hose to");
     if (first < 0 || last < first || last >= hose->pointCount())
@@ -91,9 +123,8 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
                               " axis points");
     for (const formats::HoseAttachment& existing : definition->attachments)
         if (first <= existing.lastPoint && existing.firstPoint <= last)
-            throw InvalidArgument("points [" + std::to_string(first) + ", " +
-                                  std::to_string(last) + "] overlap the segment fixed to " +
-                                  existing.node);
+            throw InvalidArgument("points [" + std::to_string(first) + ", " + std::to_string(last) +
+                                  "] overlap the segment fixed to " + existing.node);
     formats::HoseAttachment attachment;
     attachment.scene = sceneId;
     attachment.node = scene->nodes[static_cast<size_t>(node)].path;
@@ -104,11 +135,13 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
     attachment.lastPoint = last;
     std::vector<formats::HoseAttachment> attachments = definition->attachments;
     attachments.push_back(attachment);
-    return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::attachments,
-                               std::move(attachments), MergeId::None,
-                               tr("Fix hose to %1")
-                                   .arg(QString::fromStdString(
-                                       scene->nodes[static_cast<size_t>(node)].name)));
+    const QString points =
+        first == last ? tr("point %1").arg(first) : tr("points %1–%2").arg(first).arg(last);
+    return makeChangeHoseField(
+        document, hoseId, &formats::HoseDefinition::attachments, std::move(attachments),
+        MergeId::None,
+        tr("Fix %1 of %2 to %3")
+            .arg(points, hoseLabel(*definition), nodeLabel(document, {sceneId, node})));
 }
 
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index)
@@ -118,16 +151,20 @@ QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int inde
         throw InvalidArgument("no attachment " + std::to_string(index) + " on hose '" + hoseId +
                               "'");
     std::vector<formats::HoseAttachment> attachments = definition->attachments;
+    const formats::HoseAttachment& detached = attachments[static_cast<size_t>(index)];
+    const std::string nodeName = detached.node.substr(detached.node.rfind('/') + 1);
+    const QString text =
+        tr("Detach %1 from %2").arg(hoseLabel(*definition), QString::fromStdString(nodeName));
     attachments.erase(attachments.begin() + index);
     return makeChangeHoseField(document, hoseId, &formats::HoseDefinition::attachments,
-                               std::move(attachments), MergeId::None, tr("Detach hose"));
+                               std::move(attachments), MergeId::None, text);
 }
 
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
                                    std::optional<formats::Mat4> localTransform, const QString& text)
 {
     return new ChangeValue<std::optional<formats::Mat4>>(
-        document, text.isEmpty() ? tr("Move part") : text,
+        document, text.isEmpty() ? tr("Move %1").arg(nodeLabel(document, node)) : text,
         [node](Document& d) { return d.mutablePoseOverride(node); },
         [node](Document& d) { d.poseChanged(node); }, std::move(localTransform),
         MergeId::NodeTransform, node.first + "#" + std::to_string(node.second));
@@ -147,7 +184,9 @@ QUndoCommand* makeSetCollider(Document& document, const NodeKey& node, bool coll
     else if (!collider && found != colliders.end())
         colliders.erase(found);
     return new ChangeValue<std::vector<formats::ColliderNode>>(
-        document, collider ? tr("Make collider") : tr("Not a collider"),
+        document,
+        (collider ? tr("Make %1 a collider") : tr("%1 no longer a collider"))
+            .arg(nodeLabel(document, node)),
         [](Document& d) { return &d.mutableProject().colliders; },
         [node](Document& d) { d.collidersChanged(node); }, std::move(colliders));
 }
@@ -156,8 +195,7 @@ QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPr
                              const QString& text)
 {
     return new ChangeValue<std::vector<formats::MaterialPreset>>(
-        document, text,
-        [](Document& d) { return &d.mutableProject().materialPresets; },
+        document, text, [](Document& d) { return &d.mutableProject().materialPresets; },
         [](Document& d) { d.presetsChanged(); }, std::move(presets), MergeId::None);
 }
 

@@ -2,11 +2,12 @@
 
 #include "chaintube/editor/commands.h"
 #include "chaintube/formats/collider_exemption.h"
+#include "chaintube/route.h"
 
 #include <QMetaType>
-
 #include <algorithm>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace chaintube::editor {
@@ -29,12 +30,12 @@ LoadedProject readProject(const fs::path& file, const formats::NamedRoots& roots
         const formats::NodePose& pose = loaded.project.poses[i];
         const auto imported = loaded.scenes.find(pose.scene);
         if (imported == loaded.scenes.end() || imported->second.findNode(pose.node) < 0)
-            throw formats::ProjectFormatError(
-                file, "/poses/" + std::to_string(i) + "/node",
-                "expected a node of scene '" + pose.scene + "' (" +
-                    (imported == loaded.scenes.end() ? std::string("not imported")
-                                                     : imported->second.file.string()) +
-                    "), got \"" + pose.node + "\"");
+            throw formats::ProjectFormatError(file, "/poses/" + std::to_string(i) + "/node",
+                                              "expected a node of scene '" + pose.scene + "' (" +
+                                                  (imported == loaded.scenes.end()
+                                                       ? std::string("not imported")
+                                                       : imported->second.file.string()) +
+                                                  "), got \"" + pose.node + "\"");
     }
     return loaded;
 }
@@ -113,8 +114,7 @@ const formats::ImportedScene* Document::scene(const std::string& sceneId) const
 int Document::hoseIndex(const std::string& hoseId) const
 {
     for (size_t i = 0; i < m_project.hoses.size(); ++i)
-        if (m_project.hoses[i].id == hoseId)
-            return static_cast<int>(i);
+        if (m_project.hoses[i].id == hoseId) return static_cast<int>(i);
     return -1;
 }
 
@@ -151,8 +151,7 @@ std::uint64_t Document::hoseBuildSerial(const std::string& hoseId) const
 const HoseMetrics* Document::hoseMetrics(const std::string& hoseId) const
 {
     const auto it = m_live.find(hoseId);
-    if (it == m_live.end() || !it->second.hose)
-        return nullptr;
+    if (it == m_live.end() || !it->second.hose) return nullptr;
     const LiveHose& live = it->second;
     const std::uint64_t revision = live.hose->revision() ^ (live.buildSerial << 40);
     if (!live.metrics || live.metricsRevision != revision) {
@@ -162,21 +161,21 @@ const HoseMetrics* Document::hoseMetrics(const std::string& hoseId) const
     return &*live.metrics;
 }
 
+UpdateResult Document::lastUpdate(const std::string& hoseId) const
+{
+    const auto it = m_live.find(hoseId);
+    return it == m_live.end() ? UpdateResult() : it->second.lastUpdate;
+}
+
 std::string Document::validateHoseDefinition(const formats::HoseDefinition& definition) const
 {
     try {
         if (!(definition.outerDiameter > 0.0) || !std::isfinite(definition.outerDiameter))
             return "The outer diameter must be a positive number of metres.";
-        if (definition.route.size() < 2)
-            return "A hose needs at least two route points.";
-        const HoseSpec spec = formats::hoseSpecOf(m_project, definition);
-        spec.validate();
-        const Hose built = Hose::alongRoute(definition.route, spec);
-        for (const formats::HoseAttachment& attachment : definition.attachments)
-            if (attachment.lastPoint >= built.pointCount())
-                return "Attachment points [" + std::to_string(attachment.firstPoint) + ", " +
-                       std::to_string(attachment.lastPoint) + "] lie outside the hose's " +
-                       std::to_string(built.pointCount()) + " axis points.";
+        if (definition.route.size() < 2) return "A hose needs at least two route points.";
+        formats::hoseSpecOf(m_project, definition).validate();
+        // Builds it as rebuildHose() would (attachment ranges, length, poses).
+        static_cast<void>(formats::buildHose(m_project, definition, m_scenes));
     } catch (const std::exception& error) {
         return error.what();
     }
@@ -187,16 +186,14 @@ std::string Document::unusedHoseId() const
 {
     for (int n = 1;; ++n) {
         std::string id = "hose-" + std::to_string(n);
-        if (hoseIndex(id) < 0)
-            return id;
+        if (hoseIndex(id) < 0) return id;
     }
 }
 
 formats::Mat4 Document::nodeLocalTransform(const std::string& sceneId, int node) const
 {
     const auto it = m_pose.find({sceneId, node});
-    if (it != m_pose.end() && it->second)
-        return *it->second;
+    if (it != m_pose.end() && it->second) return *it->second;
     const formats::ImportedScene* imported = scene(sceneId);
     if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
         return formats::Mat4::Identity();
@@ -229,13 +226,117 @@ void Document::setClearanceMarkers(std::vector<ClearanceMarker> markers)
 
 Frame Document::nodeWorldFrame(const std::string& sceneId, int node) const
 {
-    return formats::rigidPart(nodeWorldTransform(sceneId, node));
+    return rigidPart(nodeWorldTransform(sceneId, node));
+}
+
+Vec3 Document::partCentre(const std::string& sceneId, int node) const
+{
+    const formats::ImportedScene* imported = scene(sceneId);
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
+        return Vec3::Zero();
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 high = -low;
+    std::vector<int> pending{node};
+    while (!pending.empty()) {
+        const int n = pending.back();
+        pending.pop_back();
+        const formats::SceneNode& sceneNode = imported->nodes[static_cast<size_t>(n)];
+        pending.insert(pending.end(), sceneNode.children.begin(), sceneNode.children.end());
+        if (sceneNode.meshes.empty()) continue;
+        const formats::Mat4 world = nodeWorldTransform(sceneId, n);
+        for (int meshIndex : sceneNode.meshes) {
+            const formats::SceneMesh& mesh = imported->meshes[static_cast<size_t>(meshIndex)];
+            auto bounds = m_meshBounds.find(&mesh);
+            if (bounds == m_meshBounds.end()) {
+                Vec3 meshLow = Vec3::Constant(std::numeric_limits<double>::infinity());
+                Vec3 meshHigh = -meshLow;
+                for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+                    const Vec3 p(mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                                 mesh.positions[3 * v + 2]);
+                    meshLow = meshLow.cwiseMin(p);
+                    meshHigh = meshHigh.cwiseMax(p);
+                }
+                bounds = m_meshBounds.emplace(&mesh, std::make_pair(meshLow, meshHigh)).first;
+            }
+            const auto& [meshLow, meshHigh] = bounds->second;
+            if (!(meshLow.array() <= meshHigh.array()).all()) continue; // no vertices
+            for (int corner = 0; corner < 8; ++corner) {
+                const Vec3 local((corner & 1) ? meshHigh.x() : meshLow.x(),
+                                 (corner & 2) ? meshHigh.y() : meshLow.y(),
+                                 (corner & 4) ? meshHigh.z() : meshLow.z());
+                const Vec3 p = (world * local.homogeneous()).head<3>();
+                low = low.cwiseMin(p);
+                high = high.cwiseMax(p);
+            }
+        }
+    }
+    if (!(low.array() <= high.array()).all()) return nodeWorldFrame(sceneId, node).translation;
+    return 0.5 * (low + high);
+}
+
+bool Document::hoseFollowsMovedPart(const std::string& hoseId) const
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    return definition && hoseAffectedByPose(*definition);
+}
+
+std::vector<Vec3> Document::displayRoute(const std::string& hoseId) const
+{
+    const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+    const Hose* live = hose(hoseId);
+    if (!definition) return {};
+    if (!live || !hoseAffectedByPose(*definition) || definition->attachments.empty())
+        return definition->route;
+    // Each attachment's motion (file pose → pose) and where it sits along the hose (0 … 1).
+    struct Motion
+    {
+        double along;
+        Frame motion;
+    };
+    std::vector<Motion> motions;
+    const std::vector<Frame> posed = posedAttachmentFrames(*definition);
+    for (size_t a = 0; a < definition->attachments.size(); ++a) {
+        const formats::HoseAttachment& attachment = definition->attachments[a];
+        const formats::ImportedScene* imported = scene(attachment.scene);
+        const int node = imported ? imported->findNode(attachment.node) : -1;
+        if (node < 0) return definition->route;
+        Frame offset = attachment.offset;
+        offset.rotation.normalize();
+        const Frame filePose = imported->worldFrame(node) * offset;
+        motions.push_back({0.5 * (attachment.firstPoint + attachment.lastPoint) /
+                               std::max(1, live->segmentCount()),
+                           posed[a] * filePose.inverse()});
+    }
+    std::sort(motions.begin(), motions.end(),
+              [](const Motion& a, const Motion& b) { return a.along < b.along; });
+    const std::vector<Vec3>& route = definition->route;
+    const double total = std::max(1e-300, polylineLength(route));
+    std::vector<Vec3> carried;
+    double walked = 0.0;
+    for (size_t i = 0; i < route.size(); ++i) {
+        if (i > 0) walked += (route[i] - route[i - 1]).norm();
+        const double along = walked / total;
+        size_t next = 0;
+        while (next < motions.size() && motions[next].along < along)
+            ++next;
+        if (next == 0) {
+            carried.push_back(motions.front().motion.apply(route[i]));
+        } else if (next == motions.size()) {
+            carried.push_back(motions.back().motion.apply(route[i]));
+        } else {
+            const Motion& before = motions[next - 1];
+            const Motion& after = motions[next];
+            const double w = (along - before.along) / std::max(1e-12, after.along - before.along);
+            carried.push_back((1.0 - w) * before.motion.apply(route[i]) +
+                              w * after.motion.apply(route[i]));
+        }
+    }
+    return carried;
 }
 
 void Document::setSelection(const Selection& selection)
 {
-    if (selection == m_selection)
-        return;
+    if (selection == m_selection) return;
     m_selection = selection;
     emitChanged(ChangeEvent::Kind::SelectionChanged, selection.hoseId);
 }
@@ -256,12 +357,11 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
     return result;
 }
 
-bool Document::commitHoseDrag(const std::string& hoseId, std::string* why)
+bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::string* why)
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const Hose* live = hose(hoseId);
-    if (!definition || !live)
-        return false;
+    if (!definition || !live) return false;
     if (hoseAffectedByPose(*definition)) {
         if (why)
             *why = "This hose is fixed to a part that is moved from its file position; reset "
@@ -278,18 +378,22 @@ bool Document::commitHoseDrag(const std::string& hoseId, std::string* why)
                 route.end());
     formats::HoseDefinition changed = *definition;
     changed.route = route;
-    if (definition->segmentCount > 0)
-        changed.segmentCount = definition->segmentCount;
+    // The shape changes, the length does not: a hose without a length of its own keeps the
+    // one it had (the stretch of the drag is not taken as new hose).
+    if (!changed.length) changed.length = live->restLengthTotal();
     const std::string problem = validateHoseDefinition(changed);
     if (!problem.empty()) {
-        if (why)
-            *why = problem;
+        if (why) *why = problem;
         rebuildHose(hoseId);
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
         return false;
     }
-    m_undoStack.push(makeSetRoute(*this, hoseId, std::move(route),
-                                  tr("Drag hose point"), MergeId::None));
+    const QString hoseName =
+        QString::fromStdString(definition->name.empty() ? definition->id : definition->name);
+    m_undoStack.push(makeSetHoseDefinition(
+        *this, hoseId, std::move(changed), MergeId::None,
+        draggedPoint >= 0 ? tr("Drag point %1 of %2").arg(draggedPoint).arg(hoseName)
+                          : tr("Drag %1").arg(hoseName)));
     return true;
 }
 
@@ -302,8 +406,7 @@ void Document::cancelHoseDrag(const std::string& hoseId)
 void Document::wakeGravity(const std::string& hoseId)
 {
     const auto it = m_live.find(hoseId);
-    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled)
-        return;
+    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled) return;
     it->second.gravitySettled = false;
     it->second.gravitySteps = 0;
     emit gravityStateChanged();
@@ -328,8 +431,7 @@ int Document::stepGravity()
     }
     for (const std::string& id : moved) // after the loop: listeners may read any hose
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, id);
-    if (stateChanged)
-        emit gravityStateChanged();
+    if (stateChanged) emit gravityStateChanged();
     return static_cast<int>(moved.size());
 }
 
@@ -369,8 +471,7 @@ Document::GravityState Document::gravityState(const std::string& hoseId) const
     const auto it = m_live.find(hoseId);
     if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled)
         return GravityState::Off;
-    if (it->second.gravitySettled)
-        return GravityState::Settled;
+    if (it->second.gravitySettled) return GravityState::Settled;
     return it->second.gravitySteps >= kGravityStepBudget ? GravityState::OutOfBudget
                                                          : GravityState::Settling;
 }
@@ -384,8 +485,7 @@ int Document::gravitySteps(const std::string& hoseId) const
 bool Document::isCollider(const std::string& sceneId, int node) const
 {
     const formats::ImportedScene* imported = scene(sceneId);
-    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
-        return false;
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size())) return false;
     const formats::ColliderNode key{sceneId, imported->nodes[static_cast<size_t>(node)].path};
     return std::find(m_project.colliders.begin(), m_project.colliders.end(), key) !=
            m_project.colliders.end();
@@ -404,8 +504,7 @@ void Document::rebuildColliders()
     for (const formats::ColliderNode& flagged : m_project.colliders) {
         const formats::ImportedScene* imported = scene(flagged.scene);
         const int node = imported ? imported->findNode(flagged.node) : -1;
-        if (node < 0)
-            continue; // readProject checked; a removed scene takes its parts with it
+        if (node < 0) continue; // readProject checked; a removed scene takes its parts with it
         std::shared_ptr<MeshCollider> collider =
             formats::nodeCollider(*imported, node, nodeWorldTransform(flagged.scene, node));
         if (collider) // a part without triangles cannot collide (the export refuses it)
@@ -419,13 +518,12 @@ void Document::applyColliders(const std::string& hoseId)
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     auto live = m_live.find(hoseId);
-    if (!definition || live == m_live.end() || !live->second.hose)
-        return;
+    if (!definition || live == m_live.end() || !live->second.hose) return;
     std::vector<std::shared_ptr<const MeshCollider>> used;
+    std::vector<NodeKey> usedNodes;
     for (const LiveCollider& c : m_colliders) {
         const formats::ImportedScene* imported = scene(c.sceneId);
-        if (!imported)
-            continue;
+        if (!imported) continue;
         const auto parentOf = [&](int n) { return imported->nodes[static_cast<size_t>(n)].parent; };
         const bool exempt = std::any_of(
             definition->attachments.begin(), definition->attachments.end(),
@@ -433,19 +531,35 @@ void Document::applyColliders(const std::string& hoseId)
                 return a.scene == c.sceneId &&
                        formats::attachmentExempts(imported->findNode(a.node), c.node, parentOf);
             });
-        if (!exempt)
+        if (!exempt) {
             used.push_back(c.collider);
+            usedNodes.push_back({c.sceneId, c.node});
+        }
     }
+    live->second.colliderNodes = std::move(usedNodes);
     Hose& hoseObject = *live->second.hose;
-    if (used == hoseObject.colliders())
-        return;
+    if (used == hoseObject.colliders()) return;
     hoseObject.setColliders(std::move(used));
     wakeGravity(hoseId); // a gravity hose settles again against what it now rests on
 }
 
 void Document::collidersChanged(const NodeKey& node)
 {
+    std::map<std::string, std::vector<NodeKey>> before;
+    for (const auto& [id, live] : m_live)
+        before[id] = live.colliderNodes;
     rebuildColliders();
+    // A hose that now stays outside another set of parts is built again and pushed out of
+    // them (as a collider moved into it pushes it); one the flag no longer concerns is built
+    // as without it. Either way its shape is that of the document's state, so undoing the
+    // flag gives back exactly the shape before it.
+    std::vector<std::string> rebuilt;
+    for (const auto& [id, live] : m_live)
+        if (live.colliderNodes != before[id]) rebuilt.push_back(id);
+    for (const std::string& id : rebuilt) {
+        rebuildHose(id);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, id);
+    }
     ChangeEvent event;
     event.kind = ChangeEvent::Kind::CollidersChanged;
     event.sceneId = node.first;
@@ -459,8 +573,7 @@ std::string Document::stateFingerprint() const
     out << formats::serialiseProject(m_project);
     out.precision(17);
     for (const auto& [key, transform] : m_pose) {
-        if (!transform)
-            continue;
+        if (!transform) continue;
         out << "pose " << key.first << ' ' << key.second;
         for (int i = 0; i < 16; ++i)
             out << ' ' << (*transform)(i % 4, i / 4);
@@ -513,14 +626,12 @@ void Document::syncProjectPoses()
     std::vector<formats::NodePose> poses;
     for (const formats::SceneReference& reference : m_project.scenes) {
         const formats::ImportedScene* imported = scene(reference.id);
-        if (!imported)
-            continue;
+        if (!imported) continue;
         for (const auto& [key, transform] : m_pose)
             if (key.first == reference.id && transform && key.second >= 0 &&
                 key.second < static_cast<int>(imported->nodes.size()))
-                poses.push_back({key.first,
-                                 imported->nodes[static_cast<size_t>(key.second)].path,
-                                 *transform});
+                poses.push_back(
+                    {key.first, imported->nodes[static_cast<size_t>(key.second)].path, *transform});
     }
     m_project.poses = std::move(poses);
 }
@@ -529,22 +640,33 @@ void Document::poseChanged(const NodeKey& node)
 {
     ++m_poseSerial;
     syncProjectPoses();
-    // Colliders follow the pose: each one of the moved part's scene is placed again by the
-    // rigid part of its posed world transform (setFrame; a scale set by a pose is applied the
-    // next time the colliders are rebuilt, e.g. when a flag changes).
+    // Only what the moved part carries is moved: the part itself and the nodes under it. An
+    // imported assembly is one scene, and its other parts, their colliders and the hoses
+    // fixed to them stay as they are.
+    const formats::ImportedScene* movedScene = scene(node.first);
+    const auto carried = [&](int n) {
+        for (; movedScene && n >= 0; n = movedScene->nodes[static_cast<size_t>(n)].parent)
+            if (n == node.second) return true;
+        return false;
+    };
+    // Colliders follow the pose: each one the part carries is placed again by the rigid part
+    // of its posed world transform (setFrame; a scale set by a pose is applied the next time
+    // the colliders are rebuilt, e.g. when a flag changes).
     std::vector<const MeshCollider*> movedColliders;
     for (const LiveCollider& c : m_colliders)
-        if (c.sceneId == node.first && c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
+        if (c.sceneId == node.first && carried(c.node) &&
+            c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
             movedColliders.push_back(c.collider.get());
     for (const formats::HoseDefinition& definition : m_project.hoses) {
-        bool attachedHere = false;
-        for (const formats::HoseAttachment& attachment : definition.attachments)
-            attachedHere = attachedHere || attachment.scene == node.first;
-        if (!attachedHere)
-            continue;
+        const bool attachedHere =
+            std::any_of(definition.attachments.begin(), definition.attachments.end(),
+                        [&](const formats::HoseAttachment& attachment) {
+                            return attachment.scene == node.first &&
+                                   carried(movedScene->findNode(attachment.node));
+                        });
+        if (!attachedHere) continue;
         auto live = m_live.find(definition.id);
-        if (live == m_live.end() || !live->second.hose)
-            continue;
+        if (live == m_live.end() || !live->second.hose) continue;
         if (!hoseAffectedByPose(definition)) {
             rebuildHose(definition.id); // back at the file pose: exactly the built shape
         } else {
@@ -554,24 +676,22 @@ void Document::poseChanged(const NodeKey& node)
                 ids.push_back(attachment.id);
             const std::vector<Frame> frames = posedAttachmentFrames(definition);
             if (ids.size() == frames.size())
-                (void)hoseObject.moveAttachments(ids, frames); // measure() reports what it leaves in Problems
+                live->second.lastUpdate = hoseObject.moveAttachments(ids, frames);
             wakeGravity(definition.id);
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
     }
     // A moved collider pushes the hoses it now overlaps out (as the runtime does).
     for (auto& [hoseId, live] : m_live) {
-        if (!live.hose || movedColliders.empty())
-            continue;
+        if (!live.hose || movedColliders.empty()) continue;
         const bool near = std::any_of(
             live.hose->colliders().begin(), live.hose->colliders().end(), [&](const auto& used) {
                 return std::find(movedColliders.begin(), movedColliders.end(), used.get()) !=
                        movedColliders.end();
             });
-        if (!near)
-            continue;
+        if (!near) continue;
         const std::uint64_t revision = live.hose->revision();
-        (void)live.hose->resolveCollisions(); // what stays is reported by measure() and clearance
+        live.lastUpdate = live.hose->resolveCollisions();
         if (live.hose->revision() != revision) {
             wakeGravity(hoseId);
             emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
@@ -645,9 +765,19 @@ void Document::rebuildHose(const std::string& hoseId)
     try {
         // m_project.poses mirrors the overrides: buildHose builds at the file pose and moves
         // the attachments to the posed frames, exactly as the export and the CLI do.
-        live.hose = formats::buildHose(m_project, *definition, m_scenes);
+        live.hose = formats::buildHose(m_project, *definition, m_scenes, &live.lastUpdate);
         live.error.clear();
         applyColliders(hoseId);
+        // Built where its route and the parts put it, then out of the colliders it overlaps
+        // there (a flagged part it was laid through, a collider moved onto it). Where its
+        // length cannot go round them (Infeasible), it keeps the built shape, every length in
+        // its band, and the result says how deep it runs in (the Problems panel lists it).
+        if (!live.hose->colliders().empty()) {
+            Hose built = *live.hose;
+            const UpdateResult pushed = live.hose->resolveCollisions();
+            if (pushed.status == Status::Infeasible) *live.hose = std::move(built);
+            live.lastUpdate = pushed;
+        }
         wakeGravity(hoseId);
     } catch (const std::exception& error) {
         live.hose.reset();
@@ -658,29 +788,26 @@ void Document::rebuildHose(const std::string& hoseId)
 void Document::rebuildAllHoses()
 {
     m_live.clear();
+    rebuildColliders(); // first: each hose is pushed out of them as it is built
     for (const formats::HoseDefinition& definition : m_project.hoses)
         rebuildHose(definition.id);
-    rebuildColliders();
 }
 
 bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) const
 {
     for (const formats::HoseAttachment& attachment : definition.attachments) {
         const formats::ImportedScene* imported = scene(attachment.scene);
-        if (!imported)
-            continue;
+        if (!imported) continue;
         for (int n = imported->findNode(attachment.node); n >= 0;
              n = imported->nodes[static_cast<size_t>(n)].parent) {
             const auto it = m_pose.find({attachment.scene, n});
-            if (it != m_pose.end() && it->second)
-                return true;
+            if (it != m_pose.end() && it->second) return true;
         }
     }
     return false;
 }
 
-std::vector<Frame>
-Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
+std::vector<Frame> Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
 {
     std::vector<Frame> frames;
     for (const formats::HoseAttachment& attachment : definition.attachments) {

@@ -5,7 +5,6 @@
 #include <QOpenGLContext>
 #include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLShaderProgram>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,7 +41,7 @@ in vec3 worldPosition;
 in float problem;
 uniform vec4 colour;
 uniform vec3 eye;
-uniform float highlight;   // 0 … 1: selection tint
+uniform float highlight;   // 0 … 1: selection tint (azure: never a problem colour)
 uniform float roughness;
 out vec4 fragmentColour;
 void main()
@@ -53,7 +52,7 @@ void main()
         n = -n;
     vec3 key = normalize(vec3(0.35, 1.0, 0.45));
     vec3 base = colour.rgb;
-    base = mix(base, vec3(1.0, 0.55, 0.1), highlight * 0.55);
+    base = mix(base, vec3(0.15, 0.7, 1.0), highlight * 0.6);
     float red = clamp(problem, 0.0, 1.0);
     base = mix(base, vec3(0.95, 0.08, 0.05), red);
     float headlight = max(dot(n, toEye), 0.0);
@@ -89,7 +88,10 @@ void main()
 }
 )";
 
-Eigen::Matrix4f toFloat(const Eigen::Matrix4d& m) { return m.cast<float>(); }
+Eigen::Matrix4f toFloat(const Eigen::Matrix4d& m)
+{
+    return m.cast<float>();
+}
 
 QColor linearToDisplay(const formats::Rgba& colour)
 {
@@ -141,8 +143,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
     {
         GpuMesh& gpu = meshes[&mesh];
         gpu.used = true;
-        if (gpu.vao)
-            return gpu;
+        if (gpu.vao) return gpu;
         glGenVertexArrays(1, &gpu.vao);
         glBindVertexArray(gpu.vao);
         glGenBuffers(1, &gpu.positions);
@@ -186,8 +187,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
         std::vector<float> flags(static_cast<size_t>(topology.vertexCount), 0.0f);
         for (size_t v = 0; v < flags.size(); ++v) {
             const std::uint32_t ring = topology.vertexRing[v];
-            if (ring < ringFlag.size() && ringFlag[ring])
-                flags[v] = 1.0f;
+            if (ring < ringFlag.size() && ringFlag[ring]) flags[v] = 1.0f;
         }
         return flags;
     }
@@ -199,8 +199,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
         gpu.used = true;
         const std::uint64_t serial = document.hoseBuildSerial(id);
         if (!gpu.surface || gpu.buildSerial != serial) {
-            if (gpu.vao)
-                deleteHose(gpu);
+            if (gpu.vao) deleteHose(gpu);
             gpu = GpuHose();
             gpu.used = true;
             gpu.buildSerial = serial;
@@ -221,8 +220,8 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
             glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
             glGenBuffers(1, &gpu.flags);
             glBindBuffer(GL_ARRAY_BUFFER, gpu.flags);
-            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(topology.vertexCount * sizeof(float)),
-                         nullptr, GL_DYNAMIC_DRAW);
+            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(topology.vertexCount * sizeof(float)), nullptr,
+                         GL_DYNAMIC_DRAW);
             glEnableVertexAttribArray(2);
             glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
             glGenBuffers(1, &gpu.indices);
@@ -264,8 +263,7 @@ struct Renderer::Private : QOpenGLFunctions_3_3_Core
     void drawLines(const std::vector<Vec3>& points, GLenum mode, const QColor& colour,
                    float pointSize, const Eigen::Matrix4f& viewProjection)
     {
-        if (points.empty())
-            return;
+        if (points.empty()) return;
         std::vector<float> data;
         data.reserve(points.size() * 3);
         for (const Vec3& p : points)
@@ -290,8 +288,7 @@ Renderer::Renderer() : d(std::make_unique<Private>()) {}
 
 Renderer::~Renderer()
 {
-    if (d->context && QOpenGLContext::currentContext() == d->context)
-        releaseResources();
+    if (d->context && QOpenGLContext::currentContext() == d->context) releaseResources();
 }
 
 bool Renderer::initialize()
@@ -330,8 +327,7 @@ bool Renderer::initialize()
 
 void Renderer::releaseResources()
 {
-    if (!d->context)
-        return;
+    if (!d->context) return;
     for (auto& [mesh, gpu] : d->meshes)
         d->deleteMesh(gpu);
     for (auto& [id, gpu] : d->hoses)
@@ -346,9 +342,29 @@ void Renderer::releaseResources()
     d->context = nullptr;
 }
 
-double Renderer::gizmoLength(const Camera& camera) { return 0.18 * camera.distance; }
+std::vector<Vec3> Renderer::kinkRing(const Vec3& centre, const Vec3& normal, double radius)
+{
+    const Vec3 n = normal.normalized();
+    const Vec3 u = n.unitOrthogonal();
+    const Vec3 v = n.cross(u);
+    std::vector<Vec3> ring;
+    constexpr int kSegments = 24;
+    for (int i = 0; i <= kSegments; ++i) {
+        const double angle = 2.0 * 3.14159265358979323846 * (i % kSegments) / kSegments;
+        ring.push_back(centre + radius * (std::cos(angle) * u + std::sin(angle) * v));
+    }
+    return ring;
+}
 
-double Renderer::gizmoRingRadius(const Camera& camera) { return 0.65 * gizmoLength(camera); }
+double Renderer::gizmoLength(const Camera& camera)
+{
+    return 0.18 * camera.distance;
+}
+
+double Renderer::gizmoRingRadius(const Camera& camera)
+{
+    return 0.65 * gizmoLength(camera);
+}
 
 std::vector<Vec3> Renderer::gizmoRing(const Vec3& centre, int axis, double radius, int segments)
 {
@@ -377,6 +393,11 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     gl.glEnable(GL_PROGRAM_POINT_SIZE);
     gl.glPolygonMode(GL_FRONT_AND_BACK, options.wireframe ? GL_LINE : GL_FILL);
 
+    // State a QPainter drawing over the last frame may have left (the viewport's labels).
+    gl.glDepthMask(GL_TRUE);
+    gl.glDisable(GL_BLEND);
+    gl.glDisable(GL_SCISSOR_TEST);
+    gl.glDisable(GL_STENCIL_TEST);
     const Eigen::Matrix4f viewProjection =
         toFloat(camera.projection(double(width) / std::max(height, 1)) * camera.view());
     const Vec3 eye = camera.eye();
@@ -390,8 +411,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     gl.surfaceProgram.bind();
     gl.glUniformMatrix4fv(gl.surfaceProgram.uniformLocation("viewProjection"), 1, GL_FALSE,
                           viewProjection.data());
-    gl.surfaceProgram.setUniformValue("eye", QVector3D(float(eye.x()), float(eye.y()),
-                                                       float(eye.z())));
+    gl.surfaceProgram.setUniformValue("eye",
+                                      QVector3D(float(eye.x()), float(eye.y()), float(eye.z())));
     const int modelLocation = gl.surfaceProgram.uniformLocation("model");
     const int normalLocation = gl.surfaceProgram.uniformLocation("normalMatrix");
 
@@ -406,8 +427,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         }
         for (size_t n = 0; n < scene.nodes.size(); ++n) {
             const formats::SceneNode& node = scene.nodes[n];
-            if (node.meshes.empty())
-                continue;
+            if (node.meshes.empty()) continue;
             const Eigen::Matrix4d world = document.nodeWorldTransform(sceneId, int(n));
             const Eigen::Matrix4f model = toFloat(world);
             const Eigen::Matrix3f normalMatrix =
@@ -419,8 +439,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
             gl.surfaceProgram.setUniformValue("roughness", 0.6f);
             for (int meshIndex : node.meshes) {
                 const formats::SceneMesh& mesh = scene.meshes[static_cast<size_t>(meshIndex)];
-                if (mesh.indices.empty())
-                    continue;
+                if (mesh.indices.empty()) continue;
                 Private::GpuMesh& gpu = gl.meshFor(mesh);
                 gl.glBindVertexArray(gpu.vao);
                 gl.glDrawElements(GL_TRIANGLES, gpu.indexCount, GL_UNSIGNED_INT, nullptr);
@@ -432,8 +451,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     // Hoses.
     for (const formats::HoseDefinition& definition : document.project().hoses) {
         const Hose* hose = document.hose(definition.id);
-        if (!hose)
-            continue;
+        if (!hose) continue;
         gl.surfaceProgram.bind();
         const auto updateStart = std::chrono::steady_clock::now();
         Private::GpuHose& gpu =
@@ -448,8 +466,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         gl.glUniformMatrix4fv(modelLocation, 1, GL_FALSE, modelFloat.data());
         gl.glUniformMatrix3fv(normalLocation, 1, GL_FALSE, identity.data());
         gl.surfaceProgram.setUniformValue("colour", linearToDisplay(definition.colour));
-        gl.surfaceProgram.setUniformValue(
-            "highlight", definition.id == selection.hoseId ? 0.6f : 0.0f);
+        gl.surfaceProgram.setUniformValue("highlight",
+                                          definition.id == selection.hoseId ? 1.0f : 0.0f);
         gl.surfaceProgram.setUniformValue("roughness", float(definition.roughness));
         gl.glBindVertexArray(gpu.vao);
         gl.glDrawElements(GL_TRIANGLES, gpu.indexCount, GL_UNSIGNED_INT, nullptr);
@@ -461,14 +479,13 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
 
     // Overlays: drawn without depth test so they stay visible through the hose.
     gl.glDisable(GL_DEPTH_TEST);
-    if (const formats::HoseDefinition* definition = document.hoseDefinition(selection.hoseId)) {
+    if (document.hoseDefinition(selection.hoseId)) {
         if (const Hose* hose = document.hose(selection.hoseId)) {
             const std::vector<Vec3> axis = hose->points();
             gl.drawLines(axis, GL_POINTS, QColor(255, 255, 255), 5.0f, viewProjection);
             std::vector<Vec3> fixed;
             for (int i = 0; i < hose->pointCount(); ++i)
-                if (hose->isFixed(i))
-                    fixed.push_back(axis[static_cast<size_t>(i)]);
+                if (hose->isFixed(i)) fixed.push_back(axis[static_cast<size_t>(i)]);
             gl.drawLines(fixed, GL_POINTS, QColor(60, 200, 255), 9.0f, viewProjection);
             if (selection.rangeFirst >= 0 && selection.rangeLast < hose->pointCount()) {
                 std::vector<Vec3> range(axis.begin() + selection.rangeFirst,
@@ -476,14 +493,48 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
                 gl.drawLines(range, GL_POINTS, QColor(255, 120, 20), 11.0f, viewProjection);
             }
         }
-        gl.drawLines(definition->route, GL_LINE_STRIP, QColor(250, 220, 60, 255), 1.0f,
-                     viewProjection);
-        gl.drawLines(definition->route, GL_POINTS, QColor(250, 220, 60), 10.0f,
-                     viewProjection);
-        if (selection.routePoint >= 0 &&
-            selection.routePoint < static_cast<int>(definition->route.size()))
-            gl.drawLines({definition->route[static_cast<size_t>(selection.routePoint)]},
-                         GL_POINTS, QColor(255, 60, 60), 14.0f, viewProjection);
+        // The route where the parts the hose is fixed to have carried it.
+        const std::vector<Vec3> route = document.displayRoute(selection.hoseId);
+        gl.drawLines(route, GL_LINE_STRIP, QColor(250, 220, 60, 255), 1.0f, viewProjection);
+        gl.drawLines(route, GL_POINTS, QColor(250, 220, 60), 10.0f, viewProjection);
+        if (selection.routePoint >= 0 && selection.routePoint < static_cast<int>(route.size()))
+            gl.drawLines({route[static_cast<size_t>(selection.routePoint)]}, GL_POINTS,
+                         QColor(255, 255, 255), 14.0f, viewProjection);
+    }
+    if (options.showProblems) {
+        // What a hose cannot do, drawn where it happens (problem red, the Problems panel's
+        // colour): the gap between an attachment the hose cannot reach and where its part
+        // wants it, and a ring around each kinked joint.
+        const QColor problem(255, 70, 60);
+        const Vec3 towardsViewer = -camera.forward();
+        for (const formats::HoseDefinition& definition : document.project().hoses) {
+            const Hose* hose = document.hose(definition.id);
+            const HoseMetrics* metrics = hose ? document.hoseMetrics(definition.id) : nullptr;
+            if (!metrics) continue;
+            for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
+                for (const Hose::Attachment& attachment : hose->attachments()) {
+                    if (attachment.id != unmet.id) continue;
+                    std::vector<Vec3> gap, targets;
+                    for (int i = attachment.first; i <= attachment.last; ++i) {
+                        const Vec3 target = attachment.frame.apply(
+                            attachment.localPoints[static_cast<size_t>(i - attachment.first)]);
+                        gap.push_back(hose->point(i));
+                        gap.push_back(target);
+                        targets.push_back(target);
+                    }
+                    gl.drawLines(gap, GL_LINES, problem, 1.0f, viewProjection);
+                    gl.drawLines(targets, GL_POINTS, problem, 11.0f, viewProjection);
+                }
+            std::vector<int> kinks = metrics->bendBelowMinimum;
+            if (kinks.empty() && metrics->angleViolation > 1e-6)
+                kinks.push_back(metrics->angleViolationJoint);
+            for (int joint : kinks) {
+                const std::vector<Vec3> ring =
+                    kinkRing(hose->point(joint), towardsViewer, 2.5 * hose->outerRadius());
+                gl.drawLines(ring, GL_LINE_STRIP, problem, 1.0f, viewProjection);
+                gl.drawLines(ring, GL_POINTS, problem, 3.0f, viewProjection);
+            }
+        }
     }
     if (options.showProblems) {
         // Clearance violations: a line from the hose surface to the object, dots at both ends.
@@ -497,8 +548,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
     if (!options.pendingRoute.empty()) {
         gl.drawLines(options.pendingRoute, GL_LINE_STRIP, QColor(120, 255, 140), 1.0f,
                      viewProjection);
-        gl.drawLines(options.pendingRoute, GL_POINTS, QColor(120, 255, 140), 10.0f,
-                     viewProjection);
+        gl.drawLines(options.pendingRoute, GL_POINTS, QColor(120, 255, 140), 10.0f, viewProjection);
     }
     if (options.showGizmo && document.scene(selection.sceneId) && selection.node >= 0) {
         const Frame frame = document.nodeWorldFrame(selection.sceneId, selection.node);
@@ -506,8 +556,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         const QColor colours[3] = {QColor(235, 60, 60), QColor(80, 220, 80), QColor(70, 120, 255)};
         for (int axis = 0; axis < 3; ++axis) {
             const Vec3 tip = frame.translation + length * Vec3::Unit(axis);
-            const QColor colour = axis == options.activeGizmoAxis ? QColor(255, 255, 80)
-                                                                  : colours[axis];
+            const QColor colour =
+                axis == options.activeGizmoAxis ? QColor(255, 255, 80) : colours[axis];
             gl.drawLines({frame.translation, tip}, GL_LINES, colour, 1.0f, viewProjection);
             gl.drawLines({tip}, GL_POINTS, colour, 12.0f, viewProjection);
         }
@@ -515,8 +565,8 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
         // one-pixel lines a core profile allows.
         const double radius = gizmoRingRadius(camera);
         for (int axis = 0; axis < 3; ++axis) {
-            const QColor colour = axis == options.activeGizmoRing ? QColor(255, 255, 80)
-                                                                  : colours[axis];
+            const QColor colour =
+                axis == options.activeGizmoRing ? QColor(255, 255, 80) : colours[axis];
             const std::vector<Vec3> ring = gizmoRing(frame.translation, axis, radius);
             gl.drawLines(ring, GL_LINE_STRIP, colour, 1.0f, viewProjection);
             gl.drawLines(ring, GL_POINTS, colour, axis == options.activeGizmoRing ? 4.0f : 3.0f,

@@ -7,6 +7,7 @@
 #include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLineEdit>
@@ -54,24 +55,23 @@ ExportDialog::ExportDialog(Document& document, QWidget* parent)
     const auto& settings = document.project().exportSettings;
     std::filesystem::path output;
     if (!document.fileName().empty()) {
-        output = document.fileName().parent_path() /
-                 (settings.path.empty() ? document.fileName().stem().string() + "." + settings.format
-                                        : settings.path);
+        output =
+            document.fileName().parent_path() /
+            (settings.path.empty() ? document.fileName().stem().string() + "." + settings.format
+                                   : settings.path);
     }
     m_output->setText(QString::fromStdString(output.string()));
     m_format->setCurrentIndex(settings.format == "gltf" ? 1 : 0);
     connect(m_format, &QComboBox::currentIndexChanged, this, [this](int index) {
         QString path = m_output->text();
         const int dot = path.lastIndexOf('.');
-        if (dot > 0)
-            path = path.left(dot);
+        if (dot > 0) path = path.left(dot);
         m_output->setText(path + (index == 1 ? ".gltf" : ".glb"));
     });
     connect(browse, &QPushButton::clicked, this, [this] {
-        const QString path = QFileDialog::getSaveFileName(
-            this, tr("Export to"), m_output->text(), tr("glTF (*.glb *.gltf)"));
-        if (!path.isEmpty())
-            m_output->setText(path);
+        const QString path = QFileDialog::getSaveFileName(this, tr("Export to"), m_output->text(),
+                                                          tr("glTF (*.glb *.gltf)"));
+        if (!path.isEmpty()) m_output->setText(path);
     });
     connect(m_exportButton, &QPushButton::clicked, this, [this] { runExport(); });
     connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
@@ -81,9 +81,15 @@ ExportDialog::ExportDialog(Document& document, QWidget* parent)
     }
 }
 
-void ExportDialog::setOutputPath(const QString& path) { m_output->setText(path); }
+void ExportDialog::setOutputPath(const QString& path)
+{
+    m_output->setText(path);
+}
 
-QString ExportDialog::summaryText() const { return m_summary->toPlainText(); }
+QString ExportDialog::summaryText() const
+{
+    return m_summary->toPlainText();
+}
 
 bool ExportDialog::runExport()
 {
@@ -109,15 +115,24 @@ bool ExportDialog::runExport()
         m_summary->setPlainText(tr("Export failed: %1").arg(error));
         return false;
     }
+    // Each file written on a line of its own with its size: the glTF, its buffer, the
+    // descriptor beside it.
+    const auto written = [this](const std::filesystem::path& file, const QString& what) {
+        const QFileInfo info(QString::fromStdString(file.string()));
+        const double bytes = double(info.size());
+        const QString size = bytes >= 1e6   ? tr("%1 MB").arg(bytes / 1e6, 0, 'f', 1)
+                             : bytes >= 1e3 ? tr("%1 KB").arg(bytes / 1e3, 0, 'f', 1)
+                                            : tr("%1 bytes").arg(info.size());
+        return tr("  %1  %2  (%3)").arg(info.fileName(), size, what);
+    };
     QStringList lines;
-    lines << tr("Wrote %1 (%2 bytes in %3 s)")
-                 .arg(QString::fromStdString(summary.gltfFile.string()))
-                 .arg(summary.bytesWritten)
-                 .arg(summary.seconds, 0, 'f', 2);
-    if (!summary.binFile.empty())
-        lines << tr("Buffer: %1").arg(QString::fromStdString(summary.binFile.string()));
+    lines << tr("Wrote in %1 s to %2:")
+                 .arg(summary.seconds, 0, 'f', 2)
+                 .arg(QString::fromStdString(summary.gltfFile.parent_path().string()));
+    lines << written(summary.gltfFile, tr("glTF"));
+    if (!summary.binFile.empty()) lines << written(summary.binFile, tr("glTF buffer"));
     if (!summary.descriptorFile.empty())
-        lines << tr("Descriptor: %1").arg(QString::fromStdString(summary.descriptorFile.string()));
+        lines << written(summary.descriptorFile, tr("hose descriptor"));
     lines << tr("%1 hoses, %2 joints, %3 scene nodes")
                  .arg(summary.hoseCount)
                  .arg(summary.jointCount)

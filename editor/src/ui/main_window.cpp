@@ -5,6 +5,7 @@
 #include "chaintube/formats/scene_import.h"
 #include "chaintube/route.h"
 #include "export_dialog.h"
+#include "import_dialog.h"
 #include "import_runner.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
@@ -28,8 +29,9 @@
 #include <QToolBar>
 #include <QTreeWidget>
 #include <QUndoView>
-
+#include <QVBoxLayout>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace chaintube::editor {
@@ -67,8 +69,7 @@ formats::NamedRoots editorRoots(const QStringList& rootOptions, QString* error)
     for (const QString& option : rootOptions) {
         const int equals = option.indexOf('=');
         if (equals < 2) {
-            if (error)
-                *error = QObject::tr("--root expects NAME=DIR, got '%1'").arg(option);
+            if (error) *error = QObject::tr("--root expects NAME=DIR, got '%1'").arg(option);
             continue;
         }
         roots[option.left(equals).toStdString()] = option.mid(equals + 1).toStdString();
@@ -76,7 +77,10 @@ formats::NamedRoots editorRoots(const QStringList& rootOptions, QString* error)
     return roots;
 }
 
-bool MainWindow::recoverUntitled() { return offerRecovery(QString(), autosavePath()); }
+bool MainWindow::recoverUntitled()
+{
+    return offerRecovery(QString(), autosavePath());
+}
 
 MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
     : QMainWindow(parent), m_document(std::make_unique<Document>(std::move(roots)))
@@ -100,7 +104,7 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
     connect(m_viewport, &Viewport::routeFinished, this, &MainWindow::onRouteFinished);
     connect(&m_autosaveTimer, &QTimer::timeout, this, [this] { autosaveNow(); });
     m_autosaveTimer.start(kAutosaveIntervalMs);
-    // Live gravity (issue 7): runs only while a hose with gravity on is settling.
+    // Live gravity: runs only while a hose with gravity on is settling.
     m_gravityTimer.setInterval(kGravityIntervalMs);
     connect(&m_gravityTimer, &QTimer::timeout, this, [this] {
         m_document->stepGravity();
@@ -116,8 +120,7 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
         }
     });
     connect(m_document.get(), &Document::gravityStateChanged, this, [this] {
-        if (m_document->gravityActive() && !m_gravityTimer.isActive())
-            m_gravityTimer.start();
+        if (m_document->gravityActive() && !m_gravityTimer.isActive()) m_gravityTimer.start();
     });
 
     QSettings settings;
@@ -129,8 +132,7 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
         action("actionWireframe")->setChecked(wireframe);
         m_viewport->setWireframe(wireframe);
     }
-    if (!settings.contains("window/geometry"))
-        resize(1280, 800);
+    if (!settings.contains("window/geometry")) resize(1280, 800);
     rebuildSceneTree();
     updateTitle();
 }
@@ -165,25 +167,23 @@ void MainWindow::createDocks()
     treeDock->setObjectName("sceneDock");
     treeDock->setWidget(m_sceneTree);
     addDockWidget(Qt::LeftDockWidgetArea, treeDock);
-    connect(m_sceneTree, &QTreeWidget::currentItemChanged, this,
-            [this](QTreeWidgetItem* item) {
-                if (m_syncingTree || !item)
-                    return;
-                Selection selection = m_document->selection();
-                const int kind = item->data(0, KindRole).toInt();
-                const std::string id = item->data(0, IdRole).toString().toStdString();
-                if (kind == NodeItem) {
-                    selection.sceneId = id;
-                    selection.node = item->data(0, NodeRole).toInt();
-                } else if (kind == HoseItem) {
-                    if (selection.hoseId != id)
-                        selection.rangeFirst = selection.rangeLast = selection.routePoint = -1;
-                    selection.hoseId = id;
-                } else {
-                    return;
-                }
-                m_document->setSelection(selection);
-            });
+    connect(m_sceneTree, &QTreeWidget::currentItemChanged, this, [this](QTreeWidgetItem* item) {
+        if (m_syncingTree || !item) return;
+        Selection selection = m_document->selection();
+        const int kind = item->data(0, KindRole).toInt();
+        const std::string id = item->data(0, IdRole).toString().toStdString();
+        if (kind == NodeItem) {
+            selection.sceneId = id;
+            selection.node = item->data(0, NodeRole).toInt();
+        } else if (kind == HoseItem) {
+            if (selection.hoseId != id)
+                selection.rangeFirst = selection.rangeLast = selection.routePoint = -1;
+            selection.hoseId = id;
+        } else {
+            return;
+        }
+        m_document->setSelection(selection);
+    });
 
     m_properties = new PropertiesPanel(*m_document);
     auto* scroll = new QScrollArea;
@@ -191,9 +191,16 @@ void MainWindow::createDocks()
     scroll->setWidgetResizable(true);
     scroll->setMinimumWidth(470);
     scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    // The fixing controls sit above the scrolling panel: they stay where they are while the
+    // author scrolls to the part's fields and back.
+    auto* propertiesPane = new QWidget;
+    auto* propertiesLayout = new QVBoxLayout(propertiesPane);
+    propertiesLayout->setContentsMargins(0, 0, 0, 0);
+    propertiesLayout->addWidget(m_properties->fixControls());
+    propertiesLayout->addWidget(scroll, 1);
     auto* propertiesDock = new QDockWidget(tr("Properties"), this);
     propertiesDock->setObjectName("propertiesDock");
-    propertiesDock->setWidget(scroll);
+    propertiesDock->setWidget(propertiesPane);
     addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
 
     m_problems = new ProblemsPanel(*m_document);
@@ -217,20 +224,17 @@ void MainWindow::createActions()
                        auto slot) {
         auto* a = new QAction(text, this);
         a->setObjectName(name);
-        if (!shortcut.isEmpty())
-            a->setShortcut(shortcut);
+        if (!shortcut.isEmpty()) a->setShortcut(shortcut);
         connect(a, &QAction::triggered, this, slot);
         return a;
     };
     QMenu* file = menuBar()->addMenu(tr("&File"));
     file->addAction(make(tr("&New"), "actionNew", QKeySequence::New, [this] { newProject(); }));
     file->addAction(make(tr("&Open…"), "actionOpen", QKeySequence::Open, [this] {
-        if (!maybeSave())
-            return;
-        const QString path = QFileDialog::getOpenFileName(
-            this, tr("Open project"), QString(), tr("ChainTube projects (*.ctproj)"));
-        if (!path.isEmpty())
-            openFile(path);
+        if (!maybeSave()) return;
+        const QString path = QFileDialog::getOpenFileName(this, tr("Open project"), QString(),
+                                                          tr("ChainTube projects (*.ctproj)"));
+        if (!path.isEmpty()) openFile(path);
     }));
     m_recentMenu = file->addMenu(tr("Open &Recent"));
     m_recentMenu->setObjectName("recentMenu");
@@ -238,17 +242,15 @@ void MainWindow::createActions()
     file->addAction(make(tr("Save &As…"), "actionSaveAs", QKeySequence::SaveAs, [this] {
         const QString path = QFileDialog::getSaveFileName(this, tr("Save project as"), QString(),
                                                           tr("ChainTube projects (*.ctproj)"));
-        if (!path.isEmpty())
-            saveAs(path.endsWith(".ctproj") ? path : path + ".ctproj");
+        if (!path.isEmpty()) saveAs(path.endsWith(".ctproj") ? path : path + ".ctproj");
     }));
     file->addSeparator();
-    file->addAction(make(tr("&Import Scene…"), "actionImportScene", QKeySequence(tr("Ctrl+I")),
-                         [this] {
-                             const QString path = QFileDialog::getOpenFileName(
-                                 this, tr("Import scene"), QString(), sceneFileFilter());
-                             if (!path.isEmpty())
-                                 importSceneFile(path);
-                         }));
+    file->addAction(
+        make(tr("&Import Scene…"), "actionImportScene", QKeySequence(tr("Ctrl+I")), [this] {
+            const QString path = QFileDialog::getOpenFileName(this, tr("Import scene"), QString(),
+                                                              sceneFileFilter());
+            if (!path.isEmpty()) importSceneFile(path);
+        }));
     file->addAction(make(tr("&Export…"), "actionExport", QKeySequence(tr("Ctrl+E")), [this] {
         exportDialog().show();
         exportDialog().raise();
@@ -266,41 +268,48 @@ void MainWindow::createActions()
     edit->addAction(undo);
     edit->addAction(redo);
     edit->addSeparator();
-    edit->addAction(make(tr("&Delete"), "actionDelete", QKeySequence::Delete,
-                         [this] { deleteSelection(); }));
+    edit->addAction(
+        make(tr("&Delete"), "actionDelete", QKeySequence::Delete, [this] { deleteSelection(); }));
 
     QMenu* hose = menuBar()->addMenu(tr("&Hose"));
-    QAction* newHose = make(tr("&New Hose (click route points)"), "actionNewHose",
-                            QKeySequence(tr("N")), [this] {
-                                m_viewport->setMode(Viewport::Mode::LayRoute);
-                                m_viewport->setFocus();
-                            });
+    QAction* newHose =
+        make(tr("&New Hose (click route points)"), "actionNewHose", QKeySequence(tr("N")), [this] {
+            m_viewport->setMode(Viewport::Mode::LayRoute);
+            m_viewport->setFocus();
+        });
     hose->addAction(newHose);
     // Return and Escape only while a route is being laid out: otherwise these window-wide
     // shortcuts would take Return from the properties panel's fields (a typed value would
     // never be committed).
-    QAction* finishRoute = make(tr("&Finish Route"), "actionFinishRoute",
-                                QKeySequence(Qt::Key_Return), [this] { m_viewport->finishRoute(); });
-    QAction* cancelRoute = make(tr("&Cancel Route"), "actionCancelRoute",
-                                QKeySequence(Qt::Key_Escape), [this] { m_viewport->cancelRoute(); });
+    QAction* finishRoute =
+        make(tr("&Finish Route"), "actionFinishRoute", QKeySequence(Qt::Key_Return),
+             [this] { m_viewport->finishRoute(); });
+    QAction* cancelRoute =
+        make(tr("&Cancel Route"), "actionCancelRoute", QKeySequence(Qt::Key_Escape),
+             [this] { m_viewport->cancelRoute(); });
     hose->addAction(finishRoute);
     hose->addAction(cancelRoute);
     const auto enableRouteActions = [this, finishRoute, cancelRoute] {
         const bool laying = m_viewport->mode() == Viewport::Mode::LayRoute;
         finishRoute->setEnabled(laying);
-        cancelRoute->setEnabled(laying);
+        cancelRoute->setEnabled(m_viewport->mode() != Viewport::Mode::Select);
     };
     connect(m_viewport, &Viewport::modeChanged, this, enableRouteActions);
     enableRouteActions();
-    hose->addAction(make(tr("&Insert Route Point"), "actionInsertRoutePoint",
-                         QKeySequence(tr("I")), [this] { insertRoutePoint(); }));
-    hose->addAction(make(tr("Fix Segment to &Part"), "actionFix", QKeySequence(tr("Ctrl+F")),
-                         [this] { m_properties->fixSelectionToPart(); }));
+    hose->addAction(make(tr("&Insert Route Point"), "actionInsertRoutePoint", QKeySequence(tr("I")),
+                         [this] { insertRoutePoint(); }));
+    hose->addAction(make(tr("Fix to &Part…"), "actionFix", QKeySequence(tr("Ctrl+F")), [this] {
+        m_viewport->beginFixToPart();
+        m_viewport->setFocus();
+    }));
+    action("actionFix")
+        ->setStatusTip(tr("Fixes the selected hose points to the part you click next"));
+    connect(m_properties, &PropertiesPanel::fixToPartRequested, action("actionFix"),
+            &QAction::trigger);
     hose->addAction(make(tr("&Detach All"), "actionDetach", QKeySequence(tr("Ctrl+D")), [this] {
         const formats::HoseDefinition* definition =
             m_document->hoseDefinition(m_document->selection().hoseId);
-        if (!definition || definition->attachments.empty())
-            return;
+        if (!definition || definition->attachments.empty()) return;
         m_document->undoStack()->beginMacro(tr("Detach hose"));
         for (int i = int(definition->attachments.size()) - 1; i >= 0; --i)
             m_document->undoStack()->push(makeDetach(*m_document, definition->id, i));
@@ -322,17 +331,23 @@ void MainWindow::createActions()
 
     auto* toolbar = addToolBar(tr("Main"));
     toolbar->setObjectName("mainToolbar");
-    for (const char* name : {"actionNew", "actionOpen", "actionSave", "actionImportScene",
-                             "actionExport", "actionNewHose", "actionFix", "actionFrameSelection",
-                             "actionWireframe"})
+    for (const char* name :
+         {"actionNew", "actionOpen", "actionSave", "actionImportScene", "actionExport",
+          "actionNewHose", "actionFix", "actionFrameSelection", "actionWireframe"})
         toolbar->addAction(action(name));
+    // Every tooltip names its shortcut: "Fix to Part… (Ctrl+F)".
+    for (QAction* a : findChildren<QAction*>()) {
+        if (a->shortcut().isEmpty() || a->text().isEmpty()) continue;
+        QString text = a->text();
+        text.remove('&');
+        a->setToolTip(tr("%1 (%2)").arg(text, a->shortcut().toString(QKeySequence::NativeText)));
+    }
     rebuildRecentMenu();
 }
 
 ExportDialog& MainWindow::exportDialog()
 {
-    if (!m_exportDialog)
-        m_exportDialog = new ExportDialog(*m_document, this);
+    if (!m_exportDialog) m_exportDialog = new ExportDialog(*m_document, this);
     return *m_exportDialog;
 }
 
@@ -360,12 +375,41 @@ void MainWindow::onDocumentChanged(const ChangeEvent& event)
     case Kind::SelectionChanged:
         syncTreeSelection();
         break;
+    case Kind::PoseChanged:
+        reportHosesThatCannotFollow();
+        break;
     case Kind::FileStateChanged:
         updateTitle();
         break;
     default:
         break;
     }
+}
+
+void MainWindow::reportHosesThatCannotFollow()
+{
+    // What the part move did to each hose (Document::lastUpdate): one that cannot reach its
+    // part any more, or is kinked, says so at once in the status bar (the Problems panel and
+    // the viewport show the details).
+    QStringList short_, kinked;
+    for (const formats::HoseDefinition& definition : m_document->project().hoses) {
+        const UpdateResult result = m_document->lastUpdate(definition.id);
+        const HoseMetrics* metrics = m_document->hoseMetrics(definition.id);
+        if (!metrics || result.status == Status::Ok) continue;
+        const QString name =
+            QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+        double gap = 0.0;
+        for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
+            gap = std::max(gap, unmet.gap);
+        if (gap > 0.0)
+            short_ << tr("%1 needs %2 mm more hose").arg(name).arg(gap * 1000.0, 0, 'f', 0);
+        else if (!metrics->bendBelowMinimum.empty() || metrics->angleViolation > 1e-6)
+            kinked << tr("%1 is kinked").arg(name);
+        else if (metrics->overstretched())
+            short_ << tr("%1 is overstretched").arg(name);
+    }
+    if (!short_.isEmpty() || !kinked.isEmpty())
+        statusBar()->showMessage((short_ + kinked).join(tr("; ")), 8000);
 }
 
 void MainWindow::rebuildSceneTree()
@@ -375,9 +419,9 @@ void MainWindow::rebuildSceneTree()
     auto* hoses = new QTreeWidgetItem(m_sceneTree, {tr("Hoses"), QString()});
     for (const formats::HoseDefinition& definition : m_document->project().hoses) {
         auto* item = new QTreeWidgetItem(
-            hoses, {QString::fromStdString(definition.name.empty() ? definition.id
-                                                                   : definition.name),
-                    tr("hose")});
+            hoses,
+            {QString::fromStdString(definition.name.empty() ? definition.id : definition.name),
+             tr("hose")});
         item->setData(0, KindRole, HoseItem);
         item->setData(0, IdRole, QString::fromStdString(definition.id));
     }
@@ -389,15 +433,14 @@ void MainWindow::rebuildSceneTree()
                           scene ? QString::fromStdString(scene->format) : tr("missing")});
         sceneItem->setData(0, KindRole, SceneItem);
         sceneItem->setToolTip(0, QString::fromStdString(reference.path));
-        if (!scene)
-            continue;
+        if (!scene) continue;
         std::vector<QTreeWidgetItem*> items(scene->nodes.size(), nullptr);
         for (size_t n = 0; n < scene->nodes.size(); ++n) {
             const formats::SceneNode& node = scene->nodes[n];
             QTreeWidgetItem* parent = node.parent >= 0 ? items[size_t(node.parent)] : sceneItem;
-            auto* item = new QTreeWidgetItem(
-                parent, {QString::fromStdString(node.name),
-                         node.meshes.empty() ? tr("group") : tr("part")});
+            auto* item =
+                new QTreeWidgetItem(parent, {QString::fromStdString(node.name),
+                                             node.meshes.empty() ? tr("group") : tr("part")});
             item->setData(0, KindRole, NodeItem);
             item->setData(0, IdRole, QString::fromStdString(reference.id));
             item->setData(0, NodeRole, int(n));
@@ -405,8 +448,7 @@ void MainWindow::rebuildSceneTree()
             items[n] = item;
         }
         sceneItem->setExpanded(true);
-        if (!items.empty())
-            items[0]->setExpanded(true);
+        if (!items.empty()) items[0]->setExpanded(true);
     }
     m_syncingTree = false;
     syncTreeSelection();
@@ -420,8 +462,7 @@ void MainWindow::syncTreeSelection()
     for (QTreeWidgetItemIterator it(m_sceneTree); *it; ++it) {
         const int kind = (*it)->data(0, KindRole).toInt();
         const std::string id = (*it)->data(0, IdRole).toString().toStdString();
-        if (kind == HoseItem && id == selection.hoseId)
-            wanted = *it;
+        if (kind == HoseItem && id == selection.hoseId) wanted = *it;
         if (kind == NodeItem && id == selection.sceneId &&
             (*it)->data(0, NodeRole).toInt() == selection.node && selection.hoseId.empty())
             wanted = *it;
@@ -437,23 +478,21 @@ void MainWindow::syncTreeSelection()
 
 void MainWindow::updateTitle()
 {
-    const QString name = m_document->fileName().empty()
-                             ? tr("Untitled")
-                             : QFileInfo(QString::fromStdString(m_document->fileName().string()))
-                                   .fileName();
+    const QString name =
+        m_document->fileName().empty()
+            ? tr("Untitled")
+            : QFileInfo(QString::fromStdString(m_document->fileName().string())).fileName();
     setWindowTitle(tr("%1[*] — ChainTube Studio").arg(name));
     setWindowModified(m_document->isModified());
 }
 
 bool MainWindow::maybeSave()
 {
-    if (!m_document->isModified())
-        return true;
+    if (!m_document->isModified()) return true;
     const auto answer =
         ask(tr("Unsaved changes"), tr("The project has unsaved changes. Save them?"),
             QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
-    if (answer == QMessageBox::Cancel)
-        return false;
+    if (answer == QMessageBox::Cancel) return false;
     if (answer == QMessageBox::Save) {
         if (m_document->fileName().empty()) {
             const QString path = QFileDialog::getSaveFileName(
@@ -477,8 +516,7 @@ QString MainWindow::autosavePath() const
 
 QString MainWindow::autosaveNow()
 {
-    if (!m_document->isModified())
-        return QString();
+    if (!m_document->isModified()) return QString();
     const QString path = autosavePath();
     try {
         formats::writeFileAtomically(path.toStdString(),
@@ -491,27 +529,29 @@ QString MainWindow::autosaveNow()
     }
 }
 
-void MainWindow::removeAutosave() { QFile::remove(autosavePath()); }
+void MainWindow::removeAutosave()
+{
+    QFile::remove(autosavePath());
+}
 
 bool MainWindow::offerRecovery(const QString& projectPath, const QString& autosave)
 {
     const QFileInfo saved(projectPath), recovered(autosave);
     if (!recovered.exists() || (saved.exists() && recovered.lastModified() < saved.lastModified()))
         return false;
-    const auto answer = ask(tr("Recover unsaved changes?"),
-                            tr("ChainTube Studio found unsaved changes of %1 from %2 (it was "
-                               "probably not closed normally). Recover them?")
-                                .arg(saved.fileName().isEmpty() ? tr("an untitled project")
-                                                                : saved.fileName(),
-                                     recovered.lastModified().toString()),
-                            QMessageBox::Yes | QMessageBox::No);
+    const auto answer =
+        ask(tr("Recover unsaved changes?"),
+            tr("ChainTube Studio found unsaved changes of %1 from %2 (it was "
+               "probably not closed normally). Recover them?")
+                .arg(saved.fileName().isEmpty() ? tr("an untitled project") : saved.fileName(),
+                     recovered.lastModified().toString()),
+            QMessageBox::Yes | QMessageBox::No);
     if (answer != QMessageBox::Yes) {
         QFile::remove(autosave);
         return false;
     }
     QFile file(autosave);
-    if (!file.open(QIODevice::ReadOnly))
-        return false;
+    if (!file.open(QIODevice::ReadOnly)) return false;
     const std::string text = file.readAll().toStdString();
     LoadedProject loaded;
     QString error;
@@ -528,8 +568,7 @@ bool MainWindow::offerRecovery(const QString& projectPath, const QString& autosa
         showError(tr("Recovery failed"), error);
         return false;
     }
-    if (projectPath.isEmpty())
-        loaded.file.clear();
+    if (projectPath.isEmpty()) loaded.file.clear();
     m_document->adopt(std::move(loaded));
     m_document->setForcedModified(true);
     statusBar()->showMessage(tr("Recovered the autosaved state; save to keep it"), 8000);
@@ -538,8 +577,7 @@ bool MainWindow::offerRecovery(const QString& projectPath, const QString& autosa
 
 bool MainWindow::openFile(const QString& path)
 {
-    if (!maybeSave())
-        return false;
+    if (!maybeSave()) return false;
     const QString absolute = QFileInfo(path).absoluteFilePath();
     if (offerRecovery(absolute, absolute + ".autosave")) {
         addRecentFile(absolute);
@@ -557,8 +595,7 @@ bool MainWindow::openFile(const QString& path)
                 loaded = readProject(absolute.toStdString(), roots, progress);
             },
             &error, &cancelled)) {
-        if (!cancelled)
-            showError(tr("Cannot open project"), error);
+        if (!cancelled) showError(tr("Cannot open project"), error);
         return false;
     }
     m_document->adopt(std::move(loaded));
@@ -581,8 +618,7 @@ bool MainWindow::resolveNamedRoots(const QString& projectPath)
     }
     bool answered = true;
     for (const formats::SceneReference& scene : project.scenes) {
-        if (formats::classifyProjectPath(scene.path) != formats::PathKind::NamedRoot)
-            continue;
+        if (formats::classifyProjectPath(scene.path) != formats::PathKind::NamedRoot) continue;
         const std::string name = scene.path.substr(0, scene.path.find(':'));
         const auto found = [&] {
             std::error_code error;
@@ -594,8 +630,8 @@ bool MainWindow::resolveNamedRoots(const QString& projectPath)
             }
         };
         while (!found()) {
-            const QString folder = askRootFolder(QString::fromStdString(name),
-                                                 QString::fromStdString(scene.path));
+            const QString folder =
+                askRootFolder(QString::fromStdString(name), QString::fromStdString(scene.path));
             if (folder.isEmpty()) {
                 answered = false;
                 break;
@@ -603,10 +639,9 @@ bool MainWindow::resolveNamedRoots(const QString& projectPath)
             roots[name] = folder.toStdString();
             if (found()) {
                 QSettings().setValue("roots/" + QString::fromStdString(name), folder);
-                statusBar()->showMessage(
-                    tr("Scene folder '%1' is %2 (remembered)").arg(QString::fromStdString(name),
-                                                                   folder),
-                    8000);
+                statusBar()->showMessage(tr("Scene folder '%1' is %2 (remembered)")
+                                             .arg(QString::fromStdString(name), folder),
+                                         8000);
             }
         }
     }
@@ -616,15 +651,15 @@ bool MainWindow::resolveNamedRoots(const QString& projectPath)
 
 QString MainWindow::askRootFolder(const QString& rootName, const QString& scenePath)
 {
-    QFileDialog dialog(this, tr("Where is the scene folder '%1'? (for %2)").arg(rootName, scenePath));
+    QFileDialog dialog(this,
+                       tr("Where is the scene folder '%1'? (for %2)").arg(rootName, scenePath));
     dialog.setObjectName("rootFolderDialog");
     dialog.setFileMode(QFileDialog::Directory);
     dialog.setOption(QFileDialog::ShowDirsOnly);
     // Qt's own dialog: the same on every desktop, and tests can drive it.
     dialog.setOption(QFileDialog::DontUseNativeDialog);
     dialog.setLabelText(QFileDialog::Accept, tr("Use this folder"));
-    if (dialog.exec() != QDialog::Accepted || dialog.selectedFiles().isEmpty())
-        return QString();
+    if (dialog.exec() != QDialog::Accepted || dialog.selectedFiles().isEmpty()) return QString();
     return dialog.selectedFiles().first();
 }
 
@@ -656,37 +691,85 @@ bool MainWindow::saveAs(const QString& path)
 
 void MainWindow::newProject()
 {
-    if (!maybeSave())
-        return;
+    if (!maybeSave()) return;
     m_document->reset();
+}
+
+Vec3 MainWindow::placementOf(const formats::ImportedScene& scene, int placement) const
+{
+    const auto [low, high] = sceneBounds(scene);
+    if (!(low.array() <= high.array()).all() || placement == int(ImportDialog::Placement::AsInFile))
+        return Vec3::Zero();
+    const Vec3 centre = 0.5 * (low + high);
+    if (placement == int(ImportDialog::Placement::AtOrigin))
+        return Vec3(-centre.x(), -low.y(), -centre.z());
+    // Beside: right of everything the project holds (its scenes as placed, its hoses), on
+    // its floor, centred on it in depth, a quarter of the new scene's width apart.
+    Vec3 haveLow = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 haveHigh = -haveLow;
+    for (const auto& [id, other] : m_document->scenes()) {
+        const auto [otherLow, otherHigh] = sceneBounds(other);
+        if ((otherLow.array() <= otherHigh.array()).all()) {
+            haveLow = haveLow.cwiseMin(otherLow);
+            haveHigh = haveHigh.cwiseMax(otherHigh);
+        }
+    }
+    for (const formats::HoseDefinition& definition : m_document->project().hoses)
+        if (const Hose* hose = m_document->hose(definition.id))
+            for (const Vec3& p : hose->points()) {
+                haveLow = haveLow.cwiseMin(p);
+                haveHigh = haveHigh.cwiseMax(p);
+            }
+    if (!(haveLow.array() <= haveHigh.array()).all())
+        return Vec3(-centre.x(), -low.y(), -centre.z());
+    const double gap = std::max(0.05, 0.25 * (high.x() - low.x()));
+    return Vec3(haveHigh.x() + gap - low.x(), haveLow.y() - low.y(),
+                0.5 * (haveLow.z() + haveHigh.z()) - centre.z());
 }
 
 bool MainWindow::importSceneFile(const QString& path)
 {
     const std::filesystem::path file = QFileInfo(path).absoluteFilePath().toStdString();
     formats::ImportedScene scene;
-    QString error;
-    bool cancelled = false;
-    if (!runWithProgress(
-            this, tr("Importing %1…").arg(QFileInfo(path).fileName()),
-            [&](const std::function<bool(double)>& progress) {
-                formats::ImportOptions options;
-                options.progress = progress;
-                scene = formats::importScene(file, options);
-            },
-            &error, &cancelled)) {
+    const auto read = [&](const formats::SceneImportSettings& settings) {
+        QString error;
+        bool cancelled = false;
+        if (runWithProgress(
+                this, tr("Importing %1…").arg(QFileInfo(path).fileName()),
+                [&](const std::function<bool(double)>& progress) {
+                    formats::ImportOptions options;
+                    options.metresPerUnit = settings.metresPerUnit;
+                    options.upAxis = settings.upAxis;
+                    options.progress = progress;
+                    scene = formats::importScene(file, options);
+                },
+                &error, &cancelled))
+            return true;
         if (cancelled)
             statusBar()->showMessage(tr("Import cancelled"), 5000);
         else
             showError(tr("Cannot import scene"), error);
         return false;
-    }
+    };
     formats::SceneReference reference;
+    if (!read(reference.import)) return false;
+    // What the reader assumed (units, up axis) and where the scene goes: shown, changeable.
+    const bool haveContent = !m_document->scenes().empty() || m_document->hoseCount() > 0;
+    ImportDialog choice(scene, haveContent, this);
+    if (choice.exec() != QDialog::Accepted) {
+        statusBar()->showMessage(tr("Import cancelled"), 5000);
+        return false;
+    }
+    reference.import.metresPerUnit = choice.metresPerUnit();
+    reference.import.upAxis = choice.upAxis();
+    if ((reference.import.metresPerUnit || reference.import.upAxis) && !read(reference.import))
+        return false;
+    reference.import.placement = placementOf(scene, int(choice.placement()));
+    formats::placeScene(scene, reference.import.placement);
     // A unique id from the file name.
     std::string base = file.stem().string();
     for (char& c : base)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_')
-            c = '-';
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '-';
     reference.id = base;
     for (int n = 2; m_document->scene(reference.id); ++n)
         reference.id = base + "-" + std::to_string(n);
@@ -695,8 +778,7 @@ bool MainWindow::importSceneFile(const QString& path)
     reference.path = file.generic_string();
     for (const auto& [name, root] : m_document->roots())
         if (formats::isInsideFolder(file, root)) {
-            reference.path = name + ":" +
-                             std::filesystem::relative(file, root).generic_string();
+            reference.path = name + ":" + std::filesystem::relative(file, root).generic_string();
             break;
         }
     if (!m_document->fileName().empty() &&
@@ -747,9 +829,14 @@ void MainWindow::onRouteFinished(const std::vector<Vec3>& route)
     else
         definition.material = Material();
     // About 3 cm per segment, at least the paper's 12.
-    definition.segmentCount =
-        std::clamp(int(std::lround(polylineLength(route) / 0.03)), 12, 400);
+    definition.segmentCount = std::clamp(int(std::lround(polylineLength(route) / 0.03)), 12, 400);
     definition.colour = kHoseColours[size_t(m_document->hoseCount()) % std::size(kHoseColours)];
+    try {
+        // As long as the route, from now on its own (route edits never change it).
+        definition.length = formats::routeRestLength(m_document->project(), definition);
+    } catch (const std::exception&) {
+        // validateHoseDefinition says why below
+    }
     const std::string problem = m_document->validateHoseDefinition(definition);
     if (!problem.empty()) {
         showError(tr("Cannot lay out this hose"), QString::fromStdString(problem));
@@ -767,8 +854,7 @@ void MainWindow::deleteSelection()
 {
     Selection selection = m_document->selection();
     const formats::HoseDefinition* definition = m_document->hoseDefinition(selection.hoseId);
-    if (!definition)
-        return;
+    if (!definition) return;
     if (selection.routePoint >= 0 && selection.routePoint < int(definition->route.size())) {
         if (definition->route.size() <= 2) {
             statusBar()->showMessage(tr("A hose needs at least two route points"), 5000);
@@ -796,10 +882,10 @@ void MainWindow::insertRoutePoint()
 {
     Selection selection = m_document->selection();
     const formats::HoseDefinition* definition = m_document->hoseDefinition(selection.hoseId);
-    if (!definition)
-        return;
+    if (!definition) return;
     // After the selected route point (or before the last one): the middle of that leg.
-    int after = selection.routePoint >= 0 ? selection.routePoint : int(definition->route.size()) - 2;
+    int after =
+        selection.routePoint >= 0 ? selection.routePoint : int(definition->route.size()) - 2;
     after = std::clamp(after, 0, int(definition->route.size()) - 2);
     std::vector<Vec3> route = definition->route;
     route.insert(route.begin() + after + 1,

@@ -8,7 +8,6 @@
 #include <QMainWindow>
 #include <QMessageBox>
 #include <QTimer>
-
 #include <functional>
 #include <memory>
 
@@ -58,7 +57,10 @@ public:
     bool save();
     bool saveAs(const QString& path);
     void newProject();
-    /// Imports a scene file into the project (progress dialog, cancellable).
+    /// Imports a scene file into the project: reads it (progress dialog, cancellable), shows
+    /// the Import dialog (the units and up axis the reader assumed, changeable, and where the
+    /// scene goes), reads it again if the author changed units or axis, and adds it placed
+    /// (SceneImportSettings::placement) in one undo step.
     bool importSceneFile(const QString& path);
     /// Asks to save unsaved changes; false if the user cancelled.
     bool maybeSave();
@@ -83,6 +85,10 @@ private:
     void createDocks();
     void onDocumentChanged(const ChangeEvent& event);
     void rebuildSceneTree();
+    /// World offset that puts `scene` where ImportDialog::Placement `placement` says.
+    Vec3 placementOf(const formats::ImportedScene& scene, int placement) const;
+    /// After a part moved: names the hoses that could not follow it (Document::lastUpdate).
+    void reportHosesThatCannotFollow();
     void syncTreeSelection();
     void updateTitle();
     void addRecentFile(const QString& path);

@@ -1,13 +1,12 @@
 #include "problems_panel.h"
 
-#include <chaintube/export/clearance.h>
-
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
 #include <QResizeEvent>
-
+#include <chaintube/export/clearance.h>
 #include <cmath>
+#include <limits>
 
 namespace chaintube::editor {
 
@@ -27,20 +26,29 @@ std::vector<std::pair<int, int>> runs(std::vector<int> indices)
     return result;
 }
 
+/// Bend radius at joint j of the hose's current shape (metres; as measure() computes it).
+double jointBendRadius(const Hose& hose, int j)
+{
+    const Vec3 in = hose.point(j) - hose.point(j - 1);
+    const Vec3 out = hose.point(j + 1) - hose.point(j);
+    const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
+    return bendRadiusOfTurn(0.5 * (in.norm() + out.norm()), turn);
+}
+
 } // namespace
 
 std::vector<Problem> findProblems(const Document& document)
 {
     std::vector<Problem> problems;
     for (const formats::HoseDefinition& definition : document.project().hoses) {
-        const QString name = QString::fromStdString(definition.name.empty() ? definition.id
-                                                                            : definition.name);
+        const QString name =
+            QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
         const Hose* hose = document.hose(definition.id);
         if (!hose) {
-            problems.push_back({definition.id, -1, -1,
-                                QObject::tr("%1: cannot be built: %2")
-                                    .arg(name, QString::fromStdString(
-                                                   document.hoseBuildError(definition.id)))});
+            problems.push_back(
+                {definition.id, -1, -1,
+                 QObject::tr("%1: cannot be built: %2")
+                     .arg(name, QString::fromStdString(document.hoseBuildError(definition.id)))});
             continue;
         }
         const HoseMetrics* metrics = document.hoseMetrics(definition.id);
@@ -63,14 +71,42 @@ std::vector<Problem> findProblems(const Document& document)
                                     .arg(first)
                                     .arg(last)
                                     .arg(worst * 100.0, 0, 'f', 1)});
+        // A collider it runs into and cannot be pushed out of within its lengths (a part
+        // flagged or moved onto it): the hose keeps its shape and says how deep it is in.
+        const UpdateResult lastUpdate = document.lastUpdate(definition.id);
+        if (lastUpdate.status == Status::Infeasible && lastUpdate.penetration > 0.0)
+            problems.push_back({definition.id, -1, -1,
+                                QObject::tr("%1: runs %2 mm into a collider and cannot be pushed "
+                                            "out within its length")
+                                    .arg(name)
+                                    .arg(lastUpdate.penetration * 1000.0, 0, 'f', 1)});
         if (metrics) {
+            // Attachments the hose cannot reach (a part moved beyond it): the hose lies taut
+            // towards them and says how much hose is missing.
+            for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments) {
+                const auto& built = hose->attachments();
+                for (size_t a = 0; a < built.size() && a < definition.attachments.size(); ++a)
+                    if (built[a].id == unmet.id)
+                        problems.push_back(
+                            {definition.id, built[a].first, built[a].last,
+                             QObject::tr("%1: needs %2 mm more hose to reach %3 (points %4–%5)")
+                                 .arg(name)
+                                 .arg(unmet.gap * 1000.0, 0, 'f', 0)
+                                 .arg(QString::fromStdString(definition.attachments[a].node))
+                                 .arg(built[a].first)
+                                 .arg(built[a].last)});
+            }
             for (const auto& [first, last] : runs(metrics->bendBelowMinimum)) {
                 const Material material = hose->material();
+                double smallest = std::numeric_limits<double>::max();
+                for (int j = first; j <= last; ++j)
+                    smallest = std::min(smallest, jointBendRadius(*hose, j));
                 problems.push_back(
                     {definition.id, first, last,
-                     QObject::tr("%1: bend radius %2 mm below the minimum %3 mm at joints %4–%5")
+                     QObject::tr("%1: kinked: bend radius %2 mm, below the minimum %3 mm, at "
+                                 "joints %4–%5")
                          .arg(name)
-                         .arg(metrics->smallestBendRadius * 1000.0, 0, 'f', 1)
+                         .arg(smallest * 1000.0, 0, 'f', 1)
                          .arg(material.bendLimit.value * 1000.0, 0, 'f', 1)
                          .arg(first)
                          .arg(last)});
@@ -104,7 +140,8 @@ struct ProblemsPanel::ClearanceCache
     bool matches(const Document& document) const
     {
         std::vector<std::pair<std::string, size_t>> now;
-        for (const auto& [id, scene] : document.scenes()) now.emplace_back(id, scene.nodes.size());
+        for (const auto& [id, scene] : document.scenes())
+            now.emplace_back(id, scene.nodes.size());
         return now == scenes && document.project().poses == poses;
     }
 };
@@ -115,7 +152,8 @@ void ProblemsPanel::resizeEvent(QResizeEvent* event)
 {
     QListWidget::resizeEvent(event);
     const QRect inside = contentsRect();
-    m_clearanceBar->setGeometry(inside.left(), inside.top(), inside.width(), m_clearanceBar->sizeHint().height());
+    m_clearanceBar->setGeometry(inside.left(), inside.top(), inside.width(),
+                                m_clearanceBar->sizeHint().height());
 }
 
 ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
@@ -135,8 +173,9 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
     m_clearanceThreshold->setDecimals(1);
     m_clearanceThreshold->setSuffix(tr(" mm"));
     m_clearanceThreshold->setValue(5.0);
-    m_clearanceThreshold->setToolTip(tr("Hoses closer than this to a scene object are listed and "
-                                        "marked in the viewport (nodes a hose is fixed to are skipped)"));
+    m_clearanceThreshold->setToolTip(
+        tr("Hoses closer than this to a scene object are listed and "
+           "marked in the viewport (nodes a hose is fixed to are skipped)"));
     bar->addWidget(m_clearanceEnabled);
     bar->addWidget(m_clearanceThreshold);
     bar->addStretch(1);
@@ -154,8 +193,7 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
     });
     connect(this, &QListWidget::itemClicked, this, [this](QListWidgetItem* item) {
         const int index = row(item);
-        if (index < 0 || index >= int(m_problems.size()))
-            return;
+        if (index < 0 || index >= int(m_problems.size())) return;
         const Problem& problem = m_problems[size_t(index)];
         Selection selection = m_document.selection();
         selection.hoseId = problem.hoseId;
@@ -178,7 +216,8 @@ void ProblemsPanel::refreshNow()
     if (m_clearanceEnabled->isChecked()) {
         if (!m_clearanceCache || !m_clearanceCache->matches(m_document)) {
             auto cache = std::make_unique<ClearanceCache>();
-            for (const auto& [id, scene] : m_document.scenes()) cache->scenes.emplace_back(id, scene.nodes.size());
+            for (const auto& [id, scene] : m_document.scenes())
+                cache->scenes.emplace_back(id, scene.nodes.size());
             cache->poses = m_document.project().poses;
             try {
                 cache->objects = exporting::sceneObjects(m_document.project(), m_document.scenes());
@@ -192,10 +231,12 @@ void ProblemsPanel::refreshNow()
             hoses.push_back(m_document.hose(definition.id));
         exporting::ClearanceOptions options;
         options.threshold = m_clearanceThreshold->value() / 1000.0;
-        for (const exporting::ClearanceFinding& finding :
-             exporting::clearanceViolations(m_document.project(), hoses, m_clearanceCache->objects, options)) {
-            const formats::HoseDefinition& definition = m_document.project().hoses[size_t(finding.hose)];
-            const QString name = QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
+        for (const exporting::ClearanceFinding& finding : exporting::clearanceViolations(
+                 m_document.project(), hoses, m_clearanceCache->objects, options)) {
+            const formats::HoseDefinition& definition =
+                m_document.project().hoses[size_t(finding.hose)];
+            const QString name =
+                QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
             // The distance is signed (negative: the hose surface is inside the object); a
             // person reads "2.5 mm into", not "-2.5 mm from", and never "-0.0 mm".
             const double millimetres = finding.distance * 1000.0;
@@ -221,8 +262,7 @@ void ProblemsPanel::refreshNow()
         auto* item = new QListWidgetItem(problem.text, this);
         item->setForeground(QColor(255, 120, 100));
     }
-    if (m_problems.empty())
-        addItem(tr("No problems"));
+    if (m_problems.empty()) addItem(tr("No problems"));
 }
 
 } // namespace chaintube::editor

@@ -46,7 +46,7 @@ public:
     ~ProblemsPanel() override;
     /// Recomputes now (normally done at most every 100 ms after a change).
     void refreshNow();
-    /// Clearance check (issue 7): hoses closer than the threshold to a scene object (a node
+    /// Clearance check: hoses closer than the threshold to a scene object (a node
     /// with meshes other than the ones the hose is attached to) are listed and marked in the
     /// viewport (Document::clearanceMarkers). The controls sit above the list.
     QCheckBox* clearanceEnabled() const { return m_clearanceEnabled; }

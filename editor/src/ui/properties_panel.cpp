@@ -3,29 +3,31 @@
 #include "chaintube/editor/commands.h"
 #include "chaintube/route.h"
 
+#include <QAbstractScrollArea>
 #include <QCheckBox>
 #include <QColorDialog>
 #include <QComboBox>
+#include <QCoreApplication>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QInputDialog>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
 #include <QPushButton>
+#include <QScrollBar>
 #include <QSlider>
 #include <QSpinBox>
 #include <QStandardItemModel>
 #include <QVBoxLayout>
 #include <QVector3D>
-
-#include <iterator>
-#include <utility>
-
 #include <cmath>
+#include <iterator>
 #include <numbers>
+#include <utility>
 
 namespace chaintube::editor {
 
@@ -99,12 +101,28 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_diameter = spin(0.5, 500, 1, tr(" mm"), "diameter");
     m_diameterSlider = slider(1, 200, "diameterSlider");
     form->addRow(tr("Diameter"), row(m_diameter, m_diameterSlider));
-    m_length = spin(0.01, 1000, 3, tr(" m"), "routeLength");
-    m_length->setToolTip(tr("Length of the route polyline: changing it moves the last route "
-                            "point along the last leg"));
-    form->addRow(tr("Route length"), m_length);
+    m_length = spin(0.01, 1000, 3, tr(" m"), "hoseLength");
+    m_length->setToolTip(tr("The hose's length at rest. Dragging the hose never changes it; a "
+                            "longer hose gets slack between its fixed ends"));
+    m_addSlack = new QPushButton(tr("Add 5 % slack"));
+    m_addSlack->setObjectName("addSlack");
+    m_addSlack->setToolTip(tr("Makes the hose 5 % longer where it lies: the extra length hangs "
+                              "between its fixed ends"));
+    form->addRow(tr("Length"), row(m_length, m_addSlack));
     m_lengthInfo = new QLabel;
     form->addRow(QString(), m_lengthInfo);
+    auto* routePointRow = new QWidget;
+    auto* routePointLayout = new QHBoxLayout(routePointRow);
+    routePointLayout->setContentsMargins(0, 0, 0, 0);
+    for (int i = 0; i < 3; ++i) {
+        const char* axis[] = {"X", "Y", "Z"};
+        m_routePoint[i] = spin(-1e6, 1e6, 1, tr(" mm"), "");
+        m_routePoint[i]->setObjectName(QString("routePoint%1").arg(axis[i]));
+        m_routePoint[i]->setPrefix(QString(axis[i]) + " ");
+        routePointLayout->addWidget(m_routePoint[i]);
+    }
+    m_routePointLabel = new QLabel(tr("Route point"));
+    form->addRow(m_routePointLabel, routePointRow);
     m_segments = new QSpinBox;
     m_segments->setRange(1, 5000);
     m_segments->setKeyboardTracking(false);
@@ -168,7 +186,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     profileForm->addRow(tr("Corner segments"), m_cornerSegments);
     layout->addWidget(m_profileGroup);
 
-    // --- gravity and torsion (issue 7) ----------------------------------------------------
+    // --- gravity and torsion ----------------------------------------------------
     m_physicsGroup = new QGroupBox(tr("Gravity and torsion"));
     m_physicsGroup->setObjectName("physicsGroup");
     auto* physicsForm = new QFormLayout(m_physicsGroup);
@@ -179,9 +197,9 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_gravityDirection = new QComboBox;
     m_gravityDirection->setObjectName("gravityDirection");
     for (const auto& [label, direction] : kGravityDirections)
-        m_gravityDirection->addItem(tr(label), QVariant::fromValue(QVector3D(
-                                                   float(direction.x()), float(direction.y()),
-                                                   float(direction.z()))));
+        m_gravityDirection->addItem(
+            tr(label), QVariant::fromValue(QVector3D(float(direction.x()), float(direction.y()),
+                                                     float(direction.z()))));
     physicsForm->addRow(tr("Gravity"), row(m_gravity, m_gravityDirection));
     m_gravityState = new QLabel;
     m_gravityState->setObjectName("gravityState");
@@ -199,8 +217,8 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_message->setStyleSheet("color: #ff6b5a;");
     layout->addWidget(m_message);
 
-    // --- fixing ---------------------------------------------------------------------------
-    m_fixGroup = new QGroupBox(tr("Fix segment to part"));
+    // --- fixing (fixControls(): placed by the window where scrolling does not move it) ----
+    m_fixGroup = new QGroupBox(tr("Fix hose points to a part"));
     m_fixGroup->setObjectName("fixGroup");
     auto* fixForm = new QFormLayout(m_fixGroup);
     m_fixFirst = new QSpinBox;
@@ -212,9 +230,14 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_fixPart->setMinimumWidth(10);
     m_fixPart->setWordWrap(true);
     fixForm->addRow(tr("Part"), m_fixPart);
-    m_fixButton = new QPushButton(tr("Fix to part"));
+    m_fixButton = new QPushButton(tr("Fix to selected part"));
     m_fixButton->setObjectName("fixButton");
-    fixForm->addRow(QString(), m_fixButton);
+    m_fixButton->setToolTip(tr("Fixes the selected hose points to the part shown above"));
+    m_pickPartButton = new QPushButton(tr("Fix to part… (Ctrl+F)"));
+    m_pickPartButton->setObjectName("pickPartButton");
+    m_pickPartButton->setToolTip(tr("Then click the part in the viewport to fix the selected "
+                                    "hose points to it (Ctrl+F; Esc cancels)"));
+    fixForm->addRow(QString(), row(m_fixButton, m_pickPartButton));
     m_attachments = new QListWidget;
     m_attachments->setObjectName("attachments");
     m_attachments->setMaximumHeight(80);
@@ -222,7 +245,6 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_detachButton = new QPushButton(tr("Detach"));
     m_detachButton->setObjectName("detachButton");
     fixForm->addRow(QString(), m_detachButton);
-    layout->addWidget(m_fixGroup);
 
     // --- part -----------------------------------------------------------------------------
     m_partGroup = new QGroupBox(tr("Selected part"));
@@ -259,27 +281,26 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     partForm->addRow(QString(), m_collider);
     layout->addWidget(m_partGroup);
     layout->addStretch(1);
+    watchFields(this);
+    watchFields(m_fixGroup);
 
     // --- wiring ---------------------------------------------------------------------------
     connect(&m_document, &Document::changed, this, &PropertiesPanel::onDocumentChanged);
     auto edit = [this](MergeId id, const QString& text,
                        std::function<void(formats::HoseDefinition&)> change) {
-        if (m_updating || m_hoseId.empty())
-            return;
+        if (m_updating || m_hoseId.empty()) return;
         formats::HoseDefinition changed = currentDefinition();
         change(changed);
         apply(changed, static_cast<int>(id), text);
     };
     connect(m_name, &QLineEdit::editingFinished, this, [this, edit] {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseName, tr("Rename hose"),
              [this](formats::HoseDefinition& d) { d.name = m_name->text().toStdString(); });
         m_document.closeMerge();
     });
     connect(m_diameter, &QDoubleSpinBox::valueChanged, this, [this, edit](double mm) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseDiameter, tr("Change diameter"),
              [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
         m_document.closeMerge();
@@ -288,27 +309,20 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         edit(MergeId::HoseDiameter, tr("Change diameter"),
              [mm](formats::HoseDefinition& d) { d.outerDiameter = mm / 1000.0; });
     });
-    connect(m_length, &QDoubleSpinBox::valueChanged, this, [this, edit](double metres) {
-        if (m_updating)
-            return;
-        edit(MergeId::HoseRoute, tr("Change length"), [this, metres](formats::HoseDefinition& d) {
-            const double current = polylineLength(d.route);
-            auto& route = d.route;
-            const Vec3 leg = route.back() - route[route.size() - 2];
-            const double newLeg = leg.norm() + (metres - current);
-            if (newLeg <= 1e-3) {
-                refuse(tr("The route's last leg would vanish: lengthen or shorten by moving "
-                          "route points instead."));
-                d.route.clear(); // invalid on purpose: apply() refuses it
-                return;
-            }
-            route.back() = route[route.size() - 2] + leg.normalized() * newLeg;
-        });
+    connect(m_length, &QDoubleSpinBox::valueChanged, this, [this](double metres) {
+        if (m_updating) return;
+        setHoseLength(metres);
         m_document.closeMerge();
     });
+    connect(m_addSlack, &QPushButton::clicked, this, [this] {
+        if (const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId)) {
+            m_document.closeMerge();
+            setHoseLength(1.05 * formats::hoseLength(m_document.project(), *definition));
+            m_document.closeMerge();
+        }
+    });
     connect(m_segments, &QSpinBox::valueChanged, this, [this, edit](int n) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseSegments, tr("Change resolution"),
              [n](formats::HoseDefinition& d) { d.segmentCount = n; });
         m_document.closeMerge();
@@ -339,31 +353,29 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.closeMerge();
     });
     connect(m_twistLimit, &QDoubleSpinBox::valueChanged, this, [this, edit](double degrees) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_document.closeMerge();
         edit(MergeId::HoseDefinition, tr("Change twist limit"),
-             [degrees](formats::HoseDefinition& d) { d.torsion.twistLimit = degrees * std::numbers::pi / 180.0; });
+             [degrees](formats::HoseDefinition& d) {
+                 d.torsion.twistLimit = degrees * std::numbers::pi / 180.0;
+             });
         m_document.closeMerge();
     });
     connect(&m_document, &Document::gravityStateChanged, this,
             &PropertiesPanel::refreshGravityState);
     connect(m_colour, &QPushButton::clicked, this, [this, edit] {
         const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
-        if (!definition)
-            return;
+        if (!definition) return;
         const QColor chosen =
             QColorDialog::getColor(toQColor(definition->colour), this, tr("Hose colour"));
-        if (!chosen.isValid())
-            return;
+        if (!chosen.isValid()) return;
         edit(MergeId::HoseColour, tr("Change colour"), [chosen](formats::HoseDefinition& d) {
             d.colour = {chosen.redF(), chosen.greenF(), chosen.blueF(), chosen.alphaF()};
         });
         m_document.closeMerge();
     });
     connect(m_preset, &QComboBox::activated, this, [this, edit](int index) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         if (index >= int(m_document.project().materialPresets.size()))
             return; // "custom": stays as it is until a value changes
         const std::string name = m_document.project().materialPresets[size_t(index)].name;
@@ -372,24 +384,20 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.closeMerge();
     });
     auto materialEdit = [this, edit](bool merge) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         edit(MergeId::HoseMaterial, tr("Change material"),
              [this](formats::HoseDefinition& d) { d.material = currentMaterial(); });
-        if (!merge)
-            m_document.closeMerge();
+        if (!merge) m_document.closeMerge();
     };
     connect(m_expansion, &QDoubleSpinBox::valueChanged, this, [this, materialEdit](double) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_expansionSlider->setValue(int(std::lround(m_expansion->value())));
         m_updating = false;
         materialEdit(false);
     });
     connect(m_expansionSlider, &QSlider::valueChanged, this, [this, materialEdit](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_expansion->setValue(value);
         m_updating = false;
@@ -397,16 +405,14 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     });
     connect(m_bendKind, &QComboBox::activated, this, [materialEdit](int) { materialEdit(false); });
     connect(m_bendValue, &QDoubleSpinBox::valueChanged, this, [this, materialEdit](double) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_bendSlider->setValue(int(std::lround(m_bendValue->value())));
         m_updating = false;
         materialEdit(false);
     });
     connect(m_bendSlider, &QSlider::valueChanged, this, [this, materialEdit](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         m_updating = true;
         m_bendValue->setValue(value);
         m_updating = false;
@@ -415,13 +421,11 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     for (QSlider* s : {m_diameterSlider, m_segmentsSlider, m_expansionSlider, m_bendSlider})
         connect(s, &QSlider::sliderReleased, this, &PropertiesPanel::sliderReleased);
     connect(m_savePreset, &QPushButton::clicked, this, [this] {
-        if (m_hoseId.empty())
-            return;
+        if (m_hoseId.empty()) return;
         const QString name = askPresetName ? askPresetName()
                                            : QInputDialog::getText(this, tr("Save material preset"),
                                                                    tr("Preset name:"));
-        if (name.trimmed().isEmpty())
-            return;
+        if (name.trimmed().isEmpty()) return;
         auto presets = m_document.project().materialPresets;
         for (const auto& preset : presets)
             if (preset.name == name.toStdString()) {
@@ -436,8 +440,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
         m_document.undoStack()->push(makeSetPresets(m_document, presets, tr("Save preset")));
     });
     auto profileEdit = [this, edit] {
-        if (m_updating || m_shape->currentIndex() == kPolygonShapeIndex)
-            return;
+        if (m_updating || m_shape->currentIndex() == kPolygonShapeIndex) return;
         edit(MergeId::HoseProfile, tr("Change cross-section"), [this](formats::HoseDefinition& d) {
             formats::ProfileSpec p = d.profile;
             const Profile::Shape shapes[] = {Profile::Shape::Circle, Profile::Shape::Ellipse,
@@ -463,26 +466,47 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     connect(m_cornerSegments, &QSpinBox::valueChanged, this, profileEdit);
 
     connect(m_fixFirst, &QSpinBox::valueChanged, this, [this](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         Selection selection = m_document.selection();
         selection.rangeFirst = value;
         selection.rangeLast = std::max(value, m_fixLast->value());
         m_document.setSelection(selection);
     });
     connect(m_fixLast, &QSpinBox::valueChanged, this, [this](int value) {
-        if (m_updating)
-            return;
+        if (m_updating) return;
         Selection selection = m_document.selection();
         selection.rangeLast = value;
         selection.rangeFirst = std::min(value, m_fixFirst->value());
         m_document.setSelection(selection);
     });
     connect(m_fixButton, &QPushButton::clicked, this, &PropertiesPanel::fixSelectionToPart);
+    connect(m_pickPartButton, &QPushButton::clicked, this, &PropertiesPanel::fixToPartRequested);
+    for (int i = 0; i < 3; ++i)
+        connect(m_routePoint[i], &QDoubleSpinBox::valueChanged, this, [this, i](double mm) {
+            const Selection& selection = m_document.selection();
+            const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+            if (m_updating || !definition || selection.routePoint < 0 ||
+                selection.routePoint >= int(definition->route.size()))
+                return;
+            std::vector<Vec3> route = definition->route;
+            route[size_t(selection.routePoint)][i] = mm / 1000.0;
+            formats::HoseDefinition changed = *definition;
+            changed.route = route;
+            const std::string problem = m_document.validateHoseDefinition(changed);
+            if (!problem.empty()) {
+                refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+                refresh();
+                return;
+            }
+            m_document.closeMerge();
+            m_document.undoStack()->push(makeSetRoute(
+                m_document, m_hoseId, route,
+                tr("Move route point %1 of %2").arg(selection.routePoint).arg(hoseLabel())));
+            m_document.closeMerge();
+        });
     connect(m_detachButton, &QPushButton::clicked, this, [this] {
         const int row = m_attachments->currentRow();
-        if (m_hoseId.empty() || row < 0)
-            return;
+        if (m_hoseId.empty() || row < 0) return;
         m_document.undoStack()->push(makeDetach(m_document, m_hoseId, row));
     });
 
@@ -504,8 +528,7 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     });
     connect(m_resetPart, &QPushButton::clicked, this, [this] {
         const Selection& selection = m_document.selection();
-        if (!m_document.scene(selection.sceneId) || selection.node < 0)
-            return;
+        if (!m_document.scene(selection.sceneId) || selection.node < 0) return;
         m_document.closeMerge();
         m_document.undoStack()->push(
             makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, std::nullopt));
@@ -514,15 +537,87 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     refresh();
 }
 
-QString PropertiesPanel::lastRefusal() const { return m_message->text(); }
+QString PropertiesPanel::lastRefusal() const
+{
+    return m_message->text();
+}
+
+QString PropertiesPanel::hoseLabel() const
+{
+    const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
+    if (!definition) return QString();
+    return QString::fromStdString(definition->name.empty() ? definition->id : definition->name);
+}
+
+QWidget* PropertiesPanel::fixControls() const
+{
+    return m_fixGroup;
+}
+
+PropertiesPanel::~PropertiesPanel()
+{
+    if (m_fixGroup && !m_fixGroup->parent()) // never placed by a window
+        delete m_fixGroup.data();
+}
+
+bool PropertiesPanel::eventFilter(QObject* watched, QEvent* event)
+{
+    auto* field = qobject_cast<QWidget*>(watched);
+    if (!field) return QWidget::eventFilter(watched, event);
+    if (event->type() == QEvent::Wheel && !field->hasFocus()) {
+        // Over a field it does not edit (only a field with the keyboard focus takes the
+        // wheel): the panel scrolls, as anywhere else in it.
+        for (QWidget* w = field->parentWidget(); w; w = w->parentWidget())
+            if (auto* area = qobject_cast<QAbstractScrollArea*>(w)) {
+                QCoreApplication::sendEvent(area->verticalScrollBar(), event);
+                break;
+            }
+        return true;
+    }
+    if (event->type() == QEvent::ShortcutOverride && !field->property("editing").toBool()) {
+        // Ctrl+Z / Ctrl+Y on a field that is not being typed in: the document's undo (the
+        // value was entered, so its edit is a document command), not the field's own text
+        // undo, which only applies while a value is being typed.
+        const auto* key = static_cast<QKeyEvent*>(event);
+        if (key->matches(QKeySequence::Undo) || key->matches(QKeySequence::Redo) ||
+            (key->key() == Qt::Key_Y && key->modifiers() == Qt::ControlModifier))
+            return true; // not accepted: the window's Undo/Redo shortcut runs
+    }
+    return QWidget::eventFilter(watched, event);
+}
+
+void PropertiesPanel::watchFields(QWidget* root)
+{
+    for (QWidget* field : root->findChildren<QWidget*>()) {
+        const bool spinBox = qobject_cast<QAbstractSpinBox*>(field) != nullptr;
+        auto* lineEdit = qobject_cast<QLineEdit*>(field);
+        const bool inSpinBox = lineEdit && qobject_cast<QAbstractSpinBox*>(field->parentWidget());
+        if (inSpinBox) continue; // its spin box is watched
+        if (!spinBox && !lineEdit && !qobject_cast<QComboBox*>(field) &&
+            !qobject_cast<QSlider*>(field))
+            continue;
+        field->setFocusPolicy(Qt::StrongFocus); // the wheel gives no focus
+        field->installEventFilter(this);
+        // "editing" while the author types, until the value is entered (or put back).
+        QLineEdit* text = lineEdit ? lineEdit : field->findChild<QLineEdit*>();
+        if (!text) continue;
+        connect(text, &QLineEdit::textEdited, field,
+                [field] { field->setProperty("editing", true); });
+        connect(text, &QLineEdit::editingFinished, field,
+                [field] { field->setProperty("editing", false); });
+        if (auto* box = qobject_cast<QAbstractSpinBox*>(field))
+            connect(box, &QAbstractSpinBox::editingFinished, field,
+                    [field] { field->setProperty("editing", false); });
+    }
+}
 
 void PropertiesPanel::fixSelectionToPart()
 {
     const Selection& selection = m_document.selection();
     try {
-        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId,
-                                                m_fixFirst->value(), m_fixLast->value(),
-                                                selection.sceneId, selection.node));
+        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId, m_fixFirst->value(),
+                                                m_fixLast->value(), selection.sceneId,
+                                                selection.node));
         m_message->clear();
     } catch (const std::exception& error) {
         refuse(QString::fromStdString(error.what()));
@@ -574,21 +669,32 @@ Material PropertiesPanel::currentMaterial() const
 bool PropertiesPanel::apply(const formats::HoseDefinition& changed, int mergeId,
                             const QString& text)
 {
-    const std::string problem = changed.route.empty()
-                                    ? std::string("invalid route")
-                                    : m_document.validateHoseDefinition(changed);
+    const std::string problem = changed.route.empty() ? std::string("invalid route")
+                                                      : m_document.validateHoseDefinition(changed);
     if (!problem.empty()) {
-        if (!changed.route.empty())
-            refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+        if (!changed.route.empty()) refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
         refresh(); // the widgets go back to the document's values
         return false;
     }
     m_message->clear();
-    if (changed == currentDefinition())
-        return true;
-    m_document.undoStack()->push(
-        makeSetHoseDefinition(m_document, m_hoseId, changed, static_cast<MergeId>(mergeId), text));
+    if (changed == currentDefinition()) return true;
+    // The history says which hose: "Change diameter of left bracket to valve".
+    m_document.undoStack()->push(makeSetHoseDefinition(m_document, m_hoseId, changed,
+                                                       static_cast<MergeId>(mergeId),
+                                                       tr("%1 of %2").arg(text, hoseLabel())));
     return true;
+}
+
+void PropertiesPanel::setHoseLength(double metres)
+{
+    if (m_hoseId.empty()) return;
+    try {
+        m_document.undoStack()->push(makeSetHoseLength(m_document, m_hoseId, metres));
+        m_message->clear();
+    } catch (const std::exception& error) {
+        refuse(tr("Refused: %1").arg(QString::fromStdString(error.what())));
+        refresh(); // the field goes back to the document's value
+    }
 }
 
 void PropertiesPanel::refuse(const QString& message)
@@ -596,7 +702,10 @@ void PropertiesPanel::refuse(const QString& message)
     m_message->setText(message);
 }
 
-void PropertiesPanel::sliderReleased() { m_document.closeMerge(); }
+void PropertiesPanel::sliderReleased()
+{
+    m_document.closeMerge();
+}
 
 void PropertiesPanel::refresh()
 {
@@ -604,8 +713,8 @@ void PropertiesPanel::refresh()
     const Selection& selection = m_document.selection();
     m_hoseId = m_document.hoseDefinition(selection.hoseId) ? selection.hoseId : std::string();
     const formats::HoseDefinition* definition = m_document.hoseDefinition(m_hoseId);
-    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_materialGroup,
-                                                      m_profileGroup, m_physicsGroup, m_fixGroup})
+    for (QWidget* w : std::initializer_list<QWidget*>{m_hoseGroup, m_materialGroup, m_profileGroup,
+                                                      m_physicsGroup, m_fixGroup})
         w->setEnabled(definition != nullptr);
     m_preset->clear();
     for (const auto& preset : m_document.project().materialPresets)
@@ -618,7 +727,11 @@ void PropertiesPanel::refresh()
         m_name->setText(QString::fromStdString(definition->name));
         m_diameter->setValue(definition->outerDiameter * 1000.0);
         m_diameterSlider->setValue(int(std::lround(definition->outerDiameter * 1000.0)));
-        m_length->setValue(polylineLength(definition->route));
+        try {
+            m_length->setValue(formats::hoseLength(m_document.project(), *definition));
+        } catch (const std::exception&) {
+            m_length->setValue(polylineLength(definition->route)); // cannot be built: see below
+        }
         const Hose* hose = m_document.hose(m_hoseId);
         m_lengthInfo->setText(hose ? tr("axis %1 m now, %2 m at rest")
                                          .arg(hose->currentLength(), 0, 'f', 3)
@@ -629,9 +742,9 @@ void PropertiesPanel::refresh()
         m_segmentsSlider->setValue(segments);
         const QColor colour = toQColor(definition->colour);
         m_colour->setText(colour.name());
-        m_colour->setStyleSheet(QString("background-color: %1; color: %2;")
-                                    .arg(colour.name(),
-                                         colour.lightnessF() > 0.5 ? "black" : "white"));
+        m_colour->setStyleSheet(
+            QString("background-color: %1; color: %2;")
+                .arg(colour.name(), colour.lightnessF() > 0.5 ? "black" : "white"));
         Material material;
         try {
             material = m_document.project().materialOf(*definition);
@@ -684,7 +797,10 @@ void PropertiesPanel::refresh()
             m_gravityDirection->removeItem(m_gravityDirection->count() - 1);
         if (directionIndex < 0) { // a direction written by hand: shown, kept unless changed
             m_gravityDirection->addItem(
-                tr("(%1, %2, %3)").arg(g.x(), 0, 'g', 3).arg(g.y(), 0, 'g', 3).arg(g.z(), 0, 'g', 3),
+                tr("(%1, %2, %3)")
+                    .arg(g.x(), 0, 'g', 3)
+                    .arg(g.y(), 0, 'g', 3)
+                    .arg(g.z(), 0, 'g', 3),
                 QVariant::fromValue(QVector3D(float(g.x()), float(g.y()), float(g.z()))));
             directionIndex = m_gravityDirection->count() - 1;
         }
@@ -704,8 +820,7 @@ void PropertiesPanel::refresh()
                                        .arg(attachment.firstPoint)
                                        .arg(attachment.lastPoint)
                                        .arg(QString::fromStdString(attachment.node)));
-        if (m_attachments->count() > 0)
-            m_attachments->setCurrentRow(0);
+        if (m_attachments->count() > 0) m_attachments->setCurrentRow(0);
     } else {
         m_hoseGroup->setTitle(tr("Hose (none selected)"));
         m_attachments->clear();
@@ -715,6 +830,27 @@ void PropertiesPanel::refresh()
                            ? QString::fromStdString(scene->nodes[size_t(selection.node)].path)
                            : tr("(select a part)"));
     m_fixButton->setEnabled(definition && scene && selection.node >= 0);
+    m_fixButton->setText(
+        scene && selection.node >= 0
+            ? tr("Fix to %1").arg(QString::fromStdString(scene->nodes[size_t(selection.node)].name))
+            : tr("Fix to selected part"));
+    m_pickPartButton->setEnabled(definition && selection.rangeFirst >= 0);
+    const bool routePoint = definition && selection.routePoint >= 0 &&
+                            selection.routePoint < int(definition->route.size());
+    const bool routeEditable = routePoint && !m_document.hoseFollowsMovedPart(m_hoseId);
+    m_routePointLabel->setText(routePoint ? tr("Route point %1").arg(selection.routePoint)
+                                          : tr("Route point"));
+    for (int i = 0; i < 3; ++i) {
+        m_routePoint[i]->setEnabled(routeEditable);
+        m_routePoint[i]->setSpecialValueText(routePoint ? QString() : QStringLiteral(" "));
+        m_routePoint[i]->setValue(routePoint
+                                      ? definition->route[size_t(selection.routePoint)][i] * 1000.0
+                                      : m_routePoint[i]->minimum());
+        m_routePoint[i]->setToolTip(routePoint && !routeEditable
+                                        ? tr("The hose is fixed to a moved part: its route is "
+                                             "kept at the file position")
+                                        : tr("Position of the selected route point (world)"));
+    }
     m_detachButton->setEnabled(definition && !definition->attachments.empty());
     m_updating = false;
     refreshGravityState();
@@ -740,7 +876,8 @@ void PropertiesPanel::showHoseValues(bool shown)
     m_lengthInfo->clear();
     m_colour->setText(QString());
     m_colour->setStyleSheet(QString());
-    for (QComboBox* box : {m_preset, m_bendKind, m_shape, m_gravityDirection}) box->setCurrentIndex(-1);
+    for (QComboBox* box : {m_preset, m_bendKind, m_shape, m_gravityDirection})
+        box->setCurrentIndex(-1);
     for (QSlider* slider : {m_diameterSlider, m_segmentsSlider, m_expansionSlider, m_bendSlider})
         slider->setValue(slider->minimum());
     m_gravity->setChecked(false);
@@ -757,7 +894,8 @@ void PropertiesPanel::refreshGravityState()
         m_gravityState->setText(tr("settling…"));
         break;
     case Document::GravityState::Settled:
-        m_gravityState->setText(tr("settled after %1 steps").arg(m_document.gravitySteps(m_hoseId)));
+        m_gravityState->setText(
+            tr("settled after %1 steps").arg(m_document.gravitySteps(m_hoseId)));
         break;
     case Document::GravityState::OutOfBudget:
         m_gravityState->setText(tr("still moving after %1 steps: left as it is")
@@ -781,17 +919,16 @@ void PropertiesPanel::refreshPart()
                                                 : QString());
     if (havePart) {
         m_partName->setText(QString::fromStdString(scene->nodes[size_t(selection.node)].path));
-        const formats::Mat4 local = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 local =
+            m_document.nodeLocalTransform(selection.sceneId, selection.node);
         Mat3 rotation = local.block<3, 3>(0, 0);
         for (int c = 0; c < 3; ++c)
-            if (rotation.col(c).norm() > 0)
-                rotation.col(c).normalize();
+            if (rotation.col(c).norm() > 0) rotation.col(c).normalize();
         const Eigen::Vector3d euler = rotation.eulerAngles(0, 1, 2);
         for (int i = 0; i < 3; ++i) {
             m_translation[i]->setValue(local(i, 3) * 1000.0);
             double degrees = euler[i] * 180.0 / std::numbers::pi;
-            if (degrees > 180.0)
-                degrees -= 360.0;
+            if (degrees > 180.0) degrees -= 360.0;
             m_rotation[i]->setValue(degrees);
         }
     } else {
@@ -802,20 +939,20 @@ void PropertiesPanel::refreshPart()
 
 void PropertiesPanel::setPartTransformFromFields(int translationAxis)
 {
-    if (m_updating)
-        return;
+    if (m_updating) return;
     const Selection& selection = m_document.selection();
-    if (!m_document.scene(selection.sceneId) || selection.node < 0)
-        return;
+    if (!m_document.scene(selection.sceneId) || selection.node < 0) return;
     const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
     Eigen::Vector3d scale;
     for (int c = 0; c < 3; ++c)
         scale[c] = current.block<3, 1>(0, c).norm();
-    const Mat3 rotation =
-        (Eigen::AngleAxisd(m_rotation[0]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()) *
-         Eigen::AngleAxisd(m_rotation[1]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(m_rotation[2]->value() * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ()))
-            .toRotationMatrix();
+    const Mat3 rotation = (Eigen::AngleAxisd(m_rotation[0]->value() * std::numbers::pi / 180.0,
+                                             Eigen::Vector3d::UnitX()) *
+                           Eigen::AngleAxisd(m_rotation[1]->value() * std::numbers::pi / 180.0,
+                                             Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(m_rotation[2]->value() * std::numbers::pi / 180.0,
+                                             Eigen::Vector3d::UnitZ()))
+                              .toRotationMatrix();
     formats::Mat4 local = current;
     // Only what was edited is taken from the (rounded) fields, so that moving a part along
     // one axis never perturbs the other coordinates or its rotation.

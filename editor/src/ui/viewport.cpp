@@ -2,14 +2,13 @@
 
 #include "chaintube/editor/commands.h"
 
+#include <Eigen/Geometry>
 #include <QMouseEvent>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
+#include <QPainter>
 #include <QSurfaceFormat>
 #include <QWheelEvent>
-
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,7 +21,7 @@ namespace {
 /// default hose radius) along the surface normal.
 constexpr double kRouteLift = 0.01;
 constexpr double kHandlePixels = 9.0;
-constexpr double kMoveSnapMetres = 0.01;          ///< Ctrl while moving a part
+constexpr double kMoveSnapMetres = 0.01;                       ///< Ctrl while moving a part
 constexpr double kRotateSnapRadians = std::numbers::pi / 12.0; ///< Ctrl while rotating a part: 15°
 } // namespace
 
@@ -57,16 +56,18 @@ Viewport::~Viewport()
 
 void Viewport::setMode(Mode mode)
 {
-    if (mode == m_mode)
-        return;
+    if (mode == m_mode) return;
     m_mode = mode;
     m_pendingRoute.clear();
     m_options.pendingRoute.clear();
-    setCursor(mode == Mode::LayRoute ? Qt::CrossCursor : Qt::ArrowCursor);
-    emit statusMessage(mode == Mode::LayRoute
-                           ? tr("New hose: click route points on the scene; Enter or "
-                                "double-click finishes, Esc cancels")
-                           : QString());
+    setCursor(mode == Mode::LayRoute    ? Qt::CrossCursor
+              : mode == Mode::FixToPart ? Qt::PointingHandCursor
+                                        : Qt::ArrowCursor);
+    if (mode == Mode::LayRoute)
+        emit statusMessage(tr("New hose: click route points on the scene; Enter or "
+                              "double-click finishes, Esc cancels"));
+    else if (mode == Mode::Select)
+        emit statusMessage(QString());
     emit modeChanged();
     update();
 }
@@ -81,7 +82,62 @@ void Viewport::finishRoute()
         emit statusMessage(tr("A hose needs at least two route points"));
 }
 
-void Viewport::cancelRoute() { setMode(Mode::Select); }
+void Viewport::cancelRoute()
+{
+    setMode(Mode::Select);
+}
+
+void Viewport::beginFixToPart()
+{
+    const Selection& selection = m_document.selection();
+    const formats::HoseDefinition* definition = m_document.hoseDefinition(selection.hoseId);
+    if (!definition || selection.rangeFirst < 0) {
+        emit statusMessage(tr("Fix to part: first click the hose point (or Shift+click the "
+                              "points) to fix"));
+        return;
+    }
+    setMode(Mode::FixToPart);
+    const QString points =
+        selection.rangeFirst == selection.rangeLast
+            ? tr("point %1").arg(selection.rangeFirst)
+            : tr("points %1–%2").arg(selection.rangeFirst).arg(selection.rangeLast);
+    emit statusMessage(
+        tr("Fix %1 of %2: click the part to fix it to (Esc cancels)")
+            .arg(points, QString::fromStdString(definition->name.empty() ? definition->id
+                                                                         : definition->name)));
+}
+
+void Viewport::fixSelectionToPartAt(const QPointF& position)
+{
+    ScenePickHit hit;
+    if (!pickScene(position, &hit)) {
+        emit statusMessage(tr("Click a part to fix the hose to (Esc cancels)"));
+        return;
+    }
+    Selection selection = m_document.selection();
+    try {
+        m_document.closeMerge();
+        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId, selection.rangeFirst,
+                                                selection.rangeLast, hit.sceneId, hit.node));
+        m_document.closeMerge();
+    } catch (const std::exception& error) {
+        emit statusMessage(tr("Cannot fix: %1").arg(QString::fromStdString(error.what())));
+        setMode(Mode::Select);
+        return;
+    }
+    // The hose stays selected, the part too (its gizmo moves both).
+    selection.sceneId = hit.sceneId;
+    selection.node = hit.node;
+    m_document.setSelection(selection);
+    setMode(Mode::Select);
+    emit statusMessage(m_document.undoStack()->text(m_document.undoStack()->index() - 1));
+}
+
+Vec3 Viewport::gizmoCentre() const
+{
+    const Selection& selection = m_document.selection();
+    return m_document.partCentre(selection.sceneId, selection.node);
+}
 
 void Viewport::setWireframe(bool on)
 {
@@ -97,8 +153,7 @@ void Viewport::frameAll()
         if (const Hose* hose = m_document.hose(definition.id))
             for (const Vec3& p : hose->points())
                 box.extend(p);
-    if (!box.empty())
-        m_camera.frame(box);
+    if (!box.empty()) m_camera.frame(box);
     update();
 }
 
@@ -126,8 +181,7 @@ void Viewport::frameSelection()
 QPoint Viewport::toWidget(const Vec3& world) const
 {
     Eigen::Vector2d pixel;
-    if (!m_camera.project(world, width(), height(), &pixel))
-        return QPoint(-1, -1);
+    if (!m_camera.project(world, width(), height(), &pixel)) return QPoint(-1, -1);
     return QPoint(int(std::lround(pixel.x())), int(std::lround(pixel.y())));
 }
 
@@ -142,7 +196,10 @@ bool Viewport::pickScene(const QPointF& position, ScenePickHit* hit)
     return m_picker.pick(rayAt(position), hit);
 }
 
-QImage Viewport::renderToImage() { return grabFramebuffer(); }
+QImage Viewport::renderToImage()
+{
+    return grabFramebuffer();
+}
 
 void Viewport::initializeGL()
 {
@@ -160,8 +217,7 @@ void Viewport::initializeGL()
 
 void Viewport::paintGL()
 {
-    if (!m_initialised)
-        return;
+    if (!m_initialised) return;
     if (!m_framedOnce) {
         m_framedOnce = true;
         frameAll();
@@ -169,14 +225,48 @@ void Viewport::paintGL()
     const auto start = std::chrono::steady_clock::now();
     m_options.pendingRoute = m_pendingRoute;
     const qreal ratio = devicePixelRatioF();
-    m_renderer.render(m_document, m_camera, int(width() * ratio), int(height() * ratio),
-                      m_options);
-    if (m_finishEachFrame)
-        context()->functions()->glFinish();
+    m_renderer.render(m_document, m_camera, int(width() * ratio), int(height() * ratio), m_options);
+    if (m_options.showProblems) drawProblemLabels();
+    if (m_finishEachFrame) context()->functions()->glFinish();
     m_lastFrameMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count();
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     ++m_paintCount;
+}
+
+void Viewport::drawProblemLabels()
+{
+    // Beside the renderer's gap lines and kink rings: how much hose is missing, and the bend
+    // radius a kink reached, so that the picture reads without the Problems panel.
+    QPainter painter(this);
+    painter.setRenderHint(QPainter::TextAntialiasing);
+    QFont font = painter.font();
+    font.setBold(true);
+    painter.setFont(font);
+    const auto label = [&](const Vec3& at, const QString& text) {
+        const QPoint p = toWidget(at);
+        if (p.x() < 0) return;
+        const QRect box = painter.fontMetrics().boundingRect(text).adjusted(-4, -2, 4, 2);
+        const QRect placed = box.translated(p + QPoint(12, -12) - box.bottomLeft());
+        painter.fillRect(placed, QColor(40, 10, 10, 200));
+        painter.setPen(QColor(255, 110, 100));
+        painter.drawText(placed, Qt::AlignCenter, text);
+    };
+    for (const formats::HoseDefinition& definition : m_document.project().hoses) {
+        const Hose* hose = m_document.hose(definition.id);
+        const HoseMetrics* metrics = hose ? m_document.hoseMetrics(definition.id) : nullptr;
+        if (!metrics) continue;
+        for (const HoseMetrics::UnmetAttachment& unmet : metrics->unmetAttachments)
+            for (const Hose::Attachment& attachment : hose->attachments())
+                if (attachment.id == unmet.id)
+                    label(0.5 * (hose->point(attachment.first) +
+                                 attachment.frame.apply(attachment.localPoints.front())),
+                          tr("%1 mm short").arg(unmet.gap * 1000.0, 0, 'f', 0));
+        if (!metrics->bendBelowMinimum.empty())
+            label(hose->point(metrics->smallestBendRadiusJoint >= 0
+                                  ? metrics->smallestBendRadiusJoint
+                                  : metrics->bendBelowMinimum.front()),
+                  tr("kink: R %1 mm").arg(metrics->smallestBendRadius * 1000.0, 0, 'f', 0));
+    }
 }
 
 void Viewport::onDocumentChanged(const ChangeEvent& event)
@@ -185,17 +275,15 @@ void Viewport::onDocumentChanged(const ChangeEvent& event)
         m_framedOnce = false;
         setMode(Mode::Select);
     }
-    if (event.kind == ChangeEvent::Kind::FileStateChanged)
-        return;
+    if (event.kind == ChangeEvent::Kind::FileStateChanged) return;
     update();
 }
 
 int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
 {
     const Selection& selection = m_document.selection();
-    if (!m_document.scene(selection.sceneId) || selection.node < 0)
-        return -1;
-    const Vec3 origin = m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+    if (!m_document.scene(selection.sceneId) || selection.node < 0) return -1;
+    const Vec3 origin = gizmoCentre();
     const QPointF a = toWidget(origin);
     int best = -1;
     double bestDistance = kHandlePixels;
@@ -203,8 +291,7 @@ int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
         const QPointF b = toWidget(origin + Renderer::gizmoLength(m_camera) * Vec3::Unit(axis));
         const QPointF ab = b - a;
         const double length2 = QPointF::dotProduct(ab, ab);
-        if (length2 < 1.0)
-            continue;
+        if (length2 < 1.0) continue;
         // Only the outer 70 % of an arrow grabs, so that the node itself stays clickable.
         const double s = std::clamp(QPointF::dotProduct(position - a, ab) / length2, 0.3, 1.0);
         const QPointF closest = a + s * ab;
@@ -214,17 +301,15 @@ int Viewport::gizmoAxisAt(const QPointF& position, double* pixels) const
             best = axis;
         }
     }
-    if (pixels)
-        *pixels = bestDistance;
+    if (pixels) *pixels = bestDistance;
     return best;
 }
 
 int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
 {
     const Selection& selection = m_document.selection();
-    if (!m_document.scene(selection.sceneId) || selection.node < 0)
-        return -1;
-    const Vec3 origin = m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+    if (!m_document.scene(selection.sceneId) || selection.node < 0) return -1;
+    const Vec3 origin = gizmoCentre();
     int best = -1;
     double bestDistance = kHandlePixels;
     for (int axis = 0; axis < 3; ++axis) {
@@ -236,9 +321,9 @@ int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
             const QPointF ab = next - previous;
             const double length2 = QPointF::dotProduct(ab, ab);
             const double s =
-                length2 > 0 ? std::clamp(QPointF::dotProduct(position - previous, ab) / length2,
-                                         0.0, 1.0)
-                            : 0.0;
+                length2 > 0
+                    ? std::clamp(QPointF::dotProduct(position - previous, ab) / length2, 0.0, 1.0)
+                    : 0.0;
             const QPointF closest = previous + s * ab;
             const double distance =
                 std::hypot(position.x() - closest.x(), position.y() - closest.y());
@@ -249,29 +334,38 @@ int Viewport::gizmoRingAt(const QPointF& position, double* pixels) const
             previous = next;
         }
     }
-    if (pixels)
-        *pixels = bestDistance;
+    if (pixels) *pixels = bestDistance;
     return best;
 }
 
 double Viewport::gizmoScreenAngle(const QPointF& position) const
 {
-    const Selection& selection = m_document.selection();
-    const QPointF centre =
-        toWidget(m_document.nodeWorldFrame(selection.sceneId, selection.node).translation);
+    const QPointF centre = toWidget(gizmoCentre());
     return std::atan2(position.y() - centre.y(), position.x() - centre.x());
+}
+
+int Viewport::axisPointAt(const Hose& hose, const QPointF& position) const
+{
+    int best = -1;
+    double bestDistance = kHandlePixels;
+    for (int i = 0; i < hose.pointCount(); ++i) {
+        const QPointF p = toWidget(hose.point(i));
+        const double distance = std::hypot(position.x() - p.x(), position.y() - p.y());
+        if (distance < bestDistance) {
+            bestDistance = distance;
+            best = i;
+        }
+    }
+    return best;
 }
 
 int Viewport::routePointAt(const QPointF& position) const
 {
-    const formats::HoseDefinition* definition =
-        m_document.hoseDefinition(m_document.selection().hoseId);
-    if (!definition)
-        return -1;
+    const std::vector<Vec3> route = m_document.displayRoute(m_document.selection().hoseId);
     int best = -1;
     double bestDistance = kHandlePixels;
-    for (size_t i = 0; i < definition->route.size(); ++i) {
-        const QPointF p = toWidget(definition->route[i]);
+    for (size_t i = 0; i < route.size(); ++i) {
+        const QPointF p = toWidget(route[i]);
         const double distance = std::hypot(position.x() - p.x(), position.y() - p.y());
         if (distance < bestDistance) {
             bestDistance = distance;
@@ -286,8 +380,7 @@ Vec3 Viewport::onViewPlane(const QPointF& position, const Vec3& anchor) const
     const Ray ray = rayAt(position);
     const Vec3 normal = m_camera.forward();
     const double denominator = ray.direction.dot(normal);
-    if (std::abs(denominator) < 1e-9)
-        return anchor;
+    if (std::abs(denominator) < 1e-9) return anchor;
     const double t = (anchor - ray.origin).dot(normal) / denominator;
     return ray.origin + t * ray.direction;
 }
@@ -296,30 +389,33 @@ void Viewport::mousePressEvent(QMouseEvent* event)
 {
     const QPointF position = event->position();
     m_lastMouse = m_pressMouse = position;
-    const bool orbitButton = event->button() == Qt::MiddleButton ||
-                             event->button() == Qt::RightButton ||
-                             (event->button() == Qt::LeftButton &&
-                              (event->modifiers() & Qt::AltModifier));
+    const bool orbitButton =
+        event->button() == Qt::MiddleButton || event->button() == Qt::RightButton ||
+        (event->button() == Qt::LeftButton && (event->modifiers() & Qt::AltModifier));
     if (orbitButton) {
         m_drag = (event->modifiers() & Qt::ShiftModifier) ? Drag::Pan : Drag::Orbit;
         return;
     }
-    if (event->button() != Qt::LeftButton)
-        return;
+    if (event->button() != Qt::LeftButton) return;
 
     if (m_mode == Mode::LayRoute) {
         ScenePickHit hit;
         if (pickScene(position, &hit)) {
             m_pendingRoute.push_back(hit.point + kRouteLift * hit.normal);
-            emit statusMessage(tr("Route point %1 on %2")
-                                   .arg(m_pendingRoute.size())
-                                   .arg(QString::fromStdString(
-                                       m_document.scene(hit.sceneId)
-                                           ->nodes[size_t(hit.node)]
-                                           .name)));
+            emit statusMessage(
+                tr("Route point %1 on %2")
+                    .arg(m_pendingRoute.size())
+                    .arg(QString::fromStdString(
+                        m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name)));
         } else {
             emit statusMessage(tr("Click on a scene surface to place a route point"));
         }
+        update();
+        return;
+    }
+
+    if (m_mode == Mode::FixToPart) {
+        fixSelectionToPartAt(position);
         update();
         return;
     }
@@ -335,8 +431,7 @@ void Viewport::mousePressEvent(QMouseEvent* event)
         m_gizmoAxis = ring;
         m_options.activeGizmoRing = ring;
         m_gizmoStartLocal = m_document.nodeLocalTransform(selection.sceneId, selection.node);
-        m_gizmoStartOrigin =
-            m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+        m_gizmoStartOrigin = gizmoCentre();
         m_gizmoLastScreenAngle = gizmoScreenAngle(position);
         m_gizmoAngle = 0.0;
         m_document.closeMerge();
@@ -348,8 +443,7 @@ void Viewport::mousePressEvent(QMouseEvent* event)
         m_gizmoAxis = axis;
         m_options.activeGizmoAxis = axis;
         m_gizmoStartLocal = m_document.nodeLocalTransform(selection.sceneId, selection.node);
-        m_gizmoStartOrigin =
-            m_document.nodeWorldFrame(selection.sceneId, selection.node).translation;
+        m_gizmoStartOrigin = gizmoCentre();
         const Ray ray = rayAt(position);
         const Vec3 a = Vec3::Unit(axis);
         const Vec3 w = ray.origin - m_gizmoStartOrigin;
@@ -358,8 +452,28 @@ void Viewport::mousePressEvent(QMouseEvent* event)
         m_document.closeMerge();
         return;
     }
-    // 2. A route point of the selected hose.
-    const int routePoint = routePointAt(position);
+    // 2. A route point of the selected hose. A route handle lying on an axis point (the
+    //    route's ends are the hose's ends; a route that is the hose's shape, as a committed
+    //    drag leaves it, has a handle on every axis point) gives way to the hose point, so that
+    //    the hose can be grabbed and its ends picked to be fixed; Ctrl+click takes the handle.
+    int routePoint = routePointAt(position);
+    if (routePoint >= 0 && !(event->modifiers() & Qt::ControlModifier)) {
+        const Hose* hose = m_document.hose(selection.hoseId);
+        const std::vector<Vec3> route = m_document.displayRoute(selection.hoseId);
+        const int axisPoint = hose ? axisPointAt(*hose, position) : -1;
+        if (axisPoint >= 0 && routePoint < static_cast<int>(route.size()) &&
+            (toWidget(hose->point(axisPoint)) - toWidget(route[size_t(routePoint)]))
+                    .manhattanLength() <= 2)
+            routePoint = -1; // falls through to the hose pick below
+    }
+    if (routePoint >= 0 && m_document.hoseFollowsMovedPart(selection.hoseId)) {
+        selection.routePoint = routePoint;
+        m_document.setSelection(selection);
+        emit statusMessage(tr("Route point %1: the hose is fixed to a moved part; its route is "
+                              "kept at the file position (reset the part to edit it)")
+                               .arg(routePoint));
+        return;
+    }
     if (routePoint >= 0) {
         selection.routePoint = routePoint;
         m_document.setSelection(selection);
@@ -372,23 +486,33 @@ void Viewport::mousePressEvent(QMouseEvent* event)
     }
     // 3. A hose, 4. a scene part, 5. nothing. Whichever is nearer along the ray wins.
     const Ray ray = rayAt(position);
-    const double pixelMetres = 2.0 * m_camera.distance * std::tan(m_camera.fieldOfViewY / 2) /
-                               std::max(height(), 1);
+    const double pixelMetres =
+        2.0 * m_camera.distance * std::tan(m_camera.fieldOfViewY / 2) / std::max(height(), 1);
     HosePickHit hoseHit;
     ScenePickHit sceneHit;
     const bool onHose = pickHose(m_document, ray, 3.0 * pixelMetres, &hoseHit);
     const bool onScene = pickScene(position, &sceneHit);
     if (onHose && (!onScene || hoseHit.distance <= sceneHit.distance + 0.02)) {
+        // The axis point drawn nearest the cursor wins over the one nearest along the ray
+        // (a hose seen end-on passes several points under the cursor): a click on a drawn
+        // point, an end in particular, picks that point.
+        if (const Hose* hose = m_document.hose(hoseHit.hoseId)) {
+            const int nearest = axisPointAt(*hose, position);
+            if (nearest >= 0) hoseHit.point = nearest, hoseHit.position = hose->point(nearest);
+        }
         const bool extend = (event->modifiers() & Qt::ShiftModifier) &&
                             selection.hoseId == hoseHit.hoseId && selection.rangeFirst >= 0;
-        if (selection.hoseId != hoseHit.hoseId)
-            selection.routePoint = -1;
+        if (selection.hoseId != hoseHit.hoseId) selection.routePoint = -1;
         selection.hoseId = hoseHit.hoseId;
+        selection.routePoint = -1;
         if (extend) {
-            selection.rangeFirst = std::min(selection.rangeFirst, hoseHit.point);
-            selection.rangeLast = std::max(selection.rangeLast, hoseHit.point);
+            // Shift+click: the range between the point clicked before and this one.
+            const int anchor = m_rangeAnchor >= 0 ? m_rangeAnchor : selection.rangeFirst;
+            selection.rangeFirst = std::min(anchor, hoseHit.point);
+            selection.rangeLast = std::max(anchor, hoseHit.point);
         } else {
             selection.rangeFirst = selection.rangeLast = hoseHit.point;
+            m_rangeAnchor = hoseHit.point;
         }
         m_document.setSelection(selection);
         const Hose* hose = m_document.hose(hoseHit.hoseId);
@@ -400,18 +524,17 @@ void Viewport::mousePressEvent(QMouseEvent* event)
             // Keep the offset between the picked spot and the axis point while dragging.
             m_dragGrabOffset = hoseHit.position - onViewPlane(position, hoseHit.position);
         }
-        emit statusMessage(tr("Hose %1, axis point %2%3")
-                               .arg(QString::fromStdString(hoseHit.hoseId))
-                               .arg(hoseHit.point)
-                               .arg(hose && hose->isFixed(hoseHit.point) ? tr(" (fixed)")
-                                                                          : QString()));
+        emit statusMessage(
+            tr("Hose %1, axis point %2%3")
+                .arg(QString::fromStdString(hoseHit.hoseId))
+                .arg(hoseHit.point)
+                .arg(hose && hose->isFixed(hoseHit.point) ? tr(" (fixed)") : QString()));
     } else if (onScene) {
         selection.sceneId = sceneHit.sceneId;
         selection.node = sceneHit.node;
         m_document.setSelection(selection);
-        emit statusMessage(
-            tr("Part %1").arg(QString::fromStdString(
-                m_document.scene(sceneHit.sceneId)->nodes[size_t(sceneHit.node)].path)));
+        emit statusMessage(tr("Part %1").arg(QString::fromStdString(
+            m_document.scene(sceneHit.sceneId)->nodes[size_t(sceneHit.node)].path)));
     } else {
         m_document.setSelection(Selection());
     }
@@ -440,12 +563,16 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
     }
     case Drag::RoutePoint: {
         const formats::HoseDefinition* definition = m_document.hoseDefinition(m_dragHose);
-        if (!definition)
-            break;
+        if (!definition) break;
         std::vector<Vec3> route = definition->route;
         route[size_t(m_dragIndex)] = onViewPlane(position, m_dragAnchor);
         m_document.undoStack()->push(
-            makeSetRoute(m_document, m_dragHose, route, tr("Move route point"), MergeId::HoseRoute));
+            makeSetRoute(m_document, m_dragHose, route,
+                         tr("Move route point %1 of %2")
+                             .arg(m_dragIndex)
+                             .arg(QString::fromStdString(
+                                 definition->name.empty() ? definition->id : definition->name)),
+                         MergeId::HoseRoute));
         break;
     }
     case Drag::Gizmo: {
@@ -454,19 +581,21 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         const Vec3 a = Vec3::Unit(m_gizmoAxis);
         const Vec3 w = ray.origin - m_gizmoStartOrigin;
         const double b = ray.direction.dot(a);
-        const double parameter =
-            (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
+        const double parameter = (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
         Vec3 shift = (parameter - m_gizmoStartParameter) * a;
         // Ctrl snaps the move to whole centimetres.
         if (event->modifiers() & Qt::ControlModifier)
             shift = a * (std::round(shift.dot(a) / kMoveSnapMetres) * kMoveSnapMetres);
         // newLocal = parentWorld⁻¹ · T(shift) · parentWorld · startLocal.
-        const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
-        const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 world =
+            m_document.nodeWorldTransform(selection.sceneId, selection.node);
+        const formats::Mat4 current =
+            m_document.nodeLocalTransform(selection.sceneId, selection.node);
         const formats::Mat4 parentWorld = world * current.inverse();
         formats::Mat4 translation = formats::Mat4::Identity();
         translation.block<3, 1>(0, 3) = shift;
-        const formats::Mat4 local = parentWorld.inverse() * translation * parentWorld * m_gizmoStartLocal;
+        const formats::Mat4 local =
+            parentWorld.inverse() * translation * parentWorld * m_gizmoStartLocal;
         m_document.undoStack()->push(
             makeSetNodeTransform(m_document, {selection.sceneId, selection.node}, local));
         break;
@@ -487,8 +616,10 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         if (event->modifiers() & Qt::ControlModifier)
             angle = std::round(angle / kRotateSnapRadians) * kRotateSnapRadians;
         // newLocal = parentWorld⁻¹ · T(o) · R(angle about a) · T(−o) · parentWorld · startLocal.
-        const formats::Mat4 world = m_document.nodeWorldTransform(selection.sceneId, selection.node);
-        const formats::Mat4 current = m_document.nodeLocalTransform(selection.sceneId, selection.node);
+        const formats::Mat4 world =
+            m_document.nodeWorldTransform(selection.sceneId, selection.node);
+        const formats::Mat4 current =
+            m_document.nodeLocalTransform(selection.sceneId, selection.node);
         const formats::Mat4 parentWorld = world * current.inverse();
         formats::Mat4 rotation = formats::Mat4::Identity();
         rotation.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle, a).toRotationMatrix();
@@ -497,7 +628,10 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         const formats::Mat4 local =
             parentWorld.inverse() * rotation * parentWorld * m_gizmoStartLocal;
         m_document.undoStack()->push(makeSetNodeTransform(
-            m_document, {selection.sceneId, selection.node}, local, tr("Rotate part")));
+            m_document, {selection.sceneId, selection.node}, local,
+            tr("Rotate %1")
+                .arg(QString::fromStdString(
+                    m_document.scene(selection.sceneId)->nodes[size_t(selection.node)].name))));
         emit statusMessage(tr("Rotate about %1: %2°%3")
                                .arg(QChar("XYZ"[m_gizmoAxis]))
                                .arg(angle * 180.0 / std::numbers::pi, 0, 'f', 1)
@@ -511,8 +645,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
             double arrowPixels = 0.0, ringPixels = 0.0;
             int axis = gizmoAxisAt(position, &arrowPixels);
             int ring = gizmoRingAt(position, &ringPixels);
-            if (ring >= 0 && axis >= 0)
-                (ringPixels < arrowPixels ? axis : ring) = -1;
+            if (ring >= 0 && axis >= 0) (ringPixels < arrowPixels ? axis : ring) = -1;
             if (axis != m_options.activeGizmoAxis || ring != m_options.activeGizmoRing) {
                 m_options.activeGizmoAxis = axis;
                 m_options.activeGizmoRing = ring;
@@ -534,7 +667,7 @@ void Viewport::mouseReleaseEvent(QMouseEvent*)
         const bool moved = hose && (hose->point(m_dragIndex) - m_dragAnchor).norm() > 1e-12;
         if (moved) {
             std::string why;
-            if (!m_document.commitHoseDrag(m_dragHose, &why))
+            if (!m_document.commitHoseDrag(m_dragHose, m_dragIndex, &why))
                 emit statusMessage(QString::fromStdString(why));
         }
     }
@@ -548,8 +681,7 @@ void Viewport::mouseDoubleClickEvent(QMouseEvent* event)
         finishRoute();
         return;
     }
-    if (event->button() == Qt::LeftButton)
-        frameSelection();
+    if (event->button() == Qt::LeftButton) frameSelection();
 }
 
 void Viewport::wheelEvent(QWheelEvent* event)

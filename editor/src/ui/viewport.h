@@ -10,7 +10,6 @@
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
-
 #include <memory>
 #include <vector>
 
@@ -21,8 +20,9 @@ class Viewport : public QOpenGLWidget
     Q_OBJECT
 public:
     enum class Mode {
-        Select,   ///< click selects; drag moves hose points, route points, the gizmo
-        LayRoute, ///< clicks on scene surfaces add route points of a new hose
+        Select,    ///< click selects; drag moves hose points, route points, the gizmo
+        LayRoute,  ///< clicks on scene surfaces add route points of a new hose
+        FixToPart, ///< the next click on a part fixes the selected hose points to it
     };
 
     explicit Viewport(Document& document, QWidget* parent = nullptr);
@@ -36,6 +36,10 @@ public:
     /// Ends LayRoute mode; with ≥ 2 points emits routeFinished(points).
     void finishRoute();
     void cancelRoute();
+    /// Fixing in one gesture: with hose points selected, the next click on a part fixes them
+    /// to it (one undo step; the hose stays selected) and the mode ends. Without selected
+    /// hose points it only says what to select first. Esc (cancelRoute) leaves the mode.
+    void beginFixToPart();
 
     bool wireframe() const { return m_options.wireframe; }
     void setWireframe(bool on);
@@ -77,14 +81,23 @@ protected:
 private:
     enum class Drag { None, Orbit, Pan, HosePoint, RoutePoint, Gizmo, GizmoRotate };
     void onDocumentChanged(const ChangeEvent& event);
+    /// Text beside the problem markers: "37 mm short", "kink: R 31 mm".
+    void drawProblemLabels();
     int gizmoAxisAt(const QPointF& position, double* pixels = nullptr) const;
     /// The rotate ring (0 x, 1 y, 2 z) within a few pixels of `position`, or −1.
     int gizmoRingAt(const QPointF& position, double* pixels = nullptr) const;
     /// Screen angle (radians, widget coordinates) of `position` around the gizmo centre.
     double gizmoScreenAngle(const QPointF& position) const;
     int routePointAt(const QPointF& position) const;
+    /// The axis point of `hose` drawn nearest `position` within a handle's reach, or −1.
+    int axisPointAt(const Hose& hose, const QPointF& position) const;
     /// Where the mouse ray meets the plane through `anchor` facing the camera.
     Vec3 onViewPlane(const QPointF& position, const Vec3& anchor) const;
+
+    /// The gizmo's centre: the selected part's bounding-box centre (Document::partCentre).
+    Vec3 gizmoCentre() const;
+    /// In FixToPart mode: fixes the selected hose points to the part under `position`.
+    void fixSelectionToPartAt(const QPointF& position);
 
     Document& m_document;
     Renderer m_renderer;
@@ -101,6 +114,7 @@ private:
     QPointF m_pressMouse;
     std::string m_dragHose;
     int m_dragIndex = -1;
+    int m_rangeAnchor = -1; ///< the axis point a Shift+click selects the range from
     Vec3 m_dragAnchor = Vec3::Zero();
     Vec3 m_dragGrabOffset = Vec3::Zero();
     int m_gizmoAxis = -1;

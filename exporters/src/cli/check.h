@@ -1,4 +1,4 @@
-// `chaintube check PROJECT --clearance METRES`: hose-to-scene clearance violations (issue 7).
+// `chaintube check PROJECT --clearance METRES`: hose-to-scene clearance violations.
 #pragma once
 
 #include <ostream>

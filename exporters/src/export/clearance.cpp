@@ -1,4 +1,4 @@
-// Clearance analysis of a project: hoses against scene objects (issue 7, section 3).
+// Clearance analysis of a project: hoses against scene objects.
 #include "chaintube/export/clearance.h"
 
 #include "chaintube/formats/project_hoses.h"

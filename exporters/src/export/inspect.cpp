@@ -42,11 +42,11 @@ void checkDescriptorHoses(const rig::HoseRigDescriptor& descriptor, const std::s
                 throw;
             }
         }();
-        if (!d.gravity.enabled && !rig::restLengthsMatch(d)) // gravity: exported settled
+        if (!rig::withinStretchBand(d))
             result.warnings.push_back(at +
-                                      "/restLengths: the axis is not at its rest shape; a "
+                                      "/restLengths: segments lie beyond their stretch band; a "
                                       "runtime keeps the exported rest lengths, so the hose "
-                                      "starts stretched or compressed");
+                                      "starts overstretched or compressed");
         for (int j = 1; j + 1 < hose.pointCount(); ++j) {
             const double expected = hose.deflectionLimit(j);
             const double written = d.jointBendLimits[static_cast<size_t>(j - 1)];
@@ -351,11 +351,13 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
         out << file.string() << ": hose rig " << descriptor.version << " ("
             << (descriptor.generator.empty() ? "unknown generator" : descriptor.generator) << "), "
             << descriptor.hoses.size() << " hose(s)\n";
-        out << "colliders: " << descriptor.colliders.size() << (descriptor.colliders.empty() ? "\n" : "");
+        out << "colliders: " << descriptor.colliders.size()
+            << (descriptor.colliders.empty() ? "\n" : "");
         for (size_t k = 0; k < descriptor.colliders.size(); ++k) {
             const int node = descriptor.colliders[k];
             out << (k == 0 ? " — " : ", ") << "node " << node;
-            if (runtime && node >= 0 && node < runtime->nodeCount()) out << " '" << runtime->node(node).name << "'";
+            if (runtime && node >= 0 && node < runtime->nodeCount())
+                out << " '" << runtime->node(node).name << "'";
             out << (k + 1 == descriptor.colliders.size() ? "\n" : "");
         }
         for (const rig::RigHose& d : descriptor.hoses) {

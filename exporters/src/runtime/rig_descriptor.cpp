@@ -560,6 +560,20 @@ bool restLengthsMatch(const RigHose& hose)
     return true;
 }
 
+bool withinStretchBand(const RigHose& hose)
+{
+    const double band = hose.expansionCoefficient;
+    for (size_t s = 0; s + 1 < hose.axis.size(); ++s) {
+        if (s >= hose.restLengths.size()) return false;
+        const double length = (hose.axis[s + 1] - hose.axis[s]).norm();
+        const double rest = hose.restLengths[s];
+        if (length > rest * (1.0 + band) * (1.0 + 1e-9) ||
+            length < rest * (1.0 - band) * (1.0 - 1e-9))
+            return false;
+    }
+    return true;
+}
+
 std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, int nodeCount,
                                           int skinCount)
 {

@@ -1,7 +1,6 @@
 #include "chaintube/export/runtime.h"
 
 #include "chaintube/formats/collider_exemption.h"
-
 #include "gltf_container.h"
 #include "transform_math.h"
 
@@ -214,7 +213,7 @@ HoseRuntime HoseRuntime::loadFromMemory(const ExportInMemory& source, RuntimeLoa
 std::shared_ptr<MeshCollider> HoseRuntime::buildCollider(const ColliderMesh& mesh,
                                                          const Eigen::Matrix4d& nodeWorld)
 {
-    const Frame frame = detail::rigidPart(nodeWorld);
+    const Frame frame = rigidPart(nodeWorld);
     // What the rigid frame leaves of the node's world transform (scale, shear) goes into the
     // vertices, so that frame.apply(vertex) is the vertex's world position.
     const Eigen::Matrix4d baked = detail::matrixOf(frame).inverse() * nodeWorld;
@@ -256,13 +255,14 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         const std::string at = "/hoses/" + std::to_string(h);
         std::vector<int> attachmentIds;
         Hose hose = rebuildHose(d, &attachmentIds);
-        // A project builds its hoses relaxed; report, rather than hide, a hose exported in a
-        // stretched or compressed state (rebuildHose keeps its rest lengths: it stays strained).
-        // (A gravity hose is exported settled, stretched within its band by its own weight.)
-        if (!d.gravity.enabled && !restLengthsMatch(d) && report)
-            report->warnings.push_back(at + "/restLengths: the axis was exported away from its "
-                                            "rest shape; the runtime keeps the exported rest "
-                                            "lengths, so the hose starts stretched or compressed");
+        // A project's hose lies on its route with its own length, stretched or compressed
+        // within its band at most; report, rather than hide, one exported beyond the band
+        // (rebuildHose keeps its rest lengths: the first update pulls it back in).
+        if (!withinStretchBand(d) && report)
+            report->warnings.push_back(at + "/restLengths: the axis was exported with segments "
+                                            "beyond their stretch band; the runtime keeps the "
+                                            "exported rest lengths, so the hose starts "
+                                            "overstretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
         RunningHose running{
             std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}, {}, {}};
@@ -319,7 +319,7 @@ int HoseRuntime::findNode(std::string_view name) const
 
 Frame HoseRuntime::nodeWorldFrame(int node) const
 {
-    return detail::rigidPart(m_world.at(static_cast<size_t>(node)));
+    return rigidPart(m_world.at(static_cast<size_t>(node)));
 }
 
 void HoseRuntime::recomputeWorld()

@@ -57,20 +57,4 @@ inline bool decompose(const Affine& m, NodeTransform& trs, double tolerance = 1e
     return orthogonality <= tolerance;
 }
 
-/// Rigid part of an affine matrix: its translation and the rotation nearest to its 3×3 block
-/// (polar decomposition, reflections turned into rotations), as formats::rigidPart does.
-inline Frame rigidPart(const Affine& m)
-{
-    Frame frame;
-    frame.translation = m.topRightCorner<3, 1>();
-    const Eigen::Matrix3d linear = m.topLeftCorner<3, 3>();
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(linear, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    if (!(svd.singularValues()(2) > 1e-300)) return frame;
-    Eigen::Matrix3d u = svd.matrixU();
-    const Eigen::Matrix3d v = svd.matrixV();
-    if ((u * v.transpose()).determinant() < 0.0) u.col(2) = -u.col(2);
-    frame.rotation = Quat(Eigen::Quaterniond(u * v.transpose()).normalized());
-    return frame;
-}
-
 } // namespace chaintube::rig::detail

@@ -296,7 +296,7 @@ public:
     /// the scene use it to skip hoses whose inputs did not change.
     std::uint64_t revision() const { return m_revision; }
 
-    // --- collision with scene objects (opt-in, one branch per update without) --------------
+    // --- collision with scene objects (opt-in, one branch per update without) ---------------
     /// Make the hose stay outside these colliders (shared with other hoses; moving a collider's
     /// frame moves it for all). Every grab, attachment move and gravity step then ends with a
     /// continuous check of each moved point from its previous position (a sphere of

@@ -70,4 +70,13 @@ template <typename Derived> bool allFinite(const Eigen::MatrixBase<Derived>& val
 }
 bool isFiniteFrame(const Frame& frame);
 
+/// Rigid part of an affine transform (column vectors: world = M · local): its translation, and
+/// the rotation nearest to its 3×3 block (polar decomposition; a reflection is turned into a
+/// rotation by flipping the axis of the smallest singular value). A block that is not finite, or
+/// whose smallest singular value is not above 1e-12 × max(1, largest), gives the identity
+/// rotation. The translation is taken as it is (a non-finite one stays non-finite, so that
+/// Hose::attach / moveAttachment refuse the frame). The frame scene nodes give attachments and
+/// colliders (formats, the runtime).
+Frame rigidPart(const Eigen::Matrix4d& transform);
+
 } // namespace chaintube

@@ -28,6 +28,8 @@
 #include <sstream>
 #include <numbers>
 
+#include "../realtime/machine.h"
+
 using namespace chaintube;
 using namespace chaintube::bench;
 
@@ -542,7 +544,7 @@ double surfaceMicroseconds(int segments, int sides, int repeats)
     spec.segmentCount = segments;
     spec.profile = Profile::circle(kHoseRadius, sides);
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), kHoseLength, spec);
-    (void)hose.grab(segments / 2, Vec3(0.5, 0.2, 0.1));
+    static_cast<void>(hose.grab(segments / 2, Vec3(0.5, 0.2, 0.1)));
     HoseSurface surface(hose);
     const int loops = std::max(50, 20000 / segments) * repeats;
     const auto start = std::chrono::steady_clock::now();
@@ -583,7 +585,8 @@ double frameMicroseconds(int moving, int frames, int rounds, size_t& vertexBytes
         for (int f = 0; f < frames; ++f, ++frame) {
             for (int i = 0; i < moving; ++i) {
                 const double phase = 0.05 * frame + 0.3 * i;
-                (void)scene.hose(i).grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i));
+                static_cast<void>(scene.hose(i).grab(
+                    50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.05 * i)));
             }
             scene.updateSurfaces();
         }
@@ -607,7 +610,7 @@ double memsetMicroseconds(size_t bytes, int rounds)
     return best;
 }
 
-// Cost of the features beyond the paper (issue 7), each against the same update without it:
+// Cost of the features beyond the paper, each against the same update without it:
 // a 100-point hose laid in a U, its start clamped, its middle point moved on a 2 cm circle each
 // frame (grab + surface). `configure` switches the feature on; `frame` may add work of the
 // feature's own (e.g. turning a clamp). Returns µs per frame (best of rounds) and the final
@@ -645,10 +648,11 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
             if (rollClamp) { // turn the clamp about the hose's axis there (+x), a quarter turn
                 Frame frame;
                 frame.rotation = Quat(Eigen::AngleAxisd(0.5 * std::numbers::pi * (f + 1) / frames, Vec3::UnitX()));
-                (void)hose.moveAttachment(clamp, frame);
+                static_cast<void>(hose.moveAttachment(clamp, frame));
             }
-            (void)hose.grab(middle, laid + 0.02 * Vec3(std::cos(phase) - 1, std::sin(phase), 0));
-            (void)hose.step(); // per-frame gravity; one comparison when it is off
+            static_cast<void>(
+                hose.grab(middle, laid + 0.02 * Vec3(std::cos(phase) - 1, std::sin(phase), 0)));
+            static_cast<void>(hose.step()); // per-frame gravity; one comparison when it is off
             surface.update(hose);
         }
         best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames);
@@ -692,6 +696,11 @@ int main(int argc, char** argv)
         return (in >> oneMinute) ? oneMinute : std::string("unknown");
     };
     const std::string loadAtStart = loadAverage();
+    std::string command = "chaintube-bench-report";
+    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    const std::string provenance = "Commit " + realtime::gitCommit(CHAINTUBE_SOURCE_DIR) + ", " + realtime::utcDate() +
+                                   ", " + realtime::cpuModel() + ", CPUs allowed: " + realtime::allowedCpus() +
+                                   ". Command: `" + command + "`.\n\n";
     const std::vector<int> resolutions = quick ? std::vector<int>{10, 20, 40} : std::vector<int>{10, 20, 40, 80, 160};
     const std::vector<int> ringSides = quick ? std::vector<int>{8, 16} : std::vector<int>{8, 16, 32};
     const int repeats = quick ? 1 : 5; // best of: the machine is shared
@@ -1038,7 +1047,7 @@ int main(int argc, char** argv)
     engineTable << "Skipped: built without the exporter.\n";
 #endif
 
-    // Cost of each feature beyond the paper (issue 7), in this build. A feature whose switch
+    // Cost of each feature beyond the paper, in this build. A feature whose switch
     // exists but changes nothing yet is reported as such, never with a cost of zero.
     std::ostringstream featureTable;
     std::vector<double> featureFigures;
@@ -1136,6 +1145,7 @@ int main(int argc, char** argv)
     std::ostringstream md;
     md << "# Speed against error\n\n"
        << (quick ? "Quick run (`--quick`): fewer resolutions and one repeat.\n\n" : "Full run.\n\n")
+       << provenance
        << "Load average (1 min, /proc/loadavg) at the start " << loadAtStart << ", at the end of the measurements "
        << loadAverage() << ": other processes shared the machine, so timings are the best of repeats and carry noise.\n\n"
        << "Time per update is the best of the repeats, one core (other builds were loading the machine's second "
@@ -1257,7 +1267,7 @@ int main(int argc, char** argv)
           "Violations: largest over the 50 hoses after the frames (length relative, bend in rad).\n\n"
        << engineTable.str();
     md << "\n## Import and export\n\n" << pipelineTable.str();
-    md << "\n## Cost of the features beyond the paper (issue 7)\n\n"
+    md << "\n## Cost of the features beyond the paper\n\n"
        << "A 100-point hose (about 1.1 m laid in a U, the first segment clamped, the other end free, 16-sided rings), its middle point moved on a 2 cm "
           "circle every frame (grab + surface update), with and without the feature; for torsion the clamp "
           "also turns a quarter turn about the hose axis over the run, in both columns. Every frame calls Hose::step() (per-frame gravity; "

@@ -10,7 +10,6 @@
 #include "chaintube/editor/document.h"
 
 #include <QUndoCommand>
-
 #include <functional>
 #include <string>
 #include <utility>
@@ -27,6 +26,7 @@ enum class MergeId : int {
     HoseProfile,
     HoseColour,
     HoseRoute,
+    HoseLength,
     HoseAttachments,
     HoseDefinition,
     NodeTransform,
@@ -141,8 +141,8 @@ QUndoCommand* makeChangeHoseField(Document& document, const std::string& hoseId,
             formats::HoseDefinition* definition = d.mutableHoseDefinition(hoseId);
             return definition ? &(definition->*field) : nullptr;
         },
-        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(newValue),
-        mergeId, hoseId);
+        [hoseId](Document& d) { d.hoseDefinitionChanged(hoseId); }, std::move(newValue), mergeId,
+        hoseId);
 }
 
 /// Replaces a hose's whole definition (the properties panel: one field changed, checked with
@@ -154,9 +154,14 @@ QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseI
 
 /// Replaces a hose's route (insert/delete/move a route point; commit of a grab-drag). Pass
 /// MergeId::HoseRoute while a route point is dragged so that the drag is one step.
-QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId,
-                           std::vector<Vec3> route, const QString& text,
-                           MergeId mergeId = MergeId::None);
+QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId, std::vector<Vec3> route,
+                           const QString& text, MergeId mergeId = MergeId::None);
+
+/// Makes a hose `length` metres long where it lies (formats::withLength: the route becomes
+/// the hose's shape with the length added as slack between its held ends, or pulled in).
+/// Consecutive length edits of the same hose merge (a spin box held down). Throws
+/// InvalidArgument (an unknown hose, a length ≤ 0, no room for the attachments).
+QUndoCommand* makeSetHoseLength(Document& document, const std::string& hoseId, double length);
 
 /// Fixes axis points [first, last] of a hose to a scene node at their current place.
 /// Throws InvalidArgument if the range is outside the hose or overlaps an attachment.
@@ -167,7 +172,7 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index);
 
 /// Sets (or with nullopt clears) a node's transform override; merges while dragging. `text`
-/// names the step in the history ("" = "Move part").
+/// names the step in the history ("" = "Move <node name>").
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
                                    std::optional<formats::Mat4> localTransform,
                                    const QString& text = QString());

@@ -16,7 +16,9 @@
 //  * live hoses       — one chaintube::Hose per project hose, built from its definition with
 //                       formats::buildHose at the file pose, then its attachments moved to the
 //                       posed node frames. A grab-drag changes only the live hose until it is
-//                       committed (commitHoseDrag), which writes the dragged axis as the route.
+//                       committed (commitHoseDrag), which writes the dragged axis as the route
+//                       and keeps the hose's length (HoseDefinition::length): only an explicit
+//                       length edit (makeSetHoseLength) changes how long a hose is.
 //  * live gravity     — a hose with gravity on (HoseDefinition::gravity) sags in its live
 //                       shape: stepGravity() advances it (Hose::step) until it settles. This is
 //                       derived state, never an undo step and never the modified flag: the file
@@ -27,7 +29,9 @@
 //                       (formats::nodeCollider). Every live hose stays outside them during
 //                       drags, part moves and gravity, except the parts its attachments are on
 //                       and their ancestors (formats/collider_exemption.h, as the runtime and
-//                       the clearance check). Rebuilt when a flag changes, moved with the pose.
+//                       the clearance check). Rebuilt when a flag changes, moved with the pose;
+//                       a hose is pushed out of them when it is built and when a flag it is
+//                       concerned by changes (then it is built again).
 #pragma once
 
 #include "chaintube/formats/project.h"
@@ -37,7 +41,6 @@
 
 #include <QObject>
 #include <QUndoStack>
-
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -54,18 +57,18 @@ namespace chaintube::editor {
 struct ChangeEvent
 {
     enum class Kind {
-        ProjectReplaced,  ///< new/open/recover: everything changed
-        ScenesChanged,    ///< a scene was imported or removed
-        HoseAdded,        ///< hoseId was added
-        HoseRemoved,      ///< hoseId was removed
-        HoseChanged,      ///< hoseId's definition changed (and its live hose was rebuilt)
-        HoseShapeChanged, ///< hoseId's live axis moved (drag, a part it is fixed to moved)
-        PoseChanged,      ///< a scene node's transform override changed (sceneId, node)
-        CollidersChanged, ///< the project's collider flags changed (sceneId, node)
-        PresetsChanged,   ///< the project's material presets changed
+        ProjectReplaced,        ///< new/open/recover: everything changed
+        ScenesChanged,          ///< a scene was imported or removed
+        HoseAdded,              ///< hoseId was added
+        HoseRemoved,            ///< hoseId was removed
+        HoseChanged,            ///< hoseId's definition changed (and its live hose was rebuilt)
+        HoseShapeChanged,       ///< hoseId's live axis moved (drag, a part it is fixed to moved)
+        PoseChanged,            ///< a scene node's transform override changed (sceneId, node)
+        CollidersChanged,       ///< the project's collider flags changed (sceneId, node)
+        PresetsChanged,         ///< the project's material presets changed
         ProjectSettingsChanged, ///< name or export settings changed
-        SelectionChanged, ///< selection() changed (not an undoable edit)
-        FileStateChanged, ///< file name or modified flag changed
+        SelectionChanged,       ///< selection() changed (not an undoable edit)
+        FileStateChanged,       ///< file name or modified flag changed
     };
     Kind kind = Kind::ProjectReplaced;
     std::string hoseId;
@@ -77,11 +80,11 @@ struct ChangeEvent
 /// segment can be fixed to the node.
 struct Selection
 {
-    std::string hoseId;      ///< "" = none
-    int rangeFirst = -1;     ///< selected axis points [rangeFirst, rangeLast] of hoseId; −1 none
+    std::string hoseId;  ///< "" = none
+    int rangeFirst = -1; ///< selected axis points [rangeFirst, rangeLast] of hoseId; −1 none
     int rangeLast = -1;
-    int routePoint = -1;     ///< selected route point of hoseId, −1 none
-    std::string sceneId;     ///< selected scene node: scene id and node index, −1 none
+    int routePoint = -1; ///< selected route point of hoseId, −1 none
+    std::string sceneId; ///< selected scene node: scene id and node index, −1 none
     int node = -1;
     bool operator==(const Selection& o) const
     {
@@ -167,6 +170,10 @@ public:
     std::uint64_t hoseBuildSerial(const std::string& hoseId) const;
     /// measure() of the live hose (cached; recomputed when its revision changes).
     const HoseMetrics* hoseMetrics(const std::string& hoseId) const;
+    /// What the last update the document made to the live hose returned: its attachments moved
+    /// with a part (poseChanged, or a rebuild at a posed part), a moved collider pushing it, a
+    /// flag change pushing it out. A default (Ok) result for an unknown hose or before any.
+    UpdateResult lastUpdate(const std::string& hoseId) const;
 
     /// Checks that `definition` would build (material, profile, diameter, route) without
     /// changing anything. Returns "" if valid, else the reason, for the properties panel to
@@ -183,11 +190,22 @@ public:
     formats::Mat4 nodeWorldTransform(const std::string& sceneId, int node) const;
     /// Rigid part of nodeWorldTransform (the frame attachments use).
     Frame nodeWorldFrame(const std::string& sceneId, int node) const;
+    /// Centre of the world bounding box of the node's meshes and its descendants' at the
+    /// current pose (world metres): where the part gizmo sits and what it turns about. The
+    /// node's origin when it has no mesh under it. A CAD node's origin can lie far outside
+    /// the part (an assembly's origin, a part modelled away from zero).
+    Vec3 partCentre(const std::string& sceneId, int node) const;
+    /// The hose's route as the viewport draws it (world metres): the route itself while no
+    /// part the hose is fixed to is moved; otherwise each route point carried by the motion
+    /// of the hose's attachments (file pose → pose): rigidly with the one attachment, or, between
+    /// two, by a blend of their motions after where the point lies along the route. So the
+    /// route line follows the parts. Empty for an unknown hose.
+    std::vector<Vec3> displayRoute(const std::string& hoseId) const;
+    /// True if a part the hose is fixed to (or one of its ancestors) is moved from its file
+    /// pose: the route (stored at the file pose) is then not edited by dragging.
+    bool hoseFollowsMovedPart(const std::string& hoseId) const;
     /// Overrides set by the author (nullopt entries mean "back to the file pose").
-    const std::map<NodeKey, std::optional<formats::Mat4>>& poseOverrides() const
-    {
-        return m_pose;
-    }
+    const std::map<NodeKey, std::optional<formats::Mat4>>& poseOverrides() const { return m_pose; }
     /// Increments whenever any override changes (pickers rebuild instance transforms).
     std::uint64_t poseSerial() const { return m_poseSerial; }
 
@@ -200,18 +218,23 @@ public:
     /// Hose::grab; emits HoseShapeChanged. Not an undo step until commitHoseDrag(). A fixed
     /// point, an unknown hose or an index out of range gives Status::InvalidInput.
     UpdateResult dragHosePoint(const std::string& hoseId, int point, const Vec3& target);
-    /// Ends a drag: pushes a command that writes the live axis as the hose's route (the hose
-    /// is rebuilt from it, so save → load gives the same shape). Returns false (and restores
-    /// the shape before the drag) when the hose is fixed to a node that is moved from its file
-    /// pose, because the route is stored at the file pose; `why` then says so.
-    bool commitHoseDrag(const std::string& hoseId, std::string* why = nullptr);
+    /// Ends a drag: pushes a command that writes the live axis as the hose's route, its length
+    /// unchanged (a hose without one gets the rest length it had). The hose is rebuilt from
+    /// the route exactly as it was dragged (formats::buildHose takes a valid axis as it is),
+    /// so save → load gives the same shape. `draggedPoint` names the step in the history
+    /// ("Drag point 7 of <hose>"). Returns false (and restores the shape before the drag) when
+    /// the hose is fixed to a node that is moved from its file pose, because the route is
+    /// stored at the file pose; `why` then says so.
+    bool commitHoseDrag(const std::string& hoseId, int draggedPoint = -1,
+                        std::string* why = nullptr);
     /// Abandons a drag: the live hose is rebuilt from its definition.
     void cancelHoseDrag(const std::string& hoseId);
 
     // --- live gravity -----------------------------------------------------------------------
     /// At most this many steps per hose after it last changed; a hose still moving then is
     /// left where it is (reported by gravityUnsettledHoses()) so that the editor goes idle.
-    static constexpr int kGravityStepBudget = 3000;
+    /// The export settles with the same budget, so it writes the shape the editor shows.
+    static constexpr int kGravityStepBudget = formats::kSettleStepBudget;
     /// One Hose::step() of every live hose with gravity on that has not settled yet (the main
     /// window calls it on a timer while gravityActive()). A simulation of the live shape, not
     /// an edit: no undo step, no modified flag; the definition's route stays as authored.
@@ -292,6 +315,8 @@ private:
         mutable std::uint64_t metricsRevision = 0;
         bool gravitySettled = true; ///< stepGravity(): the last step moved nothing
         int gravitySteps = 0;       ///< steps since the hose last changed (kGravityStepBudget)
+        UpdateResult lastUpdate;    ///< see Document::lastUpdate()
+        std::vector<NodeKey> colliderNodes; ///< the flagged parts it stays outside
     };
     /// Marks a live hose with gravity on as settling (after a build, a drag, a part move);
     /// emits gravityStateChanged().
@@ -323,6 +348,8 @@ private:
         std::shared_ptr<MeshCollider> collider;
     };
     std::vector<LiveCollider> m_colliders;
+    /// Bounds of each scene mesh in its own frame (partCentre()), made when first needed.
+    mutable std::map<const formats::SceneMesh*, std::pair<Vec3, Vec3>> m_meshBounds;
     std::map<NodeKey, std::optional<formats::Mat4>> m_pose;
     std::uint64_t m_poseSerial = 1;
     std::uint64_t m_buildCounter = 0;

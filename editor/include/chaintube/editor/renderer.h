@@ -1,5 +1,6 @@
 // ChainTube editor — OpenGL 3.3 core renderer of a Document: scene meshes, hose surfaces,
-// route points, problem highlights, the part gizmo.
+// route points, problem highlights (overstretched or kinked rings, unreached attachments), the
+// part gizmo.
 //
 // The renderer draws into whatever framebuffer is bound when render() is called: the
 // viewport's QOpenGLWidget framebuffer, or a QOpenGLFramebufferObject in tests (offscreen, no
@@ -12,7 +13,6 @@
 #include "chaintube/editor/document.h"
 
 #include <QColor>
-
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,11 +22,11 @@ namespace chaintube::editor {
 /// What to draw besides the document.
 struct RenderOptions
 {
-    bool wireframe = false;    ///< polygon mode lines for scene meshes and hoses
-    bool showProblems = true;  ///< tint rings of problem regions red
-    bool showGizmo = true;     ///< axis arrows at the selected node
-    int activeGizmoAxis = -1;  ///< 0 x, 1 y, 2 z drawn highlighted (being dragged/hovered)
-    int activeGizmoRing = -1;  ///< rotate ring about x/y/z (0/1/2) drawn highlighted
+    bool wireframe = false;         ///< polygon mode lines for scene meshes and hoses
+    bool showProblems = true;       ///< tint rings of problem regions red
+    bool showGizmo = true;          ///< axis arrows at the selected node
+    int activeGizmoAxis = -1;       ///< 0 x, 1 y, 2 z drawn highlighted (being dragged/hovered)
+    int activeGizmoRing = -1;       ///< rotate ring about x/y/z (0/1/2) drawn highlighted
     std::vector<Vec3> pendingRoute; ///< route points of a hose being laid out (world)
     QColor background = QColor(58, 62, 70);
 };
@@ -34,7 +34,7 @@ struct RenderOptions
 /// What the last render() did.
 struct RenderStats
 {
-    int hosesUploaded = 0;     ///< hoses whose vertex buffers were updated
+    int hosesUploaded = 0; ///< hoses whose vertex buffers were updated
     int hosesDrawn = 0;
     long long trianglesDrawn = 0;
     double hoseUpdateMilliseconds = 0.0; ///< CPU time of surface updates + uploads
@@ -68,6 +68,9 @@ public:
     /// Radius (metres) of the rotate gizmo's rings: inside the arrows, so that the arrow tips
     /// stay apart from the rings.
     static double gizmoRingRadius(const Camera& camera);
+    /// The closed polyline (25 points) of the marker drawn around a kinked joint: a circle of
+    /// `radius` metres about `centre` in the plane facing `normal` (world).
+    static std::vector<Vec3> kinkRing(const Vec3& centre, const Vec3& normal, double radius);
     /// The closed polyline of the rotate ring about world axis `axis` (0 x, 1 y, 2 z) centred
     /// at `centre` (world metres): `segments` + 1 points, the last equal to the first. The
     /// viewport picks against the same points.

@@ -17,7 +17,7 @@ namespace chaintube::exporting {
 /// One scene object as a collider: a node that has meshes (its own meshes only, children are
 /// objects of their own), at its posed world transform (project.poses applied). The node's
 /// scale and shear are baked into the collider's vertices; its frame is the rigid part
-/// (formats::rigidPart), so a pose that only moves the node can be applied with setFrame().
+/// (chaintube::rigidPart), so a pose that only moves the node can be applied with setFrame().
 struct SceneObject
 {
     std::string sceneId;

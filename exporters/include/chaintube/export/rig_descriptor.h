@@ -167,6 +167,12 @@ Hose rebuildHose(const RigHose& hose, std::vector<int>* attachmentIds = nullptr)
 /// exported at its rest shape.
 bool restLengthsMatch(const RigHose& hose);
 
+/// True if every axis distance lies in its segment's stretch band, [rest (1 − e), rest (1 + e)]
+/// (1e-9 relative), i.e. the hose was exported in a state its constraints allow. A hose whose
+/// project route is stretched or compressed within the band (a committed drag, a length edit)
+/// is exported so, and comes back so.
+bool withinStretchBand(const RigHose& hose);
+
 /// Problems a descriptor has in the context of its glTF: joint/mesh/attachment/collider node
 /// indices outside [0, nodeCount), joints used twice. Empty when consistent. Messages carry a
 /// pointer.

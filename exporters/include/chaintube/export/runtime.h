@@ -149,7 +149,7 @@ public:
     /// Returns the affected hoses' results (look at status). A node index out of range or a
     /// non-finite transform returns one entry with hose −1 and Status::InvalidInput, and
     /// changes nothing.
-    std::vector<HoseUpdate> setNodeTransform(int node, const NodeTransform& local);
+    [[nodiscard]] std::vector<HoseUpdate> setNodeTransform(int node, const NodeTransform& local);
 
     /// Moves free axis point `point` of hose `hose` to `target` (world metres); the hose
     /// follows (Hose::grab). Out-of-range indices give Status::InvalidInput; so does a point

@@ -1,14 +1,15 @@
 // ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
 //
-// The file is JSON, schema in formats/schema/project.schema.json, version "1.2" (the format, its
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.3" (the format, its
 // versions and migrations: formats/README.md, "The project file"):
 //
-//   { "format": "chaintube-project", "version": "1.2", "name": "…",
+//   { "format": "chaintube-project", "version": "1.3", "name": "…",
 //     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
-//                            "chordalTolerance", "angularTolerance" } } ],
+//                            "chordalTolerance", "angularTolerance", "placement"? } } ],
 //     "materialPresets": [ { "name", "description", "expansionCoefficient",
 //                            "bendLimit": { "minBendRadius" | "deflectionAngle" } } ],
-//     "hoses":           [ { "id", "name", "route": [[x,y,z]…], "material": "<preset>" | {…},
+//     "hoses":           [ { "id", "name", "route": [[x,y,z]…], "length",               (1.3)
+//                            "material": "<preset>" | {…},
 //                            "profile": { "shape", …params }, "outerDiameter",
 //                            "segmentCount" | "segmentLength", "colour": [r,g,b,a],
 //                            "roughness", "attachments": [ { "scene", "node",
@@ -23,7 +24,9 @@
 // Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated). Files before
 // 1.2 have no "gravity", "torsion" (read as off) and no "colliders" (read as none). A hose's
 // "gravity" / "torsion" is written only when it differs from the default (off, direction
-// [0, -1, 0], twist limit 0.1 rad), and read as that default when absent.
+// [0, -1, 0], twist limit 0.1 rad), and read as that default when absent. Files before 1.3 have
+// no hose "length": each hose gets the length of the hose laid along its route
+// (routeRestLength()), so that it keeps that length when its route is edited later.
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -48,8 +51,9 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 2; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
-                                       ///< "gravity" and "torsion", "colliders" (ColliderNode)
+constexpr int kProjectFormatMinor = 3; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+                                       ///< "gravity" and "torsion", "colliders" (ColliderNode);
+                                       ///< 1.3 the hose's "length"
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -60,10 +64,16 @@ struct SceneImportSettings
     std::optional<UpAxis> upAxis;        ///< unset: detected
     double chordalTolerance = 1e-4;      ///< metres > 0 (STEP tessellation)
     double angularTolerance = 0.5;       ///< radians in (0, π] (STEP tessellation)
+    /// Where the author placed the scene when importing it (format 1.3, "placement", written
+    /// when not zero): world metres added to the translation of the scene's root node, after
+    /// the unit and up-axis conversion. Part of the file pose: routes and attachments are
+    /// where the placed scene is.
+    Vec3 placement = Vec3::Zero();
     bool operator==(const SceneImportSettings& o) const
     {
         return metresPerUnit == o.metresPerUnit && upAxis == o.upAxis &&
-               chordalTolerance == o.chordalTolerance && angularTolerance == o.angularTolerance;
+               chordalTolerance == o.chordalTolerance && angularTolerance == o.angularTolerance &&
+               placement == o.placement;
     }
 };
 
@@ -142,12 +152,23 @@ struct Rgba
     bool operator==(const Rgba& o) const { return r == o.r && g == o.g && b == o.b && a == o.a; }
 };
 
-/// One hose as the author laid it out.
+/// One hose as the author laid it out: its shape (the route) and its length are separate, so
+/// that reshaping a hose never changes how long it is.
 struct HoseDefinition
 {
-    std::string id;          ///< unique within the project
-    std::string name;        ///< for people; may repeat
-    std::vector<Vec3> route; ///< world metres, ≥ 2 points, consecutive points distinct
+    std::string id;   ///< unique within the project
+    std::string name; ///< for people; may repeat
+    /// The shape at the file pose: world metres, ≥ 2 points, consecutive points distinct. A
+    /// route with one point per axis point that is already a valid shape of the hose (every
+    /// segment in its stretch band, every joint within its bend limit) is the axis itself (a
+    /// committed drag stores the shape so); any other route is rounded with the minimum bend
+    /// radius and sampled at equal arc length (Hose::alongRoute). See buildHose().
+    std::vector<Vec3> route;
+    /// The hose's rest length (metres > 0, finite): every segment's rest length is length /
+    /// segments, whatever shape the route gives it (buildHose()). Unset: the length of the hose
+    /// laid along its route (routeRestLength()), which then follows route edits; the reader sets it
+    /// for files before 1.3, the editor for every hose it creates.
+    std::optional<double> length;
     MaterialChoice material = PresetName{"PVC hose"};
     ProfileSpec profile;
     double outerDiameter = 0.02; ///< metres > 0
@@ -242,7 +263,8 @@ struct ProjectLoadReport
     std::string fileVersion; ///< as written, e.g. "0.9"
     bool migrated = false;   ///< an older layout was converted to the current one
                              ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none;
-                             ///< before 1.2: gravity/torsion off, no colliders)
+                             ///< before 1.2: gravity/torsion off, no colliders;
+                             ///< before 1.3: each hose's length set to routeRestLength())
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };

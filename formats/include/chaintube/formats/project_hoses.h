@@ -1,9 +1,9 @@
 // ChainTube formats — turning a project's hose definitions into chaintube::Hose objects.
 #pragma once
 
+#include "chaintube/collision.h"
 #include "chaintube/formats/project.h"
 #include "chaintube/formats/scene_import.h"
-#include "chaintube/collision.h"
 #include "chaintube/hose.h"
 
 #include <map>
@@ -17,24 +17,64 @@ namespace chaintube::formats {
 using ImportedScenes = std::map<std::string, ImportedScene>;
 
 /// Imports every scene of the project (paths resolved with resolveScenePath(), import
-/// settings applied). Throws PathError, FileError, Cancelled as importScene() does.
+/// settings applied, placed with placeScene()). Throws PathError, FileError, Cancelled as
+/// importScene() does.
 ImportedScenes importProjectScenes(const Project& project, const std::filesystem::path& projectFile,
                                    const NamedRoots& roots,
                                    const std::function<bool(double)>& progress = {});
+
+/// Moves an imported scene to where its author placed it (SceneImportSettings::placement,
+/// world metres): added to the root node's translation (the root has no parent).
+void placeScene(ImportedScene& scene, const Vec3& placement);
 
 /// The HoseSpec of a hose definition (material preset resolved, profile built).
 /// Throws InvalidArgument (unknown preset, out-of-range profile).
 HoseSpec hoseSpecOf(const Project& project, const HoseDefinition& hose);
 
-/// Builds hose `hose` of the project: Hose::alongRoute(route, spec), then every attachment
-/// fixed with Hose::attach(first, last, frame) where frame = scene node's rigid world frame ·
-/// offset (ImportedScene::worldFrame). The points keep their route positions (world metres).
+/// The rest length (metres) of the hose laid along its route at rest, as buildHose() lays it:
+/// the route's own length when it is an axis of the hose (one point per axis point, a valid
+/// shape at its mean chord), else segments × the chord of the equal-chord layout along the
+/// rounded route. What files before format 1.3 are read with, so that their hoses lie on their
+/// routes at rest. Throws InvalidArgument as hoseSpecOf().
+double routeRestLength(const Project& project, const HoseDefinition& hose);
+
+/// The hose's length: hose.length, or routeRestLength() when it has none.
+double hoseLength(const Project& project, const HoseDefinition& hose);
+
+/// Builds hose `hose` of the project at its file pose, then follows the poses.
+///  1. The shape, every rest length length / segments: a route with one point per axis point
+///     is taken as the axis as it is when it holds the hose's constraints there (to 1e-6: a
+///     committed drag stores the shape so); any other route is rounded as Hose::alongRoute
+///     rounds it (the minimum bend radius) and sampled with equal chords from its first to its
+///     last point, so a hose as long as its route lies on it at rest. (A definition without a
+///     length is Hose::alongRoute's hose.)
+///  2. Every attachment fixed with Hose::attach(first, last, frame), frame = the scene node's
+///     rigid world frame · offset (ImportedScene::worldFrame): the points keep their places.
+///  3. A shape that then breaks the hose's constraints (a route longer or shorter than the
+///     hose can stretch) is settled with both route ends held (the hose never reaches past its
+///     last route point); when it cannot reach, a free last point is let go.
 /// `scenes` must be at their file pose (as importProjectScenes gives them). If project.poses
 /// moves an attached node (or one of its ancestors), the attachments are then moved together
 /// to the posed frames (Hose::moveAttachments, one update): the hose follows the part, as in
-/// the editor. Throws InvalidArgument for an unknown scene id or node path (of an attachment
-/// or a pose), or a point range outside the built hose.
-Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes);
+/// the editor. `lastUpdate`, when given, receives the result of the build's last update (the
+/// settling of step 3 or the posed move; a default Ok result when it made none): e.g.
+/// Status::Infeasible when a posed part is beyond the hose's reach (Hose::attachmentGap says
+/// how far). Throws InvalidArgument for an unknown scene id or node path (of an attachment or
+/// a pose), or a point range outside the built hose.
+Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes,
+               UpdateResult* lastUpdate = nullptr);
+
+/// `hose` made `length` metres long (> 0, finite) where it lies: its shape at the file pose with
+/// every rest length length / segments, settled inextensibly (so that added length
+/// shows as slack, not as compressed segments) between the ends its attachments and its route
+/// hold; a hose too short to reach its last route point lets that point go unless an
+/// attachment holds it (then it stays taut and short: see Hose::attachmentGap). The route of
+/// the result is that axis (buildHose takes it as it is), its length `length`. With
+/// segmentLength resolution the number of segments follows the length: attachments that end
+/// at the last point move with it. Throws InvalidArgument as buildHose, or for a length that
+/// leaves no room for the attachments.
+HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
+                          const ImportedScenes& scenes, double length);
 
 /// world ← node transform of `node` of scene `sceneId` with project.poses applied along the
 /// parent chain (`scenes` at their file pose). Throws InvalidArgument for an unknown scene, a
@@ -57,9 +97,11 @@ std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node,
 /// True if one of `hose`'s attachments exempts node `nodePath` of scene `sceneId` from it
 /// (collider_exemption.h's rule on paths): the hose neither collides with that node nor is
 /// checked for clearance against it.
-bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId, const std::string& nodePath);
+bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId,
+                       const std::string& nodePath);
 
-/// How many gravity steps settleUnderGravity() takes at most (the editor's budget per hose).
+/// How many gravity steps settleUnderGravity() takes at most; the editor's live gravity has
+/// the same budget per hose (editor::Document::kGravityStepBudget).
 constexpr int kSettleStepBudget = 3000;
 
 /// A hose with HoseSpec::gravity on, brought to rest as the editor shows it: Hose::step() until

@@ -13,7 +13,7 @@
 namespace chaintube::formats {
 
 /// 4×4 affine transform (column vectors: world = M · local). May contain scale and shear, as
-/// CAD node transforms do; use rigidPart() when a chaintube::Frame is needed.
+/// CAD node transforms do; use chaintube::rigidPart() (types.h) when a Frame is needed.
 using Mat4 = Eigen::Matrix<double, 4, 4, Eigen::DontAlign>;
 
 /// A triangle mesh in its node's local frame, in metres.
@@ -91,18 +91,13 @@ struct ImportedScene
     std::vector<int> findNodesByName(std::string_view name) const;
     /// world ← node transform (product of local transforms from the root), metres.
     Mat4 worldTransform(int node) const;
-    /// Rigid part of worldTransform(node) (scale and shear removed by polar decomposition):
-    /// the frame hose attachments use.
+    /// Rigid part of worldTransform(node) (chaintube::rigidPart: scale and shear removed by
+    /// polar decomposition): the frame hose attachments use.
     Frame worldFrame(int node) const;
     /// Sum over nodes of the triangles of their meshes (instances counted each time).
     std::size_t instancedTriangleCount() const;
     /// Sum of triangles of the distinct meshes.
     std::size_t meshTriangleCount() const;
 };
-
-/// Rigid part of an affine transform: translation, and the rotation closest to its 3×3 block
-/// (polar decomposition; a reflection is turned into a rotation by flipping the axis of the
-/// smallest singular value). A degenerate block (rank < 3) gives the identity rotation.
-Frame rigidPart(const Mat4& transform);
 
 } // namespace chaintube::formats

@@ -1,0 +1,63 @@
+// The layout of chaintube/runtime_c.h's structs as this build compiled them, for the JavaScript
+// API (chaintube.mjs), which reads and writes them in the module's memory: byte offsets and
+// sizes, so that the API hard-codes none.
+#include "chaintube/runtime_c.h"
+
+#include <cstddef>
+#include <string>
+
+namespace {
+
+std::string field(const char* name, size_t offset)
+{
+    return ",\"" + std::string(name) + "\":" + std::to_string(offset);
+}
+
+std::string makeLayout()
+{
+#define CHAINTUBE_FIELD(type, member) field(#member, offsetof(type, member))
+    const std::string hoseInfo =
+        "\"hose_info\":{\"sizeof\":" + std::to_string(sizeof(chaintube_hose_info)) +
+        CHAINTUBE_FIELD(chaintube_hose_info, id) + CHAINTUBE_FIELD(chaintube_hose_info, name) +
+        CHAINTUBE_FIELD(chaintube_hose_info, rest_length) +
+        CHAINTUBE_FIELD(chaintube_hose_info, outer_radius) +
+        CHAINTUBE_FIELD(chaintube_hose_info, point_count) +
+        CHAINTUBE_FIELD(chaintube_hose_info, joint_count) +
+        CHAINTUBE_FIELD(chaintube_hose_info, grabbable_count) +
+        CHAINTUBE_FIELD(chaintube_hose_info, vertex_count) +
+        CHAINTUBE_FIELD(chaintube_hose_info, index_count) +
+        CHAINTUBE_FIELD(chaintube_hose_info, mesh_node) +
+        CHAINTUBE_FIELD(chaintube_hose_info, skin) +
+        CHAINTUBE_FIELD(chaintube_hose_info, is_static) +
+        CHAINTUBE_FIELD(chaintube_hose_info, has_gravity) +
+        CHAINTUBE_FIELD(chaintube_hose_info, has_torsion) + "}";
+    const std::string nodeInfo =
+        "\"node_info\":{\"sizeof\":" + std::to_string(sizeof(chaintube_node_info)) +
+        CHAINTUBE_FIELD(chaintube_node_info, name) + CHAINTUBE_FIELD(chaintube_node_info, parent) +
+        "}";
+    const std::string hoseResult =
+        "\"hose_result\":{\"sizeof\":" + std::to_string(sizeof(chaintube_hose_result)) +
+        CHAINTUBE_FIELD(chaintube_hose_result, status) +
+        CHAINTUBE_FIELD(chaintube_hose_result, blocked) +
+        CHAINTUBE_FIELD(chaintube_hose_result, length_violation) +
+        CHAINTUBE_FIELD(chaintube_hose_result, angle_violation) +
+        CHAINTUBE_FIELD(chaintube_hose_result, grab_error) +
+        CHAINTUBE_FIELD(chaintube_hose_result, penetration) +
+        CHAINTUBE_FIELD(chaintube_hose_result, moved_points) +
+        CHAINTUBE_FIELD(chaintube_hose_result, contacts) + "}";
+    const std::string bytes = "\"bytes\":{\"sizeof\":" + std::to_string(sizeof(chaintube_bytes)) +
+                              CHAINTUBE_FIELD(chaintube_bytes, data) +
+                              CHAINTUBE_FIELD(chaintube_bytes, size) + "}";
+#undef CHAINTUBE_FIELD
+    return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + bytes + "}";
+}
+
+} // namespace
+
+/// The layout as JSON text, e.g. {"hose_info":{"sizeof":64,"id":0,…},"node_info":{…},
+/// "hose_result":{…},"bytes":{…}}: a static string.
+extern "C" const char* chaintube_wasm_struct_layout(void)
+{
+    static const std::string layout = makeLayout();
+    return layout.c_str();
+}

@@ -1,0 +1,215 @@
+// The web viewer (exporters/viewer) in Debian's chromium, headless, driven by puppeteer-core.
+//
+//   node viewer_test.mjs rig --repo DIR --wasm DIR --reference EXE --export FILE.glb --out DIR
+//       opens the export (?file=…&record=1), checks the panel lists every hose, drags a hose
+//       point with the mouse (a press on the hose, a move, screenshots before and while held,
+//       the release), clicks the part that most hoses are fixed to and drags its gizmo's X arrow;
+//       then replays the viewer's recorded runtime inputs natively (EXE replay: the C ABI) and
+//       checks that every bone's world position equals the native joint's to 1e-5 m, that the
+//       grabbed point followed the mouse and that the joints fixed to the part moved with it.
+//   node viewer_test.mjs bad-file --repo DIR --wasm DIR --out DIR
+//       opens a file that is not a GLB, a glTF without a hose rig and a missing file: the page
+//       shows a message naming the file and the reason (not a blank canvas).
+//
+// Screenshots go to --out (<export>-before-drag.png, <export>-drag.png, <export>-part-moved.png,
+// bad-file.png). Exit 0: passed; 1: failed; 77: skipped (no chromium, no WebAssembly build, no
+// export, no node_modules).
+import { execFileSync } from 'node:child_process';
+import { existsSync, mkdirSync, writeFileSync } from 'node:fs';
+import { basename, dirname, join, resolve } from 'node:path';
+import { launchChromium, newPage, parseArguments, requireBrowserAndWasm, serve, skip } from './browser.mjs';
+
+const TOLERANCE = 1e-5; // metres
+
+const options = parseArguments(process.argv.slice(2));
+const mode = options._[0];
+if (!['rig', 'bad-file'].includes(mode) || !options.repo || !options.wasm || !options.out) {
+  console.error('usage: node viewer_test.mjs rig|bad-file --repo DIR --wasm DIR --out DIR ' +
+    '[--reference EXE --export FILE.glb]');
+  process.exit(2);
+}
+const repo = resolve(options.repo);
+requireBrowserAndWasm(resolve(options.wasm));
+if (!existsSync(join(repo, 'exporters/viewer/node_modules/three')))
+  skip('exporters/viewer/node_modules is absent: run npm ci in exporters/viewer (./build.sh does)');
+if (mode === 'rig' && !existsSync(options.export))
+  skip(`${options.export} is absent (the engine samples need ../shared/scenes)`);
+mkdirSync(options.out, { recursive: true });
+
+let failures = 0;
+function check(condition, what) {
+  console.log(`${condition ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!condition) ++failures;
+}
+
+const dataDir = mode === 'rig' ? dirname(resolve(options.export)) : resolve(options.out);
+const server = await serve({ '/': repo, '/wasm/': resolve(options.wasm), '/data/': dataDir });
+const browser = await launchChromium();
+try {
+  const page = await newPage(browser);
+  const viewerUrl = (file) => `${server.url}/exporters/viewer/index.html?` +
+    new URLSearchParams({ file: `/data/${file}`, runtime: '/wasm/chaintube.mjs', record: '1' });
+  const viewer = (f, ...args) => page.evaluate(f, ...args);
+  const settle = async (frames = 3) => {
+    const start = await viewer(() => window.chaintubeViewer.frames);
+    await page.waitForFunction((n) => window.chaintubeViewer.frames >= n, { timeout: 60000 }, start + frames);
+  };
+
+  if (mode === 'bad-file') {
+    writeFileSync(join(dataDir, 'not-a-rig.glb'), 'This is a text file, not a GLB.\n');
+    writeFileSync(join(dataDir, 'no-hoses.gltf'), JSON.stringify({
+      asset: { version: '2.0' }, scenes: [{ nodes: [0] }], nodes: [{ name: 'box' }],
+    }));
+    const cases = [
+      ['not-a-rig.glb', /not-a-rig\.glb/, 'the runtime\'s reason (malformed glTF)', /malformed/i],
+      ['no-hoses.gltf', /no-hoses\.gltf/, 'the missing CHAINTUBE_hose_rig descriptor', /CHAINTUBE_hose_rig|hoses\.json/],
+      ['missing.glb', /missing\.glb/, 'the server\'s 404', /404/],
+    ];
+    for (const [file, names, reasonText, reason] of cases) {
+      await page.goto(viewerUrl(file));
+      await page.waitForFunction(() => ['loaded', 'error'].includes(window.chaintubeViewer.state),
+        { timeout: 60000 });
+      const shown = await page.$eval('#message', (box) => ({
+        visible: !box.hidden && box.getBoundingClientRect().width > 0, text: box.textContent,
+      }));
+      console.log(`${file}: "${shown.text.replace(/\n+/g, ' / ')}"`);
+      check(shown.visible, `${file}: a message is shown on the page`);
+      check(names.test(shown.text) && /Could not open/.test(shown.text), `${file}: it names the file`);
+      check(reason.test(shown.text), `${file}: it gives ${reasonText}`);
+      check(await viewer(() => window.chaintubeViewer.state) === 'error', `${file}: the viewer reports an error`);
+      if (file === 'not-a-rig.glb') await page.screenshot({ path: join(options.out, 'bad-file.png') });
+    }
+    // chromium logs the 404 of missing.glb as a console error: expected here
+    page.problems = page.problems.filter((problem) => !/Failed to load resource.*404/.test(problem));
+  } else {
+    const name = basename(options.export);
+    const stem = name.replace(/\.glb$/, '');
+    await page.goto(viewerUrl(name));
+    await page.waitForFunction(() => ['loaded', 'error'].includes(window.chaintubeViewer.state),
+      { timeout: 120000 });
+    const state = await viewer(() => [window.chaintubeViewer.state, window.chaintubeViewer.message]);
+    if (state[0] !== 'loaded') throw new Error(`the viewer did not load ${name}: ${state[1]}`);
+    await settle();
+
+    const panel = await viewer(() => window.chaintubeViewer.panel());
+    const first = await viewer(() => window.chaintubeViewer.snapshot());
+    check(panel.length === first.hoses.length && panel.length > 0,
+      `the panel lists every hose (${panel.length} rows, ${first.hoses.length} hoses)`);
+    check(panel.every((row) => ['ok', 'clamped', 'infeasible', 'static'].includes(row.status)),
+      'every row has a status');
+    const vrButton = await page.$eval('#VRButton', (button) => button.textContent).catch(() => null);
+    check(vrButton !== null, `three.js's VR button is on the page ("${vrButton}": no headset here)`);
+    await page.screenshot({ path: join(options.out, `${stem}-before-drag.png`) });
+
+    // The drag: the first hose whose middle free point the mouse hits on the screen.
+    const target = await viewer(() => {
+      const v = window.chaintubeViewer;
+      for (const hose of v.hoseIds()) {
+        const points = v.grabbablePoints(hose);
+        if (points.length === 0) continue;
+        const point = points[points.length >> 1];
+        const at = v.screenOfPoint(hose, point);
+        const picked = v.pickAt(at.x, at.y);
+        if (picked?.hose === hose && at.x > 50 && at.x < 900 && at.y > 80 && at.y < 700)
+          return { hose, point, ...at };
+      }
+      return null;
+    });
+    if (!target) throw new Error('no hose point is visible to drag');
+    const picked = await viewer((t) => window.chaintubeViewer.pickAt(t.x, t.y), target);
+    console.log(`dragging hose ${target.hose} from (${target.x.toFixed(0)}, ${target.y.toFixed(0)}), ` +
+      `nearest grabbable point ${picked.point}`);
+    const startPosition = first.hoses.find((h) => h.id === target.hose).joints[picked.point];
+    await page.mouse.move(target.x, target.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 10; ++k) {
+      await page.mouse.move(target.x + 6 * k, target.y - 4 * k);
+      await settle(1);
+    }
+    await settle(2);
+    await page.screenshot({ path: join(options.out, `${stem}-drag.png`) });
+    const held = await viewer(() => window.chaintubeViewer.panel());
+    await page.mouse.up();
+    await settle(2);
+    const dragged = await viewer(() => window.chaintubeViewer.snapshot());
+    const endPosition = dragged.hoses.find((h) => h.id === target.hose).joints[picked.point];
+    const moved = Math.hypot(...endPosition.map((x, k) => x - startPosition[k]));
+    check(moved > 0.01, `the grabbed point followed the mouse (${(100 * moved).toFixed(1)} cm)`);
+    check(dragged.inputs.some((i) => i.op === 'grab' && i.point === picked.point) &&
+      dragged.inputs.some((i) => i.op === 'release'), 'the drag grabbed the picked point and released it');
+    console.log(`while held the panel said: ${JSON.stringify(held.find((r) => r.id === target.hose))}`);
+
+    // The part move: click the part most hoses are fixed to, drag its gizmo's X arrow.
+    const part = await viewer(() => window.chaintubeViewer.parts()[0] ?? null);
+    if (!part) throw new Error('no part has hoses fixed to it');
+    const onPart = await viewer((p) => window.chaintubeViewer.screenOnPart(p), part.name);
+    if (!onPart) throw new Error(`part ${part.name} is nowhere visible`);
+    await page.mouse.click(onPart.x, onPart.y);
+    await settle(2);
+    check(await viewer(() => window.chaintubeViewer.selectedPart) === part.name,
+      `a click on part "${part.name}" selects it`);
+    const handle = await viewer(() => window.chaintubeViewer.gizmoHandle('X'));
+    await page.mouse.move(handle.x - 1, handle.y);
+    await page.mouse.move(handle.x, handle.y);
+    await settle(1);
+    check(await viewer(() => window.chaintubeViewer.gizmoAxis) === 'X', 'the mouse is over the gizmo\'s X arrow');
+    const beforeMove = await viewer(() => window.chaintubeViewer.snapshot());
+    const length = Math.hypot(handle.dx, handle.dy);
+    await page.mouse.down();
+    for (let k = 1; k <= 8; ++k) {
+      await page.mouse.move(handle.x + 5 * k * handle.dx / length, handle.y + 5 * k * handle.dy / length);
+      await settle(1);
+    }
+    await page.mouse.up();
+    await settle(3);
+    await page.screenshot({ path: join(options.out, `${stem}-part-moved.png`) });
+    const after = await viewer(() => window.chaintubeViewer.snapshot());
+    const moves = after.inputs.filter((i) => i.op === 'move' && i.node === part.node);
+    check(moves.length > 0, `the gizmo moved part "${part.name}" in the runtime (${moves.length} moves)`);
+    // The joints fixed to the part moved with it (as far as the part's origin moved).
+    const partShift = moves.length ? Math.hypot(...moves.at(-1).trs.slice(0, 3).map((x, k) => x - part.trs[k])) : 0;
+    let fixedShift = 0;
+    for (const { hose, joint } of part.fixedJoints) {
+      const a = beforeMove.hoses.find((h) => h.id === hose).joints[joint];
+      const b = after.hoses.find((h) => h.id === hose).joints[joint];
+      fixedShift = Math.max(fixedShift, Math.hypot(...b.map((x, k) => x - a[k])));
+    }
+    check(partShift > 0.005 && fixedShift > 0.5 * partShift,
+      `the fixed segments follow the part (part ${(100 * partShift).toFixed(1)} cm, joints up to ${(100 * fixedShift).toFixed(1)} cm)`);
+
+    // The same inputs natively: every bone where the native runtime puts its joint.
+    const inputsFile = join(options.out, `${stem}-inputs.json`);
+    writeFileSync(inputsFile, JSON.stringify(after.inputs));
+    const expected = JSON.parse(execFileSync(options.reference, ['replay', options.export, inputsFile],
+      { encoding: 'utf8', maxBuffer: 64 << 20 }));
+    let largest = 0, joints = 0, mismatch = null;
+    check(expected.hoses.length === after.hoses.length, 'the native runtime has the same hoses');
+    expected.hoses.forEach((native, h) => {
+      const browserHose = after.hoses[h];
+      if (browserHose?.id !== native.id || browserHose.joints.length !== native.joints.length) {
+        mismatch ??= `hose ${h}: ${browserHose?.id} with ${browserHose?.joints.length} joints in the browser, ` +
+          `${native.id} with ${native.joints.length} natively`;
+        return;
+      }
+      native.joints.forEach((position, j) => {
+        ++joints;
+        const difference = Math.max(...position.map((x, k) => Math.abs(x - browserHose.joints[j][k])));
+        if (!(difference <= largest)) largest = difference;
+        if (!(difference <= TOLERANCE)) mismatch ??= `${native.id} joint ${j}: browser ` +
+          `${browserHose.joints[j].join(', ')}, native ${position.join(', ')}`;
+      });
+    });
+    check(mismatch === null && joints > 0, `${joints} bones where the native runtime puts their joints after the ` +
+      `same ${after.inputs.length} inputs (largest difference ${largest.toExponential(2)} m, tolerance ${TOLERANCE} m)` +
+      (mismatch ? `: ${mismatch}` : ''));
+  }
+  check(page.problems.length === 0, `no errors in the page${page.problems.length ? ': ' + page.problems.join('; ') : ''}`);
+} catch (error) {
+  console.log(`FAIL ${error.stack ?? error}`);
+  ++failures;
+} finally {
+  await browser.close();
+  await server.close();
+}
+console.log(failures === 0 ? 'viewer_test: passed' : `viewer_test: ${failures} failures`);
+process.exit(failures === 0 ? 0 : 1);
