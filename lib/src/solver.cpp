@@ -29,6 +29,10 @@ constexpr int kCloseSpanSteps = 32;
 /// A grab: at most this many valid steps towards the target, of this many Newton steps each.
 constexpr int kAdvanceSteps = 4;
 constexpr int kAdvanceIterations = 6;
+/// PinnedSpans::projectTowards: the grabbed point's inverse mass relative to its own, and the
+/// largest violation the projection may leave for the span solver to close.
+constexpr double kHeavyPoint = 1e-3;
+constexpr double kCloseProjection = 1e-3;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
 
@@ -615,7 +619,8 @@ public:
                     heldTarget && moving > -2
                         ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
                                          haveRoot ? &rootDirection : nullptr, haveEnd ? &endDirection : nullptr,
-                                         kAdvanceSteps, kAdvanceIterations, kConverged)
+                                         kAdvanceSteps, kAdvanceIterations, kConverged, requested,
+                                         h.m_advanceRadius)
                         : solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
                                        haveEnd ? &endDirection : nullptr, spanSteps, kConverged, writeAnyway);
                 iterations += out.iterations;
@@ -646,6 +651,37 @@ public:
         return solveSpans(iterations, false, met) && met;
     }
 
+    /// After a grab's valid steps stopped short of `goal` (the edge of what the bend limits and
+    /// the fixed tangents leave reachable, where sub-goals fail): one projection of the shape
+    /// with the point at its goal, the point heavy (kHeavyPoint) so that the others make way,
+    /// then closed exactly by the span solver. Kept when valid and nearer the goal (and no
+    /// farther from `requested`, the target beyond reach); otherwise the shape stays.
+    void projectTowards(int point, const Vec3& goal, int& iterations)
+    {
+        const size_t k = static_cast<size_t>(point);
+        const std::vector<Vec3> advanced = h.m_local;
+        const Vec3 at = h.m_local[k];
+        const double rest = h.restLengthTotal() / h.segmentCount();
+        std::vector<Vec3> predicted = h.m_local;
+        predicted[k] = goal;
+        // The point heavy first (it gets there if the others can make way), then as heavy as
+        // the others (beyond what the bends allow: the shape nearest the prediction).
+        for (const double heavy : {kHeavyPoint, 1.0}) {
+            projection.useMassesFromRestLengths(-1);
+            projection.inverseMass()[k] *= heavy;
+            projection.setPredicted(&predicted);
+            h.m_local = predicted;
+            const detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
+            projection.setPredicted(nullptr);
+            iterations += out.iterations;
+            if (out.violation <= kCloseProjection && hard(iterations) &&
+                (goal - h.m_local[k]).norm() < (goal - at).norm() - 1e-6 * rest)
+                break;
+            h.m_local = advanced;
+        }
+        projection.useMassesFromRestLengths(held);
+    }
+
     /// The bends give way to the lengths (pinned points stay): soft bend rows, then the
     /// lengths alone to their tolerance. For ends whose positions and tangents leave no shape
     /// within the bend limits.
@@ -669,6 +705,7 @@ public:
     detail::ChainProjection projection;
     int lo, hi, held;
     int spanSteps = kSpanSteps; ///< Newton steps of the span solver per span
+    const Vec3* requested = nullptr; ///< a grab's target when its goal is clamped into reach
 };
 
 namespace {
@@ -709,6 +746,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         result.iterations = 0;
         return result;
     }
+    if (m_held != index) m_advanceRadius = std::numeric_limits<double>::infinity();
     const bool wasInvalid = m_dirtyViolation;
     const UpdateResult before = wasInvalid ? measureViolation() : UpdateResult{};
     Status status = Status::Ok;
@@ -735,6 +773,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         if (goal != localTarget) status = Status::Clamped;
         const auto [lo, hi] = pinnedRange(m_attachments, index);
         PinnedSpans spans(*this, lo, hi, index);
+        if (goal != localTarget) spans.requested = &localTarget;
         // From the current, valid shape the point goes towards its goal in valid steps: exactly
         // there, else as near as the budget brings it (the rest on the next updates). A shape
         // that was not valid is solved with the point at its goal, else as near as it gets.
@@ -756,6 +795,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         } else if (!wasInvalid) {
             solved = spans.solveSpans(result.iterations, false, met, false, &goal);
             if (!met) status = Status::Clamped;
+            if (solved && !met) spans.projectTowards(index, goal, result.iterations);
         } else {
             m_local[k] = goal;
             solved = spans.solveSpans(result.iterations, false, met) && met;
@@ -867,8 +907,13 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
             if (!solved) m_local = std::move(flat);
         }
         if (!solved) solved = spans.hard(result.iterations);
-        // The ends leave no shape within the bend limits: the bends give way (a kink).
-        if (!solved) solved = spans.bendsGiveWay(result.iterations);
+        // The ends leave no shape within the bend limits: the bends give way (a kink). The span
+        // solver is tried once more from that shape, whose lengths hold and whose end is met:
+        // a start near a valid shape where the move's warm start was not.
+        if (!solved && (solved = spans.bendsGiveWay(result.iterations))) {
+            std::vector<Vec3> kinked = m_local;
+            if (!spans.hard(result.iterations)) m_local = std::move(kinked);
+        }
         if (solved) break;
     }
     if (!solved) m_local = m_scratch; // nothing valid found: the hose stays (its attachments unmet)
@@ -909,7 +954,23 @@ UpdateResult Hose::settleFrom(int held)
     m_scratch = m_local;
     UpdateResult result;
     PinnedSpans spans(*this, lo, hi, held);
-    if (!spans.hard(result.iterations) && !spans.bendsGiveWay(result.iterations)) m_local = m_scratch;
+    // A straight span shorter than its hose: bowed first (as for an attachment move).
+    Solver bow(*this);
+    bow.grabbed = held;
+    std::vector<Vec3> flat;
+    bool solved = false;
+    if (bow.bowFlatCompressedSpans(flat)) {
+        solved = spans.hard(result.iterations);
+        if (!solved) m_local = std::move(flat);
+    }
+    if (!solved) solved = spans.hard(result.iterations);
+    // No valid shape from here: the bends give way, then the span solver from that shape (as in
+    // an attachment move).
+    if (!solved && (solved = spans.bendsGiveWay(result.iterations))) {
+        std::vector<Vec3> kinked = m_local;
+        if (!spans.hard(result.iterations)) m_local = std::move(kinked);
+    }
+    if (!solved) m_local = m_scratch;
     Solver tails(*this);
     tails.sweepTails(lo, hi, m_scratch, true);
     const UpdateResult violation = measureViolation();

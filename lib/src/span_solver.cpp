@@ -10,6 +10,9 @@ namespace chaintube::detail {
 
 namespace {
 
+/// SpanSolver::advance: the least gain (of a segment) of a step along the edge of the
+/// reachable set.
+constexpr double kEdgeGain = 1e-3;
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
 using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
@@ -66,6 +69,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     m_trialLength.resize(segments);
     m_position.resize(segments + 1);
     m_saturated.assign(segments, 0);
+    m_lengthHeld.assign(segments, 0);
     m_normal.resize(segments);
     m_room.resize(segments);
     const bool stretchable = h.m_spec.material.expansionCoefficient > 0.0;
@@ -175,7 +179,14 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     std::vector<double> stretch(segments, 0.0);
     const int rows = 3 * goalCount + 3 + 1;
     for (; out.iterations < maxIterations; ++out.iterations) {
-        if (current.closure <= tolerance && current.goalError <= tolerance) break;
+        // The last two steps of the budget close the span alone (the soft goals as they are).
+        if (anySoft && !polishing && maxIterations >= 4 && out.iterations >= maxIterations - 2) {
+            polishing = true;
+            damping = 0.0;
+            evaluate(current);
+        }
+        // Soft goals have no tolerance: they take the budget, until a step gains nothing.
+        if (current.closure <= tolerance && current.goalError <= tolerance && !(anySoft && !polishing)) break;
         // The bend row at the end, as a rotation of the last direction: g = ∂turn/∂d.
         Vec3 bendAxis = Vec3::Zero();
         if (current.bendRow) {
@@ -232,7 +243,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                         Mat3 block = -v[q] * v[b].transpose() - c[b] * c[q].transpose();
                         block.diagonal().array() += v[b].dot(v[q]);
                         if (held) block -= e[b] * e[q].transpose();
-                        if (stretchable) block += d * d.transpose();
+                        if (stretchable && !m_lengthHeld[k]) block += d * d.transpose();
                         a.block<3, 3>(3 * b, 3 * q) += block;
                     }
                     if (held) rhs.segment<3>(3 * b) -= m_room[k] * n.cross(v[b]);
@@ -311,9 +322,19 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 }
                 omega[k] = w;
                 if (stretchable) {
+                    // A length at an end of its band that the step would take beyond it is held
+                    // there (its row left out); held, it is freed when the step pulls it back in.
                     double dl = 0.0;
                     for (int b = first; b < blocks; ++b) dl += d.dot(Vec3(lambda.segment<3>(3 * b)));
-                    stretch[k] = dl;
+                    const size_t seg = segment(s);
+                    const bool atMax = m_length[k] >= h.m_maxLength[seg] * (1.0 - 1e-12);
+                    const bool atMin = m_length[k] <= h.m_minLength[seg] * (1.0 + 1e-12);
+                    const bool outward = (atMax && dl > 0.0) || (atMin && dl < 0.0);
+                    if (m_lengthHeld[k] != (outward ? 1 : 0)) {
+                        m_lengthHeld[k] = outward ? 1 : 0;
+                        changed = true;
+                    }
+                    stretch[k] = m_lengthHeld[k] ? 0.0 : dl;
                 }
             }
             if (!changed) break;
@@ -343,6 +364,13 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         if (finite && better) {
             current = next;
             damping = damping > 1e-9 ? 0.25 * damping : 0.0;
+        } else if (anySoft && !polishing && current.closure <= tolerance && current.goalError <= tolerance &&
+                   damping >= 1.0) {
+            // Valid, and the soft goals no nearer even with heavy damping: as near as they get.
+            std::swap(m_direction, m_trial);
+            std::swap(m_length, m_trialLength);
+            m_position = m_savedPositions;
+            break;
         } else if (endFixed && anySoft && !polishing && current.closure > tolerance) {
             // The soft goals are as near as they get: finish the closure alone.
             std::swap(m_direction, m_trial);
@@ -371,7 +399,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
 
 SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
                                         int moving, const Vec3& target, const Vec3* rootDirection,
-                                        const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance)
+                                        const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance,
+                                        const Vec3* requested, double& radius)
 {
     Outcome out;
     out.valid = true;
@@ -379,10 +408,17 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int dir = end > root ? 1 : -1;
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
-    double radius = std::numeric_limits<double>::infinity();
     for (int step = 0; step < maxSteps; ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
+        // Nearer the target by `gain` (relative to a segment). Beyond reach, nearer the
+        // requested target by kEdgeGain of a segment: smaller gains are a creep along the edge
+        // of the reachable set that would keep a held target from coming to rest.
+        auto progress = [&](const Vec3& q, double gain) {
+            if (!requested) return (target - q).norm() < error - gain * rest;
+            return (target - q).norm() < error - 1e-12 * rest &&
+                   (*requested - q).norm() <= (*requested - at).norm() - kEdgeGain * rest;
+        };
         if (error <= tolerance * rest) {
             // There to the tolerance: exactly there (the adjacent segments change by as much).
             p[static_cast<size_t>(point)] = target;
@@ -393,17 +429,43 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         if (moving >= 0) goals[static_cast<size_t>(moving)].target = subGoal;
         const int lo = std::min(root, end), hi = std::max(root, end);
         m_saved.assign(p.begin() + lo, p.begin() + hi + 1);
+        if (moving >= 0) {
+            // Warm start: the step's displacement spread over the span, fading to nothing at
+            // its ends (and at the other goals), so the solve starts near a shape that has
+            // the point at its sub-goal instead of at a corner of the bend limits.
+            const Vec3 shift = subGoal - at;
+            int left = lo, right = hi;
+            for (const SpanGoal& g : goals) {
+                if (g.point < point) left = std::max(left, g.point);
+                if (g.point > point) right = std::min(right, g.point);
+            }
+            for (int i = left + 1; i < right; ++i) {
+                const double weight = i <= point ? double(i - left) / (point - left) : double(right - i) / (right - point);
+                p[static_cast<size_t>(i)] += weight * shift;
+            }
+        }
         const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection, endDirection,
                                 stepIterations, tolerance);
         out.iterations += o.iterations;
-        const double now = (target - (moving >= 0 || !o.valid ? p[static_cast<size_t>(point)] : subGoal)).norm();
-        if (o.valid && now < error - 1e-12 * rest) {
+        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
             if (o.goalsMet) radius = 2.0 * std::min(radius, error);
-        } else {
-            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
-            radius = 0.5 * std::min(radius, error);
+            continue;
         }
+        std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+        radius = 0.5 * std::min(radius, error);
+        // The sub-goal is out of the span's reach (bend limits and the fixed segments' tangents
+        // make the reachable set smaller than the balls of the grab's reach): the point goes as
+        // near it as the span allows, the end still hard, so a held target keeps coming nearer
+        // instead of stalling at the first unreachable sub-goal.
+        if (moving >= 0) goals[static_cast<size_t>(moving)].hard = false;
+        const Outcome soft = solve(root, end, moving >= 0, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
+                                   endDirection, stepIterations, tolerance);
+        if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
+        out.iterations += soft.iterations;
+        // A soft step counts when it gains kEdgeGain of a segment (the same creep).
+        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain)))
+            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
     }
     if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
         p[static_cast<size_t>(point)] = target;
