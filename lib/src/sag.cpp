@@ -24,6 +24,9 @@ constexpr double kConverged = 1e-10;           ///< relative length, radians, co
 /// Largest violation left by the projection that the span solver closes (relative length,
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
 constexpr double kCloseFrom = 1e-5;
+/// Farther off, without contacts: the largest move (of the mean rest length) that closing may
+/// make from the projection's state.
+constexpr double kCloseMove = 0.05;
 constexpr double kSettledMotion = 1e-6;        ///< of the mean rest length, per step
 constexpr int kStallSteps = 120;               ///< steps without coming lower: at rest
 constexpr double kHover = 0.01;                ///< of the mean rest length, in mean height
@@ -78,7 +81,9 @@ public:
     /// the linearised constraints, from the predicted positions, at most kProjectionSteps. Where
     /// they end close but not within the tolerance (bend limits switching on and off near
     /// their bounds converge slowly), the span solver closes the rest exactly
-    /// (Hose::closeSpans). Returns whether every constraint holds afterwards.
+    /// (Hose::closeSpans); without contacts, also farther off when closing moves no point by
+    /// more than kCloseMove of a segment. Returns
+    /// whether every constraint holds afterwards.
     bool project(const std::vector<Vec3>& predicted, const std::vector<Vec3>& from, int& iterations)
     {
         gatherContacts(predicted, from);
@@ -87,7 +92,16 @@ public:
         const detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
         iterations += out.iterations;
         if (out.converged && h.measureViolation().status == Status::Ok) return true;
-        return out.violation <= kCloseFrom && h.closeSpans(held, from, iterations);
+        if (out.violation <= kCloseFrom) return h.closeSpans(held, from, iterations);
+        // Farther off and without contacts (nothing to push into): closed too when that moves
+        // no point more than kCloseMove of a segment from where the projection left it (a
+        // larger correction would be a jump, not a fall).
+        if (std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; })) return false;
+        projected = h.m_local;
+        if (!h.closeSpans(held, from, iterations)) return false;
+        double moved = 0.0;
+        for (size_t i = 0; i < projected.size(); ++i) moved = std::max(moved, (h.m_local[i] - projected[i]).norm());
+        return moved <= kCloseMove * meanRest;
     }
 
     Hose& h;
@@ -96,6 +110,7 @@ public:
     double meanRest = 0.0;
     double radius = 0.0;
     std::vector<unsigned char> touching;
+    std::vector<Vec3> projected; ///< project(): the projection's state before it is closed
 };
 
 SagResult Hose::sag(const SagOptions& options)
@@ -180,9 +195,19 @@ UpdateResult Hose::step()
             const detail::ProjectionOutcome out = engine.projection.run(kProjectionSteps, kConverged);
             result.iterations = std::max(out.iterations, 1);
             if (out.violation <= kCloseFrom) static_cast<void>(closeSpans(m_held, start, result.iterations));
-            const UpdateResult after = measureViolation();
+            UpdateResult after = measureViolation();
+            if (after.lengthViolation > std::max(before.lengthViolation, 1e-9)) {
+                // Lengths first: the bends give way again where the projection could not make
+                // both hold (as in an attachment move), so no step trades bends for lengths.
+                engine.projection.setBends(false);
+                const detail::ProjectionOutcome lengths = engine.projection.run(kProjectionSteps, kConverged);
+                engine.projection.setBends(true);
+                result.iterations += lengths.iterations;
+                after = measureViolation();
+            }
+            const bool lengthsHold = after.lengthViolation <= std::max(before.lengthViolation, 1e-9);
             const double worstBefore = std::max(before.lengthViolation, before.angleViolation);
-            if (!(std::max(after.lengthViolation, after.angleViolation) < worstBefore)) {
+            if (!lengthsHold || !(std::max(after.lengthViolation, after.angleViolation) < worstBefore)) {
                 m_local = start; // no nearer within the budget: it stays until an input changes
                 m_gravityPrevious = start;
                 m_gravityLast = start;
@@ -220,7 +245,9 @@ UpdateResult Hose::step()
         m_local = start;
         m_gravityPrevious = start;
         m_gravityLast = start;
+        const int iterations = result.iterations;
         result = measureViolation();
+        result.iterations = iterations;
         m_settledRevision = m_revision;
         return result;
     }
@@ -230,7 +257,9 @@ UpdateResult Hose::step()
         if (engine.touching[i]) m_gravityPrevious[i] = m_local[i];
     m_dirtyViolation = false;
     ++m_revision;
+    const int iterations = result.iterations;
     result = measureViolation();
+    result.iterations = iterations;
     if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     double stepMotion = 0.0;
     for (size_t i = 0; i < n; ++i) {
