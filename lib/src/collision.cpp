@@ -1062,6 +1062,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         result.grabError = (m_local[k] - localTarget).norm();
     }
     result.blocked = blocked;
+    // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
+    // not met, which the caller must not read as Ok.
+    if (refused && result.penetration > 0.0 && result.status == Status::Ok) result.status = Status::Infeasible;
     if (changed) {
         result.lengthViolation = violation.lengthViolation;
         result.angleViolation = violation.angleViolation;
