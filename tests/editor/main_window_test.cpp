@@ -1673,12 +1673,11 @@ TEST_F(MainWindowTest, TheValveDraggedAlongXAndBackKeepsEveryHoseInItsBandOrShow
     const int valve = document.scene("rig")->findNode("/test-rig/valve");
     const Vec3 start = document.nodeWorldFrame("rig", valve).translation;
     const Vec3 centre = document.partCentre("rig", valve);
-    const QPoint a = viewport.toWidget(centre);
-    const QPoint b =
-        viewport.toWidget(centre + Renderer::gizmoLength(viewport.camera()) * Vec3::UnitX());
-    const QPoint grip = a + (b - a) * 0.8;
-    // Pixels per metre along the arrow on screen.
-    const QPointF perMetre = QPointF(viewport.toWidget(centre + 0.3 * Vec3::UnitX()) - a) / 0.3;
+    // The arrow gripped at 0.8 of its length; the mouse goes where the gripped point of the
+    // arrow would be drawn after the move (the view is in perspective: equal moves are not
+    // equal pixels).
+    const Vec3 gripped = centre + 0.8 * Renderer::gizmoLength(viewport.camera()) * Vec3::UnitX();
+    const QPoint grip = viewport.toWidget(gripped);
     bool wasShort = false;
     const auto checkEveryHose = [&](double shift) {
         m_window->problems().refreshNow();
@@ -1703,7 +1702,7 @@ TEST_F(MainWindowTest, TheValveDraggedAlongXAndBackKeepsEveryHoseInItsBandOrShow
     const int steps = 30;
     for (int i = 1; i <= 2 * steps; ++i) {
         const double target = 0.3 * (i <= steps ? i : 2 * steps - i) / steps;
-        QTest::mouseMove(&viewport, grip + (perMetre * target).toPoint());
+        QTest::mouseMove(&viewport, viewport.toWidget(gripped + target * Vec3::UnitX()));
         const double shift = document.nodeWorldFrame("rig", valve).translation.x() - start.x();
         checkEveryHose(shift);
         if (i == steps) {

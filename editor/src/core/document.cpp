@@ -349,7 +349,16 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
         invalid.status = Status::InvalidInput;
         return invalid;
     }
-    const UpdateResult result = it->second.hose->grab(point, target);
+    Hose& hose = *it->second.hose;
+    UpdateResult result = hose.grab(point, target);
+    int moved = result.movedPoints, iterations = result.iterations;
+    for (int call = 1; call < kDragGrabs && result.status == Status::Clamped && result.movedPoints > 0; ++call) {
+        result = hose.grab(point, target);
+        moved = std::max(moved, result.movedPoints);
+        iterations += result.iterations;
+    }
+    result.movedPoints = moved;
+    result.iterations = iterations;
     if (result.movedPoints > 0) {
         wakeGravity(hoseId);
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
