@@ -15,12 +15,12 @@ namespace {
 constexpr double kFrameTime = 1.0 / 90.0;      ///< seconds a step advances (a headset's frame)
 constexpr double kGravity = 9.81;              ///< m/s²
 constexpr double kDamping = 0.9;               ///< fraction of the velocity a step carries on
-constexpr int kProjectionSteps = 8;            ///< Newton steps of one attempt
+constexpr int kStepProjectionSteps = 8;            ///< Newton steps of one attempt
 /// The attempts of one step: the full prediction, then from rest with the fall scaled by these
 /// factors (a smaller move from the valid start is nearer the constraints, so Newton's
 /// quadratic convergence reaches them within the attempt's steps).
 constexpr double kFallFactors[] = {1.0, 0.25, 1.0 / 16.0};
-constexpr double kConverged = 1e-10;           ///< relative length, radians, contact depth
+constexpr double kStepConverged = 1e-10;           ///< relative length, radians, contact depth
 /// Largest violation left by the projection that the span solver closes (relative length,
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
 constexpr double kCloseFrom = 1e-5;
@@ -78,7 +78,7 @@ public:
 
     /// Projects `predicted` (written into the hose) onto the constraints by the fast
     /// projection (Goldenthal et al. 2007): Newton steps of the smallest mass-weighted move onto
-    /// the linearised constraints, from the predicted positions, at most kProjectionSteps. Where
+    /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps. Where
     /// they end close but not within the tolerance (bend limits switching on and off near
     /// their bounds converge slowly), the span solver closes the rest exactly
     /// (Hose::closeSpans); without contacts, also farther off when closing moves no point by
@@ -89,7 +89,7 @@ public:
         gatherContacts(predicted, from);
         h.m_local = predicted;
         projection.setPredicted(nullptr);
-        const detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
+        const detail::ProjectionOutcome out = projection.run(kStepProjectionSteps, kStepConverged);
         iterations += out.iterations;
         if (out.converged && h.measureViolation().status == Status::Ok) return true;
         if (out.violation <= kCloseFrom) return h.closeSpans(held, from, iterations);
@@ -192,7 +192,7 @@ UpdateResult Hose::step()
         if (before.status != Status::Ok) {
             engine.gatherContacts(start, start);
             engine.projection.setPredicted(nullptr);
-            const detail::ProjectionOutcome out = engine.projection.run(kProjectionSteps, kConverged);
+            const detail::ProjectionOutcome out = engine.projection.run(kStepProjectionSteps, kStepConverged);
             result.iterations = std::max(out.iterations, 1);
             if (out.violation <= kCloseFrom) static_cast<void>(closeSpans(m_held, start, result.iterations));
             UpdateResult after = measureViolation();
@@ -200,7 +200,7 @@ UpdateResult Hose::step()
                 // Lengths first: the bends give way again where the projection could not make
                 // both hold (as in an attachment move), so no step trades bends for lengths.
                 engine.projection.setBends(false);
-                const detail::ProjectionOutcome lengths = engine.projection.run(kProjectionSteps, kConverged);
+                const detail::ProjectionOutcome lengths = engine.projection.run(kStepProjectionSteps, kStepConverged);
                 engine.projection.setBends(true);
                 result.iterations += lengths.iterations;
                 after = measureViolation();
