@@ -29,10 +29,6 @@ constexpr int kCloseSpanSteps = 32;
 /// A grab: at most this many valid steps towards the target, of this many Newton steps each.
 constexpr int kAdvanceSteps = 4;
 constexpr int kAdvanceIterations = 6;
-/// PinnedSpans::projectTowards: the grabbed point's inverse mass relative to its own, and the
-/// largest violation the projection may leave for the span solver to close.
-constexpr double kHeavyPoint = 1e-3;
-constexpr double kCloseProjection = 1e-3;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
 
@@ -651,37 +647,6 @@ public:
         return solveSpans(iterations, false, met) && met;
     }
 
-    /// After a grab's valid steps stopped short of `goal` (the edge of what the bend limits and
-    /// the fixed tangents leave reachable, where sub-goals fail): one projection of the shape
-    /// with the point at its goal, the point heavy (kHeavyPoint) so that the others make way,
-    /// then closed exactly by the span solver. Kept when valid and nearer the goal (and no
-    /// farther from `requested`, the target beyond reach); otherwise the shape stays.
-    void projectTowards(int point, const Vec3& goal, int& iterations)
-    {
-        const size_t k = static_cast<size_t>(point);
-        const std::vector<Vec3> advanced = h.m_local;
-        const Vec3 at = h.m_local[k];
-        const double rest = h.restLengthTotal() / h.segmentCount();
-        std::vector<Vec3> predicted = h.m_local;
-        predicted[k] = goal;
-        // The point heavy first (it gets there if the others can make way), then as heavy as
-        // the others (beyond what the bends allow: the shape nearest the prediction).
-        for (const double heavy : {kHeavyPoint, 1.0}) {
-            projection.useMassesFromRestLengths(-1);
-            projection.inverseMass()[k] *= heavy;
-            projection.setPredicted(&predicted);
-            h.m_local = predicted;
-            const detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
-            projection.setPredicted(nullptr);
-            iterations += out.iterations;
-            if (out.violation <= kCloseProjection && hard(iterations) &&
-                (goal - h.m_local[k]).norm() < (goal - at).norm() - 1e-6 * rest)
-                break;
-            h.m_local = advanced;
-        }
-        projection.useMassesFromRestLengths(held);
-    }
-
     /// The bends give way to the lengths (pinned points stay): soft bend rows, then the
     /// lengths alone to their tolerance. For ends whose positions and tangents leave no shape
     /// within the bend limits.
@@ -795,7 +760,6 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         } else if (!wasInvalid) {
             solved = spans.solveSpans(result.iterations, false, met, false, &goal);
             if (!met) status = Status::Clamped;
-            if (solved && !met) spans.projectTowards(index, goal, result.iterations);
         } else {
             m_local[k] = goal;
             solved = spans.solveSpans(result.iterations, false, met) && met;
