@@ -615,8 +615,7 @@ public:
                     heldTarget && moving > -2
                         ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
                                          haveRoot ? &rootDirection : nullptr, haveEnd ? &endDirection : nullptr,
-                                         kAdvanceSteps, kAdvanceIterations, kConverged, requested,
-                                         h.m_advanceRadius)
+                                         kAdvanceSteps, kAdvanceIterations, kConverged, requested)
                         : solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
                                        haveEnd ? &endDirection : nullptr, spanSteps, kConverged, writeAnyway);
                 iterations += out.iterations;
@@ -711,7 +710,6 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         result.iterations = 0;
         return result;
     }
-    if (m_held != index) m_advanceRadius = std::numeric_limits<double>::infinity();
     const bool wasInvalid = m_dirtyViolation;
     const UpdateResult before = wasInvalid ? measureViolation() : UpdateResult{};
     Status status = Status::Ok;

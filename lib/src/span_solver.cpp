@@ -400,7 +400,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
 SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
                                         int moving, const Vec3& target, const Vec3* rootDirection,
                                         const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance,
-                                        const Vec3* requested, double& radius)
+                                        const Vec3* requested)
 {
     Outcome out;
     out.valid = true;
@@ -408,6 +408,7 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int dir = end > root ? 1 : -1;
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
+    double radius = std::numeric_limits<double>::infinity();
     for (int step = 0; step < maxSteps; ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();

@@ -59,12 +59,11 @@ public:
     /// hard. `moving` is the index in `goals` of the point that moves, or −1 for the end
     /// itself (a span ending at a grabbed point: `endTarget` is then ignored). The span stays
     /// valid whatever happens; `goalsMet` says whether the point got to its target.
-    /// `radius`: the trust radius to start from (∞: the whole way), updated for the next call.
     /// `requested` (a grab's target beyond reach, of which `target` is the nearest point within
     /// the reach balls): a step that takes the point farther from it is not taken.
     Outcome advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals, int moving,
                     const Vec3& target, const Vec3* rootDirection, const Vec3* endDirection, int maxSteps,
-                    int stepIterations, double tolerance, const Vec3* requested, double& radius);
+                    int stepIterations, double tolerance, const Vec3* requested = nullptr);
 
 private:
     Hose& h;

@@ -8,7 +8,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <limits>
 #include <vector>
 
 namespace chaintube {
@@ -364,9 +363,6 @@ private:
     std::vector<Vec3> m_scratch; ///< the shape before the current update (restored if it fails)
     int m_nextAttachmentId = 1;
     int m_held = -1;                      ///< see heldPoint()
-    /// The trust radius of the last grab's valid steps (local metres), carried to the next grab
-    /// of the same point: a step that failed this frame is not tried at full size again.
-    double m_advanceRadius = std::numeric_limits<double>::infinity();
     int m_edgePoint = -1;                 ///< point last grabbed to the edge of its reach
     std::uint64_t m_edgeRevision = 0;     ///< m_revision right after that grab
     Vec3 m_edgeTarget = Vec3::Zero();     ///< that grab's local target
