@@ -1020,6 +1020,31 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         penetration = pushOut();
         violation = measureViolation();
     }
+    // Lengths are never given up to contacts: when the rounds leave a segment outside its band
+    // and no fixed point moved (a grab, a gravity step), the hose stays at its last
+    // collision-resolved shape (if that one keeps its lengths) and the update is reported
+    // blocked. (Fixed points stay where their frames put them.)
+    bool refused = false;
+    bool fixedMoved = false;
+    for (std::size_t i = 0; i < n && !fixedMoved; ++i) fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
+    if (changed && !fixedMoved && violation.lengthViolation > ctol) {
+        const std::vector<Vec3> rounds = m_local;
+        m_local = m_collisionStart;
+        const UpdateResult kept = measureViolation();
+        if (kept.lengthViolation <= ctol) {
+            refused = true;
+            violation = kept;
+            penetration = 0.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, queryReach);
+                if (c.found) penetration = std::max(penetration, radius - c.distance);
+                freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
+            }
+            if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
+        } else {
+            m_local = rounds;
+        }
+    }
 
     // Report.
     int touching = 0;
@@ -1027,7 +1052,7 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         if (pointClearance(i, nullptr) < 2.0 * tolerance) ++touching;
     result.contacts = touching;
     result.penetration = penetration > tolerance ? penetration : 0.0;
-    bool blocked = result.penetration > 0.0;
+    bool blocked = result.penetration > 0.0 || refused;
     if (grabbed >= 0) {
         const std::size_t k = static_cast<std::size_t>(grabbed);
         if ((m_local[k] - localTarget).norm() > result.grabError + tolerance) {
@@ -1037,6 +1062,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         result.grabError = (m_local[k] - localTarget).norm();
     }
     result.blocked = blocked;
+    // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
+    // not met, which the caller must not read as Ok.
+    if (refused && result.penetration > 0.0 && result.status == Status::Ok) result.status = Status::Infeasible;
     if (changed) {
         result.lengthViolation = violation.lengthViolation;
         result.angleViolation = violation.angleViolation;

@@ -41,9 +41,9 @@ void Material::validate() const
         throw InvalidArgument("material.expansionCoefficient: expected a number in [0, 1), got " +
                               describe(expansionCoefficient));
     if (bendLimit.kind == BendLimit::Kind::DeflectionAngle)
-        (void)BendLimit::deflectionAngle(bendLimit.value);
+        static_cast<void>(BendLimit::deflectionAngle(bendLimit.value));
     else
-        (void)BendLimit::minBendRadius(bendLimit.value);
+        static_cast<void>(BendLimit::minBendRadius(bendLimit.value));
 }
 
 double jointDeflectionLimit(const BendLimit& limit, double segmentLength)

@@ -19,10 +19,10 @@ Scene::FrameStats Scene::updateSurfaces()
     return stats;
 }
 
-int Scene::step(int rounds)
+int Scene::step()
 {
     int moved = 0;
-    for (Hose& hose : m_hoses) moved += hose.step(rounds).movedPoints > 0 ? 1 : 0;
+    for (Hose& hose : m_hoses) moved += hose.step().movedPoints > 0 ? 1 : 0;
     return moved;
 }
 

@@ -1,23 +1,36 @@
-// The ChainTube axis solver: the paper's outward propagation (phase 1) and, only when a
-// propagation runs into a fixed point, alternating sweeps between the pinned points (phase 2)
-// with a clamp of infeasible grabs.
+// The axis solver: the paper's outward propagation for free ends, and for the spans between
+// pinned points (attachments, a held point) the bounded chain projection (projection.h).
 #include "chaintube/hose.h"
 
-#include "banded_ldlt.h"
+#include "projection.h"
+#include "span_solver.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace chaintube {
 
 namespace {
 constexpr double kLengthTolerance = 1e-12;   // relative, when deciding whether to correct
-constexpr double kConvergedLength = 1e-10;   // relative, phase 2 success
-constexpr int kMaxSweeps = 200;
-constexpr double kMomentum = 0.9;
-constexpr int kStallWindow = 32; // give up when a window of sweeps gains less than half
-constexpr int kBisectionSteps = 16;
+/// The projection's tolerance (relative length, radians): well inside measureViolation()'s 1e-9.
+constexpr double kConverged = 1e-10;
+/// Newton steps of one projection attempt (the bends giving way: half with soft bends, then
+/// this many on the lengths alone).
+constexpr int kProjectionSteps = 8;
+/// Compliance of the bend rows when the bends must give way to the lengths.
+constexpr double kSoftBendCompliance = 0.1;
+/// Newton steps of the span solver per span and attempt.
+constexpr int kSpanSteps = 12;
+/// The same when closing a shape that nearly holds its constraints (Hose::closeSpans): near a
+/// solution with saturated joints the steps converge linearly (about a third a step).
+constexpr int kCloseSpanSteps = 32;
+/// A grab: at most this many valid steps towards the target, of this many Newton steps each.
+constexpr int kAdvanceSteps = 4;
+constexpr int kAdvanceIterations = 6;
+/// A target beyond reach is brought this fraction inside the hose's reach.
+constexpr double kReachMargin = 1e-6;
 
 Vec3 anyPerpendicular(const Vec3& u)
 {
@@ -190,7 +203,7 @@ public:
         const bool moved = place<Fma>(i, i - s.step, s.anchor, s.haveIncoming ? &s.incoming : nullptr, s.anchorOld,
                                  direction, s.anchor);
         movedPoints += moved;
-        if (!moved && !s.anchorMoved) {
+        if (!moved && !s.anchorMoved && !fullSweep) {
             s.active = false;
             return;
         }
@@ -302,288 +315,35 @@ public:
         p[j + 1] = p[j] + rightLength * rightDirection;
     }
 
-    /// Largest violation near the boundaries of pinned runs: after a backward sweep these are
-    /// the only places a constraint can still be violated (every free point was placed against
-    /// its neighbour). Length excess is relative, turn excess in radians.
-    double boundaryViolation(const std::vector<int>& boundaries) const
+    /// The paper's pass from a solved range lo … hi out into the free tails beyond it: each
+    /// tail point is placed against its neighbour towards the range (length band, then the
+    /// bend at that neighbour). With `full` every tail point is visited (for a shape that may
+    /// violate its constraints anywhere); otherwise a tail stops where two consecutive points
+    /// did not move. `before` holds the positions before the update (fold-back fallbacks).
+    void sweepTails(int lo, int hi, const std::vector<Vec3>& before, bool full)
     {
         const int n = h.pointCount();
-        double worst = 0.0;
-        for (int b : boundaries) {
-            for (int s = std::max(0, b - 2); s <= std::min(n - 2, b + 1); ++s) {
-                const size_t k = static_cast<size_t>(s);
-                const double length = (p[k + 1] - p[k]).norm();
-                worst = std::max(worst, std::max(length - h.m_maxLength[k], h.m_minLength[k] - length) /
-                                            h.m_restLength[k]);
-            }
-            for (int j = std::max(1, b - 2); j <= std::min(n - 2, b + 2); ++j)
-                worst = std::max(worst, h.turnExcess(static_cast<size_t>(j), p));
+        fullSweep = full;
+        Sweep left{lo - 1, -1, Vec3::Zero(), false, true, before[static_cast<size_t>(lo)], lo - 1 >= 0};
+        Sweep right{hi + 1, +1, Vec3::Zero(), false, true, before[static_cast<size_t>(hi)], hi + 1 < n};
+        if (left.active && lo + 1 < n) {
+            left.incoming = (p[static_cast<size_t>(lo)] - p[static_cast<size_t>(lo + 1)]).normalized();
+            left.haveIncoming = left.incoming.allFinite();
         }
-        return worst;
-    }
-
-    /// Phase 2: alternate forward and backward sweeps over the whole axis, skipping pinned
-    /// points, until every constraint holds, kMaxSweeps is reached, or progress stalls. The
-    /// sweeps converge linearly (about half the violation a round); on an inextensible hose,
-    /// once it is below 1e-3, a Gauss-Newton projection (newtonFinish) is tried, again every 6
-    /// rounds while it fails: feasible grabs between pins in ~10 rounds + 1–3 steps instead of
-    /// 30–60 rounds. Not in
-    /// the clamps' bisection trials (`newton` false there): which trials succeed stays the
-    /// sweeps' decision, so a clamp does not flip on a 1e-8 input difference (the runtime's
-    /// float frames; tested by the runtime round trip).
-    bool relax()
-    {
-#if defined(__x86_64__) && defined(__GNUC__)
-        static const bool fma = __builtin_cpu_supports("fma");
-        if (fma) return relaxFma();
-#endif
-        return relaxWith<false>();
-    }
-#if defined(__x86_64__) && defined(__GNUC__)
-    __attribute__((target("fma"))) bool relaxFma() { return relaxWith<true>(); }
-#endif
-
-    template <bool Fma>
-    [[gnu::always_inline]] inline bool relaxWith()
-    {
-        const int n = h.pointCount();
-        std::vector<int> boundaries;
-        for (int i = 0; i < n; ++i) {
-            if (!pinned(i)) continue;
-            const bool freeBefore = i > 0 && !pinned(i - 1);
-            const bool freeAfter = i + 1 < n && !pinned(i + 1);
-            if (freeBefore || freeAfter || i == grabbed || (i > 0 && runOf(i - 1) != runOf(i)))
-                boundaries.push_back(i);
+        if (right.active && hi - 1 >= 0) {
+            right.incoming = (p[static_cast<size_t>(hi)] - p[static_cast<size_t>(hi - 1)]).normalized();
+            right.haveIncoming = right.incoming.allFinite();
         }
-        std::vector<double> history;
-        std::vector<Vec3> previous = p;
-        // Momentum (heavy-ball extrapolation of the free points between rounds, with adaptive
-        // restart): FABRIK-style alternation converges linearly and slowly on nearly taut or
-        // bend-limited spans (rates of 0.67 … 0.91 per round measured on 20- and 100-point spans
-        // pulled between two fixed ends). Carrying 0.9 of the last round's motion forward, and
-        // dropping it for one round whenever the violation grows, cut those cases ~10x. The
-        // sweeps restore every constraint; the state returned is never an extrapolated one.
-        const double momentum = kMomentum;
-        // The Newton finish on inextensible hoses only: every length is then an equality and
-        // the projection nearly always lands (1,210 of 1,248 tries in the ends-fixed scenario);
-        // with a stretch band the active set changes under each step and it mostly does not
-        // (108 of 1,533 on BM_GrabBetweenFixedEnds, 5 % dearer), so the sweeps finish alone.
-        int nextNewton = h.m_spec.material.expansionCoefficient == 0.0 ? 0 : kMaxSweeps;
-        for (int iteration = 0; iteration < kMaxSweeps; ++iteration) {
-            for (int pass = 0; pass < 2; ++pass) {
-                const int step = pass == 0 ? +1 : -1;
-                const int begin = pass == 0 ? 1 : n - 2;
-                // The direction place() returns for a point is the next point's incoming
-                // direction (no second normalisation of the same segment).
-                // The placed position is the next anchor, kept in registers (no store-to-load
-                // forward on the chain).
-                Vec3 carried = Vec3::Zero(), anchor = Vec3::Zero();
-                int carriedFor = -1;
-                for (int i = begin; i >= 0 && i < n; i += step) {
-                    if (pinned(i)) continue;
-                    const int a = i - step;
-                    const int before = a - step;
-                    Vec3 incoming;
-                    const bool haveIncoming = before >= 0 && before < n;
-                    if (carriedFor != a) {
-                        anchor = p[static_cast<size_t>(a)];
-                        if (haveIncoming) incoming = (anchor - p[static_cast<size_t>(before)]).normalized();
-                    } else {
-                        incoming = carried;
-                    }
-                    place<Fma>(i, a, anchor, haveIncoming ? &incoming : nullptr, anchor, carried, anchor);
-                    carriedFor = i;
-                }
-            }
-            const double violation = boundaryViolation(boundaries);
-            if (violation <= kConvergedLength) return true;
-            if (newton && violation < 1e-3 && iteration >= nextNewton) {
-                if (newtonFinish()) return true;
-                nextNewton = iteration + 6;
-            }
-            const bool restart = !history.empty() && violation > history.back();
-            for (int i = 0; i < n; ++i) {
-                if (pinned(i)) continue;
-                const size_t k = static_cast<size_t>(i);
-                const Vec3 now = p[k];
-                if (!restart) p[k] += momentum * (now - previous[k]);
-                previous[k] = now;
-            }
-            history.push_back(violation);
-            if (history.size() > kStallWindow &&
-                history.back() > 0.5 * history[history.size() - 1 - kStallWindow])
-                return false; // stalled: the request is (numerically) out of reach
-        }
-        return false;
-    }
-
-    /// Gauss-Newton projection onto the active constraints (lengths outside their band or at a
-    /// fixed length, bends at or beyond their limit as a minimum distance between the joint's
-    /// neighbours), minimal-norm steps through a banded LDLᵀ of J Jᵀ (detail::solveBandedLdlt,
-    /// as the gravity rounds); at most 3 steps. Keeps the result only if every constraint then
-    /// holds to kConvergedLength (measured in full), otherwise restores the state it started
-    /// from.
-    bool newtonFinish()
-    {
-        const int n = h.pointCount();
-        thread_local std::vector<Vec3> backup;
-        struct Constraint
-        {
-            int a, b;
-            Vec3 u;
-            double c;
-        };
-        thread_local std::vector<Constraint> cs;
-        thread_local std::vector<double> band, rhs;
-        backup = p;
-        constexpr int kBand = 6;
-        auto isFree = [&](int i) { return !pinned(i); };
-        for (int step = 0; step < 3; ++step) {
-            cs.clear();
-            for (int i = 0; i + 1 < n; ++i) {
-                // Length of segment i, then the bend at i + 1 (a distance from i to i + 2).
-                if (isFree(i) || isFree(i + 1)) {
-                    const size_t k = static_cast<size_t>(i);
-                    const Vec3 d = p[k + 1] - p[k];
-                    const double length = d.norm();
-                    const double lmin = h.m_minLength[k], lmax = h.m_maxLength[k];
-                    double target = length;
-                    if (length >= lmax * (1.0 - 1e-12)) target = lmax;
-                    else if (length <= lmin * (1.0 + 1e-12)) target = lmin;
-                    // (A segment of no length has no direction: left to the sweeps.)
-                    if (length > 0.0 && (target != length || lmin == lmax))
-                        cs.push_back({i, i + 1, d / length, length - target});
-                }
-                if (i + 2 < n && (isFree(i) || isFree(i + 2))) {
-                    const size_t k = static_cast<size_t>(i);
-                    const Vec3 in = p[k + 1] - p[k], out = p[k + 2] - p[k + 1], d = p[k + 2] - p[k];
-                    const double a = in.norm(), b = out.norm(), distance = d.norm();
-                    const double minimum2 = a * a + b * b + 2.0 * a * b * h.m_cosLimit[k + 1];
-                    const double minimum = std::sqrt(std::max(0.0, minimum2));
-                    if (distance <= minimum * (1.0 + 1e-9) && distance > 0.0)
-                        cs.push_back({i, i + 2, d / distance, std::min(0.0, distance - minimum)});
-                }
-            }
-            const size_t m = cs.size();
-            if (m == 0) break;
-            band.assign(m * (kBand + 1), 0.0);
-            rhs.resize(m);
-            auto shared = [&](const Constraint& x, const Constraint& y) {
-                double v = 0.0;
-                for (int px : {x.a, x.b})
-                    for (int py : {y.a, y.b})
-                        if (px == py && isFree(px)) v += (px == x.a ? -1.0 : 1.0) * (py == y.a ? -1.0 : 1.0) * x.u.dot(y.u);
-                return v;
-            };
-            for (size_t i = 0; i < m; ++i) {
-                rhs[i] = -cs[i].c;
-                for (size_t j = i; j < m && j <= i + kBand; ++j) band[i * (kBand + 1) + (j - i)] = shared(cs[i], cs[j]);
-                band[i * (kBand + 1)] += 1e-12;
-            }
-            // A dependent row (no unique step) leaves the state to the sweeps.
-            if (detail::solveBandedLdlt(band.data(), rhs.data(), m, kBand + 1) > 0) {
-                p = backup;
-                return false;
-            }
-            for (size_t i = 0; i < m; ++i) {
-                const Constraint& x = cs[i];
-                if (isFree(x.a)) p[static_cast<size_t>(x.a)] -= rhs[i] * x.u;
-                if (isFree(x.b)) p[static_cast<size_t>(x.b)] += rhs[i] * x.u;
-            }
-        }
-        bool finite = true;
-        for (const Vec3& x : p) finite = finite && x.allFinite();
-        const UpdateResult v = finite ? h.measureViolation() : UpdateResult{};
-        if (finite && v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedLength) return true;
-        p = backup;
-        return false;
-    }
-
-    /// Clamp of a grab whose point k has fixed points on one side only (pinSide = −1: left,
-    /// +1: right) and a free end on the other: FABRIK-style reaching. Alternately place the
-    /// chain from the target back towards the nearest pinned point, then from the pinned point
-    /// out to the free end with k free. Every pass from the pin leaves all constraints exact;
-    /// k converges to the reachable position closest to the target. Bounded: 64 rounds.
-    void softClamp(int k, const Vec3& target, int pinSide)
-    {
-        const int n = h.pointCount();
-        int pin = k + pinSide;
-        while (!h.m_fixed[static_cast<size_t>(pin)]) pin += pinSide;
-        const int freeEnd = pinSide < 0 ? n - 1 : 0;
-        const int outward = -pinSide; // from the pin towards the free end
-        auto direction = [&](int from, int to) {
-            return Vec3((p[static_cast<size_t>(to)] - p[static_cast<size_t>(from)]).normalized());
-        };
-        auto valid = [&](int i) { return i >= 0 && i < n; };
-        Vec3 previous = p[static_cast<size_t>(k)];
-        for (int round = 0; round < 64; ++round) {
-            // Towards the pin from the target (k pinned at the target).
-            p[static_cast<size_t>(k)] = target;
-            for (int i = k + pinSide; i != pin; i += pinSide) {
-                const int anchor = i - pinSide, before = anchor - pinSide;
-                const bool haveIncoming = valid(before);
-                Vec3 incoming = haveIncoming ? direction(before, anchor) : Vec3::Zero(), out;
-                place(i, anchor, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(anchor)], out);
-            }
-            // From the pin out to the free end, k free.
-            for (int i = pin + outward; valid(i) && i != freeEnd + outward; i += outward) {
-                const int anchor = i - outward, before = anchor - outward;
-                const bool haveIncoming = valid(before);
-                Vec3 incoming = haveIncoming ? direction(before, anchor) : Vec3::Zero(), out;
-                place(i, anchor, haveIncoming ? &incoming : nullptr, p[static_cast<size_t>(anchor)], out);
-            }
-            const double step = (p[static_cast<size_t>(k)] - previous).norm();
-            previous = p[static_cast<size_t>(k)];
-            if (step <= 1e-12 * h.m_restLength[0] * n) break;
-        }
-    }
-
-    /// Attachment id owning point i (0 for the grabbed point or a free point).
-    int runOf(int i) const
-    {
-        for (const Hose::Attachment& a : h.m_attachments)
-            if (i >= a.first && i <= a.last) return a.id;
-        return 0;
-    }
-
-    bool solveAfterPlacement(const std::pair<int, int>* runs, const std::pair<Vec3, Vec3>* oldEnds,
-                             size_t count)
-    {
-        // A straight span pushed shorter than it can compress: every sweep would keep it on its
-        // line, so it is bowed before anything else; if the bowed state does not solve, the
-        // request is decided as without the bow, from the straight state.
-        std::vector<Vec3> flat;
-        if (bowFlatCompressedSpans(flat)) {
-            const bool hitPinBefore = hitPin;
-            hitPin = true; // the bow moved points the propagation may not reach
-            if (solve(runs, oldEnds, count)) return true;
-            p = std::move(flat);
-            hitPin = hitPinBefore;
-            movedPoints = 0;
-        }
-        return solve(runs, oldEnds, count);
-    }
-
-    bool solve(const std::pair<int, int>* runs, const std::pair<Vec3, Vec3>* oldEnds, size_t count)
-    {
-        for (size_t r = 0; r < count; ++r)
-            propagateFromRun(runs[r].first, runs[r].second, oldEnds[r].first, oldEnds[r].second);
-        // Phase 1 alone guarantees every constraint when it met no pinned point and the hose
-        // was valid before: the fast path stops here without measuring.
-        if (!hitPin && !h.m_dirtyViolation) return true;
-        measured = true;
-        const UpdateResult v = h.measureViolation();
-        if (v.lengthViolation <= kConvergedLength && v.angleViolation <= kConvergedLength) return true;
-        return relax();
+        run(left, right);
+        fullSweep = false;
     }
 
     /// Free spans between two pinned points (fixed or grabbed) that lie on the straight line
     /// between them (every free point within 1e-9 of the span's minimum length from the line)
-    /// while that line is shorter than the span's minimum length: laid on the circular arc
-    /// through both pins on which the span's segments, at their rest lengths, are chords
-    /// (the arc's curvature by bisection, 64 steps), bulging towards anyPerpendicular(line),
-    /// the fixed perpendicular of the fold-back rule. Returns whether a span was bowed; `before`
-    /// receives the state before (only then).
+    /// while that line is shorter than the span's minimum length: laid on the first buckling
+    /// mode of a rod clamped at both pins (below) with the span's rest length, bulging towards
+    /// anyPerpendicular(line), the fixed perpendicular of the fold-back rule. Returns whether a
+    /// span was bowed; `before` receives the state before (only then).
     bool bowFlatCompressedSpans(std::vector<Vec3>& before)
     {
         if (h.m_attachments.empty()) return false; // a grabbed point alone bounds no span
@@ -602,8 +362,6 @@ public:
             const double c = chord.norm();
             // A span whose pins coincide has no line to bow from: left to the relaxation.
             if (!(c > 1e-9 * minimum) || !(c < minimum * (1.0 - 1e-9))) continue;
-            double longest = 0.0;
-            for (int s = first; s < i; ++s) longest = std::max(longest, h.m_restLength[static_cast<size_t>(s)]);
             const Vec3 axis = chord / c;
             bool flat = true;
             for (int k = first + 1; k < i && flat; ++k) {
@@ -612,64 +370,55 @@ public:
             }
             if (!flat) continue;
             const Vec3 up = anyPerpendicular(axis); // the fold-back rule's plane (place())
-            // Central angle the span's chords take on a circle of curvature kappa.
-            auto angle = [&](double kappa) {
-                double total = 0.0;
-                for (int s = first; s < i; ++s)
-                    total += 2.0 * std::asin(std::min(1.0, 0.5 * kappa * h.m_restLength[static_cast<size_t>(s)]));
-                return total;
+            // The first buckling mode of a rod clamped at both ends, y(x) = a (1 − cos 2πx/c)/2:
+            // it leaves and meets both pins along the line, so the pins' own tangents (an
+            // attachment's segments) stay compatible. The amplitude a gives the curve the span's
+            // rest length (bisection); the points are laid at its rest lengths along the curve.
+            double total = 0.0;
+            for (int s = first; s < i; ++s) total += h.m_restLength[static_cast<size_t>(s)];
+            constexpr int kSamples = 512;
+            auto curve = [&](double a, double x) {
+                return Vec2(x, 0.5 * a * (1.0 - std::cos(2.0 * std::numbers::pi * x / c)));
             };
-            // The arc's chord falls from the span's length (kappa → 0) to 0 (a full circle).
-            double lo = 0.0, hi = 2.0 / longest;
+            auto arcLength = [&](double a) {
+                double length = 0.0;
+                for (int q = 0; q < kSamples; ++q)
+                    length += (curve(a, c * (q + 1) / kSamples) - curve(a, c * q / kSamples)).norm();
+                return length;
+            };
+            double lo = 0.0, hi = total;
             for (int step = 0; step < 64; ++step) {
-                const double kappa = 0.5 * (lo + hi), phi = angle(kappa);
-                const bool longer = phi < 2.0 * std::numbers::pi && 2.0 / kappa * std::sin(0.5 * phi) > c;
-                (longer ? lo : hi) = kappa;
+                const double a = 0.5 * (lo + hi);
+                (arcLength(a) < total ? lo : hi) = a;
             }
-            const double kappa = 0.5 * (lo + hi), rho = 1.0 / kappa, phi = angle(kappa);
-            const Vec3 centre = start + 0.5 * chord - (rho * std::cos(0.5 * phi)) * up;
+            const double amplitude = 0.5 * (lo + hi);
             if (!bowed) before = p;
             bowed = true;
-            double at = -0.5 * phi;
+            double along = 0.0, wanted = 0.0;
+            int q = 0;
+            Vec2 previous = curve(amplitude, 0.0);
             for (int k = first + 1; k < i; ++k) {
-                at += 2.0 * std::asin(std::min(1.0, 0.5 * kappa * h.m_restLength[static_cast<size_t>(k - 1)]));
-                p[static_cast<size_t>(k)] = centre + rho * (std::sin(at) * axis + std::cos(at) * up);
+                wanted += h.m_restLength[static_cast<size_t>(k - 1)];
+                Vec2 next = curve(amplitude, c * (q + 1) / kSamples);
+                while (along + (next - previous).norm() < wanted && q + 1 < kSamples) {
+                    along += (next - previous).norm();
+                    previous = next;
+                    ++q;
+                    next = curve(amplitude, c * (q + 1) / kSamples);
+                }
+                const double piece = (next - previous).norm();
+                const Vec2 at = piece > 0.0 ? Vec2(previous + (next - previous) * ((wanted - along) / piece)) : next;
+                p[static_cast<size_t>(k)] = start + at.x() * axis + at.y() * up;
             }
         }
         return bowed;
     }
 
-    /// After an infeasible update: every free span between two pinned points that are farther
-    /// apart than the span can stretch is laid on the straight line between them, each segment
-    /// stretched in proportion to its maximum length (the least possible worst overstretch).
-    void straightenOverlongSpans()
-    {
-        const int n = h.pointCount();
-        int previousPin = -1;
-        for (int i = 0; i < n; ++i) {
-            if (!pinned(i)) continue;
-            if (previousPin >= 0 && i > previousPin + 1) {
-                const Vec3 start = p[static_cast<size_t>(previousPin)], end = p[static_cast<size_t>(i)];
-                double reach = 0.0;
-                for (int s = previousPin; s < i; ++s) reach += h.m_maxLength[static_cast<size_t>(s)];
-                if ((end - start).norm() > reach) {
-                    double along = 0.0;
-                    for (int k = previousPin + 1; k < i; ++k) {
-                        along += h.m_maxLength[static_cast<size_t>(k - 1)];
-                        p[static_cast<size_t>(k)] = start + (end - start) * (along / reach);
-                    }
-                }
-            }
-            previousPin = i;
-        }
-    }
-
     Hose& h;
     std::vector<Vec3>& p;
     int grabbed = -1;
-    bool newton = true; ///< relax() may finish with newtonFinish()
     bool hitPin = false;
-    bool measured = false;
+    bool fullSweep = false; ///< sweepTails(): visit every tail point
     int movedPoints = 0;
 };
 
@@ -736,6 +485,213 @@ int Hose::pinnedSide(int index) const
     return left == right ? 0 : (left ? -1 : +1);
 }
 
+
+namespace {
+
+/// The range from the first to the last point of the hose's attachments, widened to `held`
+/// (−1: none); first > last when there is nothing pinned.
+std::pair<int, int> pinnedRange(const std::vector<Hose::Attachment>& attachments, int held)
+{
+    int first = held >= 0 ? held : std::numeric_limits<int>::max();
+    int last = held >= 0 ? held : -1;
+    for (const Hose::Attachment& a : attachments) {
+        first = std::min(first, a.first);
+        last = std::max(last, a.last);
+    }
+    return {first, last};
+}
+
+/// The closest point to `target` within both balls (centre, radius); the balls must overlap.
+/// `b` may be absent (radius < 0): then the closest point within the first ball.
+Vec3 closestInTwoBalls(const Vec3& target, const Vec3& a, double ra, const Vec3& b, double rb)
+{
+    auto inA = [&](const Vec3& q) { return (q - a).norm() <= ra * (1.0 + 1e-12); };
+    auto inB = [&](const Vec3& q) { return rb < 0.0 || (q - b).norm() <= rb * (1.0 + 1e-12); };
+    auto ontoSphere = [](const Vec3& q, const Vec3& centre, double radius) {
+        const Vec3 d = q - centre;
+        const double length = d.norm();
+        return length > 0.0 ? Vec3(centre + d * (radius / length)) : Vec3(centre + radius * Vec3::UnitX());
+    };
+    if (inA(target) && inB(target)) return target;
+    if (!inA(target)) {
+        const Vec3 q = ontoSphere(target, a, ra);
+        if (inB(q)) return q;
+    }
+    if (rb >= 0.0 && !inB(target)) {
+        const Vec3 q = ontoSphere(target, b, rb);
+        if (inA(q)) return q;
+    }
+    if (rb < 0.0) return ontoSphere(target, a, ra);
+    // On the circle where the two spheres meet.
+    const Vec3 axis = b - a;
+    const double d = axis.norm();
+    if (!(d > 0.0)) return ontoSphere(target, a, std::min(ra, rb));
+    const Vec3 u = axis / d;
+    const double along = std::clamp((d * d + ra * ra - rb * rb) / (2.0 * d), -ra, ra);
+    const Vec3 centre = a + along * u;
+    const double radius = std::sqrt(std::max(0.0, ra * ra - along * along));
+    Vec3 across = (target - centre) - (target - centre).dot(u) * u;
+    if (!(across.norm() > 1e-300)) across = anyPerpendicular(u);
+    return centre + radius * across.normalized();
+}
+
+} // namespace
+
+/// The pinned spans of one update: sweeps (robust from any start) hand over to the chain
+/// projection (quadratic once close), both bounded, over the range from the first to the
+/// last pinned point; the free tails beyond it by the paper's pass.
+class PinnedSpans
+{
+public:
+    PinnedSpans(Hose& hose, int first, int last, int heldPoint)
+        : h(hose), projection(hose), lo(first), hi(last), held(heldPoint)
+    {
+        projection.setRange(lo, hi);
+    }
+
+    /// Solves every span between consecutive anchors of the range (pinned points of runs of
+    /// two or more points, and the range's ends) with the span solver (span_solver.h), from the
+    /// current positions, which must hold the pinned points where they must be. Single pinned
+    /// points inside a span (the held point, one-point attachments) are goals the span passes
+    /// through: hard, except the held point when `heldSoft` (then as near as the span allows).
+    /// A span ending at the held point (a grab beyond the last attachment) ends there, free
+    /// when `heldSoft`. Returns whether every span is valid; `heldMet` whether the held point is
+    /// where it was put.
+    bool solveSpans(int& iterations, bool heldSoft, bool& heldMet, bool writeAnyway = false,
+                    const Vec3* heldTarget = nullptr)
+    {
+        const int n = h.pointCount();
+        auto pinned = [&](int i) { return h.m_fixed[static_cast<size_t>(i)] != 0 || i == held; };
+        auto inRun = [&](int i) {
+            return h.m_fixed[static_cast<size_t>(i)] &&
+                   ((i > 0 && h.m_fixed[static_cast<size_t>(i - 1)] && sameRun(i - 1, i)) ||
+                    (i + 1 < n && h.m_fixed[static_cast<size_t>(i + 1)] && sameRun(i, i + 1)));
+        };
+        bool valid = true;
+        heldMet = true;
+        int anchor = lo;
+        std::vector<detail::SpanGoal> goals;
+        for (int i = lo + 1; i <= hi; ++i) {
+            if (!pinned(i)) continue;
+            const bool isAnchor = i == hi || inRun(i);
+            if (!isAnchor) {
+                goals.push_back({i, h.m_local[static_cast<size_t>(i)], !(heldSoft && i == held)});
+                continue;
+            }
+            if (i > anchor + 1 || (i == anchor + 1 && (i == held || anchor == held))) {
+                // The span anchor … i, rooted at a fixed end: at the held point only if the
+                // other end is the held point at the range's end.
+                const bool reverse = anchor == held;
+                const int root = reverse ? i : anchor, end = reverse ? anchor : i;
+                const int dir = end > root ? 1 : -1;
+                Vec3 rootDirection, endDirection;
+                const int beforeRoot = root - dir, afterEnd = end + dir;
+                const bool haveRoot = beforeRoot >= 0 && beforeRoot < n && pinned(beforeRoot) && sameRun(beforeRoot, root);
+                const bool haveEnd = afterEnd >= 0 && afterEnd < n && pinned(afterEnd) && sameRun(end, afterEnd);
+                if (haveRoot) rootDirection = (h.m_local[static_cast<size_t>(root)] - h.m_local[static_cast<size_t>(beforeRoot)]).normalized();
+                if (haveEnd) endDirection = (h.m_local[static_cast<size_t>(afterEnd)] - h.m_local[static_cast<size_t>(end)]).normalized();
+                const bool endIsHeld = end == held;
+                const bool endFixed = !(endIsHeld && heldSoft);
+                const Vec3 endTarget = h.m_local[static_cast<size_t>(end)];
+                detail::SpanSolver solver(h);
+                int moving = -2; // the held point's goal (−1: the span's end), −2: not in this span
+                for (size_t g = 0; g < goals.size(); ++g)
+                    if (goals[g].point == held) moving = static_cast<int>(g);
+                if (endIsHeld) moving = -1;
+                // A span ending at the held point: the end is free (so the span is valid after
+                // every step) and goes as near its target as the budget brings it.
+                if (heldTarget && moving == -1) {
+                    const detail::SpanSolver::Outcome out =
+                        solver.solve(root, end, false, *heldTarget, goals, haveRoot ? &rootDirection : nullptr,
+                                     nullptr, spanSteps, kConverged);
+                    iterations += out.iterations;
+                    heldMet = heldMet && out.goalsMet;
+                    if (out.goalsMet) h.m_local[static_cast<size_t>(end)] = *heldTarget;
+                    goals.clear();
+                    anchor = i;
+                    continue;
+                }
+                const detail::SpanSolver::Outcome out =
+                    heldTarget && moving > -2
+                        ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
+                                         haveRoot ? &rootDirection : nullptr, haveEnd ? &endDirection : nullptr,
+                                         kAdvanceSteps, kAdvanceIterations, kConverged, requested)
+                        : solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
+                                       haveEnd ? &endDirection : nullptr, spanSteps, kConverged, writeAnyway);
+                iterations += out.iterations;
+                valid = valid && out.valid;
+                if (!out.goalsMet) {
+                    for (const detail::SpanGoal& g : goals) heldMet = heldMet && g.point != held;
+                    if (endIsHeld) heldMet = false;
+                }
+            }
+            goals.clear();
+            anchor = i;
+        }
+        return valid;
+    }
+
+    /// Whether points a and b (adjacent, both fixed) belong to the same attachment.
+    bool sameRun(int a, int b) const
+    {
+        for (const Hose::Attachment& run : h.m_attachments)
+            if (a >= run.first && a <= run.last) return b >= run.first && b <= run.last;
+        return false;
+    }
+
+    /// Pinned points stay, every constraint holds: solveSpans() with the held point hard.
+    bool hard(int& iterations)
+    {
+        bool met = false;
+        return solveSpans(iterations, false, met) && met;
+    }
+
+    /// The bends give way to the lengths (pinned points stay): soft bend rows, then the
+    /// lengths alone to their tolerance. For ends whose positions and tangents leave no shape
+    /// within the bend limits.
+    bool bendsGiveWay(int& iterations)
+    {
+        projection.useMassesFromRestLengths(held);
+        projection.setBendCompliance(kSoftBendCompliance);
+        projection.setBends(true);
+        detail::ProjectionOutcome out = projection.run(kProjectionSteps / 2, kConverged);
+        iterations += out.iterations;
+        projection.setBendCompliance(0.0);
+        if (out.converged) return true;
+        projection.setBends(false);
+        out = projection.run(kProjectionSteps, kConverged);
+        iterations += out.iterations;
+        projection.setBends(true);
+        return out.converged;
+    }
+
+    Hose& h;
+    detail::ChainProjection projection;
+    int lo, hi, held;
+    int spanSteps = kSpanSteps; ///< Newton steps of the span solver per span
+    const Vec3* requested = nullptr; ///< a grab's target when its goal is clamped into reach
+};
+
+namespace {
+
+/// Sum of the maximum segment lengths between points `from` and `to` (either order).
+double reachBetween(const Hose& hose, int from, int to)
+{
+    double reach = 0.0;
+    for (int s = std::min(from, to); s < std::max(from, to); ++s) reach += hose.maxLength(s);
+    return reach;
+}
+
+/// Nearest fixed point from `index` going `side` (±1), or −1.
+int nearestFixed(const Hose& hose, int index, int side)
+{
+    for (int i = index + side; i >= 0 && i < hose.pointCount(); i += side)
+        if (hose.isFixed(i)) return i;
+    return -1;
+}
+
+} // namespace
+
 UpdateResult Hose::grab(int index, const Vec3& target)
 {
     UpdateResult result;
@@ -745,128 +701,108 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     }
     const Vec3 localTarget = target - m_origin;
     const size_t k = static_cast<size_t>(index);
-    const Vec3 start = m_local[k];
-    const bool mayHitPins = !m_attachments.empty() || m_dirtyViolation;
-    const bool heldAtTheEdge = m_edgePoint == index && m_edgeRevision == m_revision;
-    // The same target again, nothing changed since this grab stopped at the edge of reach,
-    // still held, no colliders (they move without the hose knowing): the same answer, no work.
-    if (heldAtTheEdge && m_held == index && m_colliders.empty() && localTarget == m_edgeTarget) {
+    // The same target again, nothing changed since this grab stopped at the edge of its reach,
+    // still held, no colliders (they move without the hose knowing): no work.
+    if (m_edgePoint == index && m_edgeRevision == m_revision && m_held == index && m_colliders.empty() &&
+        localTarget == m_edgeTarget) {
         result = m_edgeResult;
         result.movedPoints = 0;
+        result.iterations = 0;
         return result;
     }
-    bool stoppedAtTheEdge = false;
-    if (mayHitPins) m_scratch = m_local;
-
-    bool measured = false;
-    bool newtonAllowed = true;
-    auto attempt = [&](const Vec3& where, int& moved) {
+    const bool wasInvalid = m_dirtyViolation;
+    const UpdateResult before = wasInvalid ? measureViolation() : UpdateResult{};
+    Status status = Status::Ok;
+    int moved = 0;
+    m_scratch = m_local;
+    const Vec3 start = m_local[k];
+    if (m_attachments.empty()) {
+        // Nothing fixed: the paper's propagation alone.
         Solver solver(*this);
         solver.grabbed = index;
-        solver.newton = newtonAllowed;
-        const std::pair<int, int> run(index, index);
-        const std::pair<Vec3, Vec3> oldEnds(m_local[k], m_local[k]);
-        // The blend moves points the propagation may not reach: check the whole hose after it.
-        if (mayHitPins) solver.hitPin = blendTowardsPins(index, where - m_local[k]);
-        m_local[k] = where;
-        const bool converged = solver.solveAfterPlacement(&run, &oldEnds, 1);
+        m_local[k] = localTarget;
+        solver.propagateFromRun(index, index, start, start);
         moved = solver.movedPoints;
-        measured = solver.measured;
-        return converged;
-    };
-
-    int moved = 0;
-    Status status = Status::Ok;
-    if (!attempt(localTarget, moved)) {
-        newtonAllowed = false; // the clamps' trials keep the sweeps' own decision
-        m_local = m_scratch;
-        int movedAtStart = 0;
-        if (!attempt(start, movedAtStart)) {
-            // The hose was already infeasible before this grab (contradictory attachments):
-            // the point moves towards the target only as far as neither the length nor the
-            // bend violation grows beyond what it was before the grab: the largest such
-            // fraction of the move, by bisection; none (the hose stays as it was) when even
-            // relaxing in place would make one of them worse. A grab never makes an
-            // infeasible hose worse.
-            m_local = m_scratch;
-            const UpdateResult before = measureViolation();
-            const double lengthBound = before.lengthViolation * (1.0 + 1e-9) + 1e-12;
-            const double angleBound = before.angleViolation * (1.0 + 1e-9) + 1e-12;
-            auto noWorse = [&](double fraction) {
-                m_local = m_scratch;
-                attempt(start + fraction * (localTarget - start), moved);
-                const UpdateResult v = measureViolation();
-                return v.lengthViolation <= lengthBound && v.angleViolation <= angleBound;
-            };
-            if (!noWorse(1.0)) {
-                double good = -1.0, bad = 1.0;
-                if (noWorse(0.0)) {
-                    good = 0.0;
-                    for (int step = 0; step < kBisectionSteps; ++step) {
-                        const double mid = 0.5 * (good + bad);
-                        (noWorse(mid) ? good : bad) = mid;
-                    }
-                }
-                m_local = m_scratch;
-                moved = 0;
-                if (good >= 0.0) attempt(start + good * (localTarget - start), moved);
-            }
-            status = Status::Infeasible;
-        } else if (const int side = pinnedSide(index); side != 0) {
-            // Reach towards the target as far as the hose allows (closest reachable point).
-            m_local = m_scratch;
-            Solver solver(*this);
-            solver.softClamp(index, localTarget, side);
-            moved = pointCount();
-            status = Status::Clamped;
+    } else {
+        // Beyond reach: the point goes to the reachable position closest to the target (within
+        // both pins' reach, less a margin that keeps the span off the singular taut state).
+        const int left = nearestFixed(*this, index, -1), right = nearestFixed(*this, index, +1);
+        const double margin = 1.0 - kReachMargin;
+        Vec3 goal = localTarget;
+        if (left >= 0 && right >= 0)
+            goal = closestInTwoBalls(localTarget, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, index),
+                                     m_local[static_cast<size_t>(right)], margin * reachBetween(*this, index, right));
+        // (Fixed on one side only, the free end goes as near the target as it can by itself.)
+        if (goal != localTarget) status = Status::Clamped;
+        const auto [lo, hi] = pinnedRange(m_attachments, index);
+        PinnedSpans spans(*this, lo, hi, index);
+        if (goal != localTarget) spans.requested = &localTarget;
+        // From the current, valid shape the point goes towards its goal in valid steps: exactly
+        // there, else as near as the budget brings it (the rest on the next updates). A shape
+        // that was not valid is solved with the point at its goal, else as near as it gets.
+        bool met = false;
+        bool solved = false;
+        // A straight span the move would push shorter than it can be: bowed first (hose.h),
+        // then solved with the point at its goal.
+        m_local[k] = goal;
+        std::vector<Vec3> flat;
+        Solver bow(*this);
+        bow.grabbed = index;
+        if (!wasInvalid && bow.bowFlatCompressedSpans(flat)) {
+            solved = spans.solveSpans(result.iterations, false, met) && met;
+            if (!solved) m_local = m_scratch;
         } else {
-            // Largest reachable fraction of the move, by bisection (deterministic, bounded).
-            // When the last update was this point's grab stopping at the edge of its reach (a
-            // target held beyond it), the smallest step the bisection resolves is tried first:
-            // a hold then costs one trial, not 16.
-            // The state of the last successful trial (the largest reachable fraction found) is
-            // kept: the result, bit for bit what a final attempt at that fraction would give.
-            double good = 0.0, bad = 1.0;
-            const double smallest = std::ldexp(1.0, -kBisectionSteps);
-            thread_local std::vector<Vec3> reached;
-            int reachedMoved = -1;
-            auto trial = [&](double fraction) {
-                m_local = m_scratch;
-                if (!attempt(start + fraction * (localTarget - start), moved)) return false;
-                reached = m_local;
-                reachedMoved = moved;
-                return true;
-            };
-            if (heldAtTheEdge) (trial(smallest) ? good : bad) = smallest;
-            for (int step = 0; step < kBisectionSteps && bad - good > smallest; ++step) {
-                const double mid = 0.5 * (good + bad);
-                (trial(mid) ? good : bad) = mid;
-            }
-            if (reachedMoved >= 0) {
-                m_local = reached;
-                moved = reachedMoved;
-            } else {
-                m_local = m_scratch;
-                attempt(start, moved);
-            }
-            status = Status::Clamped;
-            stoppedAtTheEdge = true;
+            m_local[k] = start;
         }
+        if (solved) {
+        } else if (!wasInvalid) {
+            solved = spans.solveSpans(result.iterations, false, met, false, &goal);
+            if (!met) status = Status::Clamped;
+        } else {
+            m_local[k] = goal;
+            solved = spans.solveSpans(result.iterations, false, met) && met;
+        }
+        if (!solved) {
+            m_local = m_scratch;
+            m_local[k] = goal;
+            solved = spans.solveSpans(result.iterations, true, met);
+            status = Status::Clamped;
+        }
+        if (solved) {
+            Solver tails(*this);
+            tails.grabbed = index;
+            tails.sweepTails(lo, hi, m_scratch, wasInvalid);
+        } else {
+            m_local = m_scratch;
+            status = Status::Clamped;
+        }
+        for (size_t i = 0; i < m_local.size(); ++i) moved += m_local[i] != m_scratch[i];
     }
-    if (measured || status != Status::Ok) {
-        const UpdateResult violation = measureViolation();
-        result.lengthViolation = violation.lengthViolation;
-        result.angleViolation = violation.angleViolation;
-        m_dirtyViolation = violation.status != Status::Ok;
-        if (status == Status::Ok) status = violation.status;
+    if (wasInvalid) {
+        // A grab never makes a hose that already violated its constraints worse.
+        const UpdateResult after = measureViolation();
+        if (after.lengthViolation > before.lengthViolation * (1.0 + 1e-9) + 1e-12 ||
+            after.angleViolation > before.angleViolation * (1.0 + 1e-9) + 1e-12) {
+            m_local = m_scratch;
+            moved = 0;
+            result.lengthViolation = before.lengthViolation;
+            result.angleViolation = before.angleViolation;
+            status = Status::Infeasible;
+        } else {
+            result.lengthViolation = after.lengthViolation;
+            result.angleViolation = after.angleViolation;
+            if (after.status != Status::Ok) status = Status::Infeasible;
+            m_dirtyViolation = after.status != Status::Ok;
+        }
     }
     result.status = status;
     result.grabError = (m_local[k] - localTarget).norm();
     result.movedPoints = moved;
     m_held = index;
-    ++m_revision;
+    if (moved > 0 || m_attachments.empty()) ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
-    m_edgePoint = stoppedAtTheEdge ? index : -1;
+    // Remember a grab that could not get nearer: the same target again is answered at once.
+    m_edgePoint = status == Status::Clamped && moved == 0 ? index : -1;
     m_edgeRevision = m_revision;
     m_edgeTarget = localTarget;
     m_edgeResult = result;
@@ -888,33 +824,71 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         result.status = Status::InvalidInput;
         return result;
     }
-    std::vector<std::pair<int, int>> runs;
-    std::vector<std::pair<Vec3, Vec3>> oldEnds;
-    bool blended = false;
-    for (size_t i = 0; i < targets.size(); ++i) {
-        Attachment& a = *targets[i];
-        a.frame = frames[i];
-        const Vec3 oldFirst = m_local[static_cast<size_t>(a.first)], oldLast = m_local[static_cast<size_t>(a.last)];
-        oldEnds.emplace_back(oldFirst, oldLast);
-        for (int j = a.first; j <= a.last; ++j)
-            m_local[static_cast<size_t>(j)] = a.frame.apply(a.localPoints[static_cast<size_t>(j - a.first)]) - m_origin;
-        runs.emplace_back(a.first, a.last);
-        // Warm start towards other fixed points (see blendSide).
-        blended |= blendSide(a.first, -1, m_local[static_cast<size_t>(a.first)] - oldFirst);
-        blended |= blendSide(a.last, +1, m_local[static_cast<size_t>(a.last)] - oldLast);
+    m_scratch = m_local;
+    for (size_t i = 0; i < targets.size(); ++i) targets[i]->frame = frames[i];
+    // Where each moved attachment's points go: at its frame, or, when that is beyond the
+    // hose's reach from its neighbouring fixed points, moved straight towards where the
+    // hose reaches (a gap, Hose::attachmentGap).
+    auto place = [&](double fraction) {
+        m_local = m_scratch;
+        const double margin = 1.0 - kReachMargin;
+        for (const Attachment* a : targets) {
+            const size_t first = static_cast<size_t>(a->first), last = static_cast<size_t>(a->last);
+            const Vec3 oldFirst = m_scratch[first], oldLast = m_scratch[last];
+            Vec3 firstAt = a->frame.apply(a->localPoints.front()) - m_origin;
+            const Vec3 lastOffset = a->frame.apply(a->localPoints.back()) - m_origin - firstAt;
+            firstAt = oldFirst + fraction * (firstAt - oldFirst);
+            const int left = nearestFixed(*this, a->first, -1), right = nearestFixed(*this, a->last, +1);
+            if (left >= 0 && right >= 0)
+                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, a->first),
+                                            m_local[static_cast<size_t>(right)] - lastOffset, margin * reachBetween(*this, a->last, right));
+            else if (left >= 0)
+                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, a->first),
+                                            Vec3::Zero(), -1.0);
+            else if (right >= 0)
+                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
+                                            margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
+            const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
+            for (int j = a->first; j <= a->last; ++j)
+                m_local[static_cast<size_t>(j)] = a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) - m_origin + shift;
+            // Warm start towards the other fixed points (see blendSide).
+            blendSide(a->first, -1, m_local[first] - oldFirst);
+            blendSide(a->last, +1, m_local[last] - oldLast);
+        }
+    };
+    const bool wasInvalid = m_dirtyViolation;
+    const auto [lo, hi] = pinnedRange(m_attachments, -1);
+    PinnedSpans spans(*this, lo, hi, -1);
+    bool solved = false;
+    for (const double fraction : {1.0, 0.5}) {
+        place(fraction);
+        Solver bow(*this);
+        std::vector<Vec3> flat;
+        if (bow.bowFlatCompressedSpans(flat)) {
+            solved = spans.hard(result.iterations);
+            if (!solved) m_local = std::move(flat);
+        }
+        if (!solved) solved = spans.hard(result.iterations);
+        // The ends leave no shape within the bend limits: the bends give way (a kink). The span
+        // solver is tried once more from that shape, whose lengths hold and whose end is met:
+        // a start near a valid shape where the move's warm start was not.
+        if (!solved && (solved = spans.bendsGiveWay(result.iterations))) {
+            std::vector<Vec3> kinked = m_local;
+            if (!spans.hard(result.iterations)) m_local = std::move(kinked);
+        }
+        if (solved) break;
     }
-    Solver solver(*this);
-    solver.hitPin = blended; // the blend moved points the propagation may not reach
-    const bool converged = solver.solveAfterPlacement(runs.data(), oldEnds.data(), runs.size());
-    if (!converged) solver.straightenOverlongSpans();
-    if (converged && !solver.measured) {
-        result = UpdateResult{}; // phase 1 alone: every constraint holds by construction
-    } else {
-        result = measureViolation();
-        if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
-    }
-    m_dirtyViolation = result.status != Status::Ok;
-    result.movedPoints = solver.movedPoints;
+    if (!solved) m_local = m_scratch; // nothing valid found: the hose stays (its attachments unmet)
+    Solver tails(*this);
+    tails.sweepTails(lo, hi, m_scratch, wasInvalid);
+    const UpdateResult violation = measureViolation();
+    result.lengthViolation = violation.lengthViolation;
+    result.angleViolation = violation.angleViolation;
+    double gap = 0.0;
+    for (const Attachment* a : targets) gap = std::max(gap, attachmentGap(a->id));
+    result.status = (violation.status != Status::Ok || gap > 1e-9) ? Status::Infeasible : Status::Ok;
+    m_dirtyViolation = violation.status != Status::Ok;
+    for (size_t i = 0; i < m_local.size(); ++i) result.movedPoints += m_local[i] != m_scratch[i];
     ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     return result;
@@ -922,33 +896,51 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
 
 UpdateResult Hose::settle() { return settleFrom(-1); }
 
+bool Hose::closeSpans(int held, const std::vector<Vec3>& before, int& iterations)
+{
+    const auto [lo, hi] = pinnedRange(m_attachments, held);
+    if (lo > hi) return false;
+    PinnedSpans spans(*this, lo, hi, held);
+    spans.spanSteps = kCloseSpanSteps;
+    if (!spans.hard(iterations)) return false;
+    Solver tails(*this);
+    tails.sweepTails(lo, hi, before, true);
+    return measureViolation().status == Status::Ok;
+}
+
 UpdateResult Hose::settleFrom(int held)
 {
-    Solver solver(*this);
-    std::vector<std::pair<int, int>> runs;
-    std::vector<std::pair<Vec3, Vec3>> oldEnds;
-    for (const Attachment& a : m_attachments) {
-        runs.emplace_back(a.first, a.last);
-        oldEnds.emplace_back(m_local[static_cast<size_t>(a.first)], m_local[static_cast<size_t>(a.last)]);
+    if (held >= pointCount() || (held >= 0 && m_fixed[static_cast<size_t>(held)])) held = -1;
+    auto [lo, hi] = pinnedRange(m_attachments, held);
+    if (lo > hi) lo = hi = 0; // nothing fixed: hold point 0 and let the rest follow
+    m_scratch = m_local;
+    UpdateResult result;
+    PinnedSpans spans(*this, lo, hi, held);
+    // A straight span shorter than its hose: bowed first (as for an attachment move).
+    Solver bow(*this);
+    bow.grabbed = held;
+    std::vector<Vec3> flat;
+    bool solved = false;
+    if (bow.bowFlatCompressedSpans(flat)) {
+        solved = spans.hard(result.iterations);
+        if (!solved) m_local = std::move(flat);
     }
-    if (held >= 0 && held < pointCount() && !m_fixed[static_cast<size_t>(held)]) {
-        solver.grabbed = held;
-        runs.emplace_back(held, held);
-        oldEnds.emplace_back(m_local[static_cast<size_t>(held)], m_local[static_cast<size_t>(held)]);
+    if (!solved) solved = spans.hard(result.iterations);
+    // No valid shape from here: the bends give way, then the span solver from that shape (as in
+    // an attachment move).
+    if (!solved && (solved = spans.bendsGiveWay(result.iterations))) {
+        std::vector<Vec3> kinked = m_local;
+        if (!spans.hard(result.iterations)) m_local = std::move(kinked);
     }
-    if (runs.empty()) {
-        // Nothing fixed: hold point 0 and let the rest follow.
-        solver.grabbed = 0;
-        runs.emplace_back(0, 0);
-        oldEnds.emplace_back(m_local[0], m_local[0]);
-    }
-    m_dirtyViolation = true; // force the global check
-    const bool converged = solver.solveAfterPlacement(runs.data(), oldEnds.data(), runs.size());
-    if (!converged) solver.straightenOverlongSpans();
-    UpdateResult result = measureViolation();
-    if (!converged && result.status == Status::Ok) result.status = Status::Infeasible;
-    m_dirtyViolation = result.status != Status::Ok;
-    result.movedPoints = solver.movedPoints;
+    if (!solved) m_local = m_scratch;
+    Solver tails(*this);
+    tails.sweepTails(lo, hi, m_scratch, true);
+    const UpdateResult violation = measureViolation();
+    result.status = violation.status;
+    result.lengthViolation = violation.lengthViolation;
+    result.angleViolation = violation.angleViolation;
+    m_dirtyViolation = violation.status != Status::Ok;
+    for (size_t i = 0; i < m_local.size(); ++i) result.movedPoints += m_local[i] != m_scratch[i];
     ++m_revision;
     return result;
 }

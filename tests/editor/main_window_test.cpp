@@ -1608,5 +1608,122 @@ TEST_F(MainWindowTest, HistoryEntriesNameWhatAndWhich)
                            "Change diameter of right bracket to valve"}));
 }
 
+// (Needs the pinned-span solver, which gives up bends before lengths.) Where the fixed ends
+// and their tangents leave no valid shape (the valve turned half round: left-feed's fixed end
+// segment now points back), the hose keeps its lengths, gives up the bend limit, and the kink
+// is shown: a ring in the viewport and a Problems entry with the bend radius reached.
+TEST_F(MainWindowTest, AKinkedHoseIsMarkedAndListedWithTheRadiusItReached)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("kink")));
+    Document& document = m_window->document();
+    clickTreeItem("valve");
+    settle();
+    auto* rotation = m_window->findChild<QDoubleSpinBox*>("partRotationY");
+    ASSERT_TRUE(rotation);
+    rotation->setValue(rotation->value() + 180.0);
+    settle();
+    const HoseMetrics* metrics = document.hoseMetrics("left-feed");
+    ASSERT_TRUE(metrics);
+    ASSERT_FALSE(metrics->bendBelowMinimum.empty()) << "the valve turned half round kinks it";
+    const double minimum = document.hose("left-feed")->material().bendLimit.value;
+    m_window->problems().refreshNow();
+    bool listed = false;
+    for (const Problem& problem : m_window->problems().problems()) {
+        if (problem.hoseId != "left-feed" || !problem.text.contains("kinked")) continue;
+        listed = true;
+        const QRegularExpressionMatch radius =
+            QRegularExpression("bend radius ([0-9.]+) mm").match(problem.text);
+        ASSERT_TRUE(radius.hasMatch()) << problem.text.toStdString();
+        EXPECT_LT(radius.captured(1).toDouble(), minimum * 1000.0) << problem.text.toStdString();
+    }
+    EXPECT_TRUE(listed);
+    selectHose("left-feed");
+    m_window->viewport().frameSelection();
+    screenshot("editor-kink.png");
+    // The ring is drawn around the worst joint: the viewport's pixels there are problem red.
+    const QImage image = m_window->viewport().renderToImage();
+    const int joint = metrics->smallestBendRadiusJoint;
+    const Vec3 centre = document.hose("left-feed")->point(joint);
+    const double radius = 2.5 * document.hose("left-feed")->outerRadius();
+    int red = 0;
+    for (const Vec3& p :
+         Renderer::kinkRing(centre, -m_window->viewport().camera().forward(), radius)) {
+        const QPoint at = m_window->viewport().toWidget(p) * image.devicePixelRatio();
+        if (!image.rect().contains(at)) continue;
+        const QColor c = image.pixelColor(at);
+        red += c.red() > 200 && c.green() < 120 && c.blue() < 120;
+    }
+    EXPECT_GT(red, 5) << "the kink ring is drawn";
+}
+
+// (Needs the pinned-span solver that keeps every length in its band when an attachment
+// moves.) The valve dragged with the gizmo along X from 0 to 0.3 m and back: at every step
+// every hose has every segment in its band, and a hose that cannot reach the valve shows how
+// much hose it lacks (Problems: "needs N mm more hose", the gap drawn in the viewport); back at
+// 0 every hose is where it was, fixed at its points again.
+TEST_F(MainWindowTest, TheValveDraggedAlongXAndBackKeepsEveryHoseInItsBandOrShowsItsShortage)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("valve-drag")));
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    settle();
+    const auto initialPoints = allPoints(document);
+    clickTreeItem("valve");
+    settle();
+    const int valve = document.scene("rig")->findNode("/test-rig/valve");
+    const Vec3 start = document.nodeWorldFrame("rig", valve).translation;
+    const Vec3 centre = document.partCentre("rig", valve);
+    // The arrow gripped at 0.8 of its length; the mouse goes where the gripped point of the
+    // arrow would be drawn after the move (the view is in perspective: equal moves are not
+    // equal pixels).
+    const Vec3 gripped = centre + 0.8 * Renderer::gizmoLength(viewport.camera()) * Vec3::UnitX();
+    const QPoint grip = viewport.toWidget(gripped);
+    bool wasShort = false;
+    const auto checkEveryHose = [&](double shift) {
+        m_window->problems().refreshNow();
+        for (const formats::HoseDefinition& definition : document.project().hoses) {
+            const Hose& hose = *document.hose(definition.id);
+            EXPECT_LE(worstBandExcess(hose), 1e-6)
+                << definition.id << " at " << shift << " m: a segment beyond its band";
+            double gap = 0.0;
+            for (const Hose::Attachment& attachment : hose.attachments())
+                gap = std::max(gap, hose.attachmentGap(attachment.id));
+            if (gap < 1e-3) continue;
+            wasShort = true;
+            bool shown = false;
+            for (const Problem& problem : m_window->problems().problems())
+                shown = shown ||
+                        (problem.hoseId == definition.id && problem.text.contains("more hose"));
+            EXPECT_TRUE(shown) << definition.id << " at " << shift << " m is " << gap
+                               << " m short and the Problems panel does not say so";
+        }
+    };
+    QTest::mousePress(&viewport, Qt::LeftButton, {}, grip);
+    const int steps = 30;
+    for (int i = 1; i <= 2 * steps; ++i) {
+        const double target = 0.3 * (i <= steps ? i : 2 * steps - i) / steps;
+        QTest::mouseMove(&viewport, viewport.toWidget(gripped + target * Vec3::UnitX()));
+        const double shift = document.nodeWorldFrame("rig", valve).translation.x() - start.x();
+        checkEveryHose(shift);
+        if (i == steps) {
+            EXPECT_GT(shift, 0.28) << "the gizmo took the valve 0.3 m along X";
+            screenshot("editor-taut-short.png");
+        }
+    }
+    QTest::mouseRelease(&viewport, Qt::LeftButton, {}, grip);
+    settle();
+    EXPECT_TRUE(wasShort) << "0.3 m is beyond the hoses' reach";
+    EXPECT_NEAR((document.nodeWorldFrame("rig", valve).translation - start).norm(), 0.0, 2e-3);
+    // The hoses are back at their fixed points (the part is back within a pixel of its start).
+    for (const formats::HoseDefinition& definition : document.project().hoses)
+        for (const Hose::Attachment& attachment : document.hose(definition.id)->attachments())
+            EXPECT_LT(document.hose(definition.id)->attachmentGap(attachment.id), 1e-9)
+                << definition.id;
+    EXPECT_EQ(document.undoStack()->count(), 1);
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    settle();
+    EXPECT_EQ(initialPoints, allPoints(document));
+}
+
 } // namespace
 } // namespace chaintube::editor

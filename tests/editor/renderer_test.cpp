@@ -150,30 +150,37 @@ TEST_F(RendererTest, AHoseIsDrawnAlongItsAxisInItsColour)
     EXPECT_EQ(before.pixel(above), after.pixel(above));
 }
 
-TEST_F(RendererTest, AnOverstretchedRegionIsTintedRed)
+TEST_F(RendererTest, APartPulledBeyondReachLeavesTheHoseInItsBandAndDrawsTheGapInProblemRed)
 {
-    // Pull the valve away: the right hose (fixed to it and to the bracket) overstretches.
+    // Pull the valve away: the right hose (fixed to it and to the bracket) cannot reach it. It
+    // goes taut with every segment in its band, and the attachment it cannot meet is drawn: a
+    // problem-red line from the hose to where the valve wants it, a dot at that spot.
     const int valve = m_document.scene("rig")->findNode("/test-rig/valve");
     formats::Mat4 moved = m_document.nodeLocalTransform("rig", valve);
     moved(0, 3) -= 0.6;
     moved(2, 3) += 0.4;
     m_document.undoStack()->push(makeSetNodeTransform(m_document, {"rig", valve}, moved));
     const std::string id = "right-return";
-    ASSERT_TRUE(m_document.hoseMetrics(id)->overstretched());
+    const HoseMetrics& metrics = *m_document.hoseMetrics(id);
+    EXPECT_FALSE(metrics.overstretched());
+    ASSERT_FALSE(metrics.unmetAttachments.empty());
+    EXPECT_GT(metrics.unmetAttachments.front().gap, 0.05);
     const Hose& hose = *m_document.hose(id);
-    int stretched = -1;
-    for (int s = 0; s < hose.segmentCount() && stretched < 0; ++s)
-        if ((hose.point(s + 1) - hose.point(s)).norm() > hose.maxLength(s) * (1 + 1e-6))
-            stretched = s;
-    ASSERT_GE(stretched, 0);
-    m_camera.target = 0.5 * (hose.point(stretched) + hose.point(stretched + 1));
+    for (int s = 0; s < hose.segmentCount(); ++s)
+        EXPECT_LE((hose.point(s + 1) - hose.point(s)).norm(), hose.maxLength(s) * (1 + 1e-9)) << s;
+    const Hose::Attachment* unmet = nullptr;
+    for (const Hose::Attachment& attachment : hose.attachments())
+        if (attachment.id == metrics.unmetAttachments.front().id) unmet = &attachment;
+    ASSERT_NE(unmet, nullptr);
+    m_camera.target = unmet->frame.apply(unmet->localPoints.front()); // where the valve wants it
     m_camera.distance = 0.25;
     RenderOptions options;
     const QRgb highlighted = render(options).pixel(kWidth / 2, kHeight / 2);
     options.showProblems = false;
     const QRgb plain = render(options).pixel(kWidth / 2, kHeight / 2);
     EXPECT_GT(qRed(highlighted), qGreen(highlighted) + 60);
-    EXPECT_LT(qRed(plain), qGreen(plain) + 30) << "the hose itself is grey";
+    EXPECT_GT(qRed(highlighted), qBlue(highlighted) + 60);
+    EXPECT_NE(highlighted, plain) << "the dot is a problem marker, drawn only with problems shown";
 }
 
 TEST_F(RendererTest, OnlyTheDraggedHoseIsUploadedPerFrame)

@@ -93,7 +93,7 @@ TEST_F(StepReader, AMissingReaderProgramIsAClearError)
     const fs::path file = writeBox("box.step", 1.0, 2.0, 3.0);
     ::setenv("CHAINTUBE_READERS_DIR", m_folder.c_str(), 1);
     try {
-        (void)importScene(file);
+        static_cast<void>(importScene(file));
         ADD_FAILURE() << "no error";
     } catch (const FileError& error) {
         EXPECT_EQ(std::string(error.what()),

@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const chaintube::rig::HoseRigDescriptor descriptor =
             chaintube::rig::parseDescriptor(text, "fuzz.hoses.json");
         for (const chaintube::rig::RigHose& hose : descriptor.hoses)
-            (void)chaintube::rig::rebuildHose(hose);
+            static_cast<void>(chaintube::rig::rebuildHose(hose));
         // What was accepted must serialise and read back to the same text.
         const std::string canonical = chaintube::rig::serialiseDescriptor(descriptor);
         if (chaintube::rig::serialiseDescriptor(

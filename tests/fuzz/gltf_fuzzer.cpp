@@ -17,6 +17,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         runtime.update();
     } catch (const chaintube::Error&) {
     }
-    (void)chaintube::exporting::validateFile(file, {});
+    static_cast<void>(chaintube::exporting::validateFile(file, {}));
     return 0;
 }

@@ -59,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string name = std::string("fuzz") + extensions[data[0] % 4];
     const std::filesystem::path file = chaintube::fuzz::writeInput(name, data + 1, size - 1);
     try {
-        (void)chaintube::formats::importScene(file);
+        static_cast<void>(chaintube::formats::importScene(file));
     } catch (const chaintube::formats::ImportError& error) {
         if (error.signal() == 0) {
             std::fprintf(stderr, "scene_import_fuzzer: %s\n--- the importer process wrote:\n%s\n",

@@ -135,8 +135,8 @@ TEST(ReaderProcess, AMissingReaderProgramIsAFileErrorNamingIt)
     ImportOptions options;
     ProgressStage stage(options, kFile, 0.0, 1.0);
     try {
-        (void)readInChildProcess(kFile, "test reader", options, stage,
-                                 {"/nonexistent/chaintube-scene-reader", {}});
+        static_cast<void>(readInChildProcess(kFile, "test reader", options, stage,
+                                 {"/nonexistent/chaintube-scene-reader", {}}));
         FAIL() << "no error";
     } catch (const FileError& error) {
         EXPECT_EQ(std::string(error.what()),
@@ -174,7 +174,7 @@ TEST(ReaderProcess, ReadersAreFoundInChaintubeReadersDir)
     EXPECT_EQ(importScene(folder / "quad.obj").meshTriangleCount(), 2u);
     fs::remove(folder / "chaintube-scene-reader");
     try {
-        (void)importScene(folder / "quad.obj");
+        static_cast<void>(importScene(folder / "quad.obj"));
         ADD_FAILURE() << "imported without a reader program";
     } catch (const FileError& error) {
         EXPECT_NE(std::string(error.what()).find("which holds no executable chaintube-scene-reader"),

@@ -35,7 +35,7 @@ ImportOutcome importWithin(const fs::path& file, std::chrono::seconds limit)
     outcome.child = runInChild(
         [&](const std::function<void(const std::string&)>& write) {
             try {
-                (void)formats::importScene(file);
+                static_cast<void>(formats::importScene(file));
                 return 0;
             } catch (const Error& error) {
                 write(error.what());
@@ -185,7 +185,7 @@ TEST(SceneImportHardening, PlyFaceWithoutIndicesThatAbortsAssimpIsAnImportErrorA
     // abort ends the importer's child process, not this one.
     const fs::path file = badScenes / "ply-face-without-indices.ply";
     try {
-        (void)formats::importScene(file);
+        static_cast<void>(formats::importScene(file));
         FAIL() << "importScene accepted " << file;
     } catch (const formats::ImportError& error) {
         EXPECT_EQ(std::string(error.what()),
@@ -234,7 +234,7 @@ TEST(SceneImportHardening, ImportsFromSeveralThreadsAtOnceEachGetTheirOwnAnswer)
                     }
                 } else {
                     try {
-                        (void)formats::importScene(crashing);
+                        static_cast<void>(formats::importScene(crashing));
                         failures[t] += "the crashing PLY was accepted; ";
                     } catch (const formats::ImportError& error) {
                         if (error.signal() != SIGABRT)

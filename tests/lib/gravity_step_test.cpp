@@ -123,11 +123,21 @@ TEST(GravityStep, HeldPointStaysWhileTheRestHangsAndFallsWhenReleased)
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.5, spec);
     hose.attach(0, 1, Frame::identity());
     const Vec3 target(0.9, 0.3, 0.0);
-    static_cast<void>(hose.grab(30, target));
-    EXPECT_EQ(hose.heldPoint(), 30);
+    // A hand holds the end at the target: every frame a grab, then a gravity step. The grab
+    // covers the way to the target within its budget over the first frames; the step never
+    // moves the held point, and every constraint holds after each call.
     double worstLength = 0.0, worstAngle = 0.0;
-    stepUntilSettled(hose, 5000, &worstLength, &worstAngle);
-    EXPECT_LT((hose.point(30) - target).norm(), 1e-12) << "the held end stays at its grab target";
+    for (int frame = 0; frame < 600; ++frame) {
+        const UpdateResult g = hose.grab(30, target);
+        const UpdateResult r = hose.step();
+        for (const UpdateResult& u : {g, r}) {
+            EXPECT_NE(u.status, Status::Infeasible) << frame;
+            worstLength = std::max(worstLength, u.lengthViolation);
+            worstAngle = std::max(worstAngle, u.angleViolation);
+        }
+    }
+    EXPECT_EQ(hose.heldPoint(), 30);
+    EXPECT_LT((hose.point(30) - target).norm(), 1e-9) << "the held end is at its grab target";
     EXPECT_LT(hose.point(15).y(), -0.05) << "the middle sags between the clamp and the hand";
     EXPECT_LE(worstLength, 1e-9);
     EXPECT_LE(worstAngle, 1e-9);
@@ -149,7 +159,7 @@ TEST(GravityStep, DraggingDoesNotFlingTheHose)
     stepUntilSettled(hose, 20000);
     static_cast<void>(hose.grab(40, Vec3(1.3, 0.5, 0.3)));
     const std::vector<Vec3> afterGrab = hose.points();
-    static_cast<void>(hose.step(1));
+    static_cast<void>(hose.step());
     const double mean = hose.restLengthTotal() / 40;
     EXPECT_LT((hose.point(5) - afterGrab[5]).norm(), 0.2 * mean);
 }
@@ -412,5 +422,8 @@ TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
         static_cast<void>(fresh.step());
     }
     EXPECT_LT(hose.points().back().y(), afterGrab - 1e-4); // the free end falls again
-    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_EQ(hose.point(i), fresh.point(i)) << i;
+    // The fresh hose holds the same world positions relative to another origin (its first
+    // point), so its local coordinates differ in the last bits: equal to rounding, not bit for
+    // bit. Velocity carried from before the mark would show at the millimetre scale.
+    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_LT((hose.point(i) - fresh.point(i)).norm(), 1e-9) << i;
 }

@@ -6,6 +6,7 @@
 
 #include <QMetaType>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -349,7 +350,31 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
         invalid.status = Status::InvalidInput;
         return invalid;
     }
-    const UpdateResult result = it->second.hose->grab(point, target);
+    Hose& hose = *it->second.hose;
+    UpdateResult result = hose.grab(point, target);
+    int moved = result.movedPoints, iterations = result.iterations;
+    for (int call = 1; call < kDragGrabs && result.status == Status::Clamped; ++call) {
+        if (result.movedPoints == 0) {
+            // No nearer in one go: the rest of the way in short steps (a path of small moves
+            // reaches where one long step stops at the bend limits), then the target again.
+            const Vec3 from = hose.point(point);
+            const double way = (target - from).norm();
+            const int steps = std::min(kDragSubSteps, static_cast<int>(std::ceil(way / kDragSubStep)));
+            int stepMoved = 0;
+            for (int s = 1; s < steps; ++s) {
+                const UpdateResult r = hose.grab(point, from + (target - from) * (double(s) / steps));
+                stepMoved = std::max(stepMoved, r.movedPoints);
+                iterations += r.iterations;
+            }
+            if (stepMoved == 0) break;
+            moved = std::max(moved, stepMoved);
+        }
+        result = hose.grab(point, target);
+        moved = std::max(moved, result.movedPoints);
+        iterations += result.iterations;
+    }
+    result.movedPoints = moved;
+    result.iterations = iterations;
     if (result.movedPoints > 0) {
         wakeGravity(hoseId);
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);

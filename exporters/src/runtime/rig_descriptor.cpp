@@ -276,7 +276,7 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
         }
     }
     try {
-        (void)hose.crossSection.build();
+        static_cast<void>(hose.crossSection.build());
     } catch (const InvalidArgument& error) {
         r.fail(at + "/crossSection", error.what());
     }

@@ -12,30 +12,29 @@
 
 namespace chaintube {
 
-/// What an update did. Always look at status.
+namespace detail {
+class ChainProjection;
+class SpanSolver;
+} // namespace detail
+
+/// What an update did. Always look at status. Every update does a bounded amount of work
+/// (UpdateResult::iterations) and, unless it says Infeasible, leaves every segment inside its
+/// stretch band and every joint within its deflection limit (1e-9 relative / radians).
 enum class Status {
-    Ok,           ///< The request was met exactly; every constraint holds (1e-9 relative).
-    Clamped,      ///< A grab target was out of reach. Every constraint holds. If the hose is
-                  ///< fixed on one side of the point only, the point goes to (nearly) the
-                  ///< reachable position closest to the target: FABRIK-style reaching, at most
-                  ///< 64 rounds, each ending with a pass from the fixed side that leaves every
-                  ///< constraint exact. If it is fixed on both sides, it moves along the
-                  ///< straight line from where it was towards the target and stops at the last
-                  ///< reachable position (bisection, 16 steps: to 1.5e-5 of the move; when the
-                  ///< last update was this point stopping at the edge of its reach, the smallest
-                  ///< step is tried first, so a target moving beyond reach costs one trial when
-                  ///< it cannot get closer; the same target again, with nothing else changed
-                  ///< since and no colliders, returns the same result without any work and
-                  ///< leaves revision() as it was).
-    Infeasible,   ///< Fixed segments contradict each other: every fixed point is where its
-                  ///< frame put it and the residual violation is reported. Two attachments
-                  ///< farther apart than the hose between them can stretch: the free points lie
-                  ///< on the straight line between them, every segment stretched by the same
-                  ///< fraction of its maximum length (the least worst overstretch). Other
-                  ///< contradictions (bends): the bounded relaxation's last state. A grab on a
-                  ///< hose that is already infeasible moves the point along the line towards
-                  ///< the target only as far as the length and bend violations do not grow
-                  ///< (bisection, 16 steps): a grab never makes an infeasible hose worse.
+    Ok,           ///< The request was met exactly.
+    Clamped,      ///< A grab target was not reached in this update: it is beyond the hose's
+                  ///< reach, or farther than this update's bounded work brings the point.
+                  ///< grabError says how far off. Held (the same target again), the point comes
+                  ///< nearer update by update, never farther, and comes to rest at the reachable
+                  ///< position nearest to the target; the same target again at rest costs no
+                  ///< work and leaves revision() as it was.
+    Infeasible,   ///< Attachments whose frames leave no valid shape. Lengths are never given
+                  ///< up: beyond the hose's reach, the moved attachment stops short of its frame,
+                  ///< on the way towards it, and the hose is taut (attachmentGap() says how far
+                  ///< off); ends whose positions and tangents leave no shape within the bend
+                  ///< limits keep their lengths and give up bends as little as the projection
+                  ///< can (angleViolation). Also a shape loaded in violation of its constraints
+                  ///< that a grab could not repair (the grab then never makes it worse).
     InvalidInput, ///< Rejected (NaN/Inf, index out of range, grabbing a fixed point); the
                   ///< hose is unchanged.
 };
@@ -65,12 +64,16 @@ struct [[nodiscard]] UpdateResult
     double penetration = 0.0;
     /// Collision: axis points touching a collider after the update.
     int contacts = 0;
+    /// Work done: Newton steps of the span solver and the chain projection (each O(points of
+    /// the span or range it solves)); 0 for the paper's propagation alone. Bounded per update
+    /// (lib/README.md, "Pinned spans, reach and gravity").
+    int iterations = 0;
     bool ok() const { return status == Status::Ok; }
 };
 
-/// Per-frame gravity. When enabled, every update ends with a bounded number of
-/// warm-started settle rounds (see Hose::sag) and Hose::step() keeps settling on frames without
-/// input; a settled hose costs one comparison per frame.
+/// Per-frame gravity. When enabled, Hose::step() advances the hose by one implicit step of
+/// 1/90 s a call (call it once a frame); a hose at rest costs one comparison per call.
+/// Hose::sag() settles to rest regardless of this switch.
 struct Gravity
 {
     bool enabled = false;
@@ -110,20 +113,26 @@ struct HoseSpec
 struct SagOptions
 {
     Vec3 gravityDirection = Vec3(0.0, -1.0, 0.0); ///< world, need not be unit (non-zero)
-    int maxRounds = 4000;    ///< bound on the work (each round is O(n))
-    double tolerance = 1e-7; ///< settled when no point moves more than this × mean rest length
-                             ///< over two rounds
+    int maxRounds = 4000;    ///< bound on the work: steps of Hose::step(), each O(n)
+    double tolerance = 1e-7; ///< > 0; not used: rest is decided by step()'s rule
 };
 
 struct SagResult
 {
-    UpdateResult update;  ///< constraint state after the final exact pass
-    int rounds = 0;       ///< rounds used
+    UpdateResult update;  ///< constraint state of the final shape
+    int rounds = 0;       ///< steps used
     bool settled = false; ///< converged within maxRounds
 };
 
 /// A hose: a chain of axis points p0 … pn with per-segment rest lengths, a stretch band and a
 /// per-joint deflection limit, plus attachments (runs of points fixed to frames).
+///
+/// Updates: a free end follows by the paper's outward propagation (O(n), exact). A span between
+/// two pinned points (attachments, the held point) is solved in the span's own degrees of
+/// freedom, its segments' directions (and lengths, within the band): every length and bend
+/// limit holds by construction, damped Newton steps on the few closure rows (the far pin, a
+/// point the span passes through) cost O(span) each, at most a fixed number per update; a grab
+/// moves in steps that each end valid (lib/README.md, "Pinned spans, reach and gravity").
 ///
 /// Positions are in world metres. Internally they are stored relative to a local origin
 /// (the first axis point at construction) so that a hose 1e5 m from the world origin keeps
@@ -138,17 +147,17 @@ struct SagResult
 ///    incoming direction. Deterministic.
 ///  * A straight free span between two pinned points (fixed or grabbed) pushed shorter than
 ///    its segments' minimum lengths allow (e.g. the two end attachments of a straight
-///    inextensible hose moved closer): every sweep would keep it on its line, so it is bowed
-///    first onto the circular arc through both pins on which its segments, at rest length,
-///    are chords, bulging towards the same fixed perpendicular of the line as the fold-back
-///    rule (line direction × the world axis it has the smallest component along: +z for a
-///    span along +x, +x for one along +y); then relaxed as usual. If the bowed span does not
-///    relax (e.g. a rigid hose), the update is decided from the straight state as without
-///    the bow.
+///    inextensible hose moved closer): on its line it cannot be shorter, so it is first laid on
+///    the first buckling mode of a rod clamped at both pins, a (1 − cos 2πx/c)/2 over the chord
+///    c, its length the span's rest length, bulging towards the same fixed perpendicular of the
+///    line as the fold-back rule (line direction × the world axis it has the smallest component
+///    along: +z for a span along +x, +x for one along +y); then solved as usual. If that does
+///    not solve (e.g. a rigid hose), the update is decided from the straight state.
 ///  * Infeasible requests: see Status::Clamped and Status::Infeasible.
 ///  * A hose whose current shape violates its constraints (e.g. a route with corners sharper
 ///    than the bend limit, or after tightening the material) stays as it is until a point is
-///    moved; settle() re-imposes the constraints.
+///    moved; settle() re-imposes the constraints, and with gravity on each step() brings it
+///    nearer to valid.
 class Hose
 {
 public:
@@ -207,8 +216,11 @@ public:
     void setOuterDiameter(double metres);
 
     // --- interaction ----------------------------------------------------------------------
-    /// Move free axis point `index` to `target` (world) and let the rest of the hose follow
-    /// (the paper's outward propagation, O(n)). Fixed points never move. See Status.
+    /// Move free axis point `index` to `target` (world) and let the rest of the hose follow;
+    /// the point is held (heldPoint()) until the next grab or releaseGrab(). Fixed points never
+    /// move. Between fixed points the point goes towards the target in steps that each end
+    /// valid, at most a fixed number a call; a target beyond reach is replaced by the nearest
+    /// point within the reach of both sides. O(n) a step. See Status.
     UpdateResult grab(int index, const Vec3& target);
 
     /// Fix the run of points first … last (inclusive, 0 ≤ first ≤ last < pointCount(), not
@@ -216,7 +228,10 @@ public:
     /// Returns the attachment id (stable until detached). Throws InvalidArgument.
     int attach(int first, int last, const Frame& frame);
     /// Move an attachment's frame; its points move rigidly and the rest of the hose follows in
-    /// the same update. An unknown id or a non-finite frame gives Status::InvalidInput.
+    /// the same update. A frame beyond the hose's reach from the neighbouring fixed points
+    /// leaves the attachment short of it (Status::Infeasible, attachmentGap()); moved back
+    /// within reach it is met again. An unknown id or a non-finite frame gives
+    /// Status::InvalidInput and changes nothing.
     UpdateResult moveAttachment(int id, const Frame& frame);
     /// Move several attachments at once (one update); ids and frames have equal size.
     UpdateResult moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames);
@@ -242,49 +257,30 @@ public:
     /// built from raw points): propagates from the fixed points (or from point 0 if none).
     UpdateResult settle();
 
-    /// Let the free points settle under gravity while the stretch band and bend limits hold:
-    /// the quasi-static equilibrium of a chain with mass spread evenly along its rest length
-    /// (each point carries half of its adjacent rest lengths), found by damped position-based
-    /// rounds: a small gravity step, then a mass-weighted projection of the length band (a
-    /// direct tridiagonal solve, Goldenthal et al. 2007) or, with bend limits or colliders, of
-    /// the length band, the bend limits and the contacts together (one banded Newton system per
-    /// step, sag.cpp). The rounds' final state is kept when it holds every constraint to 1e-9;
-    /// only otherwise one exact ChainTube pass from the fixed points re-imposes them.
-    /// `settled` is false when maxRounds ran out first (the shape is then still the
-    /// best found; the constraints hold either way). Deterministic; a settled hose stays where it is (calling again
-    /// changes nothing beyond the tolerance). Without fixed points the hose falls without end:
-    /// returns InvalidInput and leaves it unchanged. Non-finite or zero direction: InvalidInput.
-    /// With colliders (setColliders) the contacts are constraints of the rounds too.
+    /// Let the free points settle under gravity to rest, every constraint holding: step() in
+    /// `options.gravityDirection` until the hose is at rest or maxRounds steps ran out
+    /// (`settled` false; the shape is then the last step's, valid). The held point is released
+    /// for the duration. Deterministic. Without a fixed point, or with a non-finite or zero
+    /// direction: InvalidInput, the hose unchanged. With colliders their contacts hold too.
     SagResult sag(const SagOptions& options = SagOptions());
 
-    /// Per-frame gravity (HoseSpec::gravity; beyond the paper): advances the free points'
-    /// settling by at most `rounds` damped rounds of sag()'s projection (lengths, bend limits and
-    /// contacts in one banded Newton system, at most 16 Newton steps a round). The velocity
-    /// carries over between steps, so a hose falls and swings out over a few dozen frames.
-    ///
-    /// Decided cases:
-    /// - A step the rounds cannot make valid (every constraint within 1e-9) is run again from
-    ///   rest with the whole, 1/4 and 1/16 of the gravity step; if none is valid the hose stays
-    ///   where it was, without velocity. The fraction that worked grows by 1.25 a successful step.
-    /// - From a valid state a step never falls back on the exact pass from the fixed points (it
-    ///   turns every joint over its limit about the fixed side and would swing a free end); from
-    ///   an invalid state the exact pass runs and its status is returned.
-    /// - Contacts: each free point keeps outerRadius() + tolerance/10 from the tangent plane at
-    ///   its closest collider point, a touching point keeps no velocity (it sticks), then the
-    ///   sweeps of setColliders run as for any update.
-    /// - The held point (the last grabbed, until releaseGrab()) stays where the grab put it.
-    /// - Settled: when no point moved more than 1e-6 of the mean rest length over the last two
-    ///   rounds or over the whole step, or the mean height has not come lower by 1 % of a
-    ///   segment in 120 steps, step() returns at once until an input changes (revision()).
-    /// - Nothing fixed and nothing held: the hose has nothing to hang from and does not fall.
-    /// - Between two pins with its bottom at the bend limit and steep ends under high tension,
-    ///   a hose can cycle by under a millimetre a step near the pins until the 120-step rule
-    ///   stops it.
-    ///
-    /// Cost: O(n) per Newton step, at most 16 × `rounds` (× 4 with the retries) of them; a
-    /// settled hose or gravity off: one comparison. Deterministic; never leaves NaN or Inf.
-    /// Returns the constraint state; movedPoints is 0 when nothing was done.
-    UpdateResult step(int rounds = 4);
+    /// Per-frame gravity (HoseSpec::gravity; beyond the paper): one implicit step of 1/90 s.
+    /// The free points' predicted positions (their velocity, damped to 0.9 a step, plus the
+    /// fall under 9.81 m/s²) are projected onto the constraints by at most 8 O(n) Newton steps
+    /// of the smallest mass-weighted move: every length in its band, every joint within its
+    /// limit and, with colliders, every point outerRadius() outside the tangent plane of its
+    /// nearest collider (a touching point keeps no velocity); a projection that ends close is
+    /// finished exactly by the span solver. Bounded: at most 4 attempts (then from rest, with
+    /// the fall, a quarter and a sixteenth of it); when none ends valid the hose stays where it
+    /// is, at rest. After every call every constraint holds (1e-9). Moves made by grabs and
+    /// attachments carry no velocity; fixed points and the held point (the last grabbed, until
+    /// releaseGrab()) stay. A shape that violates its constraints is brought nearer to valid
+    /// instead of falling. At rest (no point moved more than 1e-6 of a mean segment in a step,
+    /// or no lower by 1 % of a mean segment in 120 steps), with gravity off, or with nothing
+    /// fixed and nothing held, a call costs one comparison until an input changes (any
+    /// revision()). Deterministic. Returns the constraint state; movedPoints is 0 when nothing
+    /// was done, iterations the Newton steps.
+    UpdateResult step();
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
     /// releaseGrab() frees it; a grab of another point moves the hold there.
     int heldPoint() const { return m_held; }
@@ -336,11 +332,20 @@ private:
 
     /// settle(), with `held` (≥ 0) pinned like a fixed point.
     UpdateResult settleFrom(int held);
+    /// Makes a shape that nearly holds its constraints hold them exactly, without giving way:
+    /// the spans between pinned points (fixed, and `held` ≥ 0) by the span solver from the
+    /// current positions, the free tails by the paper's pass (`before`: the positions before
+    /// the update, for its fold-back rule). Bounded (the span solver's steps per span, one
+    /// pass). Returns whether every constraint holds; the points may have moved either way.
+    bool closeSpans(int held, const std::vector<Vec3>& before, int& iterations);
     /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
     double turnExcess(size_t j, const std::vector<Vec3>& points) const;
 
     friend class Solver;
-    friend class SagRounds;
+    friend class GravityStep;
+    friend class PinnedSpans;
+    friend class detail::ChainProjection;
+    friend class detail::SpanSolver;
     HoseSpec m_spec;
     Vec3 m_origin = Vec3::Zero();
     std::vector<Vec3> m_local;
@@ -355,22 +360,23 @@ private:
     std::vector<double> m_chordLimit2; ///< 4 sin²(θ/2) + tolerance, the solver's turn test
     std::vector<unsigned char> m_fixed;
     std::vector<Attachment> m_attachments;
-    std::vector<Vec3> m_scratch; ///< snapshot for bisection in infeasible grabs
+    std::vector<Vec3> m_scratch; ///< the shape before the current update (restored if it fails)
     int m_nextAttachmentId = 1;
     int m_held = -1;                      ///< see heldPoint()
     int m_edgePoint = -1;                 ///< point last grabbed to the edge of its reach
     std::uint64_t m_edgeRevision = 0;     ///< m_revision right after that grab
     Vec3 m_edgeTarget = Vec3::Zero();     ///< that grab's local target
     UpdateResult m_edgeResult;            ///< and what it returned
-    std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one round back (velocity)
+    std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one step back (velocity)
     std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
-    std::vector<Vec3> m_gravityTwoBack;   ///< step(): positions two rounds back (settling test)
     std::uint64_t m_settledRevision = 0;  ///< step(): revision at which the hose settled
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
     double m_gravityLowestEnergy = 0.0;   ///< step(): lowest potential energy since an input changed
     int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
-    double m_gravityScale = 1.0;          ///< step(): fraction of the gravity step that last worked
     bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
+    /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
+    /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
+    std::vector<signed char> m_workingSet;
     std::uint64_t m_revision = 1;
 
     /// Collision hook at the end of every update entry point (collision.cpp); no-op without

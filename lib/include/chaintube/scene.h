@@ -30,7 +30,7 @@ public:
     FrameStats updateSurfaces();
     /// One gravity step (Hose::step) of every hose with HoseSpec::gravity on; hoses with
     /// gravity off or settled cost one comparison. Returns how many hoses moved.
-    int step(int rounds = 4);
+    int step();
 
 private:
     std::vector<Hose> m_hoses;

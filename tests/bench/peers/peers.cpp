@@ -38,7 +38,7 @@ class ChainTubeRod final : public RodSolver
 {
 public:
     explicit ChainTubeRod(const RodSetup& setup)
-        : m_hose(Hose::fromAxis(setup.axis, spec(setup))), m_gravity(setup.gravity), m_sagRounds(setup.sagRoundsPerFrame)
+        : m_hose(Hose::fromAxis(setup.axis, spec(setup))), m_gravity(setup.gravity)
     {
         if (setup.floorHeight > -std::numeric_limits<double>::infinity()) {
             const double y = setup.floorHeight - m_hose.outerRadius(), far = 1e3;
@@ -59,11 +59,11 @@ public:
         if (r.moveStart) ids.push_back(m_start), frames.push_back(r.start);
         if (r.moveEnd) ids.push_back(m_end), frames.push_back(r.end);
         // The peers report no status: the results are measured from points() afterwards.
-        if (!ids.empty()) (void)m_hose.moveAttachments(ids, frames);
-        for (const auto& [index, target] : r.grabs) (void)m_hose.grab(index, target);
+        if (!ids.empty()) static_cast<void>(m_hose.moveAttachments(ids, frames));
+        for (const auto& [index, target] : r.grabs) static_cast<void>(m_hose.grab(index, target));
         // The runtime's per-frame gravity call: damped rounds whose velocity carries over
         // from frame to frame, as the peers' inertia does (a settled hose costs nothing).
-        if (m_gravity != Vec3::Zero()) (void)m_hose.step(m_sagRounds);
+        if (m_gravity != Vec3::Zero()) static_cast<void>(m_hose.step()); // one implicit step a frame
     }
     std::vector<Vec3> points() const override { return m_hose.points(); }
 
@@ -83,7 +83,6 @@ private:
     }
     Hose m_hose;
     Vec3 m_gravity;
-    int m_sagRounds;
     int m_start = 0, m_end = 0;
 };
 

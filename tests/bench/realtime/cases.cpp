@@ -274,8 +274,8 @@ Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup)
         Hose hose = setup.makeHose();
         RandomWalk walk = setup.walk();
         for (int f = 0; f < warmup; ++f) {
-            (void)hose.grab(setup.middle, walk.next()); // warm-up: results not needed
-            if (hoseCase.gravity) (void)hose.step();
+            static_cast<void>(hose.grab(setup.middle, walk.next())); // warm-up: results not needed
+            if (hoseCase.gravity) static_cast<void>(hose.step());
         }
     }
     Hose hose = setup.makeHose();

@@ -70,7 +70,7 @@ EngineResult runEngine(const std::filesystem::path& scenesDir,
         std::vector<GrabbedHose> grabbed = grabbedHoses(warm);
         for (int f = 0; f < warmup; ++f) {
             for (GrabbedHose& g : grabbed)
-                (void)warm.grab(g.hose, g.point, g.walk.next()); // warm-up
+                static_cast<void>(warm.grab(g.hose, g.point, g.walk.next())); // warm-up
             warm.update();
         }
     }

@@ -217,7 +217,15 @@ public:
     /// Moves axis point `point` of the live hose towards `target` (world metres) with
     /// Hose::grab; emits HoseShapeChanged. Not an undo step until commitHoseDrag(). A fixed
     /// point, an unknown hose or an index out of range gives Status::InvalidInput.
+    /// A grab does bounded work and may stop short of its target (the rest on the next
+    /// frames); an author's drag goes on with the same target, up to kDragGrabs grabs, until
+    /// the point is there or gets no nearer; where one grab gets no nearer, the way is cut into
+    /// steps of kDragSubStep (at most kDragSubSteps) first. The result is the last grab's, with
+    /// the points moved and the iterations of all of them.
     UpdateResult dragHosePoint(const std::string& hoseId, int point, const Vec3& target);
+    static constexpr int kDragGrabs = 16;
+    static constexpr double kDragSubStep = 0.5e-3; ///< metres
+    static constexpr int kDragSubSteps = 64;
     /// Ends a drag: pushes a command that writes the live axis as the hose's route, its length
     /// unchanged (a hose without one gets the rest length it had). The hose is rebuilt from
     /// the route exactly as it was dragged (formats::buildHose takes a valid axis as it is),

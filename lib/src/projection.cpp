@@ -1,0 +1,293 @@
+#include "projection.h"
+
+#include "banded_ldlt.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace chaintube::detail {
+
+namespace {
+/// A constraint within this fraction of its bound counts as on it.
+constexpr double kActiveMargin = 1e-9;
+/// Re-solves of one linearisation while its working set changes.
+constexpr int kWorkingSetPasses = 4;
+} // namespace
+
+void ChainProjection::setRange(int first, int last)
+{
+    m_first = std::max(0, first);
+    m_last = std::min(h.pointCount() - 1, last);
+    const size_t n = static_cast<size_t>(h.pointCount());
+    if (m_inverseMass.size() != n) m_inverseMass.assign(n, 1.0);
+    h.m_workingSet.assign(3 * n, 0);
+    m_meanRest = h.restLengthTotal() / static_cast<double>(h.segmentCount());
+}
+
+void ChainProjection::useMassesFromRestLengths(int held)
+{
+    const size_t n = static_cast<size_t>(h.pointCount());
+    m_inverseMass.assign(n, 0.0);
+    for (size_t i = 0; i < n; ++i) {
+        if (h.m_fixed[i] || static_cast<int>(i) == held) continue;
+        const double mass =
+            0.5 * ((i > 0 ? h.m_restLength[i - 1] : 0.0) + (i + 1 < n ? h.m_restLength[i] : 0.0));
+        m_inverseMass[i] = m_meanRest / mass;
+    }
+}
+
+void ChainProjection::clearContacts()
+{
+    m_hasContact.clear();
+}
+
+void ChainProjection::setContact(int point, const Vec3& normal, const Vec3& onPlane, double distance)
+{
+    const size_t n = static_cast<size_t>(h.pointCount());
+    if (m_hasContact.size() != n) {
+        m_hasContact.assign(n, 0);
+        m_contactNormal.assign(n, Vec3::Zero());
+        m_contactPoint.assign(n, Vec3::Zero());
+        m_contactDistance.assign(n, 0.0);
+    }
+    const size_t i = static_cast<size_t>(point);
+    m_hasContact[i] = 1;
+    m_contactNormal[i] = normal;
+    m_contactPoint[i] = onPlane;
+    m_contactDistance[i] = distance;
+}
+
+double ChainProjection::gather(bool onlyMeasure)
+{
+    const std::vector<Vec3>& p = h.m_local;
+    const std::vector<double>& w = m_inverseMass;
+    std::vector<signed char>& work = h.m_workingSet;
+    m_rows.clear();
+    double worst = 0.0;
+    m_merit = 0.0;
+    const bool contacts = !m_hasContact.empty();
+    // Unit direction of the segment before the current point, carried along the loop.
+    Vec3 before = Vec3::Zero();
+    double beforeLength = 0.0;
+    for (int i = m_first; i <= m_last; ++i) {
+        const size_t k = static_cast<size_t>(i);
+        if (contacts && m_hasContact[k] && w[k] > 0.0) {
+            const double value = m_contactDistance[k] - m_contactNormal[k].dot(p[k] - m_contactPoint[k]);
+            worst = std::max(worst, value / m_meanRest);
+            if (value > 0.0) m_merit += (value / m_meanRest) * (value / m_meanRest);
+            if (!onlyMeasure) {
+                Row row;
+                row.first = i;
+                row.count = 1;
+                row.g[0] = -m_contactNormal[k];
+                row.value = value;
+                row.key = 3 * k;
+                row.inequality = true;
+                row.working = value > -kActiveMargin * m_meanRest || work[row.key] != 0;
+                m_rows.push_back(row);
+            }
+        }
+        if (i == m_last) break;
+        const Vec3 d = p[k + 1] - p[k];
+        const double length = d.norm();
+        const double lo = h.m_minLength[k], hi = h.m_maxLength[k], rest = h.m_restLength[k];
+        const Vec3 unit = length > 0.0 ? Vec3(d / length) : Vec3::Zero();
+        if (w[k] + w[k + 1] > 0.0) {
+            const double excess = std::max(length - hi, lo - length) / rest;
+            worst = std::max(worst, excess);
+            if (excess > 0.0) m_merit += excess * excess;
+            // Equality, or the bound nearer than half the band: a candidate row.
+            const bool equality = lo == hi;
+            const double sign = (equality || length >= rest) ? 1.0 : -1.0;
+            const bool near = equality || (sign > 0.0 ? length > 0.5 * (hi + rest) : length < 0.5 * (lo + rest));
+            if (!onlyMeasure && near && length > 0.0) {
+                Row row;
+                row.first = i;
+                row.count = 2;
+                row.g[0] = -sign * unit;
+                row.g[1] = sign * unit;
+                row.value = sign > 0.0 ? length - hi : lo - length;
+                row.key = 3 * k + 1;
+                row.inequality = !equality;
+                row.working = equality || row.value > -kActiveMargin * rest || work[row.key] == sign;
+                row.side = static_cast<signed char>(sign);
+                m_rows.push_back(row);
+            }
+        }
+        // The bend at joint i, between the segment before it and this one (only joints whose
+        // three points lie in the range).
+        if (m_bends && i > m_first && h.m_cosLimit[k] > -1.0 + 1e-12 && beforeLength > 0.0 && length > 0.0 &&
+            w[k - 1] + w[k] + w[k + 1] > 0.0) {
+            const double cosLimit = h.m_cosLimit[k], sinLimit = h.m_sinLimit[k];
+            const double cosTurn = before.dot(unit);
+            // Candidates: turning by more than half the limit (cos φ < cos(θ/2)).
+            if (cosTurn < h.m_cosHalfLimit[k] || work[3 * k + 2] != 0) {
+                const Vec3 normal = before.cross(unit);
+                const double sinTurn = normal.norm();
+                const double turn = std::atan2(sinTurn, cosTurn);
+                const double limit = std::atan2(sinLimit, cosLimit);
+                const double value = turn - limit;
+                worst = std::max(worst, value);
+                if (value > 0.0) m_merit += value * value;
+                // A straight or folded joint has no usable gradient: left to the decided rules.
+                if (!onlyMeasure && sinTurn > 1e-12) {
+                    const Vec3 e1 = (unit - cosTurn * before).normalized();
+                    const Vec3 e2 = (before - cosTurn * unit).normalized();
+                    Row row;
+                    row.first = i - 1;
+                    row.count = 3;
+                    row.g[0] = e1 / beforeLength;
+                    row.g[2] = -e2 / length;
+                    row.g[1] = -row.g[0] - row.g[2];
+                    row.value = value;
+                    row.compliance = m_bendCompliance;
+                    row.key = 3 * k + 2;
+                    row.inequality = true;
+                    row.working = value > -kActiveMargin * limit || work[row.key] != 0;
+                    // Rows stay ordered by their first point: this one starts at i − 1, before
+                    // the rows of point i.
+                    size_t at = m_rows.size();
+                    while (at > 0 && m_rows[at - 1].first > row.first) --at;
+                    m_rows.insert(m_rows.begin() + static_cast<std::ptrdiff_t>(at), row);
+                }
+            } else if (work[3 * k + 2] != 0) {
+                work[3 * k + 2] = 0;
+            }
+        }
+        before = unit;
+        beforeLength = length;
+    }
+    return worst;
+}
+
+bool ChainProjection::solveWorking(const std::vector<Vec3>& from)
+{
+    const std::vector<Vec3>& p = h.m_local;
+    const std::vector<double>& w = m_inverseMass;
+    m_working.clear();
+    for (size_t r = 0; r < m_rows.size(); ++r)
+        if (m_rows[r].working) m_working.push_back(r);
+    const size_t m = m_working.size();
+    m_step.assign(static_cast<size_t>(m_last - m_first + 1), Vec3::Zero());
+    if (m == 0) return true;
+    // Band width: rows are ordered by first point and touch at most three points, so row r
+    // couples only with rows starting no later than its last point.
+    size_t width = 1;
+    for (size_t r = 0, s = 0; r < m; ++r) {
+        const int lastPoint = m_rows[m_working[r]].first + m_rows[m_working[r]].count - 1;
+        s = std::max(s, r);
+        while (s + 1 < m && m_rows[m_working[s + 1]].first <= lastPoint) ++s;
+        width = std::max(width, s - r + 1);
+    }
+    m_band.assign(m * width, 0.0);
+    m_lambda.resize(m);
+    for (size_t r = 0; r < m; ++r) {
+        const Row& a = m_rows[m_working[r]];
+        double rhs = -a.value;
+        if (&from != &p)
+            for (int q = 0; q < a.count; ++q) {
+                const size_t k = static_cast<size_t>(a.first + q);
+                rhs -= a.g[q].dot(from[k] - p[k]);
+            }
+        m_lambda[r] = rhs;
+        for (size_t s = r; s < m && s < r + width; ++s) {
+            const Row& b = m_rows[m_working[s]];
+            double value = 0.0;
+            const int lo = std::max(a.first, b.first), hi = std::min(a.first + a.count, b.first + b.count);
+            for (int point = lo; point < hi; ++point)
+                value += w[static_cast<size_t>(point)] * a.g[point - a.first].dot(b.g[point - b.first]);
+            m_band[r * width + (s - r)] = value;
+        }
+        double& diagonal = m_band[r * width];
+        diagonal += (a.compliance + m_damping) * diagonal + 1e-14 * diagonal;
+    }
+    solveBandedLdlt(m_band.data(), m_lambda.data(), m, width);
+    for (size_t r = 0; r < m; ++r) {
+        const Row& a = m_rows[m_working[r]];
+        for (int q = 0; q < a.count; ++q) m_step[static_cast<size_t>(a.first + q - m_first)] += m_lambda[r] * a.g[q];
+    }
+    for (const Vec3& s : m_step)
+        if (!s.allFinite()) return false;
+    return true;
+}
+
+bool ChainProjection::adjustWorkingSet(const std::vector<Vec3>& from)
+{
+    const std::vector<Vec3>& p = h.m_local;
+    const std::vector<double>& w = m_inverseMass;
+    bool changed = false;
+    // Working inequality rows whose multiplier pulls (the step needs no push from them) leave.
+    for (size_t r = 0; r < m_working.size(); ++r) {
+        Row& row = m_rows[m_working[r]];
+        if (row.inequality && m_lambda[r] > 0.0) {
+            row.working = false;
+            changed = true;
+        }
+    }
+    // Rows outside the working set that the step would violate join.
+    for (Row& row : m_rows) {
+        if (row.working) continue;
+        double linear = row.value;
+        for (int q = 0; q < row.count; ++q) {
+            const size_t k = static_cast<size_t>(row.first + q);
+            const Vec3 next = from[k] + w[k] * m_step[static_cast<size_t>(row.first + q - m_first)];
+            linear += row.g[q].dot(next - p[k]);
+        }
+        const double scale = row.count == 2 ? h.m_restLength[static_cast<size_t>(row.first)] : 1.0;
+        if (linear > kActiveMargin * scale) {
+            row.working = true;
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+double ChainProjection::violation()
+{
+    return gather(true);
+}
+
+ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
+{
+    std::vector<Vec3>& p = h.m_local;
+    const std::vector<double>& w = m_inverseMass;
+    ProjectionOutcome out;
+    double worst = gather(false);
+    double merit = m_merit;
+    m_damping = 0.0;
+    for (; out.iterations < maxIterations && !(worst <= tolerance); ++out.iterations) {
+        const std::vector<Vec3>& from = m_predicted ? *m_predicted : p;
+        bool finite = solveWorking(from);
+        for (int pass = 1; finite && pass < kWorkingSetPasses && adjustWorkingSet(from); ++pass)
+            finite = solveWorking(from);
+        m_saved.assign(p.begin() + m_first, p.begin() + m_last + 1);
+        if (finite) {
+            for (int i = m_first; i <= m_last; ++i) {
+                const size_t k = static_cast<size_t>(i);
+                if (w[k] != 0.0) p[k] = from[k] + w[k] * m_step[static_cast<size_t>(i - m_first)];
+            }
+        }
+        const double next = finite ? gather(false) : std::numeric_limits<double>::infinity();
+        // Levenberg–Marquardt: a step that does not lower the squared violations is undone and
+        // the next one damped harder; a good one relaxes the damping. (Steps from predicted
+        // positions are always taken: they start from a different point.)
+        if (!m_predicted && !(m_merit < merit) && !(next < worst)) {
+            std::copy(m_saved.begin(), m_saved.end(), p.begin() + m_first);
+            worst = gather(false);
+            merit = m_merit;
+            m_damping = std::max(4.0 * m_damping, 1e-3);
+            continue;
+        }
+        for (const Row& row : m_rows)
+            h.m_workingSet[row.key] = row.working ? (row.side != 0 ? row.side : 1) : 0;
+        worst = next;
+        merit = m_merit;
+        m_damping = m_damping > 1e-6 ? 0.25 * m_damping : 0.0;
+    }
+    out.violation = worst;
+    out.converged = worst <= tolerance;
+    return out;
+}
+
+} // namespace chaintube::detail

@@ -1,0 +1,109 @@
+// The chain projection: bounded Newton steps that bring a range of a hose's axis points onto
+// its constraints. Internal to lib/ (solver.cpp, sag.cpp).
+#pragma once
+
+#include "chaintube/hose.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace chaintube::detail {
+
+/// What one ChainProjection::run() did.
+struct ProjectionOutcome
+{
+    bool converged = false; ///< every active constraint within the tolerance
+    int iterations = 0;     ///< Newton steps taken (each O(points in the range))
+    double violation = 0.0; ///< largest violation left: relative length, radians, contact depth / mean rest
+};
+
+/// Projects axis points first … last of a hose onto its constraints: every segment inside its
+/// stretch band, every joint within its deflection limit, every point with a contact plane at
+/// least its distance above it. Points with inverse mass 0 stay where they are (attachments,
+/// a held point); the others move in proportion to their inverse mass.
+///
+/// Each step linearises the active constraints at the current positions x and solves
+///   (J W Jᵀ + D) λ = −(C(x) + J (z − x)),   x ← z + W Jᵀ λ
+/// with W the inverse masses, D the compliance of soft rows (0 for hard ones) and z the point
+/// the step starts from: z = x (the minimal move onto the linearised constraints: quadratic
+/// convergence to a feasible point), or z = the predicted positions y (the mass-weighted
+/// closest point to y, for dynamics). A constraint touches at most three consecutive points,
+/// so J W Jᵀ is banded (half-bandwidth ≤ 8) and one step costs O(last − first) through a banded
+/// LDLᵀ. Inequalities (stretch bands, bend limits, contacts) are handled by a working set
+/// kept from Newton step to Newton step (Hose::m_workingSet): rows on their bound
+/// are held there, rows whose multiplier pulls leave it, rows the step would violate join it
+/// (up to four solves of one linearisation). Deterministic; never produces NaN or Inf (a
+/// non-finite step is not taken).
+class ChainProjection
+{
+public:
+    explicit ChainProjection(Hose& hose) : h(hose) {}
+
+    /// Range of points taking part (inclusive). Rows touching only points outside it, or only
+    /// points of inverse mass 0, are left out; points outside it count as fixed.
+    void setRange(int first, int last);
+    /// Inverse mass per point (size pointCount(); 0 = fixed). Default: mass from the adjacent
+    /// rest lengths, attachments and `held` fixed.
+    void useMassesFromRestLengths(int held);
+    std::vector<double>& inverseMass() { return m_inverseMass; }
+    /// Bend rows soft with this compliance relative to their diagonal (0: hard). Soft bends
+    /// give way to the lengths: the result violates them as little as it can in the least
+    /// squares sense.
+    void setBendCompliance(double relative) { m_bendCompliance = relative; }
+    /// Whether bend rows take part at all (false: the lengths and contacts alone; the bends
+    /// are then neither corrected nor counted in the violation).
+    void setBends(bool on) { m_bends = on; }
+    /// Contact planes: point i keeps normal · (p_i − onPlane) ≥ distance (local coordinates).
+    void clearContacts();
+    void setContact(int point, const Vec3& normal, const Vec3& onPlane, double distance);
+    /// Starting point of each step: the predicted positions (dynamics) instead of the iterate.
+    void setPredicted(const std::vector<Vec3>* predicted) { m_predicted = predicted; }
+
+    /// At most maxIterations steps, stopping when the largest violation is ≤ tolerance.
+    ProjectionOutcome run(int maxIterations, double tolerance);
+
+    /// Largest violation of the rows in the range at the current positions (as run() reports).
+    double violation();
+
+private:
+    struct Row
+    {
+        int first = 0;   ///< first point
+        int count = 0;   ///< 1 … 3 consecutive points
+        Vec3 g[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}; ///< gradient per point
+        double value = 0.0;      ///< C(x): 0 on the bound, > 0 violated
+        double compliance = 0.0; ///< added to the diagonal (relative, see setBendCompliance)
+        size_t key = 0;          ///< 3 · point + kind (contact, length, bend): Hose::m_workingSet
+        signed char side = 0;    ///< length rows: +1 upper bound, −1 lower bound
+        bool inequality = false;
+        bool working = false;    ///< held on its bound in this step
+    };
+    /// Gathers the candidate rows at the current positions (violated, near their bound, or in
+    /// the working set); returns the largest violation.
+    double gather(bool onlyMeasure);
+    /// Solves for the working rows' multipliers and the step from `from`; false if not finite.
+    bool solveWorking(const std::vector<Vec3>& from);
+    /// One primal-dual update of the working set after solveWorking(): rows whose multiplier
+    /// pulls leave, rows the step would violate join. Returns whether it changed.
+    bool adjustWorkingSet(const std::vector<Vec3>& from);
+
+    Hose& h;
+    int m_first = 0;
+    int m_last = -1;
+    double m_meanRest = 1.0;
+    double m_bendCompliance = 0.0;
+    bool m_bends = true;
+    const std::vector<Vec3>* m_predicted = nullptr;
+    std::vector<double> m_inverseMass;
+    std::vector<unsigned char> m_hasContact;
+    std::vector<Vec3> m_contactNormal, m_contactPoint;
+    std::vector<double> m_contactDistance;
+    std::vector<Row> m_rows;
+    std::vector<size_t> m_working;
+    std::vector<double> m_band, m_lambda;
+    std::vector<Vec3> m_step, m_saved;
+    double m_merit = 0.0;   ///< gather(): sum of the squared violations
+    double m_damping = 0.0; ///< Levenberg–Marquardt damping, relative to the diagonal
+};
+
+} // namespace chaintube::detail

@@ -1,0 +1,478 @@
+#include "span_solver.h"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace chaintube::detail {
+
+namespace {
+
+/// SpanSolver::advance: the least gain (of a segment) of a step along the edge of the
+/// reachable set.
+constexpr double kEdgeGain = 1e-3;
+constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
+using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
+
+/// Rotates x by the Cayley rotation of ω (exactly orthogonal, first order the rotation vector).
+Vec3 cayley(const Vec3& omega, const Vec3& x)
+{
+    const Vec3 a = 0.5 * omega;
+    const double k = 2.0 / (1.0 + a.squaredNorm());
+    const Vec3 ax = a.cross(x);
+    return x + k * (ax + a.cross(ax));
+}
+
+/// Rotation matrix taking unit vector `from` to unit vector `to` about their common normal.
+Mat3 rotationBetween(const Vec3& from, const Vec3& to)
+{
+    const Vec3 axis = from.cross(to);
+    const double s = axis.norm(), c = from.dot(to);
+    if (!(s > 1e-300)) return Mat3::Identity();
+    const Vec3 u = axis / s;
+    Mat3 k;
+    k << 0, -u.z(), u.y(), u.z(), 0, -u.x(), -u.y(), u.x(), 0;
+    return Mat3::Identity() + s * k + (1.0 - c) * k * k;
+}
+
+Vec3 somePerpendicular(const Vec3& u)
+{
+    const Vec3 a = u.cwiseAbs();
+    Vec3 axis = Vec3::UnitX();
+    if (a.y() <= a.x() && a.y() <= a.z()) axis = Vec3::UnitY();
+    else if (a.z() <= a.x() && a.z() <= a.y()) axis = Vec3::UnitZ();
+    return u.cross(axis).normalized();
+}
+
+} // namespace
+
+SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Vec3& endTarget,
+                                      const std::vector<SpanGoal>& goals, const Vec3* rootDirection,
+                                      const Vec3* endDirection, int maxIterations, double tolerance,
+                                      bool writeAnyway)
+{
+    Outcome out;
+    std::vector<Vec3>& p = h.m_local;
+    const int dir = end > root ? 1 : -1;
+    const int m = (end - root) * dir; // segments
+    if (m < 1) return out;
+    // Point s of the span and the hose segment between points s and s + 1 of the span.
+    auto point = [&](int s) { return static_cast<size_t>(root + dir * s); };
+    auto segment = [&](int s) { return static_cast<size_t>(dir > 0 ? root + s : root - s - 1); };
+    const size_t segments = static_cast<size_t>(m);
+    m_direction.resize(segments);
+    m_length.resize(segments);
+    m_trial.resize(segments);
+    m_trialLength.resize(segments);
+    m_position.resize(segments + 1);
+    m_saturated.assign(segments, 0);
+    m_lengthHeld.assign(segments, 0);
+    m_normal.resize(segments);
+    m_room.resize(segments);
+    const bool stretchable = h.m_spec.material.expansionCoefficient > 0.0;
+
+    auto limitCos = [&](int s) { return h.m_cosLimit[point(s)]; };
+    auto limitSin = [&](int s) { return h.m_sinLimit[point(s)]; };
+    // The direction before segment s (null for the root without a fixed segment before it).
+    auto previousOf = [&](const std::vector<Vec3>& d, int s) -> const Vec3* {
+        if (s > 0) return &d[static_cast<size_t>(s - 1)];
+        return rootDirection;
+    };
+    auto limited = [&](int s) { return previousOf(m_direction, s) && limitCos(s) > -1.0 + 1e-12; };
+
+    // Clamps every joint of `d` to its limit, in order, turning the rest of the chain with
+    // each correction (so the joints after it keep their turns).
+    auto clampChain = [&](std::vector<Vec3>& d) {
+        Mat3 correction = Mat3::Identity();
+        bool corrected = false;
+        for (int s = 0; s < m; ++s) {
+            Vec3& ds = d[static_cast<size_t>(s)];
+            if (corrected) ds = (correction * ds).normalized();
+            const Vec3* before = previousOf(d, s);
+            if (!before || !(limitCos(s) > -1.0 + 1e-12)) continue;
+            const double c = before->dot(ds);
+            if (c >= limitCos(s)) continue;
+            Vec3 w = ds - c * *before;
+            if (!(w.norm() > 1e-12)) w = somePerpendicular(*before);
+            const Vec3 clamped = (limitCos(s) * *before + limitSin(s) * w.normalized()).normalized();
+            correction = rotationBetween(ds, clamped) * correction;
+            corrected = true;
+            ds = clamped;
+        }
+    };
+    auto forward = [&](const std::vector<Vec3>& d, const std::vector<double>& l) {
+        m_position[0] = p[static_cast<size_t>(root)];
+        for (size_t s = 0; s < segments; ++s) m_position[s + 1] = m_position[s] + l[s] * d[s];
+    };
+
+    // The current shape as directions and lengths, every joint within its limit.
+    for (size_t s = 0; s < segments; ++s) {
+        const size_t k = segment(static_cast<int>(s));
+        const Vec3 d = p[point(static_cast<int>(s) + 1)] - p[point(static_cast<int>(s))];
+        const double length = d.norm();
+        m_direction[s] = length > 0.0 ? Vec3(d / length) : (s > 0 ? m_direction[s - 1] : Vec3::UnitX());
+        m_length[s] = std::clamp(length, h.m_minLength[k], h.m_maxLength[k]);
+    }
+    clampChain(m_direction);
+    forward(m_direction, m_length);
+
+    // Rows: 3 per goal, 3 for the end, 1 for the end's bend when at its limit.
+    const int goalCount = static_cast<int>(std::min<size_t>(goals.size(), (kMaxRows - 4) / 3));
+    const double restEnd = h.m_restLength[segment(m - 1)];
+    const size_t endJoint = static_cast<size_t>(end);
+    const bool endBendLimited =
+        endFixed && endDirection && h.m_cosLimit[endJoint] > -1.0 + 1e-12;
+    const double endLimit = endBendLimited ? std::atan2(h.m_sinLimit[endJoint], h.m_cosLimit[endJoint]) : 0.0;
+    constexpr double kSoftWeight = 1e-2; // a soft goal's share of the squared residual
+
+    bool polishing = false; // the soft goals are left out: the closure alone
+    struct State
+    {
+        RowVector residual;
+        double merit = 0.0;
+        double closure = 0.0;  ///< end distance (endFixed) and end bend excess, relative
+        double goalError = 0.0;
+        bool bendRow = false;
+        double endTurn = 0.0;
+    };
+    auto evaluate = [&](State& st) {
+        const int rows = 3 * goalCount + 3 + 1;
+        st.residual.setZero(rows);
+        st.merit = 0.0;
+        st.goalError = 0.0;
+        for (int g = 0; g < goalCount; ++g) {
+            const SpanGoal& goal = goals[static_cast<size_t>(g)];
+            const Vec3 r = m_position[static_cast<size_t>((goal.point - root) * dir)] - goal.target;
+            st.residual.segment<3>(3 * g) = r;
+            st.merit += (goal.hard ? 1.0 : (polishing ? 0.0 : kSoftWeight)) * r.squaredNorm();
+            if (goal.hard) st.goalError = std::max(st.goalError, r.norm() / restEnd);
+        }
+        const Vec3 r = m_position[segments] - endTarget;
+        st.residual.segment<3>(3 * goalCount) = r;
+        st.merit += (endFixed || goalCount == 0 ? 1.0 : kSoftWeight) * r.squaredNorm();
+        st.closure = endFixed ? r.norm() / restEnd : 0.0;
+        st.bendRow = false;
+        if (endBendLimited) {
+            const Vec3& last = m_direction[segments - 1];
+            const double turn = std::atan2(last.cross(*endDirection).norm(), last.dot(*endDirection));
+            st.endTurn = turn;
+            const double excess = turn - endLimit;
+            st.bendRow = excess > -1e-9 * endLimit;
+            if (st.bendRow) {
+                st.residual(3 * goalCount + 3) = excess;
+                st.merit += excess * excess * restEnd * restEnd;
+                st.closure = std::max(st.closure, excess);
+            }
+        }
+        if (!endFixed) st.goalError = std::max(st.goalError, r.norm() / restEnd);
+    };
+
+    State current;
+    evaluate(current);
+    double damping = 0.0;
+    bool anySoft = false;
+    for (int g = 0; g < goalCount; ++g) anySoft = anySoft || !goals[static_cast<size_t>(g)].hard;
+    std::vector<Vec3> omega(segments);
+    std::vector<double> stretch(segments, 0.0);
+    const int rows = 3 * goalCount + 3 + 1;
+    for (; out.iterations < maxIterations; ++out.iterations) {
+        // The last two steps of the budget close the span alone (the soft goals as they are).
+        if (anySoft && !polishing && maxIterations >= 4 && out.iterations >= maxIterations - 2) {
+            polishing = true;
+            damping = 0.0;
+            evaluate(current);
+        }
+        // Soft goals have no tolerance: they take the budget, until a step gains nothing.
+        if (current.closure <= tolerance && current.goalError <= tolerance && !(anySoft && !polishing)) break;
+        // The bend row at the end, as a rotation of the last direction: g = ∂turn/∂d.
+        Vec3 bendAxis = Vec3::Zero();
+        if (current.bendRow) {
+            const Vec3& last = m_direction[segments - 1];
+            const double c = last.dot(*endDirection);
+            Vec3 g = -(*endDirection - c * last);
+            const double sn = g.norm();
+            if (sn > 1e-12) bendAxis = last.cross(g / sn);
+        }
+        // Per joint: the normal of its bend plane (turning about it increases the turn) and how
+        // far the turn may still grow.
+        for (int s = 0; s < m; ++s) {
+            const size_t k = static_cast<size_t>(s);
+            m_normal[k] = Vec3::Zero();
+            m_room[k] = 1e300;
+            if (!limited(s)) continue;
+            const Vec3& before = *previousOf(m_direction, s);
+            const Vec3 cross = before.cross(m_direction[k]);
+            const double sn = cross.norm();
+            if (!(sn > 1e-12)) continue; // straight (or folded): no bend plane to limit in
+            m_normal[k] = cross / sn;
+            m_room[k] = std::atan2(limitSin(s), limitCos(s)) - std::atan2(sn, before.dot(m_direction[k]));
+        }
+        // Blocks of three rows (the goals, then the end) and the end's bend row. Joint s turns
+        // segments s … m−1 about position s: a block's point q > s moves by ω × (p_q − p_s)
+        // (rows R_b = −[v_b]×), the bend row by u·ω.
+        const int blocks = goalCount + 1;
+        int blockPoint[kMaxRows / 3];
+        for (int g = 0; g < goalCount; ++g) blockPoint[g] = (goals[static_cast<size_t>(g)].point - root) * dir;
+        blockPoint[goalCount] = m;
+        const Vec3 u = bendAxis;
+        RowMatrix a;
+        RowVector lambda, rhs;
+        for (int pass = 0; pass < 4; ++pass) {
+            // A joint held on its limit turns along it: its turn grows by exactly its room (≥ 0,
+            // tiny), the rest of its rotation is free.
+            a.setZero(rows, rows);
+            rhs = -current.residual;
+            Vec3 v[kMaxRows / 3], c[kMaxRows / 3], e[kMaxRows / 3];
+            for (int s = 0; s < m; ++s) {
+                const size_t k = static_cast<size_t>(s);
+                const Vec3& d = m_direction[k];
+                const bool held = m_saturated[k] != 0;
+                const Vec3& n = m_normal[k];
+                int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
+                while (first < blocks && blockPoint[first] <= s) ++first;
+                for (int b = first; b < blocks; ++b) {
+                    v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
+                    c[b] = v[b].cross(d);
+                    if (held) e[b] = v[b].cross(n);
+                }
+                for (int b = first; b < blocks; ++b) {
+                    for (int q = b; q < blocks; ++q) {
+                        Mat3 block = -v[q] * v[b].transpose() - c[b] * c[q].transpose();
+                        block.diagonal().array() += v[b].dot(v[q]);
+                        if (held) block -= e[b] * e[q].transpose();
+                        if (stretchable && !m_lengthHeld[k]) block += d * d.transpose();
+                        a.block<3, 3>(3 * b, 3 * q) += block;
+                    }
+                    if (held) rhs.segment<3>(3 * b) -= m_room[k] * n.cross(v[b]);
+                }
+                if (current.bendRow) {
+                    Vec3 pu = u - u.dot(d) * d;
+                    if (held) pu -= u.dot(n) * n;
+                    a(rows - 1, rows - 1) += u.dot(pu);
+                    for (int b = first; b < blocks; ++b) a.block<3, 1>(3 * b, rows - 1) -= v[b].cross(pu);
+                    if (held) rhs(rows - 1) -= m_room[k] * u.dot(n);
+                }
+            }
+            // Only the upper blocks were summed: mirror them.
+            for (int i = 0; i < rows; ++i)
+                for (int j = 0; j < i; ++j) a(i, j) = a(j, i);
+            for (int g = 0; g < goalCount; ++g)
+                if (!goals[static_cast<size_t>(g)].hard)
+                    for (int i = 0; i < 3; ++i) {
+                        const int row = 3 * g + i;
+                        if (polishing) {
+                            a.row(row).setZero();
+                            a.col(row).setZero();
+                            a(row, row) = 1.0;
+                            rhs(row) = 0.0;
+                        } else {
+                            a(row, row) *= 1.0 + 1.0 / kSoftWeight;
+                        }
+                    }
+            if (!endFixed && goalCount > 0)
+                for (int i = 0; i < 3; ++i) a(3 * goalCount + i, 3 * goalCount + i) *= 1.0 + 1.0 / kSoftWeight;
+            const double scale = a.diagonal().cwiseAbs().maxCoeff() + 1e-300;
+            for (int i = 0; i < rows; ++i) a(i, i) += damping * std::abs(a(i, i)) + 1e-13 * scale;
+            if (!current.bendRow) {
+                a.row(rows - 1).setZero();
+                a.col(rows - 1).setZero();
+                a(rows - 1, rows - 1) = 1.0; // unused row
+                rhs(rows - 1) = 0.0;
+            }
+            lambda = a.ldlt().solve(rhs);
+            // ω_s = P_s R_sᵀ λ (+ the held turn). A free joint whose turn would pass its limit
+            // is held on it; a held joint that this step would turn back inside is freed.
+            bool changed = false;
+            Vec3 tail = current.bendRow ? Vec3(lambda(rows - 1) * u) : Vec3::Zero();
+            for (int s = 0; s < m; ++s) {
+                const size_t k = static_cast<size_t>(s);
+                const Vec3& d = m_direction[k];
+                Vec3 full = tail;
+                int first = 0;
+                while (first < blocks && blockPoint[first] <= s) ++first;
+                for (int b = first; b < blocks; ++b)
+                    full += (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k]).cross(Vec3(lambda.segment<3>(3 * b)));
+                Vec3 w = full - d.dot(full) * d;
+                const Vec3& n = m_normal[k];
+                const bool hasNormal = n.squaredNorm() > 0.0;
+                if (m_saturated[k]) {
+                    if (hasNormal && n.dot(w) < m_room[k]) {
+                        m_saturated[k] = 0; // it would rather turn back inside
+                        changed = true;
+                    } else {
+                        w += (m_room[k] - n.dot(w)) * n;
+                    }
+                } else if (hasNormal && n.dot(w) > m_room[k]) {
+                    m_saturated[k] = 1;
+                    changed = true;
+                } else if (!hasNormal && limited(s)) {
+                    // A straight joint turns in the plane the step chooses: held on its limit
+                    // there if the step would turn it further.
+                    const double limit = std::atan2(limitSin(s), limitCos(s));
+                    const double turn = w.norm();
+                    if (turn > limit) {
+                        m_normal[k] = w / turn;
+                        m_room[k] = limit;
+                        m_saturated[k] = 1;
+                        changed = true;
+                    }
+                }
+                omega[k] = w;
+                if (stretchable) {
+                    // A length at an end of its band that the step would take beyond it is held
+                    // there (its row left out); held, it is freed when the step pulls it back in.
+                    double dl = 0.0;
+                    for (int b = first; b < blocks; ++b) dl += d.dot(Vec3(lambda.segment<3>(3 * b)));
+                    const size_t seg = segment(s);
+                    const bool atMax = m_length[k] >= h.m_maxLength[seg] * (1.0 - 1e-12);
+                    const bool atMin = m_length[k] <= h.m_minLength[seg] * (1.0 + 1e-12);
+                    const bool outward = (atMax && dl > 0.0) || (atMin && dl < 0.0);
+                    if (m_lengthHeld[k] != (outward ? 1 : 0)) {
+                        m_lengthHeld[k] = outward ? 1 : 0;
+                        changed = true;
+                    }
+                    stretch[k] = m_lengthHeld[k] ? 0.0 : dl;
+                }
+            }
+            if (!changed) break;
+        }
+        // The step: joint rotations accumulate along the chain.
+        Vec3 total = Vec3::Zero();
+        for (size_t s = 0; s < segments; ++s) {
+            total += omega[s];
+            m_trial[s] = cayley(total, m_direction[s]).normalized();
+            const size_t k = segment(static_cast<int>(s));
+            m_trialLength[s] = std::clamp(m_length[s] + stretch[s], h.m_minLength[k], h.m_maxLength[k]);
+        }
+        // Every joint back within its limit (the rest of the chain turning with each one).
+        std::swap(m_direction, m_trial);
+        clampChain(m_direction);
+        std::swap(m_direction, m_trial);
+        m_savedPositions = m_position;
+        forward(m_trial, m_trialLength);
+        std::swap(m_direction, m_trial);
+        std::swap(m_length, m_trialLength);
+        State next;
+        evaluate(next);
+        bool finite = true;
+        for (const Vec3& x : m_position) finite = finite && x.allFinite();
+        const bool better = next.merit < current.merit ||
+                            (next.closure < current.closure && next.merit <= current.merit * (1.0 + 1e-9));
+        if (finite && better) {
+            current = next;
+            damping = damping > 1e-9 ? 0.25 * damping : 0.0;
+        } else if (anySoft && !polishing && current.closure <= tolerance && current.goalError <= tolerance &&
+                   damping >= 1.0) {
+            // Valid, and the soft goals no nearer even with heavy damping: as near as they get.
+            std::swap(m_direction, m_trial);
+            std::swap(m_length, m_trialLength);
+            m_position = m_savedPositions;
+            break;
+        } else if (endFixed && anySoft && !polishing && current.closure > tolerance) {
+            // The soft goals are as near as they get: finish the closure alone.
+            std::swap(m_direction, m_trial);
+            std::swap(m_length, m_trialLength);
+            m_position = m_savedPositions;
+            polishing = true;
+            damping = 0.0;
+            evaluate(current);
+        } else {
+            // Undo, damp harder.
+            std::swap(m_direction, m_trial);
+            std::swap(m_length, m_trialLength);
+            m_position = m_savedPositions;
+            damping = std::max(4.0 * damping, 1e-4);
+        }
+    }
+    out.valid = current.closure <= tolerance || !endFixed;
+    out.goalsMet = out.valid && current.goalError <= tolerance;
+    if ((out.valid || writeAnyway) && out.iterations > 0) {
+        for (int s = 1; s < m; ++s) p[point(s)] = m_position[static_cast<size_t>(s)];
+        if (!endFixed) p[point(m)] = m_position[segments];
+    }
+    out.closure = current.closure;
+    return out;
+}
+
+SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
+                                        int moving, const Vec3& target, const Vec3* rootDirection,
+                                        const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance,
+                                        const Vec3* requested)
+{
+    Outcome out;
+    out.valid = true;
+    std::vector<Vec3>& p = h.m_local;
+    const int dir = end > root ? 1 : -1;
+    const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
+    const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
+    double radius = std::numeric_limits<double>::infinity();
+    for (int step = 0; step < maxSteps; ++step) {
+        const Vec3 at = p[static_cast<size_t>(point)];
+        const double error = (target - at).norm();
+        // Nearer the target by `gain` (relative to a segment). Beyond reach, nearer the
+        // requested target by kEdgeGain of a segment: smaller gains are a creep along the edge
+        // of the reachable set that would keep a held target from coming to rest.
+        auto progress = [&](const Vec3& q, double gain) {
+            if (!requested) return (target - q).norm() < error - gain * rest;
+            return (target - q).norm() < error - 1e-12 * rest &&
+                   (*requested - q).norm() <= (*requested - at).norm() - kEdgeGain * rest;
+        };
+        if (error <= tolerance * rest) {
+            // There to the tolerance: exactly there (the adjacent segments change by as much).
+            p[static_cast<size_t>(point)] = target;
+            out.goalsMet = true;
+            break;
+        }
+        const Vec3 subGoal = error <= radius ? target : Vec3(at + (target - at) * (radius / error));
+        if (moving >= 0) goals[static_cast<size_t>(moving)].target = subGoal;
+        const int lo = std::min(root, end), hi = std::max(root, end);
+        m_saved.assign(p.begin() + lo, p.begin() + hi + 1);
+        if (moving >= 0) {
+            // Warm start: the step's displacement spread over the span, fading to nothing at
+            // its ends (and at the other goals), so the solve starts near a shape that has
+            // the point at its sub-goal instead of at a corner of the bend limits.
+            const Vec3 shift = subGoal - at;
+            int left = lo, right = hi;
+            for (const SpanGoal& g : goals) {
+                if (g.point < point) left = std::max(left, g.point);
+                if (g.point > point) right = std::min(right, g.point);
+            }
+            for (int i = left + 1; i < right; ++i) {
+                const double weight = i <= point ? double(i - left) / (point - left) : double(right - i) / (right - point);
+                p[static_cast<size_t>(i)] += weight * shift;
+            }
+        }
+        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection, endDirection,
+                                stepIterations, tolerance);
+        out.iterations += o.iterations;
+        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
+            if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
+            if (o.goalsMet) radius = 2.0 * std::min(radius, error);
+            continue;
+        }
+        std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+        radius = 0.5 * std::min(radius, error);
+        // The sub-goal is out of the span's reach (bend limits and the fixed segments' tangents
+        // make the reachable set smaller than the balls of the grab's reach): the point goes as
+        // near it as the span allows, the end still hard, so a held target keeps coming nearer
+        // instead of stalling at the first unreachable sub-goal.
+        if (moving >= 0) goals[static_cast<size_t>(moving)].hard = false;
+        const Outcome soft = solve(root, end, moving >= 0, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
+                                   endDirection, stepIterations, tolerance);
+        if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
+        out.iterations += soft.iterations;
+        // A soft step counts when it gains kEdgeGain of a segment (the same creep).
+        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain)))
+            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+    }
+    if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
+        p[static_cast<size_t>(point)] = target;
+        out.goalsMet = true;
+    }
+    return out;
+}
+
+} // namespace chaintube::detail

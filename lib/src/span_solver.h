@@ -1,0 +1,78 @@
+// The span solver: a free span between two pinned points solved in the hose's own degrees of
+// freedom (segment directions and, with a stretch band, lengths), so that every length and bend
+// limit holds by construction and only the far end's closure is iterated. Internal to lib/.
+#pragma once
+
+#include "chaintube/hose.h"
+
+#include <vector>
+
+namespace chaintube::detail {
+
+/// A point of the span that should be at `target` (local coordinates).
+struct SpanGoal
+{
+    int point = -1;
+    Vec3 target = Vec3::Zero();
+    bool hard = true; ///< false: as near as the span allows (least squares)
+};
+
+/// Solves the span root … end of a hose's axis: root stays where it is; the
+/// points between are placed by forward kinematics from root along unit segment directions at
+/// lengths inside their band (so every segment is inside its band and every joint within its
+/// deflection limit, exactly, after every step); the goals are met by damped Newton steps on
+/// the joint rotations (and the lengths of a stretchable hose), O(end − root) each. The end
+/// point is a goal too: when `endFixed`, the span is valid only if it reaches the end point
+/// (closure to `tolerance` relative to the last segment's rest length); otherwise the end is a
+/// free point placed by the kinematics (a span ending at a grabbed point).
+///
+/// Joints at their limit may turn along the limit or back inside it, never beyond; the bend at
+/// the root (from the segment before root, when `rootDirection` is set) and at the end (to
+/// the segment after it, `endDirection`) are limited too.
+class SpanSolver
+{
+public:
+    explicit SpanSolver(Hose& hose) : h(hose) {}
+
+    struct Outcome
+    {
+        bool valid = false;  ///< every constraint of the span holds (closure included)
+        bool goalsMet = false; ///< and every goal is met to the tolerance
+        int iterations = 0;
+        double closure = 0.0; ///< distance of the end from its target (relative), bend excess there
+    };
+
+    /// root, end: point indices. endTarget: where the end point must be (endFixed) or should be.
+    /// goals: inner points that should be at targets (sorted by point). rootDirection /
+    /// endDirection: unit directions of the fixed segments before root and after end (null:
+    /// none). Writes the points root + 1 … end − 1 (and end, when not endFixed) on success;
+    /// leaves them as they were otherwise.
+    /// root > end solves the span the other way round (root is still the point that stays).
+    /// writeAnyway: write the points even when the end was not reached (the best state found).
+    Outcome solve(int root, int end, bool endFixed, const Vec3& endTarget, const std::vector<SpanGoal>& goals,
+                  const Vec3* rootDirection, const Vec3* endDirection, int maxIterations, double tolerance,
+                  bool writeAnyway = false);
+
+    /// From a valid span (its end reached), brings one point towards `target` in steps that
+    /// each end valid: a sub-goal at most a trust radius away (doubled after a step that
+    /// reached it, halved after one that failed), solved with every other goal and the end
+    /// hard. `moving` is the index in `goals` of the point that moves, or −1 for the end
+    /// itself (a span ending at a grabbed point: `endTarget` is then ignored). The span stays
+    /// valid whatever happens; `goalsMet` says whether the point got to its target.
+    /// `requested` (a grab's target beyond reach, of which `target` is the nearest point within
+    /// the reach balls): a step that takes the point farther from it is not taken.
+    Outcome advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals, int moving,
+                    const Vec3& target, const Vec3* rootDirection, const Vec3* endDirection, int maxSteps,
+                    int stepIterations, double tolerance, const Vec3* requested = nullptr);
+
+private:
+    Hose& h;
+    std::vector<Vec3> m_saved, m_savedPositions;
+    std::vector<Vec3> m_direction, m_trial, m_position;
+    std::vector<double> m_length, m_trialLength, m_room;
+    std::vector<Vec3> m_normal;
+    std::vector<unsigned char> m_saturated;
+    std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band
+};
+
+} // namespace chaintube::detail
