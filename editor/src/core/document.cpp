@@ -661,6 +661,41 @@ void Document::syncProjectPoses()
     m_project.poses = std::move(poses);
 }
 
+UpdateResult Document::moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
+                                            const std::vector<Frame>& frames)
+{
+    std::vector<Frame> from;
+    for (const int id : ids)
+        for (const Hose::Attachment& attachment : hose.attachments())
+            if (attachment.id == id) from.push_back(attachment.frame);
+    UpdateResult result = hose.moveAttachments(ids, frames);
+    const auto short_ = [&] {
+        double gap = 0.0;
+        for (const int id : ids) gap = std::max(gap, hose.attachmentGap(id));
+        return gap > 1e-9;
+    };
+    if (result.status != Status::Infeasible || !short_() || from.size() != frames.size())
+        return result;
+    // An update does bounded work: a long move in one go (a typed position, a large gizmo
+    // step) can stop short of what the hose reaches. The editor is not bound to a frame: the
+    // move again in kPoseSubSteps steps from where the attachments were, then the frames again
+    // until the hose gets no nearer.
+    std::vector<Frame> step(frames.size());
+    for (int k = 1; k <= kPoseSubSteps; ++k) {
+        const double t = double(k) / kPoseSubSteps;
+        for (size_t i = 0; i < frames.size(); ++i) {
+            step[i].translation = from[i].translation + t * (frames[i].translation - from[i].translation);
+            step[i].rotation = from[i].rotation.slerp(t, frames[i].rotation);
+        }
+        result = hose.moveAttachments(ids, step);
+    }
+    for (int again = 0; again < kPoseSubSteps && result.status == Status::Infeasible && short_() &&
+                        result.movedPoints > 0;
+         ++again)
+        result = hose.moveAttachments(ids, frames);
+    return result;
+}
+
 void Document::poseChanged(const NodeKey& node)
 {
     ++m_poseSerial;
@@ -701,7 +736,7 @@ void Document::poseChanged(const NodeKey& node)
                 ids.push_back(attachment.id);
             const std::vector<Frame> frames = posedAttachmentFrames(definition);
             if (ids.size() == frames.size())
-                live->second.lastUpdate = hoseObject.moveAttachments(ids, frames);
+                live->second.lastUpdate = moveAttachmentsFully(hoseObject, ids, frames);
             wakeGravity(definition.id);
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);

@@ -224,6 +224,9 @@ public:
     /// the points moved and the iterations of all of them.
     UpdateResult dragHosePoint(const std::string& hoseId, int point, const Vec3& target);
     static constexpr int kDragGrabs = 16;
+    /// A part move that leaves a hose short of it is done again in this many steps
+    /// (moveAttachmentsFully).
+    static constexpr int kPoseSubSteps = 16;
     static constexpr double kDragSubStep = 0.5e-3; ///< metres
     static constexpr int kDragSubSteps = 64;
     /// Ends a drag: pushes a command that writes the live axis as the hose's route, its length
@@ -292,6 +295,11 @@ public:
     /// (the hoses follow live), or rebuilds a hose exactly when no override affects it any
     /// more; emits PoseChanged and HoseShapeChanged.
     void poseChanged(const NodeKey& node);
+    /// Hose::moveAttachments to `frames`; when that leaves an attachment short (a long move in
+    /// one update), the move again in kPoseSubSteps steps from the attachments' frames before,
+    /// then the frames until the hose gets no nearer. Returns the last update's result.
+    static UpdateResult moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
+                                             const std::vector<Frame>& frames);
     /// Adds/removes an imported scene with its reference (import command).
     void insertScene(int index, formats::SceneReference reference, formats::ImportedScene scene);
     std::pair<formats::SceneReference, formats::ImportedScene> removeScene(const std::string& id);
