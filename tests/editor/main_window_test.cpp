@@ -12,6 +12,7 @@
 #include "main_window.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
+#include "chaintube/test_support/hose_checks.h"
 #include "test_support.h"
 #include "viewport.h"
 
@@ -1319,17 +1320,7 @@ QStringList historyTexts(MainWindow& window)
     return texts;
 }
 
-/// Largest relative excess of a segment beyond its stretch band (0: every segment in it).
-double worstBandExcess(const Hose& hose)
-{
-    double worst = 0.0;
-    for (int s = 0; s < hose.segmentCount(); ++s) {
-        const double length = (hose.point(s + 1) - hose.point(s)).norm();
-        worst = std::max({worst, (length - hose.maxLength(s)) / hose.restLength(s),
-                          (hose.minLength(s) - length) / hose.restLength(s)});
-    }
-    return worst;
-}
+using test_support::worstBandExcess;
 
 // Dragging a hose never makes it longer. Twenty mouse drags of a
 // point of left-feed, each committed on release, leave its rest length as it was (to 1e-9),

@@ -5,6 +5,7 @@
 #include "chaintube/formats/project_hoses.h"
 #include "chaintube/metrics.h"
 #include "chaintube/route.h"
+#include "chaintube/test_support/hose_checks.h"
 #include "test_files.h"
 
 #include <gtest/gtest.h>
@@ -30,17 +31,7 @@ std::string asVersion1_2(const Project& project)
     return document.dump();
 }
 
-/// Largest relative excess of a segment beyond [rest(1−e), rest(1+e)], measured here.
-double worstBandExcess(const Hose& hose)
-{
-    double worst = 0.0;
-    for (int s = 0; s < hose.segmentCount(); ++s) {
-        const double length = (hose.point(s + 1) - hose.point(s)).norm();
-        worst = std::max({worst, (length - hose.maxLength(s)) / hose.restLength(s),
-                          (hose.minLength(s) - length) / hose.restLength(s)});
-    }
-    return worst;
-}
+using test_support::worstBandExcess;
 
 TEST(HoseLength, AFileBefore1_3GetsTheLengthOfTheHoseAlongItsRoute)
 {
