@@ -32,14 +32,7 @@ constexpr int kAdvanceIterations = 6;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
 
-Vec3 anyPerpendicular(const Vec3& u)
-{
-    const Vec3 a = u.cwiseAbs();
-    Vec3 axis = Vec3::UnitX();
-    if (a.y() <= a.x() && a.y() <= a.z()) axis = Vec3::UnitY();
-    else if (a.z() <= a.x() && a.z() <= a.y()) axis = Vec3::UnitZ();
-    return u.cross(axis).normalized();
-}
+using detail::anyPerpendicular;
 
 } // namespace
 
@@ -646,6 +639,28 @@ public:
         return solveSpans(iterations, false, met) && met;
     }
 
+    /// Every span from the current positions: a straight span shorter than its hose bowed
+    /// first; if no valid shape is found, the bends give way and the span solver is tried once
+    /// more from that shape (its lengths hold and its ends are met: a start near a valid shape
+    /// where the warm start was not). Returns whether the lengths hold (the bends may not).
+    bool solveBowingOrKinking(int& iterations)
+    {
+        Solver bow(h);
+        bow.grabbed = held;
+        std::vector<Vec3> flat;
+        bool solved = false;
+        if (bow.bowFlatCompressedSpans(flat)) {
+            solved = hard(iterations);
+            if (!solved) h.m_local = std::move(flat);
+        }
+        if (!solved) solved = hard(iterations);
+        if (!solved && (solved = bendsGiveWay(iterations))) {
+            std::vector<Vec3> kinked = h.m_local;
+            if (!hard(iterations)) h.m_local = std::move(kinked);
+        }
+        return solved;
+    }
+
     /// The bends give way to the lengths (pinned points stay): soft bend rows, then the
     /// lengths alone to their tolerance. For ends whose positions and tangents leave no shape
     /// within the bend limits.
@@ -862,20 +877,8 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     bool solved = false;
     for (const double fraction : {1.0, 0.5}) {
         place(fraction);
-        Solver bow(*this);
-        std::vector<Vec3> flat;
-        if (bow.bowFlatCompressedSpans(flat)) {
-            solved = spans.hard(result.iterations);
-            if (!solved) m_local = std::move(flat);
-        }
-        if (!solved) solved = spans.hard(result.iterations);
-        // The ends leave no shape within the bend limits: the bends give way (a kink). The span
-        // solver is tried once more from that shape, whose lengths hold and whose end is met:
-        // a start near a valid shape where the move's warm start was not.
-        if (!solved && (solved = spans.bendsGiveWay(result.iterations))) {
-            std::vector<Vec3> kinked = m_local;
-            if (!spans.hard(result.iterations)) m_local = std::move(kinked);
-        }
+        // Where the ends leave no shape within the bend limits the bends give way (a kink).
+        solved = spans.solveBowingOrKinking(result.iterations);
         if (solved) break;
     }
     if (!solved) m_local = m_scratch; // nothing valid found: the hose stays (its attachments unmet)
@@ -916,23 +919,7 @@ UpdateResult Hose::settleFrom(int held)
     m_scratch = m_local;
     UpdateResult result;
     PinnedSpans spans(*this, lo, hi, held);
-    // A straight span shorter than its hose: bowed first (as for an attachment move).
-    Solver bow(*this);
-    bow.grabbed = held;
-    std::vector<Vec3> flat;
-    bool solved = false;
-    if (bow.bowFlatCompressedSpans(flat)) {
-        solved = spans.hard(result.iterations);
-        if (!solved) m_local = std::move(flat);
-    }
-    if (!solved) solved = spans.hard(result.iterations);
-    // No valid shape from here: the bends give way, then the span solver from that shape (as in
-    // an attachment move).
-    if (!solved && (solved = spans.bendsGiveWay(result.iterations))) {
-        std::vector<Vec3> kinked = m_local;
-        if (!spans.hard(result.iterations)) m_local = std::move(kinked);
-    }
-    if (!solved) m_local = m_scratch;
+    if (!spans.solveBowingOrKinking(result.iterations)) m_local = m_scratch;
     Solver tails(*this);
     tails.sweepTails(lo, hi, m_scratch, true);
     const UpdateResult violation = measureViolation();

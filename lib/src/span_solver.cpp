@@ -38,15 +38,6 @@ Mat3 rotationBetween(const Vec3& from, const Vec3& to)
     return Mat3::Identity() + s * k + (1.0 - c) * k * k;
 }
 
-Vec3 somePerpendicular(const Vec3& u)
-{
-    const Vec3 a = u.cwiseAbs();
-    Vec3 axis = Vec3::UnitX();
-    if (a.y() <= a.x() && a.y() <= a.z()) axis = Vec3::UnitY();
-    else if (a.z() <= a.x() && a.z() <= a.y()) axis = Vec3::UnitZ();
-    return u.cross(axis).normalized();
-}
-
 } // namespace
 
 SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Vec3& endTarget,
@@ -96,7 +87,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             const double c = before->dot(ds);
             if (c >= limitCos(s)) continue;
             Vec3 w = ds - c * *before;
-            if (!(w.norm() > 1e-12)) w = somePerpendicular(*before);
+            if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
             const Vec3 clamped = (limitCos(s) * *before + limitSin(s) * w.normalized()).normalized();
             correction = rotationBetween(ds, clamped) * correction;
             corrected = true;

@@ -9,6 +9,17 @@
 
 namespace chaintube::detail {
 
+/// The fixed perpendicular of a unit vector: u × the world axis it has the smallest component
+/// along (the fold-back rule's plane, lib/README.md).
+inline Vec3 anyPerpendicular(const Vec3& u)
+{
+    const Vec3 a = u.cwiseAbs();
+    Vec3 axis = Vec3::UnitX();
+    if (a.y() <= a.x() && a.y() <= a.z()) axis = Vec3::UnitY();
+    else if (a.z() <= a.x() && a.z() <= a.y()) axis = Vec3::UnitZ();
+    return u.cross(axis).normalized();
+}
+
 /// A point of the span that should be at `target` (local coordinates).
 struct SpanGoal
 {
