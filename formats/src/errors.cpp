@@ -17,8 +17,8 @@ ProjectFormatError::ProjectFormatError(std::filesystem::path file, std::string j
 {
 }
 
-ImportError::ImportError(std::filesystem::path file, std::string reason, int signal,
-                         int exitStatus, std::string readerOutput)
+ImportError::ImportError(std::filesystem::path file, std::string reason, int signal, int exitStatus,
+                         std::string readerOutput)
     : FileError(std::move(file), std::move(reason)), m_signal(signal), m_exitStatus(exitStatus),
       m_readerOutput(std::move(readerOutput))
 {

@@ -92,10 +92,9 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
 
 /// What a reader program reads with: its own arguments, the file, the options (with a
 /// progress callback that reports to the parent if the caller gave one).
-using ReaderProgramFunction =
-    std::function<ReaderResult(const std::vector<std::string>& arguments,
-                               const std::filesystem::path& file, const ImportOptions& options,
-                               ProgressStage& progress)>;
+using ReaderProgramFunction = std::function<ReaderResult(
+    const std::vector<std::string>& arguments, const std::filesystem::path& file,
+    const ImportOptions& options, ProgressStage& progress)>;
 
 /// A reader program's main: takes the file and options readInChildProcess put on its command
 /// line, runs `reader`, answers on descriptors 3 (messages) and 4 (the scene) and ends with

@@ -4,18 +4,18 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <new>
 #include <poll.h>
+#include <spawn.h>
 #include <string>
 #include <sys/mman.h>
-#include <spawn.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -155,7 +155,8 @@ void serialise(const ReaderResult& result, Serialiser& out)
         out.text(node.path);
         out.value(node.parent);
         out.array(node.children);
-        for (int k = 0; k < 16; ++k) out.value(node.localTransform.data()[k]);
+        for (int k = 0; k < 16; ++k)
+            out.value(node.localTransform.data()[k]);
         out.array(node.meshes);
     }
 }
@@ -205,7 +206,8 @@ ReaderResult deserialise(const char* data, std::size_t size, const std::filesyst
         node.path = in.text();
         node.parent = in.value<int>();
         node.children = in.array<int>();
-        for (int k = 0; k < 16; ++k) node.localTransform.data()[k] = in.value<double>();
+        for (int k = 0; k < 16; ++k)
+            node.localTransform.data()[k] = in.value<double>();
         node.meshes = in.array<int>();
         if ((i == 0) != (node.parent < 0) || node.parent >= static_cast<int>(i)) in.fail();
         for (const int child : node.children)
@@ -305,11 +307,15 @@ constexpr int kTailArguments = 8;
     const std::filesystem::path file = argv[tail];
     const auto parent = static_cast<pid_t>(number(tail + 1, "the parent's process id"));
     ImportOptions options;
-    if (std::string(argv[tail + 2]) != "-") options.metresPerUnit = number(tail + 2, "metres per unit");
+    if (std::string(argv[tail + 2]) != "-")
+        options.metresPerUnit = number(tail + 2, "metres per unit");
     const std::string up = argv[tail + 3];
-    if (up == "y") options.upAxis = UpAxis::PositiveY;
-    else if (up == "z") options.upAxis = UpAxis::PositiveZ;
-    else if (up != "-") usage("argument " + std::to_string(tail + 3) + " (up axis): expected y, z or -");
+    if (up == "y")
+        options.upAxis = UpAxis::PositiveY;
+    else if (up == "z")
+        options.upAxis = UpAxis::PositiveZ;
+    else if (up != "-")
+        usage("argument " + std::to_string(tail + 3) + " (up axis): expected y, z or -");
     options.chordalTolerance = number(tail + 4, "chordal tolerance");
     options.angularTolerance = number(tail + 5, "angular tolerance");
     const std::string progress = argv[tail + 6];
@@ -459,8 +465,7 @@ std::filesystem::path readerProgram(const std::string& name, const std::filesyst
         const fs::path program = fs::path(chosen) / name;
         if (::access(program.c_str(), X_OK) != 0)
             throw FileError(file, "cannot start the importer process: CHAINTUBE_READERS_DIR is '" +
-                                      std::string(chosen) + "', which holds no executable " +
-                                      name);
+                                      std::string(chosen) + "', which holds no executable " + name);
         return program;
     }
     std::error_code ignored;
@@ -523,7 +528,8 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
     arguments.push_back(hex(options.angularTolerance));
     arguments.push_back(options.progress ? "1" : "0");
     std::vector<char*> argv;
-    for (std::string& argument : arguments) argv.push_back(argument.data());
+    for (std::string& argument : arguments)
+        argv.push_back(argument.data());
     argv.push_back(nullptr);
 
     // posix_spawn, not fork: the caller may have other threads (the editor imports on a
@@ -564,11 +570,11 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
     posix_spawnattr_setsigmask(&attributes, &none);
     posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
     pid_t pid = 0;
-    if (const int error = ::posix_spawn(&pid, program.path.c_str(), &actions, &attributes,
-                                        argv.data(), environ);
+    if (const int error =
+            ::posix_spawn(&pid, program.path.c_str(), &actions, &attributes, argv.data(), environ);
         error != 0)
-        throw FileError(file, "cannot start the importer process " + program.path.string() +
-                                  ": " + std::strerror(error));
+        throw FileError(file, "cannot start the importer process " + program.path.string() + ": " +
+                                  std::strerror(error));
     ChildProcess child(pid);
     resultWrite.reset();
     outputWrite.reset();
@@ -642,7 +648,9 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
     }
     if (finalType == kRefusal) throw FileError(file, messages.substr(finalAt, finalSize));
     std::uint64_t size = 0;
-    struct stat sceneStatus{};
+    struct stat sceneStatus
+    {
+    };
     if (finalSize != sizeof size) Deserialiser(nullptr, 0, file).fail();
     std::memcpy(&size, messages.data() + finalAt, sizeof size);
     if (size == 0 || ::fstat(sceneFile.get(), &sceneStatus) != 0 ||
@@ -650,7 +658,8 @@ ReaderResult readInChildProcess(const std::filesystem::path& file, const std::st
         Deserialiser(nullptr, 0, file).fail();
     void* mapping = ::mmap(nullptr, size, PROT_READ, MAP_SHARED | MAP_POPULATE, sceneFile.get(), 0);
     if (mapping == MAP_FAILED)
-        throw FileError(file, std::string("cannot map the imported scene: ") + std::strerror(errno));
+        throw FileError(file,
+                        std::string("cannot map the imported scene: ") + std::strerror(errno));
     struct Unmap
     {
         void* at;

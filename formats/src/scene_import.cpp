@@ -5,8 +5,8 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 #include <map>
+#include <sstream>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -55,23 +55,27 @@ void checkReadableFile(const std::filesystem::path& file)
 /// the body must hold at least the declared elements — one value per scalar property and the
 /// count of each list (ASCII: whitespace-separated values; binary: bytes) — or the file is
 /// refused too.
-void checkPlyBody(const std::filesystem::path& file, std::ifstream& stream, const std::string& format,
-                  unsigned long long minimumValues, unsigned long long minimumBytes)
+void checkPlyBody(const std::filesystem::path& file, std::ifstream& stream,
+                  const std::string& format, unsigned long long minimumValues,
+                  unsigned long long minimumBytes)
 {
     if (format == "ascii") {
         unsigned long long values = 0;
         std::string value;
-        while (values < minimumValues && stream >> value) ++values;
+        while (values < minimumValues && stream >> value)
+            ++values;
         if (values < minimumValues)
-            throw FileError(file, "malformed PLY: the header declares " + std::to_string(minimumValues) +
+            throw FileError(file, "malformed PLY: the header declares " +
+                                      std::to_string(minimumValues) +
                                       " or more values, the body holds " + std::to_string(values));
     } else {
         const std::streampos bodyStart = stream.tellg();
         stream.seekg(0, std::ios::end);
         const auto bytes = static_cast<unsigned long long>(stream.tellg() - bodyStart);
         if (bodyStart >= 0 && bytes < minimumBytes)
-            throw FileError(file, "malformed PLY: the header declares " + std::to_string(minimumBytes) +
-                                      " or more bytes of data, the body has " + std::to_string(bytes));
+            throw FileError(file,
+                            "malformed PLY: the header declares " + std::to_string(minimumBytes) +
+                                " or more bytes of data, the body has " + std::to_string(bytes));
     }
 }
 
@@ -116,12 +120,14 @@ void checkPlyHeader(const std::filesystem::path& file)
                 format = a;
             } else if (keyword == "element") {
                 elementCount = 0;
-                if (!b.empty() && b.size() < 13 && b.find_first_not_of("0123456789") == std::string::npos)
+                if (!b.empty() && b.size() < 13 &&
+                    b.find_first_not_of("0123456789") == std::string::npos)
                     elementCount = std::min(kCap, std::stoull(b));
             } else if (keyword == "property") {
                 // A scalar takes one value; a list at least its count.
                 minimumValues = std::min(kCap, minimumValues + elementCount);
-                minimumBytes = std::min(kCap, minimumBytes + elementCount * plyTypeSize(a == "list" ? b : a));
+                minimumBytes =
+                    std::min(kCap, minimumBytes + elementCount * plyTypeSize(a == "list" ? b : a));
             }
         }
     }

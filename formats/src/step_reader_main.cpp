@@ -11,8 +11,7 @@ int main(int argc, char** argv)
         argc, argv,
         [](const std::vector<std::string>& arguments, const std::filesystem::path& file,
            const ImportOptions& options, detail::ProgressStage& progress) {
-            if (!arguments.empty())
-                throw std::invalid_argument("expected no arguments of its own");
+            if (!arguments.empty()) throw std::invalid_argument("expected no arguments of its own");
             return detail::importStep(file, options, progress);
         });
 }

@@ -21,7 +21,8 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
         if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
             pivot = std::numeric_limits<double>::infinity();
             rhs[i] = 0.0;
-            for (std::size_t d = 1; d < width; ++d) band[i * width + d] = 0.0;
+            for (std::size_t d = 1; d < width; ++d)
+                band[i * width + d] = 0.0;
             ++dropped;
             continue;
         }
@@ -36,7 +37,8 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
     for (std::size_t i = m; i-- > 0;) {
         const double pivot = band[i * width];
         double x = rhs[i];
-        for (std::size_t d = 1; d < width && i + d < m; ++d) x -= band[i * width + d] * rhs[i + d];
+        for (std::size_t d = 1; d < width && i + d < m; ++d)
+            x -= band[i * width + d] * rhs[i + d];
         rhs[i] = std::isfinite(pivot) ? x / pivot : 0.0;
     }
     return dropped;

@@ -3,8 +3,8 @@
 // The triangle hierarchy: median split on the longest centroid axis, ≤ 4 triangles per leaf,
 // built iteratively (degenerate inputs cannot overflow a recursion), triangles stored in leaf
 // order. Every query goes through MeshCollider::traverse (one traversal, a visitor per query)
-// whose stack is sized from the depth recorded at build time. Queries run in the mesh's local frame; the Frame only transforms the query and the
-// answer, so moving a collider costs nothing.
+// whose stack is sized from the depth recorded at build time. Queries run in the mesh's local
+// frame; the Frame only transforms the query and the answer, so moving a collider costs nothing.
 #include "chaintube/collision.h"
 
 #include "chaintube/hose.h"
@@ -69,8 +69,8 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
 }
 
 /// Closest points of segments p1q1 and p2q2 (Ericson 5.1.9); returns squared distance.
-double closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, double* s,
-                             double* t, Vec3* c1, Vec3* c2)
+double closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2,
+                             double* s, double* t, Vec3* c1, Vec3* c2)
 {
     const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
     const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
@@ -104,8 +104,8 @@ double closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, con
 }
 
 /// Closest points between segment pq and triangle abc; returns squared distance.
-double closestSegmentTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c,
-                              double* s, Vec3* onSegment, Vec3* onTriangle)
+double closestSegmentTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                              const Vec3& c, double* s, Vec3* onSegment, Vec3* onTriangle)
 {
     // A segment crossing the triangle: distance 0 at the crossing.
     const Vec3 n = (b - a).cross(c - a);
@@ -149,7 +149,8 @@ double closestSegmentTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const
 /// Ray–triangle (Möller–Trumbore, two-sided); t in (0, maxT).
 /// Slab test of the segment origin + t·(1 / inverse), t in [0, tmax], against `box` grown by
 /// `pad`: whether it enters, and where (`entry`, the smallest t inside).
-bool slabEntry(const Aabb& box, const Vec3& origin, const Vec3& inverse, double pad, double tmax, double& entry)
+bool slabEntry(const Aabb& box, const Vec3& origin, const Vec3& inverse, double pad, double tmax,
+               double& entry)
 {
     double tmin = 0.0;
     for (int axis = 0; axis < 3; ++axis) {
@@ -164,8 +165,8 @@ bool slabEntry(const Aabb& box, const Vec3& origin, const Vec3& inverse, double 
     return true;
 }
 
-bool rayTriangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c, double maxT,
-                 double* t)
+bool rayTriangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c,
+                 double maxT, double* t)
 {
     const Vec3 e1 = b - a, e2 = c - a, pv = d.cross(e2);
     const double det = e1.dot(pv);
@@ -197,8 +198,8 @@ bool smallestRoot(double a, double b, double c, double* t)
 
 /// First time in [0, 1] at which a sphere (centre p + t v, radius r) touches triangle abc, or
 /// false. Overlap at t = 0 counts only when the sphere moves deeper (see MeshCollider::Sweep).
-bool sweepSphereTriangle(const Vec3& p, const Vec3& v, double r, const Vec3& a, const Vec3& b, const Vec3& c,
-                         double* tHit)
+bool sweepSphereTriangle(const Vec3& p, const Vec3& v, double r, const Vec3& a, const Vec3& b,
+                         const Vec3& c, double* tHit)
 {
     const Vec3 c0 = closestOnTriangle(p, a, b, c);
     const double d0 = (p - c0).norm();
@@ -206,7 +207,8 @@ bool sweepSphereTriangle(const Vec3& p, const Vec3& v, double r, const Vec3& a, 
     // Touching at the start (to rounding) counts as overlap: only moving deeper is a contact.
     if (d0 <= r * (1.0 + 1e-12)) {
         Vec3 n = p - c0;
-        if (d0 > 1e-12 * std::max(1.0, r)) n /= d0;
+        if (d0 > 1e-12 * std::max(1.0, r))
+            n /= d0;
         else {
             n = (b - a).cross(c - a);
             const double len = n.norm();
@@ -242,7 +244,8 @@ bool sweepSphereTriangle(const Vec3& p, const Vec3& v, double r, const Vec3& a, 
     // Vertices.
     for (const Vec3* vertex : {&a, &b, &c}) {
         const Vec3 w = p - *vertex;
-        if (smallestRoot(v.squaredNorm(), 2.0 * v.dot(w), w.squaredNorm() - r * r, &t)) best = std::min(best, t);
+        if (smallestRoot(v.squaredNorm(), 2.0 * v.dot(w), w.squaredNorm() - r * r, &t))
+            best = std::min(best, t);
     }
     // Edges: the sphere meets the edge's cylinder at a parameter inside the edge.
     const std::array<std::pair<const Vec3*, const Vec3*>, 3> edges{{{&a, &b}, {&b, &c}, {&c, &a}}};
@@ -252,7 +255,8 @@ bool sweepSphereTriangle(const Vec3& p, const Vec3& v, double r, const Vec3& a, 
         if (!(e2 > 0.0)) continue;
         const Vec3 w = p - *e0;
         const Vec3 wPerp = w - (w.dot(edge) / e2) * edge, vPerp = v - (v.dot(edge) / e2) * edge;
-        if (smallestRoot(vPerp.squaredNorm(), 2.0 * wPerp.dot(vPerp), wPerp.squaredNorm() - r * r, &t)) {
+        if (smallestRoot(vPerp.squaredNorm(), 2.0 * wPerp.dot(vPerp), wPerp.squaredNorm() - r * r,
+                         &t)) {
             const double f = (w + t * v).dot(edge) / e2;
             if (f >= 0.0 && f <= 1.0) best = std::min(best, t);
         }
@@ -266,40 +270,53 @@ bool sweepSphereTriangle(const Vec3& p, const Vec3& v, double r, const Vec3& a, 
 
 // --- MeshCollider -----------------------------------------------------------------------------
 
-std::shared_ptr<MeshCollider> MeshCollider::fromArrays(const float* positions, std::size_t vertexCount,
-                                                       const std::uint32_t* indices, std::size_t indexCount,
-                                                       const Frame& frame)
+std::shared_ptr<MeshCollider> MeshCollider::fromArrays(const float* positions,
+                                                       std::size_t vertexCount,
+                                                       const std::uint32_t* indices,
+                                                       std::size_t indexCount, const Frame& frame)
 {
-    if (vertexCount == 0) throw InvalidArgument("collider positions: expected at least one vertex, got 0");
-    if (positions == nullptr) throw InvalidArgument("collider positions: null pointer for " + std::to_string(vertexCount) + " vertices");
+    if (vertexCount == 0)
+        throw InvalidArgument("collider positions: expected at least one vertex, got 0");
+    if (positions == nullptr)
+        throw InvalidArgument("collider positions: null pointer for " +
+                              std::to_string(vertexCount) + " vertices");
     std::vector<Vec3> points(vertexCount);
     for (std::size_t i = 0; i < vertexCount; ++i)
         points[i] = Vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
-    if (indexCount > 0 && indices == nullptr) throw InvalidArgument("collider indices: null pointer for " + std::to_string(indexCount) + " indices");
+    if (indexCount > 0 && indices == nullptr)
+        throw InvalidArgument("collider indices: null pointer for " + std::to_string(indexCount) +
+                              " indices");
     std::vector<std::uint32_t> list(indices, indices + indexCount);
     return fromArrays(points, list, frame);
 }
 
 std::shared_ptr<MeshCollider> MeshCollider::fromArrays(const std::vector<Vec3>& positions,
-                                                       const std::vector<std::uint32_t>& indices, const Frame& frame)
+                                                       const std::vector<std::uint32_t>& indices,
+                                                       const Frame& frame)
 {
-    if (positions.empty()) throw InvalidArgument("collider positions: expected at least one vertex, got 0");
+    if (positions.empty())
+        throw InvalidArgument("collider positions: expected at least one vertex, got 0");
     if (indices.empty() || indices.size() % 3 != 0)
-        throw InvalidArgument("collider indices: expected a non-zero multiple of 3 (three per triangle), got " +
-                              std::to_string(indices.size()));
+        throw InvalidArgument(
+            "collider indices: expected a non-zero multiple of 3 (three per triangle), got " +
+            std::to_string(indices.size()));
     for (std::size_t i = 0; i < positions.size(); ++i)
         if (!positions[i].allFinite())
-            throw InvalidArgument("collider positions[" + std::to_string(i) + "]: expected finite coordinates");
+            throw InvalidArgument("collider positions[" + std::to_string(i) +
+                                  "]: expected finite coordinates");
     for (std::size_t i = 0; i < indices.size(); ++i)
         if (indices[i] >= positions.size())
-            throw InvalidArgument("collider indices[" + std::to_string(i) + "] = " + std::to_string(indices[i]) +
+            throw InvalidArgument("collider indices[" + std::to_string(i) +
+                                  "] = " + std::to_string(indices[i]) +
                                   ": expected < vertex count " + std::to_string(positions.size()));
-    if (!isFiniteFrame(frame)) throw InvalidArgument("collider frame: expected a finite rigid frame");
+    if (!isFiniteFrame(frame))
+        throw InvalidArgument("collider frame: expected a finite rigid frame");
     std::shared_ptr<MeshCollider> collider(new MeshCollider());
     collider->m_frame = frame;
     collider->m_triangles.reserve(indices.size() / 3);
     for (std::size_t t = 0; t < indices.size(); t += 3)
-        collider->m_triangles.push_back({positions[indices[t]], positions[indices[t + 1]], positions[indices[t + 2]]});
+        collider->m_triangles.push_back(
+            {positions[indices[t]], positions[indices[t + 1]], positions[indices[t + 2]]});
     collider->build();
     return collider;
 }
@@ -326,11 +343,13 @@ void MeshCollider::build()
         m_depth = std::max(m_depth, task.depth);
         Aabb box, centroidBox;
         for (int i = task.first; i < task.first + task.count; ++i) {
-            const Triangle& tri = m_triangles[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
+            const Triangle& tri =
+                m_triangles[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
             box.extend(tri.a);
             box.extend(tri.b);
             box.extend(tri.c);
-            centroidBox.extend(centroids[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])]);
+            centroidBox.extend(
+                centroids[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])]);
         }
         m_nodes[static_cast<std::size_t>(task.node)].box = box;
         const Vec3 extent = centroidBox.max - centroidBox.min;
@@ -348,7 +367,8 @@ void MeshCollider::build()
         auto begin = order.begin() + task.first;
         if (extent[axis] > 0.0)
             std::nth_element(begin, begin + half, begin + task.count, [&](int x, int y) {
-                return centroids[static_cast<std::size_t>(x)][axis] < centroids[static_cast<std::size_t>(y)][axis];
+                return centroids[static_cast<std::size_t>(x)][axis] <
+                       centroids[static_cast<std::size_t>(y)][axis];
             });
         const int left = static_cast<int>(m_nodes.size());
         m_nodes.emplace_back();
@@ -360,7 +380,8 @@ void MeshCollider::build()
     }
     // Store triangles in leaf order (locality); remember each one's index as given.
     std::vector<Triangle> sorted(m_triangles.size());
-    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = m_triangles[static_cast<std::size_t>(order[i])];
+    for (std::size_t i = 0; i < order.size(); ++i)
+        sorted[i] = m_triangles[static_cast<std::size_t>(order[i])];
     m_triangles.swap(sorted);
     m_originalIndex = order;
     m_localBounds = m_nodes[0].box;
@@ -398,8 +419,7 @@ Aabb MeshCollider::worldBounds() const
 /// The stack holds at most depth + 1 entries (each inner node pops itself and pushes two), and
 /// build() records the depth, so no subtree is ever skipped: a small array up to depth 62, a
 /// heap buffer beyond (not reachable with the median split below 2^60 triangles, but correct).
-template <class Visitor>
-void MeshCollider::traverse(Visitor& visitor) const
+template <class Visitor> void MeshCollider::traverse(Visitor& visitor) const
 {
     if (m_nodes.empty()) return;
     struct Entry
@@ -430,7 +450,8 @@ void MeshCollider::traverse(Visitor& visitor) const
         const int left = node.first, right = node.first + 1;
         double leftKey = 0.0, rightKey = 0.0;
         const bool enterLeft = visitor.enter(m_nodes[static_cast<std::size_t>(left)].box, leftKey);
-        const bool enterRight = visitor.enter(m_nodes[static_cast<std::size_t>(right)].box, rightKey);
+        const bool enterRight =
+            visitor.enter(m_nodes[static_cast<std::size_t>(right)].box, rightKey);
         // The preferred child is pushed last, so it is popped first.
         if (enterLeft && enterRight && leftKey < rightKey) {
             stack[top++] = {right, rightKey};
@@ -472,7 +493,8 @@ MeshCollider::Closest MeshCollider::closestToPoint(const Vec3& point, double max
                 }
             }
         }
-    } visitor{*this, m_frame.applyInverse(point), maxDistance == kInf ? kInf : maxDistance * maxDistance};
+    } visitor{*this, m_frame.applyInverse(point),
+              maxDistance == kInf ? kInf : maxDistance * maxDistance};
     traverse(visitor);
     if (visitor.bestTriangle < 0) return result;
     const Vec3& p = visitor.p;
@@ -488,7 +510,8 @@ MeshCollider::Closest MeshCollider::closestToPoint(const Vec3& point, double max
     return result;
 }
 
-MeshCollider::Closest MeshCollider::closestToSegment(const Vec3& a, const Vec3& b, double maxDistance) const
+MeshCollider::Closest MeshCollider::closestToSegment(const Vec3& a, const Vec3& b,
+                                                     double maxDistance) const
 {
     Closest result;
     if (!a.allFinite() || !b.allFinite() || m_nodes.empty() || !(maxDistance >= 0.0)) return result;
@@ -522,7 +545,8 @@ MeshCollider::Closest MeshCollider::closestToSegment(const Vec3& a, const Vec3& 
                 }
                 double s = 0.0;
                 Vec3 onSegment = Vec3::Zero(), onTriangle = Vec3::Zero();
-                const double d2 = closestSegmentTriangle(p, q, tri.a, tri.b, tri.c, &s, &onSegment, &onTriangle);
+                const double d2 =
+                    closestSegmentTriangle(p, q, tri.a, tri.b, tri.c, &s, &onSegment, &onTriangle);
                 if (d2 <= best2) {
                     best2 = d2;
                     bestTriangle = i;
@@ -595,7 +619,13 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
                 }
             }
         }
-    } visitor{*this, m_frame.applyInverse(from), m_frame.applyInverse(to), Vec3::Zero(), Vec3::Zero(), radius, Aabb()};
+    } visitor{*this,
+              m_frame.applyInverse(from),
+              m_frame.applyInverse(to),
+              Vec3::Zero(),
+              Vec3::Zero(),
+              radius,
+              Aabb()};
     visitor.v = visitor.q - visitor.p;
     visitor.inverse = Vec3(1.0 / visitor.v.x(), 1.0 / visitor.v.y(), 1.0 / visitor.v.z());
     visitor.swept.extend(visitor.p);
@@ -618,10 +648,13 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
     return result;
 }
 
-MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direction, double maxT) const
+MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direction,
+                                           double maxT) const
 {
     RayHit result;
-    if (!origin.allFinite() || !direction.allFinite() || !(direction.norm() > 0.0) || m_nodes.empty()) return result;
+    if (!origin.allFinite() || !direction.allFinite() || !(direction.norm() > 0.0) ||
+        m_nodes.empty())
+        return result;
     struct Visitor
     {
         const MeshCollider& mesh;
@@ -646,7 +679,8 @@ MeshCollider::RayHit MeshCollider::raycast(const Vec3& origin, const Vec3& direc
                 }
             }
         }
-    } visitor{*this, m_frame.applyInverse(origin), m_frame.rotation.conjugate() * direction, Vec3::Zero(), maxT};
+    } visitor{*this, m_frame.applyInverse(origin), m_frame.rotation.conjugate() * direction,
+              Vec3::Zero(), maxT};
     visitor.inverse = Vec3(1.0 / visitor.d.x(), 1.0 / visitor.d.y(), 1.0 / visitor.d.z());
     traverse(visitor);
     result.trianglesTested = visitor.tested;
@@ -687,10 +721,13 @@ Clearance clearance(const Hose& hose, const MeshCollider& collider, double searc
 
 // --- Hose: staying outside the colliders ----------------------------------------------------
 
-void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> colliders, const CollisionOptions& options)
+void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> colliders,
+                        const CollisionOptions& options)
 {
     for (std::size_t i = 0; i < colliders.size(); ++i)
-        if (!colliders[i]) throw InvalidArgument("colliders[" + std::to_string(i) + "]: expected a collider, got null");
+        if (!colliders[i])
+            throw InvalidArgument("colliders[" + std::to_string(i) +
+                                  "]: expected a collider, got null");
     if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
         throw InvalidArgument("collision tolerance: expected a finite value > 0 metres");
     if (!(options.constraintTolerance > 0.0) || !std::isfinite(options.constraintTolerance))
@@ -701,7 +738,8 @@ void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> collide
     m_collisionStart.clear();
     m_collisionFree.clear();
     m_colliderFrames.clear();
-    for (const auto& c : m_colliders) m_colliderFrames.push_back(c->frame());
+    for (const auto& c : m_colliders)
+        m_colliderFrames.push_back(c->frame());
     if (!m_colliders.empty()) m_collisionStart = m_local;
     m_collisionRevision = m_revision;
     m_edgePoint = -1; // grab(): what was the edge of reach may no longer be
@@ -731,8 +769,8 @@ bool sameFrame(const Frame& a, const Frame& b)
 class ContactSet
 {
 public:
-    ContactSet(const std::vector<std::shared_ptr<const MeshCollider>>& all, const std::vector<Frame>& previousFrames,
-               const Aabb& region)
+    ContactSet(const std::vector<std::shared_ptr<const MeshCollider>>& all,
+               const std::vector<Frame>& previousFrames, const Aabb& region)
     {
         for (std::size_t c = 0; c < all.size(); ++c) {
             const MeshCollider& collider = *all[c];
@@ -742,7 +780,8 @@ public:
                 entry.moved = true;
             }
             // A collider that moved is always checked (its relative sweep starts elsewhere).
-            if (entry.moved || boxBoxDistance2(collider.worldBounds(), region) == 0.0) m_near.push_back(entry);
+            if (entry.moved || boxBoxDistance2(collider.worldBounds(), region) == 0.0)
+                m_near.push_back(entry);
         }
     }
     bool empty() const { return m_near.empty(); }
@@ -771,7 +810,8 @@ public:
     {
         MeshCollider::Closest best;
         for (const Entry& e : m_near) {
-            const MeshCollider::Closest q = e.collider->closestToPoint(p, best.found ? best.distance : maxDistance);
+            const MeshCollider::Closest q =
+                e.collider->closestToPoint(p, best.found ? best.distance : maxDistance);
             if (q.found && (!best.found || q.distance < best.distance)) best = q;
         }
         return best;
@@ -780,7 +820,8 @@ public:
     {
         MeshCollider::Closest best;
         for (const Entry& e : m_near) {
-            const MeshCollider::Closest q = e.collider->closestToSegment(a, b, best.found ? best.distance : maxDistance);
+            const MeshCollider::Closest q =
+                e.collider->closestToSegment(a, b, best.found ? best.distance : maxDistance);
             if (q.found && (!best.found || q.distance < best.distance)) best = q;
         }
         return best;
@@ -806,19 +847,22 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     const double tolerance = m_collisionOptions.tolerance;
     // The previous shape is exactly the one before this update when only this update changed
     // the revision; a grab can then be redone from it (below).
-    const bool startIsPrevious = m_collisionStart.size() == n && m_revision == m_collisionRevision + 1;
+    const bool startIsPrevious =
+        m_collisionStart.size() == n && m_revision == m_collisionRevision + 1;
     if (m_collisionStart.size() != n) m_collisionStart = m_local;
 
     // Per-point lower bounds on the clearance (axis distance − radius) stay valid while no
     // collider moved; a point that moved less than its bound cannot have touched anything.
-    bool collidersMoved = m_colliderFrames.size() != m_colliders.size() || m_collisionFree.size() != n;
+    bool collidersMoved =
+        m_colliderFrames.size() != m_colliders.size() || m_collisionFree.size() != n;
     for (std::size_t c = 0; !collidersMoved && c < m_colliders.size(); ++c)
         collidersMoved = !sameFrame(m_colliderFrames[c], m_colliders[c]->frame());
     if (collidersMoved) m_collisionFree.assign(n, -kInf); // unknown: query before trusting
     auto finish = [&]() {
         m_collisionStart = m_local;
         m_colliderFrames.clear();
-        for (const auto& c : m_colliders) m_colliderFrames.push_back(c->frame());
+        for (const auto& c : m_colliders)
+            m_colliderFrames.push_back(c->frame());
         m_collisionRevision = m_revision;
     };
 
@@ -828,7 +872,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         region.extend(m_local[i] + m_origin);
     }
     double maxRest = 0.0;
-    for (double l : m_restLength) maxRest = std::max(maxRest, l);
+    for (double l : m_restLength)
+        maxRest = std::max(maxRest, l);
     const double margin = radius + tolerance + maxRest;
     region.min.array() -= margin;
     region.max.array() += margin;
@@ -857,13 +902,15 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         bool touched = false;
         for (int slide = 0; slide < 3; ++slide) {
             if ((goal - position).norm() <= 1e-15 && !(relativeStart && slide == 0)) break;
-            const ContactSet::Hit h = contacts.sweep(position, goal, radius, relativeStart && slide == 0);
+            const ContactSet::Hit h =
+                contacts.sweep(position, goal, radius, relativeStart && slide == 0);
             if (!h.sweep.hit) {
                 position = goal;
                 break;
             }
             touched = true;
-            const Vec3 contact = h.start + h.sweep.fraction * (goal - h.start) + 1e-9 * h.sweep.normal;
+            const Vec3 contact =
+                h.start + h.sweep.fraction * (goal - h.start) + 1e-9 * h.sweep.normal;
             Vec3 rest = goal - contact;
             const double into = rest.dot(h.sweep.normal);
             if (into < 0.0) rest -= into * h.sweep.normal;
@@ -876,7 +923,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
                 position = slideGoal;
                 break;
             }
-            position = s2.start + s2.sweep.fraction * (slideGoal - s2.start) + 1e-9 * s2.sweep.normal;
+            position =
+                s2.start + s2.sweep.fraction * (slideGoal - s2.start) + 1e-9 * s2.sweep.normal;
             break;
         }
         freeBound[i] = touched ? 0.0 : freeBound[i] - length;
@@ -949,8 +997,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         for (std::size_t s = 0; s + 1 < n; ++s) {
             const double length = (m_local[s + 1] - m_local[s]).norm();
             if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + tolerance) continue;
-            const MeshCollider::Closest c = contacts.closestToSegment(m_local[s] + m_origin, m_local[s + 1] + m_origin,
-                                                                      radius - tolerance);
+            const MeshCollider::Closest c = contacts.closestToSegment(
+                m_local[s] + m_origin, m_local[s + 1] + m_origin, radius - tolerance);
             if (!c.found || c.distance >= radius - tolerance) continue;
             const double depth = radius - c.distance;
             deepest = std::max(deepest, depth);
@@ -963,9 +1011,12 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             const double wa = pinned[s] ? 0.0 : 1.0 - t, wb = pinned[s + 1] ? 0.0 : t;
             const double norm = wa * wa + wb * wb;
             if (!(norm > 1e-6)) continue;
-            if (wa > 0.0) m_local[s] = moveSwept(s, m_local[s], m_local[s] + normal * (depth * wa / norm), false);
+            if (wa > 0.0)
+                m_local[s] =
+                    moveSwept(s, m_local[s], m_local[s] + normal * (depth * wa / norm), false);
             if (wb > 0.0)
-                m_local[s + 1] = moveSwept(s + 1, m_local[s + 1], m_local[s + 1] + normal * (depth * wb / norm), false);
+                m_local[s + 1] = moveSwept(s + 1, m_local[s + 1],
+                                           m_local[s + 1] + normal * (depth * wb / norm), false);
             changed = true;
         }
         return deepest;
@@ -983,7 +1034,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         } else { // on top of each other: towards i's other neighbour, else the previous shape
             const long k = static_cast<long>(i) + (static_cast<long>(i) - static_cast<long>(j));
             Vec3 fallback = m_collisionStart[i] - m_collisionStart[j];
-            if (k >= 0 && k < static_cast<long>(n)) fallback = m_local[static_cast<std::size_t>(k)] - m_local[j];
+            if (k >= 0 && k < static_cast<long>(n))
+                fallback = m_local[static_cast<std::size_t>(k)] - m_local[j];
             if (fallback.norm() > 0.0) direction = fallback.normalized();
         }
         const long g = static_cast<long>(j) + (static_cast<long>(j) - static_cast<long>(i));
@@ -1012,7 +1064,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     const double ctol = m_collisionOptions.constraintTolerance;
     UpdateResult violation = changed ? measureViolation() : UpdateResult();
     for (int round = 0; changed && round < m_collisionOptions.maxRounds; ++round) {
-        if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol && penetration <= tolerance) break;
+        if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol &&
+            penetration <= tolerance)
+            break;
         for (std::size_t i = 1; i < n; ++i)
             if (!pinned[i]) project(i, i - 1);
         for (std::size_t i = n - 1; i-- > 0;)
@@ -1026,7 +1080,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     // blocked. (Fixed points stay where their frames put them.)
     bool refused = false;
     bool fixedMoved = false;
-    for (std::size_t i = 0; i < n && !fixedMoved; ++i) fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
+    for (std::size_t i = 0; i < n && !fixedMoved; ++i)
+        fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
     if (changed && !fixedMoved && violation.lengthViolation > ctol) {
         const std::vector<Vec3> rounds = m_local;
         m_local = m_collisionStart;
@@ -1036,7 +1091,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             violation = kept;
             penetration = 0.0;
             for (std::size_t i = 0; i < n; ++i) {
-                const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, queryReach);
+                const MeshCollider::Closest c =
+                    contacts.closestToPoint(m_local[i] + m_origin, queryReach);
                 if (c.found) penetration = std::max(penetration, radius - c.distance);
                 freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
             }
@@ -1064,12 +1120,14 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     result.blocked = blocked;
     // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
     // not met, which the caller must not read as Ok.
-    if (refused && result.penetration > 0.0 && result.status == Status::Ok) result.status = Status::Infeasible;
+    if (refused && result.penetration > 0.0 && result.status == Status::Ok)
+        result.status = Status::Infeasible;
     if (changed) {
         result.lengthViolation = violation.lengthViolation;
         result.angleViolation = violation.angleViolation;
         m_dirtyViolation = violation.status != Status::Ok;
-        if ((violation.lengthViolation > ctol || violation.angleViolation > ctol) && result.status != Status::InvalidInput)
+        if ((violation.lengthViolation > ctol || violation.angleViolation > ctol) &&
+            result.status != Status::InvalidInput)
             result.status = Status::Infeasible;
         // Per-frame gravity (step()): a point a contact moved loses its velocity (the contact is
         // inelastic), or the Verlet step would turn the push-back into a bounce.
@@ -1077,7 +1135,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             for (std::size_t i = 0; i < n; ++i)
                 if (m_local[i] != solved[i]) m_gravityPrevious[i] = m_local[i];
         int moved = 0;
-        for (std::size_t i = 0; i < n; ++i) moved += (m_local[i] - m_collisionStart[i]).squaredNorm() > 0.0;
+        for (std::size_t i = 0; i < n; ++i)
+            moved += (m_local[i] - m_collisionStart[i]).squaredNorm() > 0.0;
         result.movedPoints = moved;
         ++m_revision;
     }

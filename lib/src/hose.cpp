@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <string>
-#include <numbers>
 
 namespace chaintube {
 
@@ -28,7 +28,8 @@ std::string str(const Vec3& v)
 
 HoseSpec withDefaultProfile(HoseSpec spec)
 {
-    if (spec.profile.vertexCount() == 0) spec.profile = Profile::circle(0.5 * spec.outerDiameter, 16);
+    if (spec.profile.vertexCount() == 0)
+        spec.profile = Profile::circle(0.5 * spec.outerDiameter, 16);
     return spec;
 }
 
@@ -37,9 +38,9 @@ int segmentsFor(const HoseSpec& spec, double length)
     if (spec.segmentCount > 0) return spec.segmentCount;
     const double count = std::round(length / spec.segmentLength);
     if (!(count <= kMaxSegments))
-        throw InvalidArgument("hose.segmentLength: " + str(spec.segmentLength) + " m gives more than " +
-                              std::to_string(kMaxSegments) + " segments for a " + str(length) +
-                              " m hose");
+        throw InvalidArgument("hose.segmentLength: " + str(spec.segmentLength) +
+                              " m gives more than " + std::to_string(kMaxSegments) +
+                              " segments for a " + str(length) + " m hose");
     return std::max(1, static_cast<int>(count));
 }
 } // namespace
@@ -47,10 +48,14 @@ int segmentsFor(const HoseSpec& spec, double length)
 const char* toString(Status status)
 {
     switch (status) {
-    case Status::Ok: return "ok";
-    case Status::Clamped: return "clamped";
-    case Status::Infeasible: return "infeasible";
-    case Status::InvalidInput: return "invalid input";
+    case Status::Ok:
+        return "ok";
+    case Status::Clamped:
+        return "clamped";
+    case Status::Infeasible:
+        return "infeasible";
+    case Status::InvalidInput:
+        return "invalid input";
     }
     return "unknown";
 }
@@ -58,34 +63,41 @@ const char* toString(Status status)
 void HoseSpec::validate() const
 {
     if (!std::isfinite(outerDiameter) || outerDiameter <= 0.0)
-        throw InvalidArgument("hose.outerDiameter: expected a length > 0 m, got " + str(outerDiameter));
+        throw InvalidArgument("hose.outerDiameter: expected a length > 0 m, got " +
+                              str(outerDiameter));
     material.validate();
     if (segmentCount < 0 || segmentCount > kMaxSegments)
         throw InvalidArgument("hose.segmentCount: expected 1 … " + std::to_string(kMaxSegments) +
                               " (or 0 to use segmentLength), got " + std::to_string(segmentCount));
     if (segmentCount == 0 && (!std::isfinite(segmentLength) || segmentLength <= 0.0))
-        throw InvalidArgument("hose.segmentLength: expected a length > 0 m, got " + str(segmentLength));
+        throw InvalidArgument("hose.segmentLength: expected a length > 0 m, got " +
+                              str(segmentLength));
     if (!gravity.direction.allFinite() || gravity.direction.squaredNorm() == 0.0)
         throw InvalidArgument("hose.gravity.direction: expected a finite non-zero vector, got " +
                               str(gravity.direction));
-    if (!std::isfinite(torsion.twistLimit) || torsion.twistLimit <= 0.0 || torsion.twistLimit > std::numbers::pi)
-        throw InvalidArgument("hose.torsion.twistLimit: expected an angle in (0, pi] rad per joint, got " +
-                              str(torsion.twistLimit));
+    if (!std::isfinite(torsion.twistLimit) || torsion.twistLimit <= 0.0 ||
+        torsion.twistLimit > std::numbers::pi)
+        throw InvalidArgument(
+            "hose.torsion.twistLimit: expected an angle in (0, pi] rad per joint, got " +
+            str(torsion.twistLimit));
 }
 
 Hose Hose::straight(const Vec3& start, const Vec3& direction, double length, const HoseSpec& spec)
 {
     spec.validate();
-    if (!start.allFinite()) throw InvalidArgument("hose.start: expected finite coordinates, got " + str(start));
+    if (!start.allFinite())
+        throw InvalidArgument("hose.start: expected finite coordinates, got " + str(start));
     if (!direction.allFinite() || !(direction.norm() > 0.0))
-        throw InvalidArgument("hose.direction: expected a finite non-zero vector, got " + str(direction));
+        throw InvalidArgument("hose.direction: expected a finite non-zero vector, got " +
+                              str(direction));
     if (!std::isfinite(length) || length <= 0.0)
         throw InvalidArgument("hose.length: expected a length > 0 m, got " + str(length));
     const int segments = segmentsFor(spec, length);
     const Vec3 unit = direction.normalized();
     std::vector<Vec3> axis;
     axis.reserve(static_cast<size_t>(segments) + 1);
-    for (int i = 0; i <= segments; ++i) axis.push_back(start + unit * (length * i / segments));
+    for (int i = 0; i <= segments; ++i)
+        axis.push_back(start + unit * (length * i / segments));
     Hose hose;
     hose.initialiseFromAxis(axis, spec);
     return hose;
@@ -95,13 +107,15 @@ Hose Hose::alongRoute(const std::vector<Vec3>& route, const HoseSpec& spec)
 {
     spec.validate();
     if (route.size() < 2)
-        throw InvalidArgument("hose.route: expected at least 2 points, got " + std::to_string(route.size()));
+        throw InvalidArgument("hose.route: expected at least 2 points, got " +
+                              std::to_string(route.size()));
     for (size_t i = 0; i < route.size(); ++i) {
         if (!route[i].allFinite())
-            throw InvalidArgument("hose.route[" + std::to_string(i) + "]: expected finite coordinates");
+            throw InvalidArgument("hose.route[" + std::to_string(i) +
+                                  "]: expected finite coordinates");
         if (i > 0 && !((route[i] - route[i - 1]).norm() > 0.0))
-            throw InvalidArgument("hose.route[" + std::to_string(i) + "]: repeats the previous point " +
-                                  str(route[i]));
+            throw InvalidArgument("hose.route[" + std::to_string(i) +
+                                  "]: repeats the previous point " + str(route[i]));
     }
     const double rawLength = polylineLength(route);
     const double nominalSegment =
@@ -138,12 +152,13 @@ Hose Hose::fromAxis(const std::vector<Vec3>& axisPoints, const std::vector<doubl
     Hose hose;
     hose.initialiseFromAxis(axisPoints, spec);
     if (restLengths.size() != hose.m_restLength.size())
-        throw InvalidArgument("hose.restLengths: expected " + std::to_string(hose.m_restLength.size()) +
-                              " values (one per segment), got " + std::to_string(restLengths.size()));
+        throw InvalidArgument(
+            "hose.restLengths: expected " + std::to_string(hose.m_restLength.size()) +
+            " values (one per segment), got " + std::to_string(restLengths.size()));
     for (size_t s = 0; s < restLengths.size(); ++s)
         if (!std::isfinite(restLengths[s]) || restLengths[s] <= 0.0)
-            throw InvalidArgument("hose.restLengths[" + std::to_string(s) + "]: expected a length > 0 m, got " +
-                                  str(restLengths[s]));
+            throw InvalidArgument("hose.restLengths[" + std::to_string(s) +
+                                  "]: expected a length > 0 m, got " + str(restLengths[s]));
     hose.m_restLength = restLengths;
     hose.recomputeLimits();
     hose.m_dirtyViolation = hose.measureViolation().status != Status::Ok;
@@ -153,20 +168,23 @@ Hose Hose::fromAxis(const std::vector<Vec3>& axisPoints, const std::vector<doubl
 void Hose::initialiseFromAxis(const std::vector<Vec3>& axisPoints, const HoseSpec& spec)
 {
     if (axisPoints.size() < 2)
-        throw InvalidArgument("hose.axis: expected at least 2 points, got " + std::to_string(axisPoints.size()));
-    if (axisPoints.size() > static_cast<size_t>(kMaxSegments) + 1)
-        throw InvalidArgument("hose.axis: at most " + std::to_string(kMaxSegments + 1) + " points, got " +
+        throw InvalidArgument("hose.axis: expected at least 2 points, got " +
                               std::to_string(axisPoints.size()));
+    if (axisPoints.size() > static_cast<size_t>(kMaxSegments) + 1)
+        throw InvalidArgument("hose.axis: at most " + std::to_string(kMaxSegments + 1) +
+                              " points, got " + std::to_string(axisPoints.size()));
     double total = 0.0;
     for (size_t i = 0; i < axisPoints.size(); ++i) {
         if (!axisPoints[i].allFinite())
-            throw InvalidArgument("hose.axis[" + std::to_string(i) + "]: expected finite coordinates");
+            throw InvalidArgument("hose.axis[" + std::to_string(i) +
+                                  "]: expected finite coordinates");
         if (i > 0) total += (axisPoints[i] - axisPoints[i - 1]).norm();
     }
     m_spec = withDefaultProfile(spec);
     m_origin = axisPoints.front();
     m_local.resize(axisPoints.size());
-    for (size_t i = 0; i < axisPoints.size(); ++i) m_local[i] = axisPoints[i] - m_origin;
+    for (size_t i = 0; i < axisPoints.size(); ++i)
+        m_local[i] = axisPoints[i] - m_origin;
     const size_t segments = axisPoints.size() - 1;
     m_restLength.resize(segments);
     for (size_t s = 0; s < segments; ++s) {
@@ -216,28 +234,32 @@ void Hose::recomputeLimits()
 std::vector<Vec3> Hose::points() const
 {
     std::vector<Vec3> out(m_local.size());
-    for (size_t i = 0; i < m_local.size(); ++i) out[i] = m_origin + m_local[i];
+    for (size_t i = 0; i < m_local.size(); ++i)
+        out[i] = m_origin + m_local[i];
     return out;
 }
 
 double Hose::restLengthTotal() const
 {
     double total = 0.0;
-    for (double l : m_restLength) total += l;
+    for (double l : m_restLength)
+        total += l;
     return total;
 }
 
 double Hose::currentLength() const
 {
     double total = 0.0;
-    for (size_t i = 1; i < m_local.size(); ++i) total += (m_local[i] - m_local[i - 1]).norm();
+    for (size_t i = 1; i < m_local.size(); ++i)
+        total += (m_local[i] - m_local[i - 1]).norm();
     return total;
 }
 
 double Hose::deflectionLimit(int joint) const
 {
     if (joint <= 0 || joint >= pointCount() - 1) return std::numbers::pi;
-    return std::atan2(m_sinLimit[static_cast<size_t>(joint)], m_cosLimit[static_cast<size_t>(joint)]);
+    return std::atan2(m_sinLimit[static_cast<size_t>(joint)],
+                      m_cosLimit[static_cast<size_t>(joint)]);
 }
 
 void Hose::setMaterial(const Material& material)
@@ -251,7 +273,8 @@ void Hose::setMaterial(const Material& material)
 
 void Hose::setProfile(const Profile& profile)
 {
-    if (profile.vertexCount() == 0) throw InvalidArgument("hose.profile: expected a non-empty profile");
+    if (profile.vertexCount() == 0)
+        throw InvalidArgument("hose.profile: expected a non-empty profile");
     m_spec.profile = profile;
     ++m_revision;
 }
@@ -273,14 +296,16 @@ int Hose::attach(int first, int last, const Frame& frame)
 {
     if (first < 0 || last < first || last >= pointCount())
         throw InvalidArgument("attachment range: expected 0 <= first <= last < " +
-                              std::to_string(pointCount()) + ", got " + std::to_string(first) + " … " +
-                              std::to_string(last));
+                              std::to_string(pointCount()) + ", got " + std::to_string(first) +
+                              " … " + std::to_string(last));
     if (!isFiniteFrame(frame))
-        throw InvalidArgument("attachment frame: expected a finite translation and a unit rotation");
+        throw InvalidArgument(
+            "attachment frame: expected a finite translation and a unit rotation");
     for (int i = first; i <= last; ++i)
         if (m_fixed[static_cast<size_t>(i)])
-            throw InvalidArgument("attachment range " + std::to_string(first) + " … " + std::to_string(last) +
-                                  ": point " + std::to_string(i) + " is already fixed by another attachment");
+            throw InvalidArgument("attachment range " + std::to_string(first) + " … " +
+                                  std::to_string(last) + ": point " + std::to_string(i) +
+                                  " is already fixed by another attachment");
     Attachment attachment;
     attachment.id = m_nextAttachmentId++;
     attachment.first = first;
@@ -300,7 +325,8 @@ bool Hose::detach(int id)
     const auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
                                  [id](const Attachment& a) { return a.id == id; });
     if (it == m_attachments.end()) return false;
-    for (int i = it->first; i <= it->last; ++i) m_fixed[static_cast<size_t>(i)] = 0;
+    for (int i = it->first; i <= it->last; ++i)
+        m_fixed[static_cast<size_t>(i)] = 0;
     m_attachments.erase(it);
     m_settledRevision = 0; // step(): the freed points may fall
     m_edgePoint = -1;      // grab(): what was the edge of reach may no longer be
@@ -314,7 +340,9 @@ double Hose::attachmentGap(int id) const
     if (it == m_attachments.end()) return -1.0;
     double gap = 0.0;
     for (int i = it->first; i <= it->last; ++i)
-        gap = std::max(gap, (it->frame.apply(it->localPoints[static_cast<size_t>(i - it->first)]) - point(i)).norm());
+        gap = std::max(
+            gap, (it->frame.apply(it->localPoints[static_cast<size_t>(i - it->first)]) - point(i))
+                     .norm());
     return gap;
 }
 

@@ -2,8 +2,8 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <numbers>
+#include <sstream>
 
 namespace chaintube {
 

@@ -13,7 +13,8 @@ HoseMetrics measure(const Hose& hose)
     const int n = hose.pointCount();
     std::vector<double> length(static_cast<size_t>(n - 1));
     for (int s = 0; s + 1 < n; ++s) {
-        length[static_cast<size_t>(s)] = (p[static_cast<size_t>(s + 1)] - p[static_cast<size_t>(s)]).norm();
+        length[static_cast<size_t>(s)] =
+            (p[static_cast<size_t>(s + 1)] - p[static_cast<size_t>(s)]).norm();
         const double stretch = length[static_cast<size_t>(s)] / hose.restLength(s);
         m.maxStretch = s == 0 ? stretch : std::max(m.maxStretch, stretch);
         m.minStretch = s == 0 ? stretch : std::min(m.minStretch, stretch);
@@ -38,18 +39,21 @@ HoseMetrics measure(const Hose& hose)
             m.angleViolation = excess;
             m.angleViolationJoint = j;
         }
-        const double meanLength = 0.5 * (length[static_cast<size_t>(j - 1)] + length[static_cast<size_t>(j)]);
+        const double meanLength =
+            0.5 * (length[static_cast<size_t>(j - 1)] + length[static_cast<size_t>(j)]);
         const double radius = bendRadiusOfTurn(meanLength, turn);
         if (radius < m.smallestBendRadius) {
             m.smallestBendRadius = radius;
             m.smallestBendRadiusJoint = j;
         }
         if (radiusLimited && radius < limit.value * (1.0 - 1e-9)) m.bendBelowMinimum.push_back(j);
-        halfTurnTan[static_cast<size_t>(j)] = std::min(std::tan(0.5 * std::min(turn, 3.14159)), 1e12);
+        halfTurnTan[static_cast<size_t>(j)] =
+            std::min(std::tan(0.5 * std::min(turn, 3.14159)), 1e12);
     }
     const double radius = hose.profile().boundingRadius();
     for (int s = 0; s + 1 < n; ++s) {
-        const double reach = radius * (halfTurnTan[static_cast<size_t>(s)] + halfTurnTan[static_cast<size_t>(s + 1)]);
+        const double reach = radius * (halfTurnTan[static_cast<size_t>(s)] +
+                                       halfTurnTan[static_cast<size_t>(s + 1)]);
         const double ratio = reach / length[static_cast<size_t>(s)];
         if (ratio > m.worstRingOverlap) {
             m.worstRingOverlap = ratio;

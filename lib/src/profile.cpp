@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <numbers>
+#include <string>
 
 namespace chaintube {
 
@@ -22,7 +22,10 @@ void requireSides(int sides)
         throw InvalidArgument("profile.sides: expected 3 … 1024, got " + std::to_string(sides));
 }
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double cross(const Vec2& a, const Vec2& b)
+{
+    return a.x() * b.y() - a.y() * b.x();
+}
 
 double signedArea(const std::vector<Vec2>& polygon)
 {
@@ -49,7 +52,8 @@ bool pointInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c)
 std::vector<int> triangulate(const std::vector<Vec2>& polygon)
 {
     std::vector<int> remaining(polygon.size());
-    for (size_t i = 0; i < polygon.size(); ++i) remaining[i] = static_cast<int>(i);
+    for (size_t i = 0; i < polygon.size(); ++i)
+        remaining[i] = static_cast<int>(i);
     std::vector<int> triangles;
     size_t guard = 0;
     while (remaining.size() > 3 && guard++ < polygon.size() * polygon.size()) {
@@ -126,10 +130,12 @@ void Profile::finish()
         total += step;
         m_u[j] = total;
     }
-    for (double& u : m_u) u = total > 0.0 ? u / total : 0.0;
+    for (double& u : m_u)
+        u = total > 0.0 ? u / total : 0.0;
     if (count > 0) m_u.back() = 1.0;
     m_boundingRadius = 0.0;
-    for (const Vec2& p : m_points) m_boundingRadius = std::max(m_boundingRadius, p.norm());
+    for (const Vec2& p : m_points)
+        m_boundingRadius = std::max(m_boundingRadius, p.norm());
     m_capTriangles = triangulate(m_corners);
 }
 
@@ -203,7 +209,9 @@ Profile Profile::roundedRectangle(double width, double height, double cornerRadi
     std::vector<Vec2> corners, normals;
     for (int c = 0; c < 4; ++c) {
         for (int k = 0; k <= cornerSegments; ++k) {
-            const double angle = -0.5 * std::numbers::pi + 0.5 * std::numbers::pi * (c + static_cast<double>(k) / cornerSegments);
+            const double angle =
+                -0.5 * std::numbers::pi +
+                0.5 * std::numbers::pi * (c + static_cast<double>(k) / cornerSegments);
             const Vec2 direction(std::cos(angle), std::sin(angle));
             const Vec2 point = centres[c] + cornerRadius * direction;
             // A corner radius of exactly half the side makes neighbouring arcs meet: skip the

@@ -42,7 +42,8 @@ void ChainProjection::clearContacts()
     m_hasContact.clear();
 }
 
-void ChainProjection::setContact(int point, const Vec3& normal, const Vec3& onPlane, double distance)
+void ChainProjection::setContact(int point, const Vec3& normal, const Vec3& onPlane,
+                                 double distance)
 {
     const size_t n = static_cast<size_t>(h.pointCount());
     if (m_hasContact.size() != n) {
@@ -73,7 +74,8 @@ double ChainProjection::gather(bool onlyMeasure)
     for (int i = m_first; i <= m_last; ++i) {
         const size_t k = static_cast<size_t>(i);
         if (contacts && m_hasContact[k] && w[k] > 0.0) {
-            const double value = m_contactDistance[k] - m_contactNormal[k].dot(p[k] - m_contactPoint[k]);
+            const double value =
+                m_contactDistance[k] - m_contactNormal[k].dot(p[k] - m_contactPoint[k]);
             worst = std::max(worst, value / m_meanRest);
             if (value > 0.0) m_merit += (value / m_meanRest) * (value / m_meanRest);
             if (!onlyMeasure) {
@@ -100,7 +102,8 @@ double ChainProjection::gather(bool onlyMeasure)
             // Equality, or the bound nearer than half the band: a candidate row.
             const bool equality = lo == hi;
             const double sign = (equality || length >= rest) ? 1.0 : -1.0;
-            const bool near = equality || (sign > 0.0 ? length > 0.5 * (hi + rest) : length < 0.5 * (lo + rest));
+            const bool near =
+                equality || (sign > 0.0 ? length > 0.5 * (hi + rest) : length < 0.5 * (lo + rest));
             if (!onlyMeasure && near && length > 0.0) {
                 Row row;
                 row.first = i;
@@ -110,15 +113,16 @@ double ChainProjection::gather(bool onlyMeasure)
                 row.value = sign > 0.0 ? length - hi : lo - length;
                 row.key = 3 * k + 1;
                 row.inequality = !equality;
-                row.working = equality || row.value > -kActiveMargin * rest || work[row.key] == sign;
+                row.working =
+                    equality || row.value > -kActiveMargin * rest || work[row.key] == sign;
                 row.side = static_cast<signed char>(sign);
                 m_rows.push_back(row);
             }
         }
         // The bend at joint i, between the segment before it and this one (only joints whose
         // three points lie in the range).
-        if (m_bends && i > m_first && h.m_cosLimit[k] > -1.0 + 1e-12 && beforeLength > 0.0 && length > 0.0 &&
-            w[k - 1] + w[k] + w[k + 1] > 0.0) {
+        if (m_bends && i > m_first && h.m_cosLimit[k] > -1.0 + 1e-12 && beforeLength > 0.0 &&
+            length > 0.0 && w[k - 1] + w[k] + w[k + 1] > 0.0) {
             const double cosLimit = h.m_cosLimit[k], sinLimit = h.m_sinLimit[k];
             const double cosTurn = before.dot(unit);
             // Candidates: turning by more than half the limit (cos φ < cos(θ/2)).
@@ -148,7 +152,8 @@ double ChainProjection::gather(bool onlyMeasure)
                     // Rows stay ordered by their first point: this one starts at i − 1, before
                     // the rows of point i.
                     size_t at = m_rows.size();
-                    while (at > 0 && m_rows[at - 1].first > row.first) --at;
+                    while (at > 0 && m_rows[at - 1].first > row.first)
+                        --at;
                     m_rows.insert(m_rows.begin() + static_cast<std::ptrdiff_t>(at), row);
                 }
             } else if (work[3 * k + 2] != 0) {
@@ -177,7 +182,8 @@ bool ChainProjection::solveWorking(const std::vector<Vec3>& from)
     for (size_t r = 0, s = 0; r < m; ++r) {
         const int lastPoint = m_rows[m_working[r]].first + m_rows[m_working[r]].count - 1;
         s = std::max(s, r);
-        while (s + 1 < m && m_rows[m_working[s + 1]].first <= lastPoint) ++s;
+        while (s + 1 < m && m_rows[m_working[s + 1]].first <= lastPoint)
+            ++s;
         width = std::max(width, s - r + 1);
     }
     m_band.assign(m * width, 0.0);
@@ -194,9 +200,11 @@ bool ChainProjection::solveWorking(const std::vector<Vec3>& from)
         for (size_t s = r; s < m && s < r + width; ++s) {
             const Row& b = m_rows[m_working[s]];
             double value = 0.0;
-            const int lo = std::max(a.first, b.first), hi = std::min(a.first + a.count, b.first + b.count);
+            const int lo = std::max(a.first, b.first),
+                      hi = std::min(a.first + a.count, b.first + b.count);
             for (int point = lo; point < hi; ++point)
-                value += w[static_cast<size_t>(point)] * a.g[point - a.first].dot(b.g[point - b.first]);
+                value +=
+                    w[static_cast<size_t>(point)] * a.g[point - a.first].dot(b.g[point - b.first]);
             m_band[r * width + (s - r)] = value;
         }
         double& diagonal = m_band[r * width];
@@ -205,7 +213,8 @@ bool ChainProjection::solveWorking(const std::vector<Vec3>& from)
     solveBandedLdlt(m_band.data(), m_lambda.data(), m, width);
     for (size_t r = 0; r < m; ++r) {
         const Row& a = m_rows[m_working[r]];
-        for (int q = 0; q < a.count; ++q) m_step[static_cast<size_t>(a.first + q - m_first)] += m_lambda[r] * a.g[q];
+        for (int q = 0; q < a.count; ++q)
+            m_step[static_cast<size_t>(a.first + q - m_first)] += m_lambda[r] * a.g[q];
     }
     for (const Vec3& s : m_step)
         if (!s.allFinite()) return false;

@@ -14,7 +14,8 @@ struct ProjectionOutcome
 {
     bool converged = false; ///< every active constraint within the tolerance
     int iterations = 0;     ///< Newton steps taken (each O(points in the range))
-    double violation = 0.0; ///< largest violation left: relative length, radians, contact depth / mean rest
+    double violation =
+        0.0; ///< largest violation left: relative length, radians, contact depth / mean rest
 };
 
 /// Projects axis points first … last of a hose onto its constraints: every segment inside its
@@ -68,15 +69,15 @@ public:
 private:
     struct Row
     {
-        int first = 0;   ///< first point
-        int count = 0;   ///< 1 … 3 consecutive points
+        int first = 0;                                          ///< first point
+        int count = 0;                                          ///< 1 … 3 consecutive points
         Vec3 g[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}; ///< gradient per point
         double value = 0.0;      ///< C(x): 0 on the bound, > 0 violated
         double compliance = 0.0; ///< added to the diagonal (relative, see setBendCompliance)
         size_t key = 0;          ///< 3 · point + kind (contact, length, bend): Hose::m_workingSet
         signed char side = 0;    ///< length rows: +1 upper bound, −1 lower bound
         bool inequality = false;
-        bool working = false;    ///< held on its bound in this step
+        bool working = false; ///< held on its bound in this step
     };
     /// Gathers the candidate rows at the current positions (violated, near their bound, or in
     /// the working set); returns the largest violation.

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <numbers>
+#include <string>
 
 namespace chaintube {
 
@@ -12,8 +12,8 @@ Resolution resolutionFor(double tolerance, const BendLimit& bendLimit, double ou
 {
     auto positive = [](double value, const char* name) {
         if (!std::isfinite(value) || value <= 0.0)
-            throw InvalidArgument(std::string("resolutionFor: ") + name + " must be a finite length > 0 m, got " +
-                                  std::to_string(value));
+            throw InvalidArgument(std::string("resolutionFor: ") + name +
+                                  " must be a finite length > 0 m, got " + std::to_string(value));
     };
     positive(tolerance, "tolerance");
     positive(outerRadius, "outerRadius");
@@ -27,11 +27,14 @@ Resolution resolutionFor(double tolerance, const BendLimit& bendLimit, double ou
     Resolution r;
     const double t = std::min(tolerance, radius);
     r.segmentLength = 2.0 * std::sqrt(std::max(0.0, 2.0 * radius * t - t * t));
-    r.centrelineError = radius - std::sqrt(std::max(0.0, radius * radius - 0.25 * r.segmentLength * r.segmentLength));
+    r.centrelineError =
+        radius -
+        std::sqrt(std::max(0.0, radius * radius - 0.25 * r.segmentLength * r.segmentLength));
     if (tolerance >= outerRadius) {
         r.ringSides = 3;
     } else {
-        const double sides = std::ceil(std::numbers::pi / std::acos(1.0 - tolerance / outerRadius) - 1e-9);
+        const double sides =
+            std::ceil(std::numbers::pi / std::acos(1.0 - tolerance / outerRadius) - 1e-9);
         r.ringSides = static_cast<int>(std::clamp(sides, 3.0, 1024.0));
     }
     r.ringError = outerRadius * (1.0 - std::cos(std::numbers::pi / r.ringSides));

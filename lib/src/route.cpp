@@ -9,7 +9,8 @@ namespace chaintube {
 double polylineLength(const std::vector<Vec3>& polyline)
 {
     double length = 0.0;
-    for (size_t i = 1; i < polyline.size(); ++i) length += (polyline[i] - polyline[i - 1]).norm();
+    for (size_t i = 1; i < polyline.size(); ++i)
+        length += (polyline[i] - polyline[i - 1]).norm();
     return length;
 }
 
@@ -52,7 +53,8 @@ std::vector<Vec3> filletRoute(const std::vector<Vec3>& route, double radius, dou
     // Arcs that use exactly half of a leg meet the next arc: drop exact duplicates.
     std::vector<Vec3> unique{out.front()};
     for (size_t i = 1; i < out.size(); ++i)
-        if ((out[i] - unique.back()).norm() > 1e-15 * (1.0 + out[i].norm())) unique.push_back(out[i]);
+        if ((out[i] - unique.back()).norm() > 1e-15 * (1.0 + out[i].norm()))
+            unique.push_back(out[i]);
     return unique;
 }
 

@@ -1,7 +1,6 @@
 // Gravity (beyond the paper): one implicit step per frame through the chain projection, and
 // sag(), which steps until the hose is at rest.
 #include "chaintube/hose.h"
-
 #include "projection.h"
 
 #include <algorithm>
@@ -12,24 +11,24 @@
 namespace chaintube {
 
 namespace {
-constexpr double kFrameTime = 1.0 / 90.0;      ///< seconds a step advances (a headset's frame)
-constexpr double kGravity = 9.81;              ///< m/s²
-constexpr double kDamping = 0.9;               ///< fraction of the velocity a step carries on
-constexpr int kStepProjectionSteps = 8;            ///< Newton steps of one attempt
+constexpr double kFrameTime = 1.0 / 90.0; ///< seconds a step advances (a headset's frame)
+constexpr double kGravity = 9.81;         ///< m/s²
+constexpr double kDamping = 0.9;          ///< fraction of the velocity a step carries on
+constexpr int kStepProjectionSteps = 8;   ///< Newton steps of one attempt
 /// The attempts of one step: the full prediction, then from rest with the fall scaled by these
 /// factors (a smaller move from the valid start is nearer the constraints, so Newton's
 /// quadratic convergence reaches them within the attempt's steps).
 constexpr double kFallFactors[] = {1.0, 0.25, 1.0 / 16.0};
-constexpr double kStepConverged = 1e-10;           ///< relative length, radians, contact depth
+constexpr double kStepConverged = 1e-10; ///< relative length, radians, contact depth
 /// Largest violation left by the projection that the span solver closes (relative length,
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
 constexpr double kCloseFrom = 1e-5;
 /// Farther off, without contacts: the largest move (of the mean rest length) that closing may
 /// make from the projection's state.
 constexpr double kCloseMove = 0.05;
-constexpr double kSettledMotion = 1e-6;        ///< of the mean rest length, per step
-constexpr int kStallSteps = 120;               ///< steps without coming lower: at rest
-constexpr double kHover = 0.01;                ///< of the mean rest length, in mean height
+constexpr double kSettledMotion = 1e-6; ///< of the mean rest length, per step
+constexpr int kStallSteps = 120;        ///< steps without coming lower: at rest
+constexpr double kHover = 0.01;         ///< of the mean rest length, in mean height
 } // namespace
 
 /// One implicit step: the predicted positions (inertia, damping, gravity) projected onto the
@@ -55,20 +54,25 @@ public:
         radius = h.outerRadius() + 0.1 * h.m_collisionOptions.tolerance;
         const double reach = radius + h.m_collisionOptions.tolerance + meanRest;
         Aabb box;
-        for (const Vec3& point : predicted) box.extend(point + h.m_origin);
+        for (const Vec3& point : predicted)
+            box.extend(point + h.m_origin);
         box.min.array() -= reach;
         box.max.array() += reach;
         const std::vector<double>& w = projection.inverseMass();
         for (const auto& collider : h.m_colliders) {
             const Aabb bounds = collider->worldBounds();
-            if ((bounds.min.array() > box.max.array()).any() || (bounds.max.array() < box.min.array()).any()) continue;
+            if ((bounds.min.array() > box.max.array()).any() ||
+                (bounds.max.array() < box.min.array()).any())
+                continue;
             for (size_t i = 0; i < predicted.size(); ++i) {
                 if (w[i] == 0.0) continue;
-                const MeshCollider::Closest c = collider->closestToPoint(predicted[i] + h.m_origin, reach);
+                const MeshCollider::Closest c =
+                    collider->closestToPoint(predicted[i] + h.m_origin, reach);
                 if (!c.found) continue;
                 Vec3 normal = c.normal;
                 const Vec3 onMesh = c.onMesh - h.m_origin;
-                if (c.distance < 1e-12 * meanRest && normal.dot(from[i] - onMesh) < 0.0) normal = -normal;
+                if (c.distance < 1e-12 * meanRest && normal.dot(from[i] - onMesh) < 0.0)
+                    normal = -normal;
                 if (!normal.allFinite()) continue;
                 projection.setContact(static_cast<int>(i), normal, onMesh, radius);
                 touching[i] = 1;
@@ -78,8 +82,8 @@ public:
 
     /// Projects `predicted` (written into the hose) onto the constraints by the fast
     /// projection (Goldenthal et al. 2007): Newton steps of the smallest mass-weighted move onto
-    /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps. Where
-    /// they end close but not within the tolerance (bend limits switching on and off near
+    /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps.
+    /// Where they end close but not within the tolerance (bend limits switching on and off near
     /// their bounds converge slowly), the span solver closes the rest exactly
     /// (Hose::closeSpans); without contacts, also farther off when closing moves no point by
     /// more than kCloseMove of a segment. Returns
@@ -96,11 +100,13 @@ public:
         // Farther off and without contacts (nothing to push into): closed too when that moves
         // no point more than kCloseMove of a segment from where the projection left it (a
         // larger correction would be a jump, not a fall).
-        if (std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; })) return false;
+        if (std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; }))
+            return false;
         projected = h.m_local;
         if (!h.closeSpans(held, from, iterations)) return false;
         double moved = 0.0;
-        for (size_t i = 0; i < projected.size(); ++i) moved = std::max(moved, (h.m_local[i] - projected[i]).norm());
+        for (size_t i = 0; i < projected.size(); ++i)
+            moved = std::max(moved, (h.m_local[i] - projected[i]).norm());
         return moved <= kCloseMove * meanRest;
     }
 
@@ -117,7 +123,8 @@ SagResult Hose::sag(const SagOptions& options)
 {
     SagResult result;
     const Vec3 direction = options.gravityDirection;
-    const bool anyFixed = std::any_of(m_fixed.begin(), m_fixed.end(), [](unsigned char f) { return f != 0; });
+    const bool anyFixed =
+        std::any_of(m_fixed.begin(), m_fixed.end(), [](unsigned char f) { return f != 0; });
     if (!direction.allFinite() || !(direction.norm() > 0.0) || !anyFixed || options.maxRounds < 0 ||
         !(options.tolerance > 0.0)) {
         result.update.status = Status::InvalidInput;
@@ -168,7 +175,8 @@ UpdateResult Hose::step()
     UpdateResult result;
     if (!m_spec.gravity.enabled || m_settledRevision == m_revision) return result;
     const size_t n = m_local.size();
-    const bool anyFixed = std::any_of(m_fixed.begin(), m_fixed.end(), [](unsigned char f) { return f != 0; });
+    const bool anyFixed =
+        std::any_of(m_fixed.begin(), m_fixed.end(), [](unsigned char f) { return f != 0; });
     if (!anyFixed && m_held < 0) {
         m_settledRevision = m_revision; // nothing to hang from
         return result;
@@ -178,7 +186,8 @@ UpdateResult Hose::step()
     } else {
         // Moves made since the last step (grabs, attachments) carry no velocity: shift the
         // previous positions with them, so a drag never flings the hose.
-        for (size_t i = 0; i < n; ++i) m_gravityPrevious[i] += m_local[i] - m_gravityLast[i];
+        for (size_t i = 0; i < n; ++i)
+            m_gravityPrevious[i] += m_local[i] - m_gravityLast[i];
     }
     const bool inputChanged = m_gravityInputRevision != m_revision;
     const std::vector<Vec3> start = m_local;
@@ -192,22 +201,27 @@ UpdateResult Hose::step()
         if (before.status != Status::Ok) {
             engine.gatherContacts(start, start);
             engine.projection.setPredicted(nullptr);
-            const detail::ProjectionOutcome out = engine.projection.run(kStepProjectionSteps, kStepConverged);
+            const detail::ProjectionOutcome out =
+                engine.projection.run(kStepProjectionSteps, kStepConverged);
             result.iterations = std::max(out.iterations, 1);
-            if (out.violation <= kCloseFrom) static_cast<void>(closeSpans(m_held, start, result.iterations));
+            if (out.violation <= kCloseFrom)
+                static_cast<void>(closeSpans(m_held, start, result.iterations));
             UpdateResult after = measureViolation();
             if (after.lengthViolation > std::max(before.lengthViolation, 1e-9)) {
                 // Lengths first: the bends give way again where the projection could not make
                 // both hold (as in an attachment move), so no step trades bends for lengths.
                 engine.projection.setBends(false);
-                const detail::ProjectionOutcome lengths = engine.projection.run(kStepProjectionSteps, kStepConverged);
+                const detail::ProjectionOutcome lengths =
+                    engine.projection.run(kStepProjectionSteps, kStepConverged);
                 engine.projection.setBends(true);
                 result.iterations += lengths.iterations;
                 after = measureViolation();
             }
-            const bool lengthsHold = after.lengthViolation <= std::max(before.lengthViolation, 1e-9);
+            const bool lengthsHold =
+                after.lengthViolation <= std::max(before.lengthViolation, 1e-9);
             const double worstBefore = std::max(before.lengthViolation, before.angleViolation);
-            if (!lengthsHold || !(std::max(after.lengthViolation, after.angleViolation) < worstBefore)) {
+            if (!lengthsHold ||
+                !(std::max(after.lengthViolation, after.angleViolation) < worstBefore)) {
                 m_local = start; // no nearer within the budget: it stays until an input changes
                 m_gravityPrevious = start;
                 m_gravityLast = start;
@@ -222,7 +236,8 @@ UpdateResult Hose::step()
             result.status = after.status;
             result.lengthViolation = after.lengthViolation;
             result.angleViolation = after.angleViolation;
-            for (size_t i = 0; i < n; ++i) result.movedPoints += m_local[i] != start[i] ? 1 : 0;
+            for (size_t i = 0; i < n; ++i)
+                result.movedPoints += m_local[i] != start[i] ? 1 : 0;
             if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
             return result;
         }
@@ -236,7 +251,9 @@ UpdateResult Hose::step()
         const double velocity = attempt == 0 ? kDamping : 0.0;
         const Vec3 move = fall * (attempt == 0 ? 1.0 : kFallFactors[attempt - 1]);
         for (size_t i = 0; i < n; ++i)
-            predicted[i] = w[i] != 0.0 ? Vec3(start[i] + velocity * (start[i] - m_gravityPrevious[i]) + move) : start[i];
+            predicted[i] =
+                w[i] != 0.0 ? Vec3(start[i] + velocity * (start[i] - m_gravityPrevious[i]) + move)
+                            : start[i];
         valid = engine.project(predicted, start, result.iterations);
     }
     if (!valid) {
@@ -277,7 +294,8 @@ UpdateResult Hose::step()
     double energy = 0.0, totalMass = 0.0;
     const Vec3 down = m_spec.gravity.direction.normalized();
     for (size_t i = 0; i < n; ++i) {
-        const double mass = 0.5 * ((i > 0 ? m_restLength[i - 1] : 0.0) + (i + 1 < n ? m_restLength[i] : 0.0));
+        const double mass =
+            0.5 * ((i > 0 ? m_restLength[i - 1] : 0.0) + (i + 1 < n ? m_restLength[i] : 0.0));
         energy -= mass * down.dot(m_local[i]);
         totalMass += mass;
     }
@@ -288,7 +306,8 @@ UpdateResult Hose::step()
         ++m_gravityStallSteps;
     }
     if (std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest ||
-        (m_gravityStallSteps >= kStallSteps && energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
+        (m_gravityStallSteps >= kStallSteps &&
+         energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }

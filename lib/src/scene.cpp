@@ -13,8 +13,10 @@ Scene::FrameStats Scene::updateSurfaces()
 {
     FrameStats stats;
     for (size_t i = 0; i < m_hoses.size(); ++i) {
-        if (m_surfaces[i].update(m_hoses[i])) ++stats.recomputed;
-        else ++stats.skipped;
+        if (m_surfaces[i].update(m_hoses[i]))
+            ++stats.recomputed;
+        else
+            ++stats.skipped;
     }
     return stats;
 }
@@ -22,7 +24,8 @@ Scene::FrameStats Scene::updateSurfaces()
 int Scene::step()
 {
     int moved = 0;
-    for (Hose& hose : m_hoses) moved += hose.step().movedPoints > 0 ? 1 : 0;
+    for (Hose& hose : m_hoses)
+        moved += hose.step().movedPoints > 0 ? 1 : 0;
     return moved;
 }
 

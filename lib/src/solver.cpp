@@ -1,7 +1,6 @@
 // The axis solver: the paper's outward propagation for free ends, and for the spans between
 // pinned points (attachments, a held point) the bounded chain projection (projection.h).
 #include "chaintube/hose.h"
-
 #include "projection.h"
 #include "span_solver.h"
 
@@ -13,7 +12,7 @@
 namespace chaintube {
 
 namespace {
-constexpr double kLengthTolerance = 1e-12;   // relative, when deciding whether to correct
+constexpr double kLengthTolerance = 1e-12; // relative, when deciding whether to correct
 /// The projection's tolerance (relative length, radians): well inside measureViolation()'s 1e-9.
 constexpr double kConverged = 1e-10;
 /// Newton steps of one projection attempt (the bends giving way: half with soft bends, then
@@ -46,11 +45,12 @@ public:
     /// the anchor is an end or its other neighbour is not settled). `anchorOld` is where the
     /// anchor was before this update, for the degenerate fallbacks. Returns whether p[i] moved;
     /// `direction` receives the unit direction anchor → p[i].
-    [[gnu::always_inline]] inline bool place(int i, int a, const Vec3* incoming, const Vec3& anchorOld,
-                                             Vec3& direction)
+    [[gnu::always_inline]] inline bool place(int i, int a, const Vec3* incoming,
+                                             const Vec3& anchorOld, Vec3& direction)
     {
         Vec3 placed;
-        return place<false>(i, a, Vec3(p[static_cast<size_t>(a)]), incoming, anchorOld, direction, placed);
+        return place<false>(i, a, Vec3(p[static_cast<size_t>(a)]), incoming, anchorOld, direction,
+                            placed);
     }
 
     /// As above with the anchor's final position passed in (a sweep carries it in registers:
@@ -153,10 +153,12 @@ public:
     /// anchor + scale · w, the multiply-add fused with Fma (only instantiated in FMA-targeted
     /// code).
     template <bool Fma>
-    [[gnu::always_inline]] static inline Vec3 alongFrom(const Vec3& anchor, double scale, const Vec3& w)
+    [[gnu::always_inline]] static inline Vec3 alongFrom(const Vec3& anchor, double scale,
+                                                        const Vec3& w)
     {
         if constexpr (Fma)
-            return Vec3(__builtin_fma(scale, w.x(), anchor.x()), __builtin_fma(scale, w.y(), anchor.y()),
+            return Vec3(__builtin_fma(scale, w.x(), anchor.x()),
+                        __builtin_fma(scale, w.y(), anchor.y()),
                         __builtin_fma(scale, w.z(), anchor.z()));
         else
             return anchor + scale * w;
@@ -178,8 +180,7 @@ public:
         Vec3 anchor = Vec3::Zero(); ///< final position of point next − step (set by run())
     };
 
-    template <bool Fma>
-    [[gnu::always_inline]] inline void advance(Sweep& s)
+    template <bool Fma> [[gnu::always_inline]] inline void advance(Sweep& s)
     {
         const int i = s.next;
         if (i < 0 || i >= h.pointCount()) {
@@ -193,8 +194,9 @@ public:
         }
         const Vec3 before = p[static_cast<size_t>(i)];
         Vec3 direction;
-        const bool moved = place<Fma>(i, i - s.step, s.anchor, s.haveIncoming ? &s.incoming : nullptr, s.anchorOld,
-                                 direction, s.anchor);
+        const bool moved =
+            place<Fma>(i, i - s.step, s.anchor, s.haveIncoming ? &s.incoming : nullptr, s.anchorOld,
+                       direction, s.anchor);
         movedPoints += moved;
         if (!moved && !s.anchorMoved && !fullSweep) {
             s.active = false;
@@ -208,8 +210,7 @@ public:
     }
 
     /// Runs two independent sweeps interleaved: their dependency chains overlap in the CPU.
-    template <bool Fma>
-    [[gnu::always_inline]] inline void runSweeps(Sweep leftIn, Sweep rightIn)
+    template <bool Fma> [[gnu::always_inline]] inline void runSweeps(Sweep leftIn, Sweep rightIn)
     {
         // Local copies whose address never escapes: the compiler keeps them in registers.
         Sweep left = leftIn, right = rightIn;
@@ -217,8 +218,10 @@ public:
             advance<Fma>(left);
             advance<Fma>(right);
         }
-        while (left.active) advance<Fma>(left);
-        while (right.active) advance<Fma>(right);
+        while (left.active)
+            advance<Fma>(left);
+        while (right.active)
+            advance<Fma>(right);
     }
 #if defined(__x86_64__) && defined(__GNUC__)
     __attribute__((target("fma"))) void runSweepsFma(const Sweep& left, const Sweep& right)
@@ -317,14 +320,18 @@ public:
     {
         const int n = h.pointCount();
         fullSweep = full;
-        Sweep left{lo - 1, -1, Vec3::Zero(), false, true, before[static_cast<size_t>(lo)], lo - 1 >= 0};
-        Sweep right{hi + 1, +1, Vec3::Zero(), false, true, before[static_cast<size_t>(hi)], hi + 1 < n};
+        Sweep left{lo - 1,     -1, Vec3::Zero(), false, true, before[static_cast<size_t>(lo)],
+                   lo - 1 >= 0};
+        Sweep right{hi + 1,    +1, Vec3::Zero(), false, true, before[static_cast<size_t>(hi)],
+                    hi + 1 < n};
         if (left.active && lo + 1 < n) {
-            left.incoming = (p[static_cast<size_t>(lo)] - p[static_cast<size_t>(lo + 1)]).normalized();
+            left.incoming =
+                (p[static_cast<size_t>(lo)] - p[static_cast<size_t>(lo + 1)]).normalized();
             left.haveIncoming = left.incoming.allFinite();
         }
         if (right.active && hi - 1 >= 0) {
-            right.incoming = (p[static_cast<size_t>(hi)] - p[static_cast<size_t>(hi - 1)]).normalized();
+            right.incoming =
+                (p[static_cast<size_t>(hi)] - p[static_cast<size_t>(hi - 1)]).normalized();
             right.haveIncoming = right.incoming.allFinite();
         }
         run(left, right);
@@ -342,16 +349,18 @@ public:
         if (h.m_attachments.empty()) return false; // a grabbed point alone bounds no span
         thread_local std::vector<std::pair<int, int>> pins;
         pins.clear();
-        for (const Hose::Attachment& a : h.m_attachments) pins.emplace_back(a.first, a.last);
+        for (const Hose::Attachment& a : h.m_attachments)
+            pins.emplace_back(a.first, a.last);
         if (grabbed >= 0) pins.emplace_back(grabbed, grabbed);
         std::sort(pins.begin(), pins.end());
         bool bowed = false;
         for (size_t r = 1; r < pins.size(); ++r) {
             const int first = pins[r - 1].second, i = pins[r].first;
             if (i <= first + 1) continue;
-            const Vec3 start = p[static_cast<size_t>(first)], chord = p[static_cast<size_t>(i)] - start;
-            const double minimum =
-                h.m_minLengthBefore[static_cast<size_t>(i)] - h.m_minLengthBefore[static_cast<size_t>(first)];
+            const Vec3 start = p[static_cast<size_t>(first)],
+                       chord = p[static_cast<size_t>(i)] - start;
+            const double minimum = h.m_minLengthBefore[static_cast<size_t>(i)] -
+                                   h.m_minLengthBefore[static_cast<size_t>(first)];
             const double c = chord.norm();
             // A span whose pins coincide has no line to bow from: left to the relaxation.
             if (!(c > 1e-9 * minimum) || !(c < minimum * (1.0 - 1e-9))) continue;
@@ -368,7 +377,8 @@ public:
             // attachment's segments) stay compatible. The amplitude a gives the curve the span's
             // rest length (bisection); the points are laid at its rest lengths along the curve.
             double total = 0.0;
-            for (int s = first; s < i; ++s) total += h.m_restLength[static_cast<size_t>(s)];
+            for (int s = first; s < i; ++s)
+                total += h.m_restLength[static_cast<size_t>(s)];
             constexpr int kSamples = 512;
             auto curve = [&](double a, double x) {
                 return Vec2(x, 0.5 * a * (1.0 - std::cos(2.0 * std::numbers::pi * x / c)));
@@ -376,7 +386,8 @@ public:
             auto arcLength = [&](double a) {
                 double length = 0.0;
                 for (int q = 0; q < kSamples; ++q)
-                    length += (curve(a, c * (q + 1) / kSamples) - curve(a, c * q / kSamples)).norm();
+                    length +=
+                        (curve(a, c * (q + 1) / kSamples) - curve(a, c * q / kSamples)).norm();
                 return length;
             };
             double lo = 0.0, hi = total;
@@ -400,7 +411,9 @@ public:
                     next = curve(amplitude, c * (q + 1) / kSamples);
                 }
                 const double piece = (next - previous).norm();
-                const Vec2 at = piece > 0.0 ? Vec2(previous + (next - previous) * ((wanted - along) / piece)) : next;
+                const Vec2 at =
+                    piece > 0.0 ? Vec2(previous + (next - previous) * ((wanted - along) / piece))
+                                : next;
                 p[static_cast<size_t>(k)] = start + at.x() * axis + at.y() * up;
             }
         }
@@ -438,8 +451,9 @@ UpdateResult Hose::measureViolation() const
     for (size_t j = 1; j + 1 < n; ++j) {
         result.angleViolation = std::max(result.angleViolation, turnExcess(j, m_local));
     }
-    result.status = (result.lengthViolation > 1e-9 || result.angleViolation > 1e-9) ? Status::Infeasible
-                                                                                    : Status::Ok;
+    result.status = (result.lengthViolation > 1e-9 || result.angleViolation > 1e-9)
+                        ? Status::Infeasible
+                        : Status::Ok;
     return result;
 }
 
@@ -451,10 +465,12 @@ bool Hose::blendSide(int from, int side, const Vec3& displacement)
     // that follow have little left to do. A side without a fixed point is left to phase 1.
     const int n = pointCount();
     int pin = from + side;
-    while (pin >= 0 && pin < n && !m_fixed[static_cast<size_t>(pin)]) pin += side;
+    while (pin >= 0 && pin < n && !m_fixed[static_cast<size_t>(pin)])
+        pin += side;
     if (pin < 0 || pin >= n || pin == from + side) return false;
     double total = 0.0;
-    for (int i = from; i != pin; i += side) total += m_restLength[static_cast<size_t>(std::min(i, i + side))];
+    for (int i = from; i != pin; i += side)
+        total += m_restLength[static_cast<size_t>(std::min(i, i + side))];
     double along = 0.0;
     for (int i = pin - side; i != from; i -= side) {
         along += m_restLength[static_cast<size_t>(std::min(i, i + side))];
@@ -477,7 +493,6 @@ int Hose::pinnedSide(int index) const
         if (m_fixed[static_cast<size_t>(i)]) (i < index ? left : right) = true;
     return left == right ? 0 : (left ? -1 : +1);
 }
-
 
 namespace {
 
@@ -503,7 +518,8 @@ Vec3 closestInTwoBalls(const Vec3& target, const Vec3& a, double ra, const Vec3&
     auto ontoSphere = [](const Vec3& q, const Vec3& centre, double radius) {
         const Vec3 d = q - centre;
         const double length = d.norm();
-        return length > 0.0 ? Vec3(centre + d * (radius / length)) : Vec3(centre + radius * Vec3::UnitX());
+        return length > 0.0 ? Vec3(centre + d * (radius / length))
+                            : Vec3(centre + radius * Vec3::UnitX());
     };
     if (inA(target) && inB(target)) return target;
     if (!inA(target)) {
@@ -579,10 +595,18 @@ public:
                 const int dir = end > root ? 1 : -1;
                 Vec3 rootDirection, endDirection;
                 const int beforeRoot = root - dir, afterEnd = end + dir;
-                const bool haveRoot = beforeRoot >= 0 && beforeRoot < n && pinned(beforeRoot) && sameRun(beforeRoot, root);
-                const bool haveEnd = afterEnd >= 0 && afterEnd < n && pinned(afterEnd) && sameRun(end, afterEnd);
-                if (haveRoot) rootDirection = (h.m_local[static_cast<size_t>(root)] - h.m_local[static_cast<size_t>(beforeRoot)]).normalized();
-                if (haveEnd) endDirection = (h.m_local[static_cast<size_t>(afterEnd)] - h.m_local[static_cast<size_t>(end)]).normalized();
+                const bool haveRoot = beforeRoot >= 0 && beforeRoot < n && pinned(beforeRoot) &&
+                                      sameRun(beforeRoot, root);
+                const bool haveEnd =
+                    afterEnd >= 0 && afterEnd < n && pinned(afterEnd) && sameRun(end, afterEnd);
+                if (haveRoot)
+                    rootDirection = (h.m_local[static_cast<size_t>(root)] -
+                                     h.m_local[static_cast<size_t>(beforeRoot)])
+                                        .normalized();
+                if (haveEnd)
+                    endDirection = (h.m_local[static_cast<size_t>(afterEnd)] -
+                                    h.m_local[static_cast<size_t>(end)])
+                                       .normalized();
                 const bool endIsHeld = end == held;
                 const bool endFixed = !(endIsHeld && heldSoft);
                 const Vec3 endTarget = h.m_local[static_cast<size_t>(end)];
@@ -594,9 +618,9 @@ public:
                 // A span ending at the held point: the end is free (so the span is valid after
                 // every step) and goes as near its target as the budget brings it.
                 if (heldTarget && moving == -1) {
-                    const detail::SpanSolver::Outcome out =
-                        solver.solve(root, end, false, *heldTarget, goals, haveRoot ? &rootDirection : nullptr,
-                                     nullptr, spanSteps, kConverged);
+                    const detail::SpanSolver::Outcome out = solver.solve(
+                        root, end, false, *heldTarget, goals, haveRoot ? &rootDirection : nullptr,
+                        nullptr, spanSteps, kConverged);
                     iterations += out.iterations;
                     heldMet = heldMet && out.goalsMet;
                     if (out.goalsMet) h.m_local[static_cast<size_t>(end)] = *heldTarget;
@@ -607,14 +631,18 @@ public:
                 const detail::SpanSolver::Outcome out =
                     heldTarget && moving > -2
                         ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
-                                         haveRoot ? &rootDirection : nullptr, haveEnd ? &endDirection : nullptr,
-                                         kAdvanceSteps, kAdvanceIterations, kConverged, requested)
-                        : solver.solve(root, end, endFixed, endTarget, goals, haveRoot ? &rootDirection : nullptr,
-                                       haveEnd ? &endDirection : nullptr, spanSteps, kConverged, writeAnyway);
+                                         haveRoot ? &rootDirection : nullptr,
+                                         haveEnd ? &endDirection : nullptr, kAdvanceSteps,
+                                         kAdvanceIterations, kConverged, requested)
+                        : solver.solve(root, end, endFixed, endTarget, goals,
+                                       haveRoot ? &rootDirection : nullptr,
+                                       haveEnd ? &endDirection : nullptr, spanSteps, kConverged,
+                                       writeAnyway);
                 iterations += out.iterations;
                 valid = valid && out.valid;
                 if (!out.goalsMet) {
-                    for (const detail::SpanGoal& g : goals) heldMet = heldMet && g.point != held;
+                    for (const detail::SpanGoal& g : goals)
+                        heldMet = heldMet && g.point != held;
                     if (endIsHeld) heldMet = false;
                 }
             }
@@ -683,7 +711,7 @@ public:
     Hose& h;
     detail::ChainProjection projection;
     int lo, hi, held;
-    int spanSteps = kSpanSteps; ///< Newton steps of the span solver per span
+    int spanSteps = kSpanSteps;      ///< Newton steps of the span solver per span
     const Vec3* requested = nullptr; ///< a grab's target when its goal is clamped into reach
 };
 
@@ -693,7 +721,8 @@ namespace {
 double reachBetween(const Hose& hose, int from, int to)
 {
     double reach = 0.0;
-    for (int s = std::min(from, to); s < std::max(from, to); ++s) reach += hose.maxLength(s);
+    for (int s = std::min(from, to); s < std::max(from, to); ++s)
+        reach += hose.maxLength(s);
     return reach;
 }
 
@@ -710,7 +739,8 @@ int nearestFixed(const Hose& hose, int index, int side)
 UpdateResult Hose::grab(int index, const Vec3& target)
 {
     UpdateResult result;
-    if (index < 0 || index >= pointCount() || !target.allFinite() || m_fixed[static_cast<size_t>(index)]) {
+    if (index < 0 || index >= pointCount() || !target.allFinite() ||
+        m_fixed[static_cast<size_t>(index)]) {
         result.status = Status::InvalidInput;
         return result;
     }
@@ -718,8 +748,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     const size_t k = static_cast<size_t>(index);
     // The same target again, nothing changed since this grab stopped at the edge of its reach,
     // still held, no colliders (they move without the hose knowing): no work.
-    if (m_edgePoint == index && m_edgeRevision == m_revision && m_held == index && m_colliders.empty() &&
-        localTarget == m_edgeTarget) {
+    if (m_edgePoint == index && m_edgeRevision == m_revision && m_held == index &&
+        m_colliders.empty() && localTarget == m_edgeTarget) {
         result = m_edgeResult;
         result.movedPoints = 0;
         result.iterations = 0;
@@ -745,8 +775,10 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         const double margin = 1.0 - kReachMargin;
         Vec3 goal = localTarget;
         if (left >= 0 && right >= 0)
-            goal = closestInTwoBalls(localTarget, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, index),
-                                     m_local[static_cast<size_t>(right)], margin * reachBetween(*this, index, right));
+            goal = closestInTwoBalls(localTarget, m_local[static_cast<size_t>(left)],
+                                     margin * reachBetween(*this, left, index),
+                                     m_local[static_cast<size_t>(right)],
+                                     margin * reachBetween(*this, index, right));
         // (Fixed on one side only, the free end goes as near the target as it can by itself.)
         if (goal != localTarget) status = Status::Clamped;
         const auto [lo, hi] = pinnedRange(m_attachments, index);
@@ -791,7 +823,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             m_local = m_scratch;
             status = Status::Clamped;
         }
-        for (size_t i = 0; i < m_local.size(); ++i) moved += m_local[i] != m_scratch[i];
+        for (size_t i = 0; i < m_local.size(); ++i)
+            moved += m_local[i] != m_scratch[i];
     }
     if (wasInvalid) {
         // A grab never makes a hose that already violated its constraints worse.
@@ -840,7 +873,8 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         return result;
     }
     m_scratch = m_local;
-    for (size_t i = 0; i < targets.size(); ++i) targets[i]->frame = frames[i];
+    for (size_t i = 0; i < targets.size(); ++i)
+        targets[i]->frame = frames[i];
     // Where each moved attachment's points go: at its frame, or, when that is beyond the
     // hose's reach from its neighbouring fixed points, moved straight towards where the
     // hose reaches (a gap, Hose::attachmentGap).
@@ -853,19 +887,26 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
             Vec3 firstAt = a->frame.apply(a->localPoints.front()) - m_origin;
             const Vec3 lastOffset = a->frame.apply(a->localPoints.back()) - m_origin - firstAt;
             firstAt = oldFirst + fraction * (firstAt - oldFirst);
-            const int left = nearestFixed(*this, a->first, -1), right = nearestFixed(*this, a->last, +1);
+            const int left = nearestFixed(*this, a->first, -1),
+                      right = nearestFixed(*this, a->last, +1);
             if (left >= 0 && right >= 0)
-                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, a->first),
-                                            m_local[static_cast<size_t>(right)] - lastOffset, margin * reachBetween(*this, a->last, right));
+                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)],
+                                            margin * reachBetween(*this, left, a->first),
+                                            m_local[static_cast<size_t>(right)] - lastOffset,
+                                            margin * reachBetween(*this, a->last, right));
             else if (left >= 0)
-                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)], margin * reachBetween(*this, left, a->first),
+                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)],
+                                            margin * reachBetween(*this, left, a->first),
                                             Vec3::Zero(), -1.0);
             else if (right >= 0)
-                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
-                                            margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
+                firstAt = closestInTwoBalls(
+                    firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
+                    margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
             const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
             for (int j = a->first; j <= a->last; ++j)
-                m_local[static_cast<size_t>(j)] = a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) - m_origin + shift;
+                m_local[static_cast<size_t>(j)] =
+                    a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) - m_origin +
+                    shift;
             // Warm start towards the other fixed points (see blendSide).
             blendSide(a->first, -1, m_local[first] - oldFirst);
             blendSide(a->last, +1, m_local[last] - oldLast);
@@ -888,16 +929,22 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     result.lengthViolation = violation.lengthViolation;
     result.angleViolation = violation.angleViolation;
     double gap = 0.0;
-    for (const Attachment* a : targets) gap = std::max(gap, attachmentGap(a->id));
-    result.status = (violation.status != Status::Ok || gap > 1e-9) ? Status::Infeasible : Status::Ok;
+    for (const Attachment* a : targets)
+        gap = std::max(gap, attachmentGap(a->id));
+    result.status =
+        (violation.status != Status::Ok || gap > 1e-9) ? Status::Infeasible : Status::Ok;
     m_dirtyViolation = violation.status != Status::Ok;
-    for (size_t i = 0; i < m_local.size(); ++i) result.movedPoints += m_local[i] != m_scratch[i];
+    for (size_t i = 0; i < m_local.size(); ++i)
+        result.movedPoints += m_local[i] != m_scratch[i];
     ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     return result;
 }
 
-UpdateResult Hose::settle() { return settleFrom(-1); }
+UpdateResult Hose::settle()
+{
+    return settleFrom(-1);
+}
 
 bool Hose::closeSpans(int held, const std::vector<Vec3>& before, int& iterations)
 {
@@ -927,7 +974,8 @@ UpdateResult Hose::settleFrom(int held)
     result.lengthViolation = violation.lengthViolation;
     result.angleViolation = violation.angleViolation;
     m_dirtyViolation = violation.status != Status::Ok;
-    for (size_t i = 0; i < m_local.size(); ++i) result.movedPoints += m_local[i] != m_scratch[i];
+    for (size_t i = 0; i < m_local.size(); ++i)
+        result.movedPoints += m_local[i] != m_scratch[i];
     ++m_revision;
     return result;
 }

@@ -1,7 +1,6 @@
 #include "span_solver.h"
 
 #include <Eigen/Cholesky>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -88,7 +87,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             if (c >= limitCos(s)) continue;
             Vec3 w = ds - c * *before;
             if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
-            const Vec3 clamped = (limitCos(s) * *before + limitSin(s) * w.normalized()).normalized();
+            const Vec3 clamped =
+                (limitCos(s) * *before + limitSin(s) * w.normalized()).normalized();
             correction = rotationBetween(ds, clamped) * correction;
             corrected = true;
             ds = clamped;
@@ -96,7 +96,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     };
     auto forward = [&](const std::vector<Vec3>& d, const std::vector<double>& l) {
         m_position[0] = p[static_cast<size_t>(root)];
-        for (size_t s = 0; s < segments; ++s) m_position[s + 1] = m_position[s] + l[s] * d[s];
+        for (size_t s = 0; s < segments; ++s)
+            m_position[s + 1] = m_position[s] + l[s] * d[s];
     };
 
     // The current shape as directions and lengths, every joint within its limit.
@@ -104,7 +105,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         const size_t k = segment(static_cast<int>(s));
         const Vec3 d = p[point(static_cast<int>(s) + 1)] - p[point(static_cast<int>(s))];
         const double length = d.norm();
-        m_direction[s] = length > 0.0 ? Vec3(d / length) : (s > 0 ? m_direction[s - 1] : Vec3::UnitX());
+        m_direction[s] =
+            length > 0.0 ? Vec3(d / length) : (s > 0 ? m_direction[s - 1] : Vec3::UnitX());
         m_length[s] = std::clamp(length, h.m_minLength[k], h.m_maxLength[k]);
     }
     clampChain(m_direction);
@@ -114,9 +116,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     const int goalCount = static_cast<int>(std::min<size_t>(goals.size(), (kMaxRows - 4) / 3));
     const double restEnd = h.m_restLength[segment(m - 1)];
     const size_t endJoint = static_cast<size_t>(end);
-    const bool endBendLimited =
-        endFixed && endDirection && h.m_cosLimit[endJoint] > -1.0 + 1e-12;
-    const double endLimit = endBendLimited ? std::atan2(h.m_sinLimit[endJoint], h.m_cosLimit[endJoint]) : 0.0;
+    const bool endBendLimited = endFixed && endDirection && h.m_cosLimit[endJoint] > -1.0 + 1e-12;
+    const double endLimit =
+        endBendLimited ? std::atan2(h.m_sinLimit[endJoint], h.m_cosLimit[endJoint]) : 0.0;
     constexpr double kSoftWeight = 1e-2; // a soft goal's share of the squared residual
 
     bool polishing = false; // the soft goals are left out: the closure alone
@@ -124,7 +126,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     {
         RowVector residual;
         double merit = 0.0;
-        double closure = 0.0;  ///< end distance (endFixed) and end bend excess, relative
+        double closure = 0.0; ///< end distance (endFixed) and end bend excess, relative
         double goalError = 0.0;
         bool bendRow = false;
         double endTurn = 0.0;
@@ -148,7 +150,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         st.bendRow = false;
         if (endBendLimited) {
             const Vec3& last = m_direction[segments - 1];
-            const double turn = std::atan2(last.cross(*endDirection).norm(), last.dot(*endDirection));
+            const double turn =
+                std::atan2(last.cross(*endDirection).norm(), last.dot(*endDirection));
             st.endTurn = turn;
             const double excess = turn - endLimit;
             st.bendRow = excess > -1e-9 * endLimit;
@@ -165,7 +168,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     evaluate(current);
     double damping = 0.0;
     bool anySoft = false;
-    for (int g = 0; g < goalCount; ++g) anySoft = anySoft || !goals[static_cast<size_t>(g)].hard;
+    for (int g = 0; g < goalCount; ++g)
+        anySoft = anySoft || !goals[static_cast<size_t>(g)].hard;
     std::vector<Vec3> omega(segments);
     std::vector<double> stretch(segments, 0.0);
     const int rows = 3 * goalCount + 3 + 1;
@@ -177,7 +181,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             evaluate(current);
         }
         // Soft goals have no tolerance: they take the budget, until a step gains nothing.
-        if (current.closure <= tolerance && current.goalError <= tolerance && !(anySoft && !polishing)) break;
+        if (current.closure <= tolerance && current.goalError <= tolerance &&
+            !(anySoft && !polishing))
+            break;
         // The bend row at the end, as a rotation of the last direction: g = ∂turn/∂d.
         Vec3 bendAxis = Vec3::Zero();
         if (current.bendRow) {
@@ -199,14 +205,16 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             const double sn = cross.norm();
             if (!(sn > 1e-12)) continue; // straight (or folded): no bend plane to limit in
             m_normal[k] = cross / sn;
-            m_room[k] = std::atan2(limitSin(s), limitCos(s)) - std::atan2(sn, before.dot(m_direction[k]));
+            m_room[k] =
+                std::atan2(limitSin(s), limitCos(s)) - std::atan2(sn, before.dot(m_direction[k]));
         }
         // Blocks of three rows (the goals, then the end) and the end's bend row. Joint s turns
         // segments s … m−1 about position s: a block's point q > s moves by ω × (p_q − p_s)
         // (rows R_b = −[v_b]×), the bend row by u·ω.
         const int blocks = goalCount + 1;
         int blockPoint[kMaxRows / 3];
-        for (int g = 0; g < goalCount; ++g) blockPoint[g] = (goals[static_cast<size_t>(g)].point - root) * dir;
+        for (int g = 0; g < goalCount; ++g)
+            blockPoint[g] = (goals[static_cast<size_t>(g)].point - root) * dir;
         blockPoint[goalCount] = m;
         const Vec3 u = bendAxis;
         RowMatrix a;
@@ -223,7 +231,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const bool held = m_saturated[k] != 0;
                 const Vec3& n = m_normal[k];
                 int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
-                while (first < blocks && blockPoint[first] <= s) ++first;
+                while (first < blocks && blockPoint[first] <= s)
+                    ++first;
                 for (int b = first; b < blocks; ++b) {
                     v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
                     c[b] = v[b].cross(d);
@@ -243,13 +252,15 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     Vec3 pu = u - u.dot(d) * d;
                     if (held) pu -= u.dot(n) * n;
                     a(rows - 1, rows - 1) += u.dot(pu);
-                    for (int b = first; b < blocks; ++b) a.block<3, 1>(3 * b, rows - 1) -= v[b].cross(pu);
+                    for (int b = first; b < blocks; ++b)
+                        a.block<3, 1>(3 * b, rows - 1) -= v[b].cross(pu);
                     if (held) rhs(rows - 1) -= m_room[k] * u.dot(n);
                 }
             }
             // Only the upper blocks were summed: mirror them.
             for (int i = 0; i < rows; ++i)
-                for (int j = 0; j < i; ++j) a(i, j) = a(j, i);
+                for (int j = 0; j < i; ++j)
+                    a(i, j) = a(j, i);
             for (int g = 0; g < goalCount; ++g)
                 if (!goals[static_cast<size_t>(g)].hard)
                     for (int i = 0; i < 3; ++i) {
@@ -264,9 +275,11 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                         }
                     }
             if (!endFixed && goalCount > 0)
-                for (int i = 0; i < 3; ++i) a(3 * goalCount + i, 3 * goalCount + i) *= 1.0 + 1.0 / kSoftWeight;
+                for (int i = 0; i < 3; ++i)
+                    a(3 * goalCount + i, 3 * goalCount + i) *= 1.0 + 1.0 / kSoftWeight;
             const double scale = a.diagonal().cwiseAbs().maxCoeff() + 1e-300;
-            for (int i = 0; i < rows; ++i) a(i, i) += damping * std::abs(a(i, i)) + 1e-13 * scale;
+            for (int i = 0; i < rows; ++i)
+                a(i, i) += damping * std::abs(a(i, i)) + 1e-13 * scale;
             if (!current.bendRow) {
                 a.row(rows - 1).setZero();
                 a.col(rows - 1).setZero();
@@ -283,9 +296,11 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const Vec3& d = m_direction[k];
                 Vec3 full = tail;
                 int first = 0;
-                while (first < blocks && blockPoint[first] <= s) ++first;
+                while (first < blocks && blockPoint[first] <= s)
+                    ++first;
                 for (int b = first; b < blocks; ++b)
-                    full += (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k]).cross(Vec3(lambda.segment<3>(3 * b)));
+                    full += (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k])
+                                .cross(Vec3(lambda.segment<3>(3 * b)));
                 Vec3 w = full - d.dot(full) * d;
                 const Vec3& n = m_normal[k];
                 const bool hasNormal = n.squaredNorm() > 0.0;
@@ -316,7 +331,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     // A length at an end of its band that the step would take beyond it is held
                     // there (its row left out); held, it is freed when the step pulls it back in.
                     double dl = 0.0;
-                    for (int b = first; b < blocks; ++b) dl += d.dot(Vec3(lambda.segment<3>(3 * b)));
+                    for (int b = first; b < blocks; ++b)
+                        dl += d.dot(Vec3(lambda.segment<3>(3 * b)));
                     const size_t seg = segment(s);
                     const bool atMax = m_length[k] >= h.m_maxLength[seg] * (1.0 - 1e-12);
                     const bool atMin = m_length[k] <= h.m_minLength[seg] * (1.0 + 1e-12);
@@ -336,7 +352,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             total += omega[s];
             m_trial[s] = cayley(total, m_direction[s]).normalized();
             const size_t k = segment(static_cast<int>(s));
-            m_trialLength[s] = std::clamp(m_length[s] + stretch[s], h.m_minLength[k], h.m_maxLength[k]);
+            m_trialLength[s] =
+                std::clamp(m_length[s] + stretch[s], h.m_minLength[k], h.m_maxLength[k]);
         }
         // Every joint back within its limit (the rest of the chain turning with each one).
         std::swap(m_direction, m_trial);
@@ -349,14 +366,16 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         State next;
         evaluate(next);
         bool finite = true;
-        for (const Vec3& x : m_position) finite = finite && x.allFinite();
-        const bool better = next.merit < current.merit ||
-                            (next.closure < current.closure && next.merit <= current.merit * (1.0 + 1e-9));
+        for (const Vec3& x : m_position)
+            finite = finite && x.allFinite();
+        const bool better =
+            next.merit < current.merit ||
+            (next.closure < current.closure && next.merit <= current.merit * (1.0 + 1e-9));
         if (finite && better) {
             current = next;
             damping = damping > 1e-9 ? 0.25 * damping : 0.0;
-        } else if (anySoft && !polishing && current.closure <= tolerance && current.goalError <= tolerance &&
-                   damping >= 1.0) {
+        } else if (anySoft && !polishing && current.closure <= tolerance &&
+                   current.goalError <= tolerance && damping >= 1.0) {
             // Valid, and the soft goals no nearer even with heavy damping: as near as they get.
             std::swap(m_direction, m_trial);
             std::swap(m_length, m_trialLength);
@@ -381,16 +400,18 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     out.valid = current.closure <= tolerance || !endFixed;
     out.goalsMet = out.valid && current.goalError <= tolerance;
     if ((out.valid || writeAnyway) && out.iterations > 0) {
-        for (int s = 1; s < m; ++s) p[point(s)] = m_position[static_cast<size_t>(s)];
+        for (int s = 1; s < m; ++s)
+            p[point(s)] = m_position[static_cast<size_t>(s)];
         if (!endFixed) p[point(m)] = m_position[segments];
     }
     out.closure = current.closure;
     return out;
 }
 
-SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
-                                        int moving, const Vec3& target, const Vec3* rootDirection,
-                                        const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance,
+SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget,
+                                        std::vector<SpanGoal> goals, int moving, const Vec3& target,
+                                        const Vec3* rootDirection, const Vec3* endDirection,
+                                        int maxSteps, int stepIterations, double tolerance,
                                         const Vec3* requested)
 {
     Outcome out;
@@ -432,12 +453,13 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 if (g.point > point) right = std::min(right, g.point);
             }
             for (int i = left + 1; i < right; ++i) {
-                const double weight = i <= point ? double(i - left) / (point - left) : double(right - i) / (right - point);
+                const double weight = i <= point ? double(i - left) / (point - left)
+                                                 : double(right - i) / (right - point);
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection, endDirection,
-                                stepIterations, tolerance);
+        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals,
+                                rootDirection, endDirection, stepIterations, tolerance);
         out.iterations += o.iterations;
         if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
@@ -451,8 +473,8 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         // near it as the span allows, the end still hard, so a held target keeps coming nearer
         // instead of stalling at the first unreachable sub-goal.
         if (moving >= 0) goals[static_cast<size_t>(moving)].hard = false;
-        const Outcome soft = solve(root, end, moving >= 0, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
-                                   endDirection, stepIterations, tolerance);
+        const Outcome soft = solve(root, end, moving >= 0, moving >= 0 ? endTarget : subGoal, goals,
+                                   rootDirection, endDirection, stepIterations, tolerance);
         if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
         out.iterations += soft.iterations;
         // A soft step counts when it gains kEdgeGain of a segment (the same creep).

@@ -15,8 +15,10 @@ inline Vec3 anyPerpendicular(const Vec3& u)
 {
     const Vec3 a = u.cwiseAbs();
     Vec3 axis = Vec3::UnitX();
-    if (a.y() <= a.x() && a.y() <= a.z()) axis = Vec3::UnitY();
-    else if (a.z() <= a.x() && a.z() <= a.y()) axis = Vec3::UnitZ();
+    if (a.y() <= a.x() && a.y() <= a.z())
+        axis = Vec3::UnitY();
+    else if (a.z() <= a.x() && a.z() <= a.y())
+        axis = Vec3::UnitZ();
     return u.cross(axis).normalized();
 }
 
@@ -47,7 +49,7 @@ public:
 
     struct Outcome
     {
-        bool valid = false;  ///< every constraint of the span holds (closure included)
+        bool valid = false;    ///< every constraint of the span holds (closure included)
         bool goalsMet = false; ///< and every goal is met to the tolerance
         int iterations = 0;
         double closure = 0.0; ///< distance of the end from its target (relative), bend excess there
@@ -60,8 +62,9 @@ public:
     /// leaves them as they were otherwise.
     /// root > end solves the span the other way round (root is still the point that stays).
     /// writeAnyway: write the points even when the end was not reached (the best state found).
-    Outcome solve(int root, int end, bool endFixed, const Vec3& endTarget, const std::vector<SpanGoal>& goals,
-                  const Vec3* rootDirection, const Vec3* endDirection, int maxIterations, double tolerance,
+    Outcome solve(int root, int end, bool endFixed, const Vec3& endTarget,
+                  const std::vector<SpanGoal>& goals, const Vec3* rootDirection,
+                  const Vec3* endDirection, int maxIterations, double tolerance,
                   bool writeAnyway = false);
 
     /// From a valid span (its end reached), brings one point towards `target` in steps that
@@ -72,9 +75,10 @@ public:
     /// valid whatever happens; `goalsMet` says whether the point got to its target.
     /// `requested` (a grab's target beyond reach, of which `target` is the nearest point within
     /// the reach balls): a step that takes the point farther from it is not taken.
-    Outcome advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals, int moving,
-                    const Vec3& target, const Vec3* rootDirection, const Vec3* endDirection, int maxSteps,
-                    int stepIterations, double tolerance, const Vec3* requested = nullptr);
+    Outcome advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
+                    int moving, const Vec3& target, const Vec3* rootDirection,
+                    const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance,
+                    const Vec3* requested = nullptr);
 
 private:
     Hose& h;

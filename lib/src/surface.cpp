@@ -8,7 +8,10 @@
 namespace chaintube {
 
 namespace {
-Vec3 perpendicularPart(const Vec3& v, const Vec3& unitAxis) { return v - v.dot(unitAxis) * unitAxis; }
+Vec3 perpendicularPart(const Vec3& v, const Vec3& unitAxis)
+{
+    return v - v.dot(unitAxis) * unitAxis;
+}
 
 Vec3 defaultAlignment(const Vec3& tangent)
 {
@@ -35,7 +38,8 @@ struct FrameScratch
     std::vector<double> tx, ty, tz;
     void resize(size_t n)
     {
-        for (auto* v : {&x, &y, &z, &tx, &ty, &tz}) v->resize(n);
+        for (auto* v : {&x, &y, &z, &tx, &ty, &tz})
+            v->resize(n);
     }
 };
 
@@ -63,13 +67,16 @@ bool cpuHasAvx2()
     return has;
 }
 
-__attribute__((target("avx2,fma"))) void normalizeAvx2(double* x, double* y, double* z, size_t count)
+__attribute__((target("avx2,fma"))) void normalizeAvx2(double* x, double* y, double* z,
+                                                       size_t count)
 {
     const __m256d one = _mm256_set1_pd(1.0);
     size_t i = 0;
     for (; i + 4 <= count; i += 4) {
-        const __m256d vx = _mm256_loadu_pd(x + i), vy = _mm256_loadu_pd(y + i), vz = _mm256_loadu_pd(z + i);
-        const __m256d length2 = _mm256_fmadd_pd(vz, vz, _mm256_fmadd_pd(vy, vy, _mm256_mul_pd(vx, vx)));
+        const __m256d vx = _mm256_loadu_pd(x + i), vy = _mm256_loadu_pd(y + i),
+                      vz = _mm256_loadu_pd(z + i);
+        const __m256d length2 =
+            _mm256_fmadd_pd(vz, vz, _mm256_fmadd_pd(vy, vy, _mm256_mul_pd(vx, vx)));
         const __m256d inv = _mm256_div_pd(one, _mm256_sqrt_pd(length2));
         _mm256_storeu_pd(x + i, _mm256_mul_pd(vx, inv));
         _mm256_storeu_pd(y + i, _mm256_mul_pd(vy, inv));
@@ -87,14 +94,16 @@ bool cpuHasAvx512()
 /// As normalizeAvx2 without the square root and the division (both on the one divider, which
 /// bounds the AVX2 loop): the 14-bit reciprocal square root estimate, refined by two Newton
 /// steps (14 → 28 → 53 bits), is within an ulp or two of 1/sqrt. Ring frames ~14 % faster.
-__attribute__((target("avx2,fma,avx512f,avx512vl"))) void normalizeAvx512(double* x, double* y, double* z,
-                                                                         size_t count)
+__attribute__((target("avx2,fma,avx512f,avx512vl"))) void normalizeAvx512(double* x, double* y,
+                                                                          double* z, size_t count)
 {
     const __m256d half = _mm256_set1_pd(0.5), threeHalves = _mm256_set1_pd(1.5);
     size_t i = 0;
     for (; i + 4 <= count; i += 4) {
-        const __m256d vx = _mm256_loadu_pd(x + i), vy = _mm256_loadu_pd(y + i), vz = _mm256_loadu_pd(z + i);
-        const __m256d length2 = _mm256_fmadd_pd(vz, vz, _mm256_fmadd_pd(vy, vy, _mm256_mul_pd(vx, vx)));
+        const __m256d vx = _mm256_loadu_pd(x + i), vy = _mm256_loadu_pd(y + i),
+                      vz = _mm256_loadu_pd(z + i);
+        const __m256d length2 =
+            _mm256_fmadd_pd(vz, vz, _mm256_fmadd_pd(vy, vy, _mm256_mul_pd(vx, vx)));
         __m256d r = _mm256_rsqrt14_pd(length2);
         const __m256d h = _mm256_mul_pd(half, length2);
         for (int k = 0; k < 2; ++k)
@@ -185,7 +194,8 @@ Vec3 prepareRingFrames(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>
         Vec3 carried = seed.alignment;
         if (c > -1.0 + 1e-9) {
             const Vec3 k = seed.tangent.cross(t0);
-            carried = seed.alignment * c + k.cross(seed.alignment) + k * (k.dot(seed.alignment) / (1.0 + c));
+            carried = seed.alignment * c + k.cross(seed.alignment) +
+                      k * (k.dot(seed.alignment) / (1.0 + c));
         }
         a0 = perpendicularPart(carried, t0);
         a0 = a0.norm() > 1e-9 ? Vec3(a0.normalized()) : defaultAlignment(t0);
@@ -209,7 +219,8 @@ struct RingKernelInput
 
 /// One step of the chain at ring i (> 0): u projected onto ring i's plane, or the double
 /// reflection where that degenerates. u2 tracks |u|² (t is a unit vector).
-[[gnu::always_inline]] inline void alignmentStep(const std::vector<RingFrame>& frames, size_t i, Vec3& u, double& u2)
+[[gnu::always_inline]] inline void alignmentStep(const std::vector<RingFrame>& frames, size_t i,
+                                                 Vec3& u, double& u2)
 {
     const RingFrame& ring = frames[i];
     const Vec3& t = ring.tangent;
@@ -294,14 +305,18 @@ void alignRings(std::vector<RingFrame>& frames, const Vec3& a0)
 } // namespace
 
 namespace {
-bool torsionActive(const Hose& hose) { return hose.spec().torsion.enabled && !hose.attachments().empty(); }
+bool torsionActive(const Hose& hose)
+{
+    return hose.spec().torsion.enabled && !hose.attachments().empty();
+}
 
 /// Torsion on top of the torsion-free frames (see computeRingFrames in surface.h). Returns the
 /// largest twist per joint.
 double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& frames)
 {
     std::vector<const Hose::Attachment*> order;
-    for (const Hose::Attachment& a : hose.attachments()) order.push_back(&a);
+    for (const Hose::Attachment& a : hose.attachments())
+        order.push_back(&a);
     std::sort(order.begin(), order.end(), [](auto* x, auto* y) { return x->first < y->first; });
     std::vector<TwistSeed::AttachmentRoll> rolls;
     std::vector<double> roll(order.size());
@@ -321,7 +336,8 @@ double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& f
             // A reference along the axis (the attachment turned the hose end-on to itself)
             // has no roll: keep the last one.
             if (across.norm() > 1e-9) {
-                const double raw = std::atan2(ring.tangent.dot(ring.alignment.cross(across)), ring.alignment.dot(across));
+                const double raw = std::atan2(ring.tangent.dot(ring.alignment.cross(across)),
+                                              ring.alignment.dot(across));
                 double delta = std::remainder(raw - record.roll, 2.0 * std::numbers::pi);
                 record.roll += delta;
             }
@@ -382,14 +398,16 @@ SurfaceTopology SurfaceTopology::build(const Hose& hose)
     for (std::uint32_t i = 0; i + 1 < static_cast<std::uint32_t>(t.ringCount); ++i)
         for (std::uint32_t j = 0; j + 1 < rv; ++j) {
             if (!profile.isFaceEdge(static_cast<int>(j))) continue;
-            const std::uint32_t a = i * rv + j, b = a + 1, c = (i + 1) * rv + j + 1, d = (i + 1) * rv + j;
+            const std::uint32_t a = i * rv + j, b = a + 1, c = (i + 1) * rv + j + 1,
+                                d = (i + 1) * rv + j;
             t.indices.insert(t.indices.end(), {a, b, c, a, c, d});
         }
     const auto startCap = static_cast<std::uint32_t>(t.ringCount) * rv;
     const auto endCap = startCap + static_cast<std::uint32_t>(t.capVertexCount);
     const std::vector<int>& cap = profile.capTriangles();
     for (size_t k = 0; k + 2 < cap.size(); k += 3) {
-        const auto c0 = static_cast<std::uint32_t>(cap[k]), c1 = static_cast<std::uint32_t>(cap[k + 1]),
+        const auto c0 = static_cast<std::uint32_t>(cap[k]),
+                   c1 = static_cast<std::uint32_t>(cap[k + 1]),
                    c2 = static_cast<std::uint32_t>(cap[k + 2]);
         t.indices.insert(t.indices.end(), {startCap + c0, startCap + c2, startCap + c1});
         t.indices.insert(t.indices.end(), {endCap + c0, endCap + c1, endCap + c2});
@@ -419,7 +437,10 @@ SurfaceTopology SurfaceTopology::build(const Hose& hose)
     return t;
 }
 
-HoseSurface::HoseSurface(const Hose& hose) { update(hose); }
+HoseSurface::HoseSurface(const Hose& hose)
+{
+    update(hose);
+}
 
 void HoseSurface::rebuildTopology(const Hose& hose)
 {
@@ -453,8 +474,14 @@ typedef float Float4 __attribute__((vector_size(16)));
 typedef double Double4 __attribute__((vector_size(32)));
 
 // (By reference: passing or returning 32-byte vectors by value changes the ABI with AVX.)
-[[gnu::always_inline]] inline void load8(Float8& v, const float* p) { std::memcpy(&v, p, sizeof v); }
-[[gnu::always_inline]] inline void store8(float* p, const Float8& v) { std::memcpy(p, &v, sizeof v); }
+[[gnu::always_inline]] inline void load8(Float8& v, const float* p)
+{
+    std::memcpy(&v, p, sizeof v);
+}
+[[gnu::always_inline]] inline void store8(float* p, const Float8& v)
+{
+    std::memcpy(p, &v, sizeof v);
+}
 
 /// Writes one ring's vertices and normals, eight floats at a time in the xyz-interleaved
 /// layout: the ring's centre and axes are permuted into the three phases of the xyz pattern
@@ -496,8 +523,8 @@ struct RingWriter
         if (m + 1 < blocks) block(pos, nrm, m + 1, cp[1], ap[1], bp[1]);
     }
 
-    [[gnu::always_inline]] inline void block(float* pos, float* nrm, size_t m, const Float8& c, const Float8& a,
-                                             const Float8& b) const
+    [[gnu::always_inline]] inline void block(float* pos, float* nrm, size_t m, const Float8& c,
+                                             const Float8& a, const Float8& b) const
     {
         Float8 x, y, nx, ny;
         load8(x, in.x + 8 * m);
@@ -512,18 +539,22 @@ struct RingWriter
 
 void writeRings(const std::vector<RingFrame>& frames, const RingWriter& writer)
 {
-    for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
+    for (size_t i = 0; i < frames.size(); ++i)
+        writer(i, frames[i]);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx2,fma"))) void writeRingsAvx2(const std::vector<RingFrame>& frames, const RingWriter& writer)
+__attribute__((target("avx2,fma"))) void writeRingsAvx2(const std::vector<RingFrame>& frames,
+                                                        const RingWriter& writer)
 {
-    for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
+    for (size_t i = 0; i < frames.size(); ++i)
+        writer(i, frames[i]);
 }
-__attribute__((target("avx2,fma,avx512f,avx512vl"))) void writeRingsAvx512Vl(const std::vector<RingFrame>& frames,
-                                                                             const RingWriter& writer)
+__attribute__((target("avx2,fma,avx512f,avx512vl"))) void
+writeRingsAvx512Vl(const std::vector<RingFrame>& frames, const RingWriter& writer)
 {
-    for (size_t i = 0; i < frames.size(); ++i) writer(i, frames[i]);
+    for (size_t i = 0; i < frames.size(); ++i)
+        writer(i, frames[i]);
 }
 #endif
 } // namespace
@@ -534,18 +565,21 @@ bool HoseSurface::update(const Hose& hose)
     if (m_pointCount != hose.pointCount() || !(m_profile == hose.profile()) ||
         m_profile.vertexCount() != hose.profile().vertexCount())
         rebuildTopology(hose);
-    const RingWriter writer{{3 * static_cast<size_t>(m_topology.ringVertexCount), m_expandedX.data(),
-                             m_expandedY.data(), m_expandedNormalX.data(), m_expandedNormalY.data(),
-                             m_positions.data(), m_normals.data()}};
+    const RingWriter writer{{3 * static_cast<size_t>(m_topology.ringVertexCount),
+                             m_expandedX.data(), m_expandedY.data(), m_expandedNormalX.data(),
+                             m_expandedNormalY.data(), m_positions.data(), m_normals.data()}};
     m_twistLimit = hose.spec().torsion.twistLimit;
     // Frames first, then vertices, in two loops: on the project's AMD EPYC (Zen 4) machine this
     // is faster than fusing the ring writes into the latency-bound alignment chain (figures
     // under 331eb83 in tests/bench/PERFORMANCE-NOTES.md).
     m_maxTwist = computeRingFrames(hose, m_seed, m_frames);
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (cpuHasAvx512()) writeRingsAvx512Vl(m_frames, writer);
-    else if (cpuHasAvx2()) writeRingsAvx2(m_frames, writer);
-    else writeRings(m_frames, writer);
+    if (cpuHasAvx512())
+        writeRingsAvx512Vl(m_frames, writer);
+    else if (cpuHasAvx2())
+        writeRingsAvx2(m_frames, writer);
+    else
+        writeRings(m_frames, writer);
 #else
     writeRings(m_frames, writer);
 #endif
@@ -554,7 +588,10 @@ bool HoseSurface::update(const Hose& hose)
     return true;
 }
 
-double HoseSurface::twistViolation() const { return std::max(0.0, m_maxTwist - m_twistLimit); }
+double HoseSurface::twistViolation() const
+{
+    return std::max(0.0, m_maxTwist - m_twistLimit);
+}
 
 void HoseSurface::writeCaps(const Hose& hose)
 {

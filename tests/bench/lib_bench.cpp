@@ -1,10 +1,8 @@
 // Google Benchmark programs for the core library. Figures go into the performance notes
 // (tests/bench/PERFORMANCE-NOTES.md), never into tests.
 //   ./build/tests/bench/chaintube_bench --benchmark_min_time=0.2
-#include <chaintube/chaintube.h>
-
 #include <benchmark/benchmark.h>
-
+#include <chaintube/chaintube.h>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -32,7 +30,8 @@ void BM_DragWholeHose(benchmark::State& state)
     int step = 0;
     for (auto _ : state) {
         const double phase = 0.1 * step++;
-        const Vec3 target(0.005 * points + 0.5 * std::sin(phase), 0.5 * std::cos(phase), 0.3 * std::sin(0.7 * phase));
+        const Vec3 target(0.005 * points + 0.5 * std::sin(phase), 0.5 * std::cos(phase),
+                          0.3 * std::sin(0.7 * phase));
         benchmark::DoNotOptimize(hose.grab(middle, target));
     }
     state.SetItemsProcessed(state.iterations());
@@ -48,7 +47,8 @@ void BM_DragSmallStep(benchmark::State& state)
     int step = 0;
     for (auto _ : state) {
         const double phase = 0.01 * step++;
-        const Vec3 target = hose.point(middle) + 0.001 * Vec3(std::sin(phase), std::cos(phase), 0.0);
+        const Vec3 target =
+            hose.point(middle) + 0.001 * Vec3(std::sin(phase), std::cos(phase), 0.0);
         benchmark::DoNotOptimize(hose.grab(middle, target));
     }
 }
@@ -78,10 +78,16 @@ void BM_Frame50Hoses(benchmark::State& state)
         benchmark::DoNotOptimize(scene.updateSurfaces());
     }
     size_t bytes = 0;
-    for (int i = 0; i < hoses; ++i) bytes += 4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
+    for (int i = 0; i < hoses; ++i)
+        bytes += 4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
     state.counters["vertex_MB"] = static_cast<double>(bytes) * moving / hoses / 1e6;
 }
-BENCHMARK(BM_Frame50Hoses)->Args({16, 50, 0})->Args({16, 5, 0})->Args({16, 1, 0})->Args({16, 10, 10})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Frame50Hoses)
+    ->Args({16, 50, 0})
+    ->Args({16, 5, 0})
+    ->Args({16, 1, 0})
+    ->Args({16, 10, 10})
+    ->Unit(benchmark::kMicrosecond);
 
 // The physical bound of a frame: writing its vertex bytes once (about 1.9 MB).
 void BM_MemsetFrameBytes(benchmark::State& state)
@@ -94,8 +100,6 @@ void BM_MemsetFrameBytes(benchmark::State& state)
 }
 BENCHMARK(BM_MemsetFrameBytes)->Arg(50 * 100 * 17 * 24)->Unit(benchmark::kMicrosecond);
 } // namespace
-
-
 
 namespace {
 // The parts of one hose's frame update, separately (100 points, 16-sided rings).
@@ -135,7 +139,8 @@ void BM_PartGrab(benchmark::State& state)
     int frame = 0;
     for (auto _ : state) {
         const double phase = 0.05 * ++frame;
-        benchmark::DoNotOptimize(hose.grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.0)));
+        benchmark::DoNotOptimize(
+            hose.grab(50, Vec3(0.5 + 0.2 * std::sin(phase), 0.2 * std::cos(phase), 0.0)));
     }
 }
 BENCHMARK(BM_PartGrab);
@@ -156,7 +161,8 @@ void BM_GrabBetweenFixedEnds(benchmark::State& state)
     int frame = 0;
     for (auto _ : state) {
         const double t = 0.02 * ++frame;
-        benchmark::DoNotOptimize(hose.grab(50, Vec3(0.4, 0.25 * std::sin(t), 0.15 * std::sin(2 * t))));
+        benchmark::DoNotOptimize(
+            hose.grab(50, Vec3(0.4, 0.25 * std::sin(t), 0.15 * std::sin(2 * t))));
     }
 }
 BENCHMARK(BM_GrabBetweenFixedEnds);

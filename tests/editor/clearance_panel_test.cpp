@@ -7,7 +7,6 @@
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QTest>
-
 #include <gtest/gtest.h>
 
 namespace chaintube::editor {
@@ -46,7 +45,8 @@ TEST(ClearancePanel, ListsViolationsMarksThemAndSelectsOnClick)
     ASSERT_FALSE(rows.empty());
     const Problem floor = panel.problems()[size_t(rows.front())];
     EXPECT_EQ(floor.hoseId, "left-feed");
-    EXPECT_TRUE(floor.text.contains("20.0 mm from /test-rig/floor_plate")) << floor.text.toStdString();
+    EXPECT_TRUE(floor.text.contains("20.0 mm from /test-rig/floor_plate"))
+        << floor.text.toStdString();
     EXPECT_EQ(floor.node, document.scene("rig")->findNode("/test-rig/floor_plate"));
     ASSERT_EQ(document.clearanceMarkers().size(), rows.size());
     EXPECT_EQ(document.clearanceMarkers().front().hoseId, "left-feed");

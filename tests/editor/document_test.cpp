@@ -596,7 +596,8 @@ TEST(Document, ChangeEventsNameWhatChanged)
     EXPECT_EQ(document->hose(id)->pointCount(), 25);
 }
 
-// --- live gravity and colliders ---------------------------------------------------------------------
+// --- live gravity and colliders
+// ---------------------------------------------------------------------
 
 /// Steps gravity as the editor's timer does until nothing moves; returns the steps that moved
 /// something (bounded by the document's step budget).

@@ -9,12 +9,10 @@
 
 #include <QApplication>
 #include <QTest>
-
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <gtest/gtest.h>
 #include <numeric>
 
 namespace chaintube::editor {
@@ -37,8 +35,8 @@ TEST(DragBenchmark, FiftyHosesInTheEngineScene)
     window.resize(1280, 800);
     window.show();
     ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
-    ASSERT_TRUE(window.openFile(QString::fromStdString(
-        (test::samplesDir() / "engine-50-hoses.ctproj").string())));
+    ASSERT_TRUE(window.openFile(
+        QString::fromStdString((test::samplesDir() / "engine-50-hoses.ctproj").string())));
     Document& document = window.document();
     ASSERT_EQ(document.hoseCount(), 50);
     Viewport& viewport = window.viewport();
@@ -61,7 +59,8 @@ TEST(DragBenchmark, FiftyHosesInTheEngineScene)
     std::vector<double> frameMs, grabMs, paintMs, hoseMs;
     for (int frame = 0; frame < frames; ++frame) {
         const double phase = 2.0 * M_PI * frame / 100.0;
-        const Vec3 target = start + 0.03 * Vec3(std::sin(phase), 1.0 - std::cos(phase), 0.5 * std::sin(2 * phase));
+        const Vec3 target =
+            start + 0.03 * Vec3(std::sin(phase), 1.0 - std::cos(phase), 0.5 * std::sin(2 * phase));
         const auto t0 = std::chrono::steady_clock::now();
         static_cast<void>(document.dragHosePoint(id, point, target));
         const auto t1 = std::chrono::steady_clock::now();

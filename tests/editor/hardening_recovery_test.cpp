@@ -6,8 +6,6 @@
 // stdin/stdout, editor/src/app/test_control.h) and runs it with a short autosave interval
 // (`--autosave-interval`). Runs under xvfb-run (ctest label editor-gui); HOME and the XDG
 // folders point into a scratch folder so no real settings or autosaves are touched.
-#include <filesystem>
-
 #include <QByteArray>
 #include <QDir>
 #include <QElapsedTimer>
@@ -17,7 +15,7 @@
 #include <QProcessEnvironment>
 #include <QTemporaryDir>
 #include <QThread>
-
+#include <filesystem>
 #include <gtest/gtest.h>
 
 namespace chaintube::editor {
@@ -39,12 +37,11 @@ public:
         environment.insert("XDG_RUNTIME_DIR", home + "/runtime");
         QDir().mkpath(home + "/runtime");
         QFile::setPermissions(home + "/runtime", QFileDevice::ReadOwner | QFileDevice::WriteOwner |
-                                                      QFileDevice::ExeOwner);
+                                                     QFileDevice::ExeOwner);
         m_process.setProcessEnvironment(environment);
         m_process.setProcessChannelMode(QProcess::SeparateChannels);
-        m_process.start(CHAINTUBE_STUDIO,
-                        {"--test-control", "--autosave-interval", QString::number(kAutosaveMs),
-                         project});
+        m_process.start(CHAINTUBE_STUDIO, {"--test-control", "--autosave-interval",
+                                           QString::number(kAutosaveMs), project});
     }
     ~Studio()
     {
@@ -131,10 +128,13 @@ TEST(HardeningRecovery, SigkilledEditorOffersTheAutosaveAndRecoversWhatWasOnScre
     // A project of our own next to its scene (the sample's relative scene path).
     ASSERT_TRUE(QDir().mkpath(scratch.filePath("project/scenes")));
     const QString project = scratch.filePath("project/test-rig.ctproj");
-    ASSERT_TRUE(QFile::copy(QString::fromStdString((std::filesystem::path(CHAINTUBE_SAMPLES_DIR) / "test-rig.ctproj").string()),
-                            project));
     ASSERT_TRUE(QFile::copy(
-        QString::fromStdString((std::filesystem::path(CHAINTUBE_SAMPLES_DIR) / "scenes/test-rig.gltf").string()),
+        QString::fromStdString(
+            (std::filesystem::path(CHAINTUBE_SAMPLES_DIR) / "test-rig.ctproj").string()),
+        project));
+    ASSERT_TRUE(QFile::copy(
+        QString::fromStdString(
+            (std::filesystem::path(CHAINTUBE_SAMPLES_DIR) / "scenes/test-rig.gltf").string()),
         scratch.filePath("project/scenes/test-rig.gltf")));
     const QByteArray savedBytes = readAll(project);
     const QString home = scratch.filePath("home");
@@ -157,9 +157,8 @@ TEST(HardeningRecovery, SigkilledEditorOffersTheAutosaveAndRecoversWhatWasOnScre
 
         // First batch of edits; wait until the editor has autosaved exactly this state.
         const std::string hose = "left-feed";
-        for (const std::string& edit :
-             {"diameter " + hose + " 0.027", "segments " + hose + " 30",
-              "route " + hose + " 1 0.01 0.02 -0.005"}) {
+        for (const std::string& edit : {"diameter " + hose + " 0.027", "segments " + hose + " 30",
+                                        "route " + hose + " 1 0.01 0.02 -0.005"}) {
             const std::string reply = studio.request(edit);
             if (reply.rfind("error no hose", 0) == 0) GTEST_SKIP() << "sample changed: " << reply;
             ASSERT_EQ(reply, "ok") << edit;

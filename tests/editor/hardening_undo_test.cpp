@@ -7,10 +7,9 @@
 #include "chaintube/editor/document.h"
 #include "test_support.h"
 
-#include <gtest/gtest.h>
-
 #include <cstdlib>
 #include <functional>
+#include <gtest/gtest.h>
 #include <memory>
 #include <random>
 
@@ -56,8 +55,8 @@ public:
                                             uniform(0.006, 0.04), MergeId::HoseDiameter, "d"));
         case 1:
             return push(makeChangeHoseField(d, id, &HoseDefinition::segmentCount,
-                                            static_cast<int>(4 + index(30)),
-                                            MergeId::HoseSegments, "n"));
+                                            static_cast<int>(4 + index(30)), MergeId::HoseSegments,
+                                            "n"));
         case 2:
             return push(makeChangeHoseField(d, id, &HoseDefinition::name,
                                             "hose " + std::to_string(index(1000)),
@@ -84,8 +83,7 @@ public:
             return push(makeSetRoute(d, id, route, "route"));
         }
         case 6: { // add a hose, or remove one (keeping at least one)
-            if (hoses.size() > 1 && uniform(0, 1) < 0.5)
-                return push(new RemoveHoseCommand(d, id));
+            if (hoses.size() > 1 && uniform(0, 1) < 0.5) return push(new RemoveHoseCommand(d, id));
             formats::HoseDefinition added;
             added.id = d.unusedHoseId();
             added.name = "added";
@@ -167,7 +165,10 @@ private:
     {
         return std::uniform_int_distribution<size_t>(0, count - 1)(m_random);
     }
-    Vec3 randomVector(double size) { return Vec3(uniform(-size, size), uniform(-size, size), uniform(-size, size)); }
+    Vec3 randomVector(double size)
+    {
+        return Vec3(uniform(-size, size), uniform(-size, size), uniform(-size, size));
+    }
 
     Document& m_document;
     std::mt19937 m_random;
@@ -178,7 +179,8 @@ private:
 TEST(HardeningUndo, TenThousandRandomEditsUndoToTheOriginalAndRedoToTheFinalProject)
 {
     const char* seedText = std::getenv("CHAINTUBE_UNDO_SEED");
-    const std::uint32_t seed = seedText ? static_cast<std::uint32_t>(std::strtoul(seedText, nullptr, 10)) : 20261122u;
+    const std::uint32_t seed =
+        seedText ? static_cast<std::uint32_t>(std::strtoul(seedText, nullptr, 10)) : 20261122u;
     SCOPED_TRACE("seed " + std::to_string(seed) + " (set CHAINTUBE_UNDO_SEED to replay another)");
     Document document(roots());
     document.adopt(readProject(samplesDir() / "test-rig.ctproj", roots()));

@@ -7,12 +7,12 @@
 // to editor/screenshots).
 #include "chaintube/editor/commands.h"
 #include "chaintube/editor/export_integration.h"
+#include "chaintube/test_support/hose_checks.h"
 #include "export_dialog.h"
 #include "import_dialog.h"
 #include "main_window.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
-#include "chaintube/test_support/hose_checks.h"
 #include "test_support.h"
 #include "viewport.h"
 

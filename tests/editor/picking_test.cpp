@@ -4,10 +4,9 @@
 #include "chaintube/editor/picking.h"
 #include "test_support.h"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <chrono>
+#include <gtest/gtest.h>
 #include <random>
 
 namespace chaintube::editor {
@@ -67,8 +66,7 @@ TEST(Picking, APickOfAMillionTrianglesTestsAFewOfThem)
         mostTested = std::max(mostTested, hit.trianglesTested);
     }
     const double perPick =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - pickStart).count() /
-        picks;
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - pickStart).count() / picks;
     // Times are printed, not asserted (speed belongs to benchmarks); what must hold is the
     // hierarchy's work: a pick tests a few triangles of the million, not a share of them.
     std::printf("1M triangles: BVH build %.3f s, %.1f us per pick, at most %d triangles tested\n",

@@ -10,10 +10,8 @@
 #include <QOffscreenSurface>
 #include <QOpenGLContext>
 #include <QOpenGLFramebufferObject>
-
-#include <gtest/gtest.h>
-
 #include <cstdlib>
+#include <gtest/gtest.h>
 #include <memory>
 
 namespace chaintube::editor {
@@ -81,8 +79,7 @@ protected:
 /// Fraction of pixels whose largest channel difference exceeds `threshold`.
 double differingFraction(const QImage& a, const QImage& b, int threshold)
 {
-    if (a.size() != b.size())
-        return 1.0;
+    if (a.size() != b.size()) return 1.0;
     long long differing = 0;
     for (int y = 0; y < a.height(); ++y)
         for (int x = 0; x < a.width(); ++x) {

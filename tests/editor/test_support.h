@@ -15,7 +15,10 @@ namespace chaintube::editor::test {
 using test_support::haveScenes;
 using test_support::samplesDir;
 using test_support::scenesDir;
-inline formats::NamedRoots roots() { return {{"scenes", scenesDir()}}; }
+inline formats::NamedRoots roots()
+{
+    return {{"scenes", scenesDir()}};
+}
 /// Folder for files the tests write (created; inside the build tree).
 inline std::filesystem::path outputDir()
 {

@@ -2,15 +2,14 @@
 #include "cli_run.h"
 #include "export_test_support.h"
 
+#include <array>
 #include <chaintube/export/clearance.h>
 #include <chaintube/formats/collider_exemption.h>
 #include <chaintube/formats/project.h>
 #include <chaintube/formats/project_hoses.h>
-
-#include <array>
-#include <set>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 #include <sys/wait.h>
 
 namespace chaintube::exporting::testing {
@@ -27,12 +26,14 @@ void writeBoxes(const fs::path& file)
         for (int i = 0; i < 8; ++i)
             out << "v " << ((i & 1) ? hi.x() : lo.x()) << " " << ((i & 2) ? hi.y() : lo.y()) << " "
                 << ((i & 4) ? hi.z() : lo.z()) << "\n";
-        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
         for (const auto& f : faces)
-            out << "f " << base + f[0] << " " << base + f[1] << " " << base + f[2] << " " << base + f[3] << "\n";
+            out << "f " << base + f[0] << " " << base + f[1] << " " << base + f[2] << " "
+                << base + f[3] << "\n";
         base += 8;
     };
-    box("near", {0.4, 0.02, -0.1}, {0.6, 0.2, 0.1});   // axis 20 mm below: surface 10 mm
+    box("near", {0.4, 0.02, -0.1}, {0.6, 0.2, 0.1});        // axis 20 mm below: surface 10 mm
     box("touching", {0.85, -0.005, -0.1}, {0.9, 0.2, 0.1}); // crosses the axis
     box("far", {0.4, 1.0, -0.1}, {0.6, 1.2, 0.1});
 }
@@ -41,7 +42,8 @@ void writeBoxes(const fs::path& file)
 fs::path writeProject(const fs::path& folder, bool attachToNear = false)
 {
     writeBoxes(folder / "boxes.obj");
-    formats::Project project = formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj");
+    formats::Project project =
+        formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj");
     formats::SceneReference scene;
     scene.id = "boxes";
     scene.path = "boxes.obj";
@@ -109,13 +111,16 @@ TEST(Clearance, GravityHosesAreCheckedAsTheyHang)
     std::vector<Hose> hanging = route;
     int gravityHoses = 0;
     for (size_t h = 0; h < hanging.size(); ++h)
-        gravityHoses += formats::settleUnderGravity(hanging[h], project.hoses[h], project, scenes) > 0;
+        gravityHoses +=
+            formats::settleUnderGravity(hanging[h], project.hoses[h], project, scenes) > 0;
     ASSERT_GE(gravityHoses, 1);
     ClearanceOptions options;
     options.threshold = 1.0; // everything within a metre: the distances themselves are compared
     const std::vector<SceneObject> objects = sceneObjects(project, scenes);
-    const std::vector<ClearanceFinding> expected = clearanceViolations(project, hanging, objects, options);
-    const std::vector<ClearanceFinding> alongRoute = clearanceViolations(project, route, objects, options);
+    const std::vector<ClearanceFinding> expected =
+        clearanceViolations(project, hanging, objects, options);
+    const std::vector<ClearanceFinding> alongRoute =
+        clearanceViolations(project, route, objects, options);
     const std::vector<ClearanceFinding> checked = checkProjectClearance(file, roots(), options);
     ASSERT_EQ(checked.size(), expected.size());
     double largestChange = 0.0;
@@ -128,7 +133,8 @@ TEST(Clearance, GravityHosesAreCheckedAsTheyHang)
                 largestChange = std::max(largestChange, std::abs(r.distance - checked[f].distance));
     }
     // Otherwise the comparison above could not tell the route from the hanging shape.
-    EXPECT_GT(largestChange, 1e-3) << "the hanging tail is farther from or nearer to some object than its route";
+    EXPECT_GT(largestChange, 1e-3)
+        << "the hanging tail is farther from or nearer to some object than its route";
 }
 
 TEST(Clearance, AttachedNodesAreSkippedUnlessAsked)
@@ -150,7 +156,8 @@ TEST(Clearance, AncestorsOfAnAttachedNodeAreSkippedButItsSiblingsAndChildrenAreN
     // "/rig/valve/inlet". Its ancestors "/rig/valve" (the part the fitting belongs to) and
     // "/rig" are skipped with it; the sibling "/rig/valve/outlet", the child
     // "/rig/valve/inlet/seal" and "/rig/valveX" (a name prefix, not an ancestor) are reported.
-    formats::Project project = formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj");
+    formats::Project project =
+        formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj");
     project.hoses.resize(1);
     formats::HoseAttachment attachment;
     attachment.scene = "rig";
@@ -161,23 +168,33 @@ TEST(Clearance, AncestorsOfAnAttachedNodeAreSkippedButItsSiblingsAndChildrenAreN
     spec.segmentCount = 20;
     const std::vector<Hose> hoses{Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec)};
     std::vector<SceneObject> objects;
-    const char* paths[] = {"/rig", "/rig/valve", "/rig/valve/inlet", "/rig/valve/outlet", "/rig/valve/inlet/seal",
+    const char* paths[] = {"/rig",
+                           "/rig/valve",
+                           "/rig/valve/inlet",
+                           "/rig/valve/outlet",
+                           "/rig/valve/inlet/seal",
                            "/rig/valveX"};
     for (int o = 0; o < 6; ++o) {
         const double x = 0.1 + 0.15 * o;
-        const std::vector<Vec3> corners{{x, -0.1, -0.1}, {x, 0.1, -0.1}, {x, 0.1, 0.1}, {x, -0.1, 0.1}};
-        objects.push_back({"rig", o, paths[o], MeshCollider::fromArrays(corners, {0, 1, 2, 0, 2, 3})});
+        const std::vector<Vec3> corners{
+            {x, -0.1, -0.1}, {x, 0.1, -0.1}, {x, 0.1, 0.1}, {x, -0.1, 0.1}};
+        objects.push_back(
+            {"rig", o, paths[o], MeshCollider::fromArrays(corners, {0, 1, 2, 0, 2, 3})});
     }
     ClearanceOptions options;
     options.threshold = 0.005;
     std::vector<ClearanceFinding> found = clearanceViolations(project, hoses, objects, options);
     std::set<std::string> reported;
-    for (const ClearanceFinding& f : found) reported.insert(f.objectPath);
-    EXPECT_EQ(reported, (std::set<std::string>{"/rig/valve/outlet", "/rig/valve/inlet/seal", "/rig/valveX"}));
+    for (const ClearanceFinding& f : found)
+        reported.insert(f.objectPath);
+    EXPECT_EQ(reported,
+              (std::set<std::string>{"/rig/valve/outlet", "/rig/valve/inlet/seal", "/rig/valveX"}));
     // The same node in another scene is not the attached one.
-    for (SceneObject& object : objects) object.sceneId = "other";
+    for (SceneObject& object : objects)
+        object.sceneId = "other";
     EXPECT_EQ(clearanceViolations(project, hoses, objects, options).size(), 6u);
-    for (SceneObject& object : objects) object.sceneId = "rig";
+    for (SceneObject& object : objects)
+        object.sceneId = "rig";
     options.includeAttachedNodes = true;
     EXPECT_EQ(clearanceViolations(project, hoses, objects, options).size(), 6u);
 }
@@ -190,9 +207,9 @@ TEST(ColliderExemption, TheAttachmentNodeAndItsAncestorsAreExemptNotItsSiblingsC
     EXPECT_TRUE(formats::attachmentExempts(2, 2, parentOf));
     EXPECT_TRUE(formats::attachmentExempts(2, 1, parentOf));
     EXPECT_TRUE(formats::attachmentExempts(2, 0, parentOf));
-    EXPECT_FALSE(formats::attachmentExempts(2, 3, parentOf)); // sibling of the valve
-    EXPECT_FALSE(formats::attachmentExempts(2, 4, parentOf)); // child of the attachment node
-    EXPECT_FALSE(formats::attachmentExempts(2, 5, parentOf)); // another tree
+    EXPECT_FALSE(formats::attachmentExempts(2, 3, parentOf));  // sibling of the valve
+    EXPECT_FALSE(formats::attachmentExempts(2, 4, parentOf));  // child of the attachment node
+    EXPECT_FALSE(formats::attachmentExempts(2, 5, parentOf));  // another tree
     EXPECT_FALSE(formats::attachmentExempts(-1, 0, parentOf)); // fixed to the world
     EXPECT_FALSE(formats::attachmentExempts(2, -1, parentOf));
 
@@ -227,10 +244,12 @@ TEST(ClearanceCli, ListsEveryViolationAndExitsThree)
     const fs::path project = writeProject(folder.path());
     const CliRun run = runCli("check \"" + project.string() + "\" --clearance 0.015");
     EXPECT_EQ(run.exitCode, 3) << run.output;
-    EXPECT_NE(run.output.find("violation: hose probe, object boxes:"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("violation: hose probe, object boxes:"), std::string::npos)
+        << run.output;
     EXPECT_NE(run.output.find("near, distance 0.01"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("axis point"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("2 clearance violation(s) below 0.015 m"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("2 clearance violation(s) below 0.015 m"), std::string::npos)
+        << run.output;
 }
 
 TEST(ClearanceCli, SampleTestRigSkipsThePartsTheHosesAreFittedToAndListsTheRest)
@@ -244,11 +263,13 @@ TEST(ClearanceCli, SampleTestRigSkipsThePartsTheHosesAreFittedToAndListsTheRest)
     EXPECT_EQ(run.output.find("/test-rig/valve"), std::string::npos) << run.output;
     const CliRun wide = runCli("check \"" + sample.string() + "\" --clearance 0.05");
     EXPECT_EQ(wide.exitCode, 3) << wide.output;
-    EXPECT_NE(wide.output.find("violation: hose left-feed, object rig:/test-rig/floor_plate"), std::string::npos)
+    EXPECT_NE(wide.output.find("violation: hose left-feed, object rig:/test-rig/floor_plate"),
+              std::string::npos)
         << wide.output;
     EXPECT_EQ(wide.output.find("/test-rig/valve"), std::string::npos) << wide.output;
-    const CliRun single = runCli("check \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() +
-                              "\" --clearance 0.005");
+    const CliRun single =
+        runCli("check \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() +
+               "\" --clearance 0.005");
     EXPECT_EQ(single.exitCode, 0) << single.output;
     EXPECT_NE(single.output.find("0 clearance violation(s)"), std::string::npos) << single.output;
 }
@@ -261,13 +282,15 @@ TEST(ClearanceCli, BadInputIsNamedWithItsExitCode)
     EXPECT_NE(missing.output.find("--clearance is required"), std::string::npos) << missing.output;
     const CliRun negative = runCli("check x.ctproj --clearance -0.1");
     EXPECT_EQ(negative.exitCode, 2);
-    EXPECT_NE(negative.output.find("expected a distance >= 0 in metres"), std::string::npos) << negative.output;
+    EXPECT_NE(negative.output.find("expected a distance >= 0 in metres"), std::string::npos)
+        << negative.output;
     const CliRun absent = runCli("check /nonexistent/absent.ctproj --clearance 0.005");
     EXPECT_EQ(absent.exitCode, 1);
     EXPECT_NE(absent.output.find("/nonexistent/absent.ctproj"), std::string::npos) << absent.output;
     const CliRun badRoot = runCli("check x.ctproj --clearance 0.005 --root nonsense");
     EXPECT_EQ(badRoot.exitCode, 2);
-    EXPECT_NE(badRoot.output.find("--root 'nonsense': expected NAME=DIR"), std::string::npos) << badRoot.output;
+    EXPECT_NE(badRoot.output.find("--root 'nonsense': expected NAME=DIR"), std::string::npos)
+        << badRoot.output;
 }
 
 } // namespace

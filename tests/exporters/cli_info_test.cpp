@@ -39,13 +39,15 @@ TEST(InfoCli, ProjectListsGravityTorsionPerHoseAndTheColliderObjects)
     EXPECT_NE(tail.find("  gravity: on, direction (0, -1, 0)\n"), std::string::npos) << tail;
     EXPECT_NE(tail.find("  torsion: off\n"), std::string::npos) << tail;
     EXPECT_NE(loop.find("  gravity: off\n"), std::string::npos) << loop;
-    EXPECT_NE(loop.find("  torsion: on, twist limit 0.2 rad (11.46°) per joint\n"), std::string::npos)
+    EXPECT_NE(loop.find("  torsion: on, twist limit 0.2 rad (11.46°) per joint\n"),
+              std::string::npos)
         << loop;
 }
 
 TEST(InfoCli, ProjectWithoutCollidersSaysSo)
 {
-    const CliRun run = runCli("info \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() + "\"");
+    const CliRun run = runCli(
+        "info \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() + "\"");
     ASSERT_EQ(run.exitCode, 0) << run.output;
     EXPECT_NE(run.output.find("\ncolliders: 0\n"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("  gravity: off\n  torsion: off\n"), std::string::npos) << run.output;
@@ -55,8 +57,8 @@ TEST(InfoCli, ExportedRigListsTheSameFlagsAndNamesTheColliderNodes)
 {
     TemporaryFolder folder;
     const fs::path glb = folder.path() / "rig-options.glb";
-    const CliRun exported = runCli("export \"" + kRigOptions.string() + "\" -o \"" + glb.string() +
-                                   "\" -q " + kRoots);
+    const CliRun exported =
+        runCli("export \"" + kRigOptions.string() + "\" -o \"" + glb.string() + "\" -q " + kRoots);
     ASSERT_EQ(exported.exitCode, 0) << exported.output;
     for (const fs::path& file : {glb, fs::path(folder.path() / "rig-options.hoses.json")}) {
         const CliRun run = runCli("info \"" + file.string() + "\"");

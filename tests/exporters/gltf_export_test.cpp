@@ -206,8 +206,9 @@ TEST(GltfExport, ProgressAdvancesOncePerHoseWhileTheHosesAreBuilt)
     EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
 
     options.progress = [&](double fraction) { return !(fraction > 0.55 && fraction <= 0.6); };
-    EXPECT_THROW(exportProject(project, projectFile, folder.path() / "cancelled.glb", roots(), options),
-                 formats::Cancelled);
+    EXPECT_THROW(
+        exportProject(project, projectFile, folder.path() / "cancelled.glb", roots(), options),
+        formats::Cancelled);
     EXPECT_FALSE(fs::exists(folder.path() / "cancelled.glb"));
 }
 

@@ -99,8 +99,9 @@ void attachColliders(LibraryReference& reference, const GltfDocument& exported,
             const auto parentOf = [&](int n) { return scene.nodes[static_cast<size_t>(n)].parent; };
             bool exempt = false;
             for (const auto& [attachedScene, attachedNode] : reference.attachedNodes[h])
-                exempt = exempt || (attachedScene == colliderScene &&
-                                    formats::attachmentExempts(attachedNode, colliderNode, parentOf));
+                exempt =
+                    exempt || (attachedScene == colliderScene &&
+                               formats::attachmentExempts(attachedNode, colliderNode, parentOf));
             if (!exempt) used.push_back(reference.colliders[c]);
         }
         if (!used.empty()) reference.hoses[h].setColliders(std::move(used));
@@ -114,8 +115,8 @@ LibraryReference buildReference(const fs::path& projectFile)
     reference.scenes = formats::importProjectScenes(reference.project, projectFile, roots());
     reference.hoses = formats::buildHoses(reference.project, reference.scenes);
     for (size_t h = 0; h < reference.hoses.size(); ++h) // as the export writes gravity hoses
-        formats::settleUnderGravity(reference.hoses[h], reference.project.hoses[h], reference.project,
-                                    reference.scenes);
+        formats::settleUnderGravity(reference.hoses[h], reference.project.hoses[h],
+                                    reference.project, reference.scenes);
     for (const Hose& hose : reference.hoses)
         reference.surfaces.emplace_back(hose);
     for (const formats::HoseDefinition& definition : reference.project.hoses) {
@@ -456,13 +457,15 @@ TEST(HoseRuntime, AHoseIgnoresTheCollidersItsAttachmentNodesSitInButNotTheirSibl
             if (colliderNodes[c] == runtime.findNode(name)) return runtime.colliders()[c];
         return std::shared_ptr<MeshCollider>();
     };
-    const std::shared_ptr<MeshCollider> valve = colliderOf("valve"), floor = colliderOf("floor_plate");
+    const std::shared_ptr<MeshCollider> valve = colliderOf("valve"),
+                                        floor = colliderOf("floor_plate");
     ASSERT_TRUE(valve && floor);
     for (const char* id : {"left-feed", "right-return"}) {
         const int h = runtime.findHose(id);
         ASSERT_GE(h, 0) << id;
         const auto& used = runtime.hose(h).colliders();
-        EXPECT_EQ(used.size(), 1u) << id << ": the valve is exempt, its sibling the floor plate is not";
+        EXPECT_EQ(used.size(), 1u)
+            << id << ": the valve is exempt, its sibling the floor plate is not";
         if (!used.empty()) {
             EXPECT_EQ(used[0].get(), floor.get()) << id;
         }
@@ -535,11 +538,13 @@ TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)
         const formats::Project project = loadWithRoots(testDataDir() / "rig-options.ctproj");
         const formats::ImportedScenes scenes =
             formats::importProjectScenes(project, testDataDir() / "rig-options.ctproj", roots());
-        const auto definition = std::find_if(project.hoses.begin(), project.hoses.end(),
-                                             [](const formats::HoseDefinition& d) { return d.id == "valve-tail"; });
+        const auto definition =
+            std::find_if(project.hoses.begin(), project.hoses.end(),
+                         [](const formats::HoseDefinition& d) { return d.id == "valve-tail"; });
         ASSERT_NE(definition, project.hoses.end());
         const Hose route = formats::buildHose(project, *definition, scenes);
-        EXPECT_LT(loaded.back().y(), route.points().back().y() - 0.01) << "exported along its route, not hanging";
+        EXPECT_LT(loaded.back().y(), route.points().back().y() - 0.01)
+            << "exported along its route, not hanging";
         Hose settled = route;
         EXPECT_GT(formats::settleUnderGravity(settled, *definition, project, scenes), 0);
         for (size_t i = 0; i < loaded.size(); ++i)
@@ -550,8 +555,9 @@ TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)
     EXPECT_EQ(runtime.hose(tail).points(), loaded);
     // An input wakes it: lift the middle 3 cm and hold it there; the free end then sinks.
     const int middle = runtime.hose(tail).pointCount() / 2;
-    ASSERT_NE(runtime.grab(tail, middle, runtime.hose(tail).point(middle) + Vec3(0.0, 0.03, 0.0)).status,
-              Status::InvalidInput);
+    ASSERT_NE(
+        runtime.grab(tail, middle, runtime.hose(tail).point(middle) + Vec3(0.0, 0.03, 0.0)).status,
+        Status::InvalidInput);
     const double before = runtime.hose(tail).point(end).y();
     for (int frame = 0; frame < 30; ++frame)
         runtime.update();

@@ -153,7 +153,8 @@ TEST(HoseLength, ARouteThatIsAValidShapeIsTheAxisAsItIsWithTheSameRestLengths)
         pulled = hose.grab(8, far);
         ASSERT_NE(pulled.status, Status::InvalidInput);
     }
-    ASSERT_GT(hose.currentLength(), *rig.hoses[0].length * 1.001) << "the grab stretched it: status " << int(pulled.status) << ", grab error "
+    ASSERT_GT(hose.currentLength(), *rig.hoses[0].length * 1.001)
+        << "the grab stretched it: status " << int(pulled.status) << ", grab error "
         << pulled.grabError << ", moved " << pulled.movedPoints;
     HoseDefinition reshaped = rig.hoses[0];
     reshaped.route = hose.points();

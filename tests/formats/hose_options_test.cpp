@@ -5,8 +5,8 @@
 #include "chaintube/formats/project_hoses.h"
 #include "test_files.h"
 
-#include <gtest/gtest.h>
 #include <cstdio>
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 namespace chaintube::formats {
@@ -148,7 +148,8 @@ namespace {
 TEST(HoseOptions, GravityOnTheTestRigsHosesNeverJumps)
 {
     Project project = loadProject(kSamples / "test-rig.ctproj");
-    for (HoseDefinition& hose : project.hoses) hose.gravity = {true, Vec3(0.0, -1.0, 0.0)};
+    for (HoseDefinition& hose : project.hoses)
+        hose.gravity = {true, Vec3(0.0, -1.0, 0.0)};
     const ImportedScenes scenes =
         posedScenes(project, importProjectScenes(project, kSamples / "test-rig.ctproj", {}));
     std::vector<Hose> hoses = buildHoses(project, scenes);
@@ -163,12 +164,14 @@ TEST(HoseOptions, GravityOnTheTestRigsHosesNeverJumps)
             const UpdateResult result = hose.step();
             EXPECT_EQ(result.status, Status::Ok);
             for (int i = 0; i < hose.pointCount(); ++i)
-                worstJump = std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+                worstJump =
+                    std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
             if (hose.revision() == revision) break;
         }
-        std::printf("[ figures ] %d points: settled after %d steps, largest move of a point in a step %.3f "
-                    "segments\n",
-                    hose.pointCount(), steps, worstJump / segment);
+        std::printf(
+            "[ figures ] %d points: settled after %d steps, largest move of a point in a step %.3f "
+            "segments\n",
+            hose.pointCount(), steps, worstJump / segment);
         EXPECT_LT(steps, 400);
         EXPECT_LT(worstJump, 0.5 * segment);
     }

@@ -6,10 +6,9 @@
 #include "test_files.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-
-#include <cmath>
 
 namespace chaintube::formats {
 namespace {
@@ -36,8 +35,8 @@ Project rigWithValvePose(const ImportedScenes& scenes, const Mat4& valveMotion)
     const ImportedScene& rig = scenes.at("rig");
     const int valve = rig.findNode("/test-rig/valve");
     EXPECT_GE(valve, 0);
-    project.poses.push_back(
-        {"rig", "/test-rig/valve", rig.nodes[static_cast<size_t>(valve)].localTransform * valveMotion});
+    project.poses.push_back({"rig", "/test-rig/valve",
+                             rig.nodes[static_cast<size_t>(valve)].localTransform * valveMotion});
     return project;
 }
 
@@ -59,8 +58,8 @@ json posedJson()
     for (int k = 0; k < 16; ++k)
         matrix.push_back(k % 5 == 0 ? 1.0 : 0.0);
     matrix[12] = 0.25;
-    document["poses"] = json::array({{{"scene", "rig"}, {"node", "/test-rig/valve"},
-                                      {"matrix", matrix}}});
+    document["poses"] =
+        json::array({{{"scene", "rig"}, {"node", "/test-rig/valve"}, {"matrix", matrix}}});
     return document;
 }
 
@@ -185,13 +184,12 @@ TEST(NodePoses, BuiltHosesFollowTheMovedPartAndTheSceneCarriesThePose)
     for (size_t h = 0; h < before.size(); ++h) {
         for (const Hose::Attachment& attachment : before[h].attachments()) {
             const std::string& node =
-                posed.hoses[h].attachments[static_cast<size_t>(&attachment -
-                                                               before[h].attachments().data())]
+                posed.hoses[h]
+                    .attachments[static_cast<size_t>(&attachment - before[h].attachments().data())]
                     .node;
             if (node.rfind("/test-rig/valve", 0) != 0) continue;
             for (int p = attachment.first; p <= attachment.last; ++p) {
-                const Vec3 expected =
-                    (worldMotion * before[h].point(p).homogeneous()).head<3>();
+                const Vec3 expected = (worldMotion * before[h].point(p).homogeneous()).head<3>();
                 EXPECT_LT((after[h].point(p) - expected).norm(), 1e-9)
                     << posed.hoses[h].id << " point " << p;
                 EXPECT_GT((after[h].point(p) - before[h].point(p)).norm(), 0.03);

@@ -11,8 +11,8 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <iterator>
 #include <gtest/gtest.h>
+#include <iterator>
 #include <set>
 
 namespace chaintube::formats {
@@ -349,8 +349,10 @@ TEST_F(MillionTriangleStl, CancellingMidwayThrowsCancelledAtTheRefusedReport)
     EXPECT_GE(cancelledAt, 0.5);
     EXPECT_LT(cancelledAt, 1.0) << "cancelled before the end, not after the work was done";
     EXPECT_EQ(reportsAfterTheCancel, 0);
-    std::printf("cancelled at %.2f, Cancelled thrown %.1f ms later\n", cancelledAt,
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cancelTime).count());
+    std::printf(
+        "cancelled at %.2f, Cancelled thrown %.1f ms later\n", cancelledAt,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cancelTime)
+            .count());
 }
 
 TEST_F(MillionTriangleStl, CancellingAtTheFirstReportThrowsCancelled)
@@ -359,7 +361,6 @@ TEST_F(MillionTriangleStl, CancellingAtTheFirstReportThrowsCancelled)
     options.progress = [](double) { return false; };
     EXPECT_THROW(importScene(*s_folder / "million.stl", options), Cancelled);
 }
-
 
 // FBX states its unit in GlobalSettings (UnitScaleFactor: centimetres per file unit) and its up
 // axis (UpAxis 0/1/2 = X/Y/Z): a file in millimetres with +Z up must come in as metres, +Y up.
@@ -375,9 +376,11 @@ TEST(SceneImport, FbxUnitScaleFactorAndUpAxisAreReadFromTheFile)
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     const std::string unit = "P: \"UnitScaleFactor\", \"double\", \"Number\", \"\", 1";
     const std::string up = "P: \"UpAxis\", \"int\", \"Integer\", \"\", 1";
-    ASSERT_NE(text.find(unit), std::string::npos) << "assimp's FBX exporter changed its GlobalSettings";
+    ASSERT_NE(text.find(unit), std::string::npos)
+        << "assimp's FBX exporter changed its GlobalSettings";
     ASSERT_NE(text.find(up), std::string::npos);
-    text.replace(text.find(unit), unit.size(), "P: \"UnitScaleFactor\", \"double\", \"Number\", \"\", 0.1");
+    text.replace(text.find(unit), unit.size(),
+                 "P: \"UnitScaleFactor\", \"double\", \"Number\", \"\", 0.1");
     text.replace(text.find(up), up.size(), "P: \"UpAxis\", \"int\", \"Integer\", \"\", 2");
     writeText(folder / "tri.fbx", text);
 
@@ -392,7 +395,8 @@ TEST(SceneImport, FbxUnitScaleFactorAndUpAxisAreReadFromTheFile)
         for (int m : scene.nodes[n].meshes) {
             const SceneMesh& mesh = scene.meshes[size_t(m)];
             for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-                const Eigen::Vector4d local(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2], 1.0);
+                const Eigen::Vector4d local(mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                                            mesh.positions[3 * v + 2], 1.0);
                 highest = std::max(highest, (scene.worldTransform(int(n)) * local).y());
             }
         }

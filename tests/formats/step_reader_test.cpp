@@ -1,13 +1,11 @@
 // STEP through chaintube-step-reader (OpenCASCADE in a process of its own) on files this test
 // writes with OpenCASCADE, so that it runs without the third-party scenes.
-#include <chaintube/formats/scene_import.h>
-
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TopoDS_Shape.hxx>
-
+#include <chaintube/formats/scene_import.h>
 #include <filesystem>
 #include <gtest/gtest.h>
 #include <random>
@@ -97,7 +95,8 @@ TEST_F(StepReader, AMissingReaderProgramIsAClearError)
         ADD_FAILURE() << "no error";
     } catch (const FileError& error) {
         EXPECT_EQ(std::string(error.what()),
-                  file.string() + ": cannot start the importer process: CHAINTUBE_READERS_DIR is '" +
+                  file.string() +
+                      ": cannot start the importer process: CHAINTUBE_READERS_DIR is '" +
                       m_folder.string() + "', which holds no executable chaintube-step-reader");
     }
     ::unsetenv("CHAINTUBE_READERS_DIR");

@@ -1,7 +1,6 @@
 // libFuzzer target: the runtime descriptor reader (rig::parseDescriptor). Malformed input must
 // throw chaintube::Error (DescriptorError); an accepted descriptor must rebuild its hoses.
 #include <chaintube/export/rig_descriptor.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

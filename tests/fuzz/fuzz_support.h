@@ -3,7 +3,6 @@
 #pragma once
 
 #include <chaintube/types.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

@@ -2,7 +2,6 @@
 // be refused with chaintube::Error (ProjectFormatError, PathError …); any other exception, a
 // crash, a sanitizer report, a leak or an allocation beyond libFuzzer's limit is a finding.
 #include <chaintube/formats/project.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

@@ -17,7 +17,6 @@
 #include "fuzz_support.h"
 
 #include <chaintube/formats/scene_import.h>
-
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -32,7 +31,8 @@ long crashesBySignal[NSIG] = {};
 void printCrashes()
 {
     long total = 0;
-    for (const long count : crashesBySignal) total += count;
+    for (const long count : crashesBySignal)
+        total += count;
     std::fprintf(stderr, "scene_import_fuzzer: %ld inputs crashed the importer process", total);
     const char* separator = ":";
     for (int signal = 1; signal < NSIG; ++signal) {

@@ -15,16 +15,17 @@ namespace chaintube::hardening {
 
 struct ChildOutcome
 {
-    bool finished = false;   ///< exited on its own within the limit
-    int exitCode = -1;       ///< its exit code when finished
-    std::string message;     ///< what the child wrote (at most 64 KiB)
-    double seconds = 0.0;    ///< wall time until it exited or was killed
+    bool finished = false; ///< exited on its own within the limit
+    int exitCode = -1;     ///< its exit code when finished
+    std::string message;   ///< what the child wrote (at most 64 KiB)
+    double seconds = 0.0;  ///< wall time until it exited or was killed
 };
 
 /// Forks; the child runs `body`, which writes its result through `write` and returns an exit
 /// code. The parent waits at most `limit`, then kills the child with SIGKILL.
-inline ChildOutcome runInChild(const std::function<int(const std::function<void(const std::string&)>&)>& body,
-                               std::chrono::milliseconds limit)
+inline ChildOutcome
+runInChild(const std::function<int(const std::function<void(const std::string&)>&)>& body,
+           std::chrono::milliseconds limit)
 {
     int fds[2];
     ChildOutcome outcome;
@@ -78,7 +79,8 @@ inline ChildOutcome runInChild(const std::function<int(const std::function<void(
     } else {
         ssize_t n;
         while ((n = ::read(fds[0], chunk, sizeof chunk)) > 0)
-            if (outcome.message.size() < 65536) outcome.message.append(chunk, static_cast<std::size_t>(n));
+            if (outcome.message.size() < 65536)
+                outcome.message.append(chunk, static_cast<std::size_t>(n));
     }
     ::close(fds[0]);
     outcome.seconds =

@@ -21,12 +21,11 @@
 //   --rig engine-50-hoses  samples/engine-50-hoses.ctproj with --scenes (../shared/scenes);
 //                          exit 77 (skipped) when the scene is absent
 // Exit 0: passed; 1: a check failed (named on stderr); 2: bad usage; 77: skipped.
+#include <algorithm>
 #include <chaintube/export/gltf_export.h>
 #include <chaintube/export/runtime.h>
 #include <chaintube/formats/project.h>
 #include <chaintube/metrics.h>
-
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -84,7 +83,8 @@ struct Options
     double move = 0.005; ///< objects move up to ±move metres and ±2.5·move radians from rest
     fs::path samples = CHAINTUBE_SAMPLES_DIR;
     fs::path scenes = CHAINTUBE_SCENES_DIR;
-    fs::path work = fs::temp_directory_path() / ("chaintube-long-run-" + std::to_string(::getpid()));
+    fs::path work =
+        fs::temp_directory_path() / ("chaintube-long-run-" + std::to_string(::getpid()));
 };
 
 /// Exports the rig to `work` and returns the GLB's path.
@@ -130,24 +130,28 @@ int run(const Options& options)
     fs::remove_all(options.work);
 
     // What can move: grabbable points, and nodes that hoses are fixed to, with their pose at load.
-    struct Grabbable { int hose, point; Vec3 rest; };
+    struct Grabbable
+    {
+        int hose, point;
+        Vec3 rest;
+    };
     std::vector<Grabbable> grabbable;
     std::vector<int> movableNodes;
     for (int h = 0; h < runtime.hoseCount(); ++h) {
         for (int point : runtime.description(h).grabbablePoints)
             grabbable.push_back({h, point, runtime.hose(h).point(point)});
         for (const auto& attachment : runtime.description(h).attachments)
-            if (attachment.node >= 0 &&
-                std::find(movableNodes.begin(), movableNodes.end(), attachment.node) ==
-                    movableNodes.end())
+            if (attachment.node >= 0 && std::find(movableNodes.begin(), movableNodes.end(),
+                                                  attachment.node) == movableNodes.end())
                 movableNodes.push_back(attachment.node);
     }
     std::vector<rig::NodeTransform> restPose;
-    for (int node : movableNodes) restPose.push_back(runtime.node(node).local);
-    std::cout << "rig: " << options.rig << " (moves up to " << options.move << " m), " << runtime.hoseCount() << " hoses, "
-              << grabbable.size() << " grabbable points, " << movableNodes.size()
-              << " nodes with attachments; " << options.steps << " steps, seed " << options.seed
-              << "\n";
+    for (int node : movableNodes)
+        restPose.push_back(runtime.node(node).local);
+    std::cout << "rig: " << options.rig << " (moves up to " << options.move << " m), "
+              << runtime.hoseCount() << " hoses, " << grabbable.size() << " grabbable points, "
+              << movableNodes.size() << " nodes with attachments; " << options.steps
+              << " steps, seed " << options.seed << "\n";
     if (runtime.hoseCount() != 50 || grabbable.empty() || movableNodes.empty()) {
         std::cerr << "FAIL: expected 50 hoses with grabbable points and attachment nodes\n";
         return 1;
@@ -188,7 +192,8 @@ int run(const Options& options)
             clamped += result.status == Status::Clamped;
             worstLength = std::max(worstLength, result.lengthViolation);
             worstAngle = std::max(worstAngle, result.angleViolation);
-            if (result.lengthViolation > kConstraintBound || result.angleViolation > kConstraintBound)
+            if (result.lengthViolation > kConstraintBound ||
+                result.angleViolation > kConstraintBound)
                 return fail(step, "violation beyond 1e-9 with status Ok/Clamped: length " +
                                       std::to_string(result.lengthViolation) + ", angle " +
                                       std::to_string(result.angleViolation)),
@@ -207,21 +212,23 @@ int run(const Options& options)
 
     for (long long step = 0; step < options.steps; ++step) {
         if (unit(random) < 0.8) { // 90 % drags
-            const Grabbable& g = grabbable[std::uniform_int_distribution<size_t>(
-                0, grabbable.size() - 1)(random)];
+            const Grabbable& g =
+                grabbable[std::uniform_int_distribution<size_t>(0, grabbable.size() - 1)(random)];
             // A hand near the point's place at load: the hose is pulled about but not away.
             const Vec3 target = g.rest + randomVector(0.04);
             const UpdateResult result = runtime.grab(g.hose, g.point, target);
             ++grabs;
             if (!check(step, g.hose, result)) return 1;
         } else { // 10 % scene objects moved (each moves every hose fixed to it)
-            const size_t k = std::uniform_int_distribution<size_t>(0, movableNodes.size() - 1)(random);
+            const size_t k =
+                std::uniform_int_distribution<size_t>(0, movableNodes.size() - 1)(random);
             rig::NodeTransform pose = restPose[k];
             pose.translation += randomVector(options.move);
             const Vec3 axis = randomVector(1.0);
             if (axis.norm() > 1e-6)
-                pose.rotation = pose.rotation * Quat(Eigen::AngleAxisd(2.5 * options.move * unit(random),
-                                                                       axis.normalized()));
+                pose.rotation =
+                    pose.rotation *
+                    Quat(Eigen::AngleAxisd(2.5 * options.move * unit(random), axis.normalized()));
             for (const rig::HoseUpdate& update : runtime.setNodeTransform(movableNodes[k], pose)) {
                 ++moves;
                 if (update.hose < 0) return fail(step, "setNodeTransform refused a valid pose");
@@ -229,7 +236,7 @@ int run(const Options& options)
             }
         }
         if (step % 20 == 19) runtime.update(); // a frame: surfaces and joint poses
-        if (step % 1000 == 999) { // an independent measure of one hose
+        if (step % 1000 == 999) {              // an independent measure of one hose
             const int h = std::uniform_int_distribution<int>(0, runtime.hoseCount() - 1)(random);
             const HoseMetrics metrics = measure(runtime.hose(h));
             ++measured;
@@ -252,7 +259,8 @@ int run(const Options& options)
                     if (strain > exported.expansionCoefficient + 1e-9)
                         return fail(step, "hose " + std::to_string(h) + " segment " +
                                               std::to_string(segment) + " strained " +
-                                              std::to_string(strain) + ", beyond the exported "
+                                              std::to_string(strain) +
+                                              ", beyond the exported "
                                               "expansion coefficient " +
                                               std::to_string(exported.expansionCoefficient));
                 }
@@ -273,12 +281,14 @@ int run(const Options& options)
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     double rssMax = 0;
-    for (const auto& sample : rss) rssMax = std::max(rssMax, sample.second);
-    std::printf("passed: %lld steps in %.1f s (%.2f us/step): %lld grabs, %lld hose updates from "
-                "%s moves; %lld clamped, %lld infeasible (worst residual: length %.3g, angle %.3g rad), "
-                "%lld measured\n",
-                options.steps, seconds, 1e6 * seconds / static_cast<double>(options.steps), grabs,
-                moves, "object", clamped, infeasible, infeasibleLength, infeasibleAngle, measured);
+    for (const auto& sample : rss)
+        rssMax = std::max(rssMax, sample.second);
+    std::printf(
+        "passed: %lld steps in %.1f s (%.2f us/step): %lld grabs, %lld hose updates from "
+        "%s moves; %lld clamped, %lld infeasible (worst residual: length %.3g, angle %.3g rad), "
+        "%lld measured\n",
+        options.steps, seconds, 1e6 * seconds / static_cast<double>(options.steps), grabs, moves,
+        "object", clamped, infeasible, infeasibleLength, infeasibleAngle, measured);
     std::printf("%lld axis points moved in all (%.1f per update), worst grab error %.3g m\n",
                 movedPoints, static_cast<double>(movedPoints) / static_cast<double>(grabs + moves),
                 worstGrabError);
@@ -306,13 +316,20 @@ int main(int argc, char** argv)
             }
             return argv[++i];
         };
-        if (arg == "--steps") options.steps = std::atoll(value().c_str());
-        else if (arg == "--seed") options.seed = static_cast<unsigned>(std::atol(value().c_str()));
-        else if (arg == "--rig") options.rig = value();
-        else if (arg == "--move") options.move = std::atof(value().c_str());
-        else if (arg == "--samples") options.samples = value();
-        else if (arg == "--scenes") options.scenes = value();
-        else if (arg == "--work") options.work = value();
+        if (arg == "--steps")
+            options.steps = std::atoll(value().c_str());
+        else if (arg == "--seed")
+            options.seed = static_cast<unsigned>(std::atol(value().c_str()));
+        else if (arg == "--rig")
+            options.rig = value();
+        else if (arg == "--move")
+            options.move = std::atof(value().c_str());
+        else if (arg == "--samples")
+            options.samples = value();
+        else if (arg == "--scenes")
+            options.scenes = value();
+        else if (arg == "--work")
+            options.work = value();
         else {
             std::cerr << "usage: chaintube-long-run [--steps N] [--seed S] "
                          "[--rig self|engine-50-hoses] [--move M] [--samples DIR] [--scenes DIR]\n";

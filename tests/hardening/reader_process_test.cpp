@@ -9,8 +9,8 @@
 #include <csignal>
 #include <fstream>
 #include <gtest/gtest.h>
-#include <thread>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 #include <utility>
 
@@ -23,8 +23,7 @@ const std::filesystem::path kFile = "/nonexistent/scene.ply"; // only named in m
 ReaderResult runReader(const std::string& how, const ImportOptions& options = {})
 {
     ProgressStage stage(options, kFile, 0.0, 1.0);
-    return readInChildProcess(kFile, "test reader", options, stage,
-                              {CHAINTUBE_TEST_READER, {how}});
+    return readInChildProcess(kFile, "test reader", options, stage, {CHAINTUBE_TEST_READER, {how}});
 }
 TEST(ReaderProcess, AReaderKilledByASignalIsAnImportErrorNamingFileReaderAndSignal)
 {
@@ -61,7 +60,8 @@ TEST(ReaderProcess, AFileErrorOfTheReaderComesBackWithItsReason)
     } catch (const ImportError& error) {
         FAIL() << "an ImportError: " << error.what();
     } catch (const FileError& error) {
-        EXPECT_EQ(std::string(error.what()), "/nonexistent/scene.ply: cannot read PLY file: no faces");
+        EXPECT_EQ(std::string(error.what()),
+                  "/nonexistent/scene.ply: cannot read PLY file: no faces");
     }
 }
 
@@ -108,7 +108,8 @@ TEST(ReaderProcess, ProgressIsForwardedAndACancelKillsASilentReader)
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ASSERT_EQ(sinceReaderReported, 3);
-    EXPECT_EQ(*std::find_if(reports.begin(), reports.end(), [](double f) { return f > 0.0; }), 0.25);
+    EXPECT_EQ(*std::find_if(reports.begin(), reports.end(), [](double f) { return f > 0.0; }),
+              0.25);
     EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
     // Not a timing assertion on the machine's speed: the reader alone would take 60 s.
     EXPECT_LT(seconds, 30.0) << "the cancel waited for the silent reader";
@@ -136,7 +137,7 @@ TEST(ReaderProcess, AMissingReaderProgramIsAFileErrorNamingIt)
     ProgressStage stage(options, kFile, 0.0, 1.0);
     try {
         static_cast<void>(readInChildProcess(kFile, "test reader", options, stage,
-                                 {"/nonexistent/chaintube-scene-reader", {}}));
+                                             {"/nonexistent/chaintube-scene-reader", {}}));
         FAIL() << "no error";
     } catch (const FileError& error) {
         EXPECT_EQ(std::string(error.what()),
@@ -152,7 +153,8 @@ std::pair<int, std::string> runCommand(const std::string& command)
     if (!pipe) return {-1, "popen failed"};
     std::string said;
     char chunk[256];
-    while (std::fgets(chunk, sizeof chunk, pipe)) said += chunk;
+    while (std::fgets(chunk, sizeof chunk, pipe))
+        said += chunk;
     const int status = ::pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, said};
 }
@@ -166,7 +168,8 @@ TEST(ReaderProcess, ReadersAreFoundInChaintubeReadersDir)
     fs::create_directories(folder);
     fs::copy_file(CHAINTUBE_SCENE_READER_PROGRAM, folder / "chaintube-scene-reader");
     {
-        std::ofstream(folder / "quad.obj") << "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+        std::ofstream(folder / "quad.obj")
+            << "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
     }
     ::setenv("CHAINTUBE_READERS_DIR", folder.c_str(), 1);
     EXPECT_EQ(readerProgram("chaintube-scene-reader", folder / "quad.obj"),
@@ -177,8 +180,9 @@ TEST(ReaderProcess, ReadersAreFoundInChaintubeReadersDir)
         static_cast<void>(importScene(folder / "quad.obj"));
         ADD_FAILURE() << "imported without a reader program";
     } catch (const FileError& error) {
-        EXPECT_NE(std::string(error.what()).find("which holds no executable chaintube-scene-reader"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(error.what()).find("which holds no executable chaintube-scene-reader"),
+            std::string::npos)
             << error.what();
     }
     ::unsetenv("CHAINTUBE_READERS_DIR");

@@ -6,7 +6,6 @@
 #include "bounded_child.h"
 
 #include <chaintube/formats/scene_import.h>
-
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -92,19 +91,21 @@ TEST(SceneImportHardening, PlyHeadersThatStopEarlyAreRefusedNotHung)
     for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
              {"binary-header-only.ply",
               "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"},
-             {"element-at-end.ply", header + "property float y\nproperty float z\nelement vertex 3\n"},
+             {"element-at-end.ply",
+              header + "property float y\nproperty float z\nelement vertex 3\n"},
              {"crlf-no-end.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 1\r\n"},
              {"magic-only.ply", "ply"},
              {"end-header-in-a-comment.ply", header + "comment end_header\n0\n0\n0\n"}}) {
-        const ImportOutcome outcome = importWithin(folder.write(name, text), std::chrono::seconds(20));
+        const ImportOutcome outcome =
+            importWithin(folder.write(name, text), std::chrono::seconds(20));
         ASSERT_TRUE(outcome.child.finished) << name << ": importScene did not return within 20 s";
         EXPECT_TRUE(outcome.refused()) << name << ": exit " << outcome.child.exitCode;
         EXPECT_NE(outcome.child.message.find("malformed PLY: the header has no 'end_header' line"),
                   std::string::npos)
             << name << ": " << outcome.child.message;
     }
-    const ImportOutcome notPly = importWithin(folder.write("not-ply.ply", "solid x\n"),
-                                              std::chrono::seconds(20));
+    const ImportOutcome notPly =
+        importWithin(folder.write("not-ply.ply", "solid x\n"), std::chrono::seconds(20));
     EXPECT_TRUE(notPly.refused());
     EXPECT_NE(notPly.child.message.find("malformed PLY: the first line must be 'ply'"),
               std::string::npos)
@@ -118,19 +119,24 @@ TEST(SceneImportHardening, PlyBodyShorterThanItsHeaderIsRefusedBeforeAssimpAbort
     const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
                                "property float y\nproperty float z\nelement face 1\n"
                                "property list uchar int vertex_indices\nend_header\n";
-    const ImportOutcome ascii = importWithin(folder.write("short.ply", header + "00 1 2\n"), std::chrono::seconds(20));
+    const ImportOutcome ascii =
+        importWithin(folder.write("short.ply", header + "00 1 2\n"), std::chrono::seconds(20));
     ASSERT_TRUE(ascii.child.finished);
     EXPECT_TRUE(ascii.refused()) << "exit " << ascii.child.exitCode;
-    EXPECT_NE(ascii.child.message.find("malformed PLY: the header declares 10 or more values, the body holds 3"),
+    EXPECT_NE(ascii.child.message.find(
+                  "malformed PLY: the header declares 10 or more values, the body holds 3"),
               std::string::npos)
         << ascii.child.message;
-    const std::string binaryHeader = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
-                                     "property float x\nproperty float y\nproperty float z\nend_header\n";
+    const std::string binaryHeader =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+        "property float x\nproperty float y\nproperty float z\nend_header\n";
     const ImportOutcome binary =
-        importWithin(folder.write("short-binary.ply", binaryHeader + std::string(20, '\0')), std::chrono::seconds(20));
+        importWithin(folder.write("short-binary.ply", binaryHeader + std::string(20, '\0')),
+                     std::chrono::seconds(20));
     ASSERT_TRUE(binary.child.finished);
     EXPECT_TRUE(binary.refused());
-    EXPECT_NE(binary.child.message.find("declares 36 or more bytes of data, the body has 20"), std::string::npos)
+    EXPECT_NE(binary.child.message.find("declares 36 or more bytes of data, the body has 20"),
+              std::string::npos)
         << binary.child.message;
 }
 
@@ -161,9 +167,9 @@ TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAl
                                "of 73 bytes can hold");
 
     ScratchFolder folder;
-    const ImportOutcome glued3 = importWithin(
-        folder.write("glued.off", "OFF3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
-        std::chrono::seconds(20));
+    const ImportOutcome glued3 =
+        importWithin(folder.write("glued.off", "OFF3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                     std::chrono::seconds(20));
     EXPECT_TRUE(glued3.imported()) << glued3.child.message; // a small glued count is assimp's
     const ImportOutcome faces = importWithin(
         folder.write("faces.off", "OFF\n# comment\n3 99999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
@@ -171,9 +177,9 @@ TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAl
     EXPECT_TRUE(faces.refused());
     EXPECT_NE(faces.child.message.find("declares 99999 faces"), std::string::npos)
         << faces.child.message;
-    const ImportOutcome fine = importWithin(
-        folder.write("triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
-        std::chrono::seconds(20));
+    const ImportOutcome fine =
+        importWithin(folder.write("triangle.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                     std::chrono::seconds(20));
     EXPECT_TRUE(fine.imported()) << fine.child.message;
 }
 
@@ -202,8 +208,8 @@ TEST(SceneImportHardening, PlyFaceWithoutIndicesThatAbortsAssimpIsAnImportErrorA
     }
     // The same process imports the next file as if nothing had happened.
     ScratchFolder folder;
-    const formats::ImportedScene scene =
-        formats::importScene(folder.write("triangle.obj", "o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    const formats::ImportedScene scene = formats::importScene(
+        folder.write("triangle.obj", "o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     EXPECT_EQ(scene.meshTriangleCount(), 1u);
 }
 
@@ -215,7 +221,8 @@ TEST(SceneImportHardening, ImportsFromSeveralThreadsAtOnceEachGetTheirOwnAnswer)
     // a fresh program, this test hung under ASan in CI: a forked copy inherited an allocator
     // lock another thread held.
     ScratchFolder folder;
-    const fs::path good = folder.write("quad.obj", "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+    const fs::path good =
+        folder.write("quad.obj", "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
     const fs::path crashing = badScenes / "ply-face-without-indices.ply";
     constexpr int kThreads = 4, kRounds = 10;
     std::vector<std::string> failures(kThreads);
@@ -227,8 +234,9 @@ TEST(SceneImportHardening, ImportsFromSeveralThreadsAtOnceEachGetTheirOwnAnswer)
                     try {
                         const formats::ImportedScene scene = formats::importScene(good);
                         if (scene.meshTriangleCount() != 2)
-                            failures[t] += "quad.obj: " + std::to_string(scene.meshTriangleCount()) +
-                                           " triangles, expected 2; ";
+                            failures[t] +=
+                                "quad.obj: " + std::to_string(scene.meshTriangleCount()) +
+                                " triangles, expected 2; ";
                     } catch (const std::exception& error) {
                         failures[t] += std::string("quad.obj: ") + error.what() + "; ";
                     }
@@ -244,8 +252,10 @@ TEST(SceneImportHardening, ImportsFromSeveralThreadsAtOnceEachGetTheirOwnAnswer)
             }
         });
     }
-    for (std::thread& thread : threads) thread.join();
-    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(failures[t], "") << "thread " << t;
+    for (std::thread& thread : threads)
+        thread.join();
+    for (int t = 0; t < kThreads; ++t)
+        EXPECT_EQ(failures[t], "") << "thread " << t;
 }
 
 TEST(SceneImportHardening, WellFormedPlyStillImports)
@@ -260,7 +270,8 @@ TEST(SceneImportHardening, WellFormedPlyStillImports)
                                    "property float x\r\nproperty float y\r\nproperty float z\r\n"
                                    "element face 1\r\nproperty list uchar int vertex_indices\r\n"
                                    "end_header\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n"}}) {
-        const ImportOutcome outcome = importWithin(folder.write(name, text), std::chrono::seconds(20));
+        const ImportOutcome outcome =
+            importWithin(folder.write(name, text), std::chrono::seconds(20));
         EXPECT_TRUE(outcome.imported())
             << name << ": exit " << outcome.child.exitCode << " " << outcome.child.message;
     }

@@ -33,8 +33,8 @@ int main(int argc, char** argv)
                                  echo.sourceUnitsPerReaderUnit = options.chordalTolerance;
                                  echo.scene.sourceUnits.metresPerUnit = options.angularTolerance;
                                  echo.scene.format = options.upAxis == UpAxis::PositiveZ ? "z"
-                                                     : options.upAxis            ? "y"
-                                                                                 : "-";
+                                                     : options.upAxis                    ? "y"
+                                                                                         : "-";
                                  return echo;
                              } else if (how == "silent") {
                                  progress.report(0.25);

@@ -5,9 +5,8 @@
 // way: Infeasible, with the gap and the bend excess it reports).
 #include "test_util.h"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
+#include <gtest/gtest.h>
 #include <string>
 
 namespace chaintube {
@@ -31,8 +30,8 @@ SweepHose sweepHose(double expansion)
     spec.segmentCount = 30;
     spec.material.expansionCoefficient = expansion;
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-    SweepHose s{Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.05, 0, 0), Vec3(0.3, 0.2, 0), Vec3(0.55, 0, 0),
-                                  Vec3(0.6, 0, 0)},
+    SweepHose s{Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.05, 0, 0), Vec3(0.3, 0.2, 0),
+                                  Vec3(0.55, 0, 0), Vec3(0.6, 0, 0)},
                                  spec),
                 -1};
     s.hose.attach(0, 1, Frame::identity());
@@ -68,15 +67,15 @@ TEST(AttachmentSweep, TranslatedInAndBeyondReachAndBackEverySegmentStaysInItsBan
         const int steps = 200;
         for (int i = 1; i <= 4 * steps; ++i) {
             const int phase = i / steps, within = i % steps;
-            const double x = 0.4 *
-                             (phase == 0   ? double(within) / steps
-                              : phase == 1 ? 1.0 - 2.0 * within / steps
-                              : phase == 2 ? -1.0 + double(within) / steps
-                                           : 0.0);
+            const double x = 0.4 * (phase == 0   ? double(within) / steps
+                                    : phase == 1 ? 1.0 - 2.0 * within / steps
+                                    : phase == 2 ? -1.0 + double(within) / steps
+                                                 : 0.0);
             Frame frame;
             frame.translation = Vec3(x, 0.1 * std::sin(3.0 * x), 0.0);
             const UpdateResult r = s.hose.moveAttachment(s.far, frame);
-            expectHonest(s.hose, s.far, r, "expansion " + std::to_string(expansion) + ", x " + std::to_string(x));
+            expectHonest(s.hose, s.far, r,
+                         "expansion " + std::to_string(expansion) + ", x " + std::to_string(x));
             wasShort = wasShort || s.hose.attachmentGap(s.far) > 1e-3;
             if (::testing::Test::HasFailure()) return;
         }
@@ -92,7 +91,8 @@ TEST(AttachmentSweep, TranslatedInAndBeyondReachAndBackEverySegmentStaysInItsBan
 
 TEST(AttachmentSweep, TurnedAboutThreeAxesInTwoDegreeStepsEverySegmentStaysInItsBand)
 {
-    for (const Vec3& axis : {Vec3(Vec3::UnitZ()), Vec3(Vec3::UnitY()), Vec3(Vec3(1, 1, 0).normalized())}) {
+    for (const Vec3& axis :
+         {Vec3(Vec3::UnitZ()), Vec3(Vec3::UnitY()), Vec3(Vec3(1, 1, 0).normalized())}) {
         SweepHose s = sweepHose(0.02);
         // The end turned about its own point by up to 180° and back (a half turn points its
         // tangent back along the hose: the bends contradict and give way), then home.

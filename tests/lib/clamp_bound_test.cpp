@@ -33,11 +33,14 @@ TEST(ClampBetweenFixedPoints, ATargetBeyondReachIsApproachedInsideBothReachBalls
     hose.attach(0, 1, Frame::identity());
     hose.attach(n - 2, n - 1, Frame::identity());
     double reachLeft = 0.0, reachRight = 0.0;
-    for (int s = 1; s < k; ++s) reachLeft += hose.maxLength(s);
-    for (int s = k; s < n - 2; ++s) reachRight += hose.maxLength(s);
+    for (int s = 1; s < k; ++s)
+        reachLeft += hose.maxLength(s);
+    for (int s = k; s < n - 2; ++s)
+        reachRight += hose.maxLength(s);
     for (int trial = 0; trial < 12; ++trial) {
         const double phase = 0.5 * trial;
-        const Vec3 target(0.5 + 1.5 * std::cos(phase), 0.3 + 1.5 * std::sin(phase), 0.3 * std::sin(2 * phase));
+        const Vec3 target(0.5 + 1.5 * std::cos(phase), 0.3 + 1.5 * std::sin(phase),
+                          0.3 * std::sin(2 * phase));
         double error = (hose.point(k) - target).norm();
         for (int frame = 0; frame < 10; ++frame) {
             const UpdateResult r = hose.grab(k, target);

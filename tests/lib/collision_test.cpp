@@ -2,7 +2,6 @@
 #include "test_util.h"
 
 #include <chaintube/collision.h>
-
 #include <chrono>
 #include <cstdio>
 #include <numbers>
@@ -25,10 +24,13 @@ struct Mesh
     void box(const Vec3& lo, const Vec3& hi)
     {
         auto corner = [&](int i) {
-            return Vec3((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z());
+            return Vec3((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                        (i & 4) ? hi.z() : lo.z());
         };
-        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-        for (const auto& f : faces) quad(corner(f[0]), corner(f[1]), corner(f[2]), corner(f[3]));
+        const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                 {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (const auto& f : faces)
+            quad(corner(f[0]), corner(f[1]), corner(f[2]), corner(f[3]));
     }
     /// A wall of zero thickness in the plane x = x0 over y, z in [lo, hi].
     void wallX(double x0, double yLo, double yHi, double zLo, double zHi)
@@ -78,7 +80,8 @@ double sampledClearance(const Hose& hose, const MeshCollider& collider)
         const Vec3 a = hose.point(s), b = hose.point(s + 1);
         const int samples = std::max(2, static_cast<int>((b - a).norm() / 0.001));
         for (int k = 0; k <= samples; ++k) {
-            const MeshCollider::Closest c = collider.closestToPoint(a + (b - a) * (double(k) / samples));
+            const MeshCollider::Closest c =
+                collider.closestToPoint(a + (b - a) * (double(k) / samples));
             best = std::min(best, c.distance);
         }
     }
@@ -103,7 +106,8 @@ TEST(MeshCollider, ClosestPointMatchesBruteForceAndFollowsTheFrame)
     for (int t = 0; t < 200; ++t) {
         const Vec3 centre(u(rng), u(rng), u(rng));
         const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-        for (int k = 0; k < 3; ++k) mesh.positions.push_back(centre + 0.2 * Vec3(u(rng), u(rng), u(rng)));
+        for (int k = 0; k < 3; ++k)
+            mesh.positions.push_back(centre + 0.2 * Vec3(u(rng), u(rng), u(rng)));
         mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2});
     }
     Frame frame;
@@ -146,7 +150,8 @@ TEST(MeshCollider, SegmentQueriesAgreeWithDenseSamplingAndSeeCrossings)
         const MeshCollider::Closest c = collider->closestToSegment(a, b);
         double sampled = std::numeric_limits<double>::infinity();
         for (int k = 0; k <= 10000; ++k)
-            sampled = std::min(sampled, bruteForceDistance(mesh, Frame::identity(), a + (b - a) * (k / 10000.0)));
+            sampled = std::min(
+                sampled, bruteForceDistance(mesh, Frame::identity(), a + (b - a) * (k / 10000.0)));
         EXPECT_LE(c.distance, sampled + 1e-12);
         EXPECT_GE(c.distance, sampled - (b - a).norm() / 10000.0 - 1e-12);
     }
@@ -172,8 +177,8 @@ TEST(MeshCollider, SphereRestingOnASurfaceSlidesAndLiftsOffButCannotSinkIn)
     Mesh mesh;
     mesh.quad({-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1});
     auto collider = mesh.collider();
-    EXPECT_FALSE(collider->sweepSphere({0, 0.05, 0}, {0.5, 0.05, 0}, 0.05).hit);        // slide
-    EXPECT_FALSE(collider->sweepSphere({0, 0.0499999, 0}, {0.5, 0.06, 0}, 0.05).hit);   // lift off
+    EXPECT_FALSE(collider->sweepSphere({0, 0.05, 0}, {0.5, 0.05, 0}, 0.05).hit);      // slide
+    EXPECT_FALSE(collider->sweepSphere({0, 0.0499999, 0}, {0.5, 0.06, 0}, 0.05).hit); // lift off
     const MeshCollider::Sweep sink = collider->sweepSphere({0, 0.05, 0}, {0.5, 0.0, 0}, 0.05);
     ASSERT_TRUE(sink.hit);
     EXPECT_EQ(sink.fraction, 0.0);
@@ -222,10 +227,15 @@ TEST(MeshCollider, BadArraysAreRefusedNamingTheField)
         }
         return std::string("no error");
     };
-    EXPECT_NE(message(positions, {0, 1}).find("collider indices: expected a non-zero multiple of 3"), std::string::npos);
-    EXPECT_NE(message(positions, {0, 1, 3}).find("collider indices[2] = 3: expected < vertex count 3"), std::string::npos);
+    EXPECT_NE(
+        message(positions, {0, 1}).find("collider indices: expected a non-zero multiple of 3"),
+        std::string::npos);
+    EXPECT_NE(
+        message(positions, {0, 1, 3}).find("collider indices[2] = 3: expected < vertex count 3"),
+        std::string::npos);
     EXPECT_NE(message({}, {0, 1, 2}).find("collider positions"), std::string::npos);
-    EXPECT_NE(message({{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}}, {0, 1, 2}).find("collider positions[2]: expected finite"),
+    EXPECT_NE(message({{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}}, {0, 1, 2})
+                  .find("collider positions[2]: expected finite"),
               std::string::npos);
     const float flat[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     const std::uint32_t idx[3] = {0, 1, 2};
@@ -252,10 +262,13 @@ TEST(MeshCollider, DegenerateMeshesStillFindEveryContact)
         const auto base = static_cast<std::uint32_t>(stacked.positions.size());
         // Centroid (0, 0, 0) for every triangle; the one with index 12345 reaches out to y = 0.3.
         const double reach = t == 12345 ? 0.3 : s;
-        stacked.positions.insert(stacked.positions.end(), {Vec3(-s, -reach / 2, 0), Vec3(s, -reach / 2, 0), Vec3(0, reach, 0)});
+        stacked.positions.insert(
+            stacked.positions.end(),
+            {Vec3(-s, -reach / 2, 0), Vec3(s, -reach / 2, 0), Vec3(0, reach, 0)});
         stacked.indices.insert(stacked.indices.end(), {base, base + 1, base + 2});
     }
-    stacked.positions.insert(stacked.positions.end(), {Vec3(50, 0, 0), Vec3(51, 0, 0), Vec3(50, 1, 0)});
+    stacked.positions.insert(stacked.positions.end(),
+                             {Vec3(50, 0, 0), Vec3(51, 0, 0), Vec3(50, 1, 0)});
     stacked.indices.insert(stacked.indices.end(), {20000 * 3, 20000 * 3 + 1, 20000 * 3 + 2});
     auto stackedCollider = stacked.collider();
     const MeshCollider::Closest top = stackedCollider->closestToPoint({0, 0.5, 0.01});
@@ -265,7 +278,8 @@ TEST(MeshCollider, DegenerateMeshesStillFindEveryContact)
     const MeshCollider::RayHit down = stackedCollider->raycast({0, 0.25, 1}, {0, 0, -1});
     ASSERT_TRUE(down.hit) << "only the reaching triangle covers (0, 0.25)";
     EXPECT_EQ(down.triangle, 12345);
-    const MeshCollider::Sweep sweep = stackedCollider->sweepSphere({0, 0.25, 1}, {0, 0.25, -1}, 0.01);
+    const MeshCollider::Sweep sweep =
+        stackedCollider->sweepSphere({0, 0.25, 1}, {0, 0.25, -1}, 0.01);
     ASSERT_TRUE(sweep.hit);
     EXPECT_NEAR(sweep.fraction, 0.99 / 2.0, 1e-9);
     const MeshCollider::Closest far = stackedCollider->closestToSegment({49, 2, 0}, {52, 2, 0});
@@ -311,7 +325,8 @@ TEST(HoseCollision, NoCollidersAndFarCollidersChangeNothing)
         EXPECT_EQ(a.status, b.status);
         EXPECT_FALSE(b.blocked);
         EXPECT_EQ(b.contacts, 0);
-        for (int i = 0; i < plain.pointCount(); ++i) ASSERT_EQ(plain.point(i), far.point(i));
+        for (int i = 0; i < plain.pointCount(); ++i)
+            ASSERT_EQ(plain.point(i), far.point(i));
     }
 }
 
@@ -324,7 +339,8 @@ TEST(HoseCollision, ThinWallStopsTheGrabbedEndAndReportsBlocked)
         auto wall = mesh.collider();
         hose.setColliders({wall});
         UpdateResult r;
-        for (int s = 1; s <= steps; ++s) r = hose.grab(20, Vec3(1.0 + 0.1 * s / steps, 0, 0));
+        for (int s = 1; s <= steps; ++s)
+            r = hose.grab(20, Vec3(1.0 + 0.1 * s / steps, 0, 0));
         EXPECT_TRUE(r.blocked);
         EXPECT_EQ(r.status, Status::Clamped);
         EXPECT_NEAR(hose.point(20).x(), 1.05 - hose.outerRadius(), 1e-4);
@@ -333,7 +349,8 @@ TEST(HoseCollision, ThinWallStopsTheGrabbedEndAndReportsBlocked)
         const Violation v = violation(hose);
         EXPECT_LE(v.length, 1e-6);
         EXPECT_LE(v.angle, 1e-6);
-        for (int i = 0; i < hose.pointCount(); ++i) EXPECT_LT(hose.point(i).x(), 1.05);
+        for (int i = 0; i < hose.pointCount(); ++i)
+            EXPECT_LT(hose.point(i).x(), 1.05);
     }
 }
 
@@ -352,7 +369,8 @@ TEST(HoseCollision, HosePulledThroughAGapNarrowerThanItsDiameterIsBlockedAndNeve
         for (int s = 1; s <= steps; ++s) {
             r = hose.grab(20, Vec3(1.0 + 0.15 * s / steps, 0.002, 0));
             everBlocked |= r.blocked;
-            for (int i = 0; i < hose.pointCount(); ++i) ASSERT_LT(hose.point(i).x(), 1.05) << "step " << s;
+            for (int i = 0; i < hose.pointCount(); ++i)
+                ASSERT_LT(hose.point(i).x(), 1.05) << "step " << s;
         }
         EXPECT_TRUE(everBlocked);
         EXPECT_TRUE(r.blocked);
@@ -370,7 +388,8 @@ TEST(HoseCollision, HosePassesAGapWiderThanItsDiameter)
     auto wall = mesh.collider();
     hose.setColliders({wall});
     UpdateResult r;
-    for (int s = 1; s <= 10; ++s) r = hose.grab(20, Vec3(1.0 + 0.015 * s, 0, 0));
+    for (int s = 1; s <= 10; ++s)
+        r = hose.grab(20, Vec3(1.0 + 0.015 * s, 0, 0));
     EXPECT_FALSE(r.blocked);
     EXPECT_EQ(r.status, Status::Ok);
     EXPECT_LT((hose.point(20) - Vec3(1.15, 0, 0)).norm(), 1e-9);
@@ -388,7 +407,8 @@ TEST(HoseCollision, HoseWrapsASharpEdgeWithoutCuttingTheCorner)
         hose.setColliders({block});
         UpdateResult r;
         const Vec3 from(1.0, 0.2, 0), to(0.8, -0.3, 0);
-        for (int s = 1; s <= steps; ++s) r = hose.grab(20, from + (to - from) * (double(s) / steps));
+        for (int s = 1; s <= steps; ++s)
+            r = hose.grab(20, from + (to - from) * (double(s) / steps));
         EXPECT_GE(sampledClearance(hose, *block), -1e-4) << "steps " << steps;
         const Violation v = violation(hose);
         EXPECT_LE(v.length, 1e-6) << "steps " << steps;
@@ -403,7 +423,8 @@ TEST(HoseCollision, AttachmentMotionPushesTheHoseAlongAnObstacle)
 {
     Hose hose = straightHose();
     Mesh mesh;
-    mesh.quad({0.3, 0.015, -1}, {1.5, 0.015, -1}, {1.5, 0.015, 1}, {0.3, 0.015, 1}); // a thin shelf 5 mm above
+    mesh.quad({0.3, 0.015, -1}, {1.5, 0.015, -1}, {1.5, 0.015, 1},
+              {0.3, 0.015, 1}); // a thin shelf 5 mm above
     auto shelf = mesh.collider();
     hose.setColliders({shelf});
     UpdateResult r;
@@ -429,8 +450,8 @@ TEST(HoseCollision, AttachmentMotionPushesTheHoseAlongAnObstacle)
 
 // Steps until a step changes nothing (the hose counts as settled), at most maxSteps; checks
 // after every step that no point sinks into the collider and the constraints hold.
-int stepUntilSettledOutside(Hose& hose, const MeshCollider& collider, int maxSteps, double* worstPenetration,
-                            Violation* worstViolation)
+int stepUntilSettledOutside(Hose& hose, const MeshCollider& collider, int maxSteps,
+                            double* worstPenetration, Violation* worstViolation)
 {
     for (int s = 0; s < maxSteps; ++s) {
         const std::uint64_t revision = hose.revision();
@@ -463,13 +484,15 @@ TEST(HoseCollision, GravityLaysTheHoseOnAFloorSettlesAndStopsWithoutPenetratingO
     for (int frame = 0; frame < 100; ++frame) {
         static_cast<void>(hose.step());
         for (int i = 0; i < hose.pointCount(); ++i)
-            ASSERT_LE(hose.point(i).y(), 0.3 + 1e-9) << "bounced: frame " << frame << " point " << i;
+            ASSERT_LE(hose.point(i).y(), 0.3 + 1e-9)
+                << "bounced: frame " << frame << " point " << i;
     }
     double penetration = 0.0;
     Violation worst;
     const int steps = stepUntilSettledOutside(hose, *floor, 3000, &penetration, &worst);
-    std::printf("[ figures  ] hose on a floor: settled %d steps after the first 100, deepest %.2e m\n", steps,
-                penetration);
+    std::printf(
+        "[ figures  ] hose on a floor: settled %d steps after the first 100, deepest %.2e m\n",
+        steps, penetration);
     EXPECT_LT(steps, 3000) << "settles";
     EXPECT_LE(penetration, 1e-4);
     EXPECT_LE(worst.length, 1e-9);
@@ -477,12 +500,14 @@ TEST(HoseCollision, GravityLaysTheHoseOnAFloorSettlesAndStopsWithoutPenetratingO
     EXPECT_GE(sampledClearance(hose, *floor), -1e-4);
     EXPECT_NEAR(hose.point(20).y(), hose.outerRadius(), 1e-3); // the free end lies on the floor
     int lying = 0;
-    for (int i = 0; i < hose.pointCount(); ++i) lying += hose.point(i).y() < hose.outerRadius() + 2e-5; // 10 um skin
+    for (int i = 0; i < hose.pointCount(); ++i)
+        lying += hose.point(i).y() < hose.outerRadius() + 2e-5; // 10 um skin
     EXPECT_GE(lying, 5) << "a good part of it rests on the floor";
     // Settled: nothing moves, bit for bit.
     const std::vector<Vec3> settled = hose.points();
     const std::uint64_t revision = hose.revision();
-    for (int s = 0; s < 200; ++s) EXPECT_EQ(hose.step().movedPoints, 0);
+    for (int s = 0; s < 200; ++s)
+        EXPECT_EQ(hose.step().movedPoints, 0);
     EXPECT_EQ(hose.points(), settled);
     EXPECT_EQ(hose.revision(), revision);
 }
@@ -498,8 +523,8 @@ TEST(HoseCollision, HoseDroppedOntoABoxSettlesOutsideItAndStops)
         spec.material.expansionCoefficient = 0.01;
         spec.material.bendLimit = BendLimit::minBendRadius(radius);
         spec.gravity.enabled = true;
-        Hose hose = Hose::alongRoute({Vec3(-0.5, 0.1, 0), Vec3(-0.4, 0.1, 0), Vec3(0, 0.5, 0), Vec3(0.4, 0.1, 0),
-                                      Vec3(0.5, 0.1, 0)},
+        Hose hose = Hose::alongRoute({Vec3(-0.5, 0.1, 0), Vec3(-0.4, 0.1, 0), Vec3(0, 0.5, 0),
+                                      Vec3(0.4, 0.1, 0), Vec3(0.5, 0.1, 0)},
                                      spec);
         hose.attach(0, 1, Frame::identity());
         hose.attach(39, 40, Frame::identity());
@@ -511,8 +536,10 @@ TEST(HoseCollision, HoseDroppedOntoABoxSettlesOutsideItAndStops)
         Violation worst;
         const int steps = stepUntilSettledOutside(hose, *box, 5000, &penetration, &worst);
         double lowest = 1e300;
-        for (const Vec3& p : hose.points()) lowest = std::min(lowest, p.y());
-        std::printf("[ figures  ] hose dropped onto a box (R %.2f m): settled after %d steps, lowest axis point "
+        for (const Vec3& p : hose.points())
+            lowest = std::min(lowest, p.y());
+        std::printf("[ figures  ] hose dropped onto a box (R %.2f m): settled after %d steps, "
+                    "lowest axis point "
                     "%.6f m, deepest %.2e m\n",
                     radius, steps, lowest, penetration);
         EXPECT_LT(steps, 5000) << "settles, R " << radius;
@@ -522,7 +549,8 @@ TEST(HoseCollision, HoseDroppedOntoABoxSettlesOutsideItAndStops)
         EXPECT_LE(worst.length, 1e-9) << radius;
         EXPECT_LE(worst.angle, 1e-9) << radius;
         const std::vector<Vec3> settled = hose.points();
-        for (int s = 0; s < 200; ++s) EXPECT_EQ(hose.step().movedPoints, 0) << radius;
+        for (int s = 0; s < 200; ++s)
+            EXPECT_EQ(hose.step().movedPoints, 0) << radius;
         EXPECT_EQ(hose.points(), settled) << radius;
     }
 }
@@ -558,7 +586,8 @@ TEST(HoseCollision, AttachmentDrivenIntoAnObjectIsReportedBlocked)
     // Surfaces only: the depth is the radius minus the axis's distance to the crossed face.
     EXPECT_GT(r.penetration, 0.5 * hose.outerRadius());
     EXPECT_LE(r.penetration, hose.outerRadius());
-    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_TRUE(hose.point(i).allFinite());
+    for (int i = 0; i < hose.pointCount(); ++i)
+        EXPECT_TRUE(hose.point(i).allFinite());
 }
 
 TEST(HoseCollision, SetCollidersRefusesBadOptions)
@@ -605,16 +634,19 @@ TEST(HoseCollision, MillionTriangleSceneStaysInteractive)
         const auto u0 = std::chrono::steady_clock::now();
         static_cast<void>(hose.grab(
             50, Vec3(-0.5 + std::cos(a) * 0.8, -0.05, std::sin(a) * 0.8))); // below the ground
-        worst = std::max(worst, std::chrono::duration<double>(std::chrono::steady_clock::now() - u0).count());
+        worst = std::max(
+            worst, std::chrono::duration<double>(std::chrono::steady_clock::now() - u0).count());
     }
     const auto t2 = std::chrono::steady_clock::now();
     EXPECT_GE(sampledClearance(hose, *ground), -1e-4);
-    std::printf("[ figures  ] 1M triangles: build %.2f s, %.3f ms per grab (50-segment hose on the ground), worst %.3f ms\n",
+    std::printf("[ figures  ] 1M triangles: build %.2f s, %.3f ms per grab (50-segment hose on the "
+                "ground), worst %.3f ms\n",
                 std::chrono::duration<double>(t1 - t0).count(),
                 1e3 * std::chrono::duration<double>(t2 - t1).count() / updates, 1e3 * worst);
 }
 
-// --- clearance ------------------------------------------------------------------------------------
+// --- clearance
+// ------------------------------------------------------------------------------------
 
 TEST(Clearance, MinimumDistanceAndWhereItOccurs)
 {
@@ -640,7 +672,8 @@ TEST(Clearance, MinimumDistanceAndWhereItOccurs)
     motion.rotation = Quat(Eigen::AngleAxisd(1.1, Vec3(0, 1, 1).normalized()));
     motion.translation = Vec3(3, 4, 5);
     std::vector<Vec3> axis;
-    for (const Vec3& p : hose.points()) axis.push_back(motion.apply(p));
+    for (const Vec3& p : hose.points())
+        axis.push_back(motion.apply(p));
     const Hose moved = Hose::fromAxis(axis, hose.spec());
     block->setFrame(motion * place);
     const Clearance cm = clearance(moved, *block);

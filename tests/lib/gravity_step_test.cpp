@@ -27,12 +27,14 @@ Hose hangingHose(double length, int segments)
 double lowestY(const Hose& hose)
 {
     double lowest = 1e300;
-    for (const Vec3& p : hose.points()) lowest = std::min(lowest, p.y());
+    for (const Vec3& p : hose.points())
+        lowest = std::min(lowest, p.y());
     return lowest;
 }
 
 // Steps until settled (a step that does nothing), at most maxSteps. Returns the steps taken.
-int stepUntilSettled(Hose& hose, int maxSteps, double* worstLength = nullptr, double* worstAngle = nullptr)
+int stepUntilSettled(Hose& hose, int maxSteps, double* worstLength = nullptr,
+                     double* worstAngle = nullptr)
 {
     for (int s = 0; s < maxSteps; ++s) {
         const std::uint64_t revision = hose.revision();
@@ -53,7 +55,8 @@ Hose valveTail()
     spec.material.expansionCoefficient = 0.08;
     spec.material.bendLimit = BendLimit::minBendRadius(0.12);
     spec.gravity.enabled = true;
-    Hose hose = Hose::alongRoute({Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
+    Hose hose = Hose::alongRoute(
+        {Vec3(0.0, 0.07, 0.15), Vec3(0.0, 0.2, 0.25), Vec3(0.15, 0.25, 0.3)}, spec);
     hose.attach(0, 1, Frame::identity());
     return hose;
 }
@@ -80,7 +83,8 @@ TEST(GravityStep, SettlesToTheCatenaryWithEveryConstraintHoldingAfterEveryStep)
         double worstLength = 0.0, worstAngle = 0.0;
         const int steps = stepUntilSettled(hose, 20000, &worstLength, &worstAngle);
         EXPECT_LT(steps, 20000) << "length " << length << " did not settle";
-        EXPECT_NEAR(-lowestY(hose), expected, 0.01 * expected) << "length " << length << " after " << steps << " steps";
+        EXPECT_NEAR(-lowestY(hose), expected, 0.01 * expected)
+            << "length " << length << " after " << steps << " steps";
         EXPECT_LE(worstLength, 1e-9) << "length " << length;
         EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
     }
@@ -182,7 +186,8 @@ TEST(GravityStep, SceneStepsOnlyHosesThatNeedIt)
     scene.addHose(still);
     scene.addHose(hangingHose(1.2, 32));
     EXPECT_EQ(scene.step(), 1) << "only the hose with gravity on moves";
-    for (int s = 0; s < 20000 && scene.step() > 0;) ++s;
+    for (int s = 0; s < 20000 && scene.step() > 0;)
+        ++s;
     EXPECT_EQ(scene.step(), 0) << "settled";
 }
 
@@ -198,8 +203,9 @@ Hose clampedArch(double minBendRadius = 0.1, double expansion = 0.01)
     spec.material.expansionCoefficient = expansion;
     spec.material.bendLimit = BendLimit::minBendRadius(minBendRadius);
     spec.gravity.enabled = true;
-    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.4, 0.25, 0), Vec3(0.7, 0, 0), Vec3(0.8, 0, 0)},
-                                 spec);
+    Hose hose = Hose::alongRoute(
+        {Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.4, 0.25, 0), Vec3(0.7, 0, 0), Vec3(0.8, 0, 0)},
+        spec);
     hose.attach(0, 1, Frame::identity());
     hose.attach(39, 40, Frame::identity());
     return hose;
@@ -207,7 +213,8 @@ Hose clampedArch(double minBendRadius = 0.1, double expansion = 0.01)
 
 // Hung between two pinned points 1 m apart, inextensible, `segments` segments, min bend radius
 // R (0: none). Returns the mid-span sag after settling with step(); *steps gets the steps used.
-double pinnedSag(double length, int segments, double radius, int* steps = nullptr, int maxSteps = 20000)
+double pinnedSag(double length, int segments, double radius, int* steps = nullptr,
+                 int maxSteps = 20000)
 {
     HoseSpec spec;
     spec.segmentCount = segments;
@@ -244,7 +251,6 @@ double pinnedSag(double length, int segments, double radius, int* steps = nullpt
     return -lowestY(hose);
 }
 
-
 } // namespace
 
 TEST(GravityStep, BendLimitedHoseBetweenTwoClampsSettlesStopsAndKeepsEveryConstraint)
@@ -253,7 +259,8 @@ TEST(GravityStep, BendLimitedHoseBetweenTwoClampsSettlesStopsAndKeepsEveryConstr
     const double startLowest = lowestY(hose);
     double worstLength = 0.0, worstAngle = 0.0;
     const int steps = stepUntilSettled(hose, 3000, &worstLength, &worstAngle);
-    std::printf("[ figures  ] clamped arch (40 segments, R 0.1 m, e 1 %%, span 0.8 m): settled after %d steps, "
+    std::printf("[ figures  ] clamped arch (40 segments, R 0.1 m, e 1 %%, span 0.8 m): settled "
+                "after %d steps, "
                 "lowest point %.5f m (started at %.5f)\n",
                 steps, lowestY(hose), startLowest);
     EXPECT_LT(steps, 3000) << "settles";
@@ -271,7 +278,8 @@ TEST(GravityStep, BendLimitedHoseBetweenTwoClampsSettlesStopsAndKeepsEveryConstr
     // Settled: nothing moves, bit for bit, and the revision stays.
     const std::vector<Vec3> settled = hose.points();
     const std::uint64_t revision = hose.revision();
-    for (int s = 0; s < 300; ++s) EXPECT_EQ(hose.step().movedPoints, 0);
+    for (int s = 0; s < 300; ++s)
+        EXPECT_EQ(hose.step().movedPoints, 0);
     EXPECT_EQ(hose.points(), settled);
     EXPECT_EQ(hose.revision(), revision);
 }
@@ -315,9 +323,10 @@ TEST(GravityStep, BendLimitedSagMatchesTheCatenaryWhenTheLimitDoesNotBindAndSags
         int steps = 0;
         const int maxSteps = 20000;
         const double sag = pinnedSag(2.0, 64, radius, &steps, maxSteps);
-        std::printf("[ figures  ] length 2 m over 1 m, 64 segments, min bend radius %.2f m: sag %.5f m "
-                    "(catenary %.5f, arc %.5f), settled after %d steps%s\n",
-                    radius, sag, catenary, arc, steps, steps == maxSteps ? " (did not settle)" : "");
+        std::printf(
+            "[ figures  ] length 2 m over 1 m, 64 segments, min bend radius %.2f m: sag %.5f m "
+            "(catenary %.5f, arc %.5f), settled after %d steps%s\n",
+            radius, sag, catenary, arc, steps, steps == maxSteps ? " (did not settle)" : "");
         EXPECT_LT(steps, maxSteps) << radius;
         if (radius < 0.22964) {
             EXPECT_NEAR(sag, catenary, 0.01 * catenary) << radius;
@@ -347,11 +356,13 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsWithoutWhipping)
         worstLength = std::max(worstLength, r.lengthViolation);
         worstAngle = std::max(worstAngle, r.angleViolation);
         for (int i = 0; i < hose.pointCount(); ++i)
-            worstJump = std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+            worstJump =
+                std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
     }
-    std::printf("[ figures ] valve tail: free end sank %.4f m in 200 steps, largest move of a point in one "
-                "step %.4f m (segment %.4f m)\n",
-                startY - hose.point(end).y(), worstJump, segment);
+    std::printf(
+        "[ figures ] valve tail: free end sank %.4f m in 200 steps, largest move of a point in one "
+        "step %.4f m (segment %.4f m)\n",
+        startY - hose.point(end).y(), worstJump, segment);
     EXPECT_LT(hose.point(end).y(), startY - 0.01);
     // Four rounds a step, each at most 0.1 segment of fall plus the swing it started.
     EXPECT_LT(worstJump, 0.5 * segment);
@@ -370,7 +381,8 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
     ASSERT_EQ(staticSag.sag().update.status, Status::Ok);
     const auto meanHeight = [](const Hose& h) {
         double sum = 0.0;
-        for (int i = 0; i < h.pointCount(); ++i) sum += h.point(i).y();
+        for (int i = 0; i < h.pointCount(); ++i)
+            sum += h.point(i).y();
         return sum / h.pointCount();
     };
     const double segment = hose.restLengthTotal() / 14.0;
@@ -384,12 +396,14 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
         ASSERT_LE(r.lengthViolation, 1e-9) << "step " << steps;
         ASSERT_LE(r.angleViolation, 1e-9) << "step " << steps;
         for (int i = 0; i < hose.pointCount(); ++i)
-            worstJump = std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+            worstJump =
+                std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
         if (hose.revision() == revision) break;
     }
-    std::printf("[ figures ] valve tail: settled after %d steps, mean height %.4f m (static sag %.4f m), "
-                "largest move of a point in a step %.3f segments\n",
-                steps, meanHeight(hose), meanHeight(staticSag), worstJump / segment);
+    std::printf(
+        "[ figures ] valve tail: settled after %d steps, mean height %.4f m (static sag %.4f m), "
+        "largest move of a point in a step %.3f segments\n",
+        steps, meanHeight(hose), meanHeight(staticSag), worstJump / segment);
     EXPECT_LT(steps, 4000);
     EXPECT_LT(meanHeight(hose), meanHeight(staticSag) + 0.01);
     EXPECT_LT(worstJump, 0.5 * segment);
@@ -403,14 +417,16 @@ TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
     const std::vector<Vec3> marked = hose.points();
     hose.markSettled();
     const std::uint64_t revision = hose.revision();
-    for (int s = 0; s < 10; ++s) EXPECT_EQ(hose.step().movedPoints, 0);
+    for (int s = 0; s < 10; ++s)
+        EXPECT_EQ(hose.step().movedPoints, 0);
     EXPECT_EQ(hose.points(), marked);
     EXPECT_EQ(hose.revision(), revision);
 
     // An input wakes it; the fall starts from rest: the same steps as a hose just built at this
     // shape with the same rest lengths (no velocity carried from before the mark).
     std::vector<double> rest;
-    for (int s = 0; s + 1 < hose.pointCount(); ++s) rest.push_back(hose.restLength(s));
+    for (int s = 0; s + 1 < hose.pointCount(); ++s)
+        rest.push_back(hose.restLength(s));
     Hose fresh = Hose::fromAxis(marked, rest, hose.spec());
     fresh.attach(0, 1, Frame::identity());
     const Vec3 lift = hose.point(7) + Vec3(0.0, 0.02, 0.0);
@@ -425,5 +441,6 @@ TEST(GravityStep, AHoseMarkedSettledStaysUntilAnInputThenFallsFromRest)
     // The fresh hose holds the same world positions relative to another origin (its first
     // point), so its local coordinates differ in the last bits: equal to rounding, not bit for
     // bit. Velocity carried from before the mark would show at the millimetre scale.
-    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_LT((hose.point(i) - fresh.point(i)).norm(), 1e-9) << i;
+    for (int i = 0; i < hose.pointCount(); ++i)
+        EXPECT_LT((hose.point(i) - fresh.point(i)).norm(), 1e-9) << i;
 }

@@ -1,4 +1,5 @@
 #include "test_util.h"
+
 #include <numbers>
 
 using namespace chaintube;
@@ -20,7 +21,8 @@ TEST(Metrics, OverstretchAndBendBelowMinimumAreFoundWhereTheyAre)
     spec.material.expansionCoefficient = 0.1;
     spec.material.bendLimit = BendLimit::minBendRadius(0.5);
     // A shape loaded with rest lengths shorter than its segments (the solver never leaves one).
-    const Hose hose = Hose::fromAxis({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0)}, {1.0, 0.5, 1.0}, spec);
+    const Hose hose = Hose::fromAxis({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0)},
+                                     {1.0, 0.5, 1.0}, spec);
     const HoseMetrics m = measure(hose);
     EXPECT_TRUE(m.overstretched());
     EXPECT_EQ(m.lengthViolationSegment, 1);
@@ -41,9 +43,10 @@ TEST(Metrics, RingSelfIntersectionWhenTheRadiusExceedsTheBendsReach)
         HoseSpec spec = paperSpec(3, 0.1, 90);
         spec.outerDiameter = 2 * radius;
         const double a = 60 * kDegree;
-        const Hose hose = Hose::fromAxis({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1 + std::cos(a), std::sin(a), 0),
-                                          Vec3(1 + std::cos(a) + std::cos(2 * a), std::sin(a) + std::sin(2 * a), 0)},
-                                         spec);
+        const Hose hose = Hose::fromAxis(
+            {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1 + std::cos(a), std::sin(a), 0),
+             Vec3(1 + std::cos(a) + std::cos(2 * a), std::sin(a) + std::sin(2 * a), 0)},
+            spec);
         const HoseMetrics m = measure(hose);
         EXPECT_NEAR(m.worstRingOverlap, radius * 2 * std::tan(a / 2), 1e-9);
         EXPECT_EQ(m.selfIntersectingSegments.empty(), radius < 0.866) << radius;

@@ -1,4 +1,5 @@
 #include "test_util.h"
+
 #include <numbers>
 
 using namespace chaintube;
@@ -39,7 +40,8 @@ TEST(Profile, RectangleHasHardEdgesAndNoZeroWidthFaces)
     const Profile p = Profile::rectangle(0.04, 0.02);
     EXPECT_EQ(p.vertexCount(), 8);
     int faces = 0;
-    for (int j = 0; j + 1 < p.vertexCount(); ++j) faces += p.isFaceEdge(j);
+    for (int j = 0; j + 1 < p.vertexCount(); ++j)
+        faces += p.isFaceEdge(j);
     EXPECT_EQ(faces, 4);
     EXPECT_NEAR(capArea(p), 0.04 * 0.02, 1e-15);
     EXPECT_NEAR(p.boundingRadius(), std::hypot(0.02, 0.01), 1e-15);
@@ -59,7 +61,8 @@ TEST(Profile, EllipseAndRoundedRectangleAreaMatchTheirShape)
 TEST(Profile, ConcavePolygonCapIsTriangulatedExactly)
 {
     // An L shape, given clockwise: it is reoriented.
-    const std::vector<Vec2> shape = {Vec2(0, 0), Vec2(0, 2), Vec2(1, 2), Vec2(1, 1), Vec2(2, 1), Vec2(2, 0)};
+    const std::vector<Vec2> shape = {Vec2(0, 0), Vec2(0, 2), Vec2(1, 2),
+                                     Vec2(1, 1), Vec2(2, 1), Vec2(2, 0)};
     const Profile p = Profile::polygon(shape);
     EXPECT_NEAR(capArea(p), 3.0, 1e-12);
     EXPECT_EQ(p.capTriangles().size(), 12u);
@@ -72,7 +75,8 @@ TEST(Profile, BadProfilesAreRefusedWithAReason)
     EXPECT_THROW(Profile::ellipse(0.1, -1, 8), InvalidArgument);
     EXPECT_THROW(Profile::roundedRectangle(0.04, 0.02, 0.011, 4), InvalidArgument);
     EXPECT_THROW(Profile::polygon({Vec2(0, 0), Vec2(1, 0)}), InvalidArgument);
-    EXPECT_THROW(Profile::polygon({Vec2(0, 0), Vec2(1, 0), Vec2(2, 0)}), InvalidArgument) << "zero area";
+    EXPECT_THROW(Profile::polygon({Vec2(0, 0), Vec2(1, 0), Vec2(2, 0)}), InvalidArgument)
+        << "zero area";
     try {
         Profile::polygon({Vec2(0, 0), Vec2(2, 2), Vec2(2, 0), Vec2(0, 1)}); // a bow tie
         FAIL();

@@ -1,4 +1,5 @@
 #include "test_util.h"
+
 #include <numbers>
 
 using namespace chaintube;
@@ -30,7 +31,9 @@ TEST(Resolution, AnArcSampledAtTheChosenSegmentLengthStaysWithinTolerance)
     spec.material.expansionCoefficient = 0.0;
     // Lay a half circle of radius R as a route of many points and compare with the circle.
     std::vector<Vec3> route;
-    for (int k = 0; k <= 400; ++k) route.emplace_back(radius * std::sin(std::numbers::pi * k / 400), radius * (1 - std::cos(std::numbers::pi * k / 400)), 0);
+    for (int k = 0; k <= 400; ++k)
+        route.emplace_back(radius * std::sin(std::numbers::pi * k / 400),
+                           radius * (1 - std::cos(std::numbers::pi * k / 400)), 0);
     const Hose hose = Hose::alongRoute(route, spec);
     double worst = 0.0;
     for (int s = 0; s + 1 < hose.pointCount(); ++s) {

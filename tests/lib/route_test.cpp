@@ -1,4 +1,5 @@
 #include "test_util.h"
+
 #include <numbers>
 
 using namespace chaintube;

@@ -21,7 +21,8 @@ double hangingSag(double length, int segments, SagResult* outResult = nullptr)
     const SagResult result = hose.sag();
     if (outResult) *outResult = result;
     double lowest = 0.0;
-    for (const Vec3& p : hose.points()) lowest = std::min(lowest, p.y());
+    for (const Vec3& p : hose.points())
+        lowest = std::min(lowest, p.y());
     return -lowest;
 }
 } // namespace
@@ -34,7 +35,8 @@ TEST(Sag, HangingHoseMatchesTheCatenaryWithinOnePercentAt64PointsAndMore)
             SagResult result;
             const double sag = hangingSag(length, segments, &result);
             EXPECT_EQ(result.update.status, Status::Ok);
-            EXPECT_NEAR(sag, expected, 0.01 * expected) << "length " << length << ", " << segments << " segments";
+            EXPECT_NEAR(sag, expected, 0.01 * expected)
+                << "length " << length << ", " << segments << " segments";
         }
 }
 
@@ -56,7 +58,8 @@ TEST(Sag, SettledHoseStaysPutAndConstraintsHold)
     // that, downwards, and never lifts the hose.
     const auto meanHeight = [&] {
         double sum = 0.0;
-        for (const Vec3& p : hose.points()) sum += p.y();
+        for (const Vec3& p : hose.points())
+            sum += p.y();
         return sum / hose.pointCount();
     };
     const double segment = 1.0 / 16.0, settledHeight = meanHeight();
@@ -65,8 +68,10 @@ TEST(Sag, SettledHoseStaysPutAndConstraintsHold)
     EXPECT_EQ(again.update.status, Status::Ok);
     EXPECT_TRUE(again.settled);
     EXPECT_LE(meanHeight(), settledHeight + 1e-12) << "never lifts";
-    EXPECT_GT(meanHeight(), settledHeight - 0.01 * segment) << "creeps by less than the rest rule's 1 %";
-    for (int i = 0; i <= 16; ++i) EXPECT_LT((hose.point(i) - settled[i]).norm(), 0.05 * segment) << i;
+    EXPECT_GT(meanHeight(), settledHeight - 0.01 * segment)
+        << "creeps by less than the rest rule's 1 %";
+    for (int i = 0; i <= 16; ++i)
+        EXPECT_LT((hose.point(i) - settled[i]).norm(), 0.05 * segment) << i;
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
 }
 

@@ -31,7 +31,8 @@ TEST(SolverHardCases, FoldBackRequestOf180DegreesIsDecidedAndStaysWithinLimits)
     // Deterministic: the same request gives the same answer.
     Hose again = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(10, 0.1, 60));
     static_cast<void>(again.grab(10, p[9] - (p[10] - p[9])));
-    for (int i = 0; i < hose.pointCount(); ++i) EXPECT_EQ(hose.point(i), again.point(i));
+    for (int i = 0; i < hose.pointCount(); ++i)
+        EXPECT_EQ(hose.point(i), again.point(i));
 }
 
 TEST(SolverHardCases, DragOntoANeighbourKeepsTheSegmentDirectionAtMinimumLength)
@@ -72,7 +73,8 @@ TEST(SolverHardCases, NanAndInfTargetsAreRejectedAndLeaveTheHoseUnchanged)
 // gravity"): every segment stays in its band, the hose goes taut along the line between the
 // fixed points, and the moved attachment is not met: it stops where the hose reaches, on the
 // line from where it was towards its frame, and the gap is reported.
-TEST(SolverHardCases, BothEndsFixedAndPulledApartBeyondReachGoesTautAndLeavesTheMovedAttachmentShort)
+TEST(SolverHardCases,
+     BothEndsFixedAndPulledApartBeyondReachGoesTautAndLeavesTheMovedAttachmentShort)
 {
     auto run = [] {
         Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(20, 0.1, 30));
@@ -87,7 +89,8 @@ TEST(SolverHardCases, BothEndsFixedAndPulledApartBeyondReachGoesTautAndLeavesThe
     EXPECT_EQ(result.status, Status::Infeasible);
     EXPECT_LE(result.lengthViolation, 1e-9) << "lengths are never given up";
     EXPECT_LE(result.angleViolation, 1e-9);
-    for (const Vec3& p : points) EXPECT_TRUE(p.allFinite());
+    for (const Vec3& p : points)
+        EXPECT_TRUE(p.allFinite());
     EXPECT_NEAR(points[0].x(), 0.0, 1e-12) << "the attachment that did not move is met";
     // The free span 1 … 19 reaches 18 × 0.055 m = 0.99 m: point 19 at x = 0.05 + 0.99.
     EXPECT_NEAR(points[19].x(), 0.05 + 0.99, 1e-5);
@@ -146,7 +149,8 @@ TEST(SolverHardCases, GrabPushingAStraightInextensibleSpanAgainstAPinBowsIt)
     EXPECT_EQ(result.status, Status::Ok);
     EXPECT_LT(result.grabError, 1e-12);
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
-    for (int i = 1; i < 10; ++i) EXPECT_GT(hose.point(i).z(), 0.0) << i;
+    for (int i = 1; i < 10; ++i)
+        EXPECT_GT(hose.point(i).z(), 0.0) << i;
 }
 
 // A rigid hose cannot bow: the request is decided from the straight state, as without the bow
@@ -191,7 +195,8 @@ TEST(SolverHardCases, HoseFarFromTheOriginKeepsFullPrecision)
     std::uniform_real_distribution<double> unit(-0.3, 0.3);
     for (int i = 0; i < 500; ++i) {
         const int index = std::uniform_int_distribution<int>(0, 40)(rng);
-        const UpdateResult r = hose.grab(index, hose.point(index) + Vec3(unit(rng), unit(rng), unit(rng)));
+        const UpdateResult r =
+            hose.grab(index, hose.point(index) + Vec3(unit(rng), unit(rng), unit(rng)));
         ASSERT_EQ(r.status, Status::Ok);
     }
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
@@ -202,7 +207,8 @@ TEST(SolverHardCases, ExpansionZeroIsInextensible)
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, paperSpec(25, 0.0, 45));
     static_cast<void>(hose.grab(12, Vec3(0.3, 0.4, 0.1)));
     static_cast<void>(hose.grab(0, Vec3(-0.2, 0.0, 0.3)));
-    for (int s = 0; s < 25; ++s) EXPECT_NEAR((hose.point(s + 1) - hose.point(s)).norm(), 0.04, 1e-12);
+    for (int s = 0; s < 25; ++s)
+        EXPECT_NEAR((hose.point(s + 1) - hose.point(s)).norm(), 0.04, 1e-12);
 }
 
 TEST(SolverHardCases, DeflectionZeroIsRigid)
@@ -297,7 +303,8 @@ TEST(SolverHardCases, SetUpFunctionsRejectBadInputNamingTheField)
     expectMessage([&] { Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1, spec); }, "outerDiameter");
     spec = paperSpec();
     spec.material.expansionCoefficient = 1.0;
-    expectMessage([&] { Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1, spec); }, "expansionCoefficient");
+    expectMessage([&] { Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1, spec); },
+                  "expansionCoefficient");
     spec = paperSpec();
     expectMessage([&] { Hose::straight(Vec3::Zero(), Vec3::UnitX(), 0, spec); }, "length");
     expectMessage([&] { Hose::straight(Vec3::Zero(), Vec3::Zero(), 1, spec); }, "direction");
@@ -343,15 +350,18 @@ TEST(SolverHardCases, AHoseRebuiltFromADeformedShapeKeepsItsRestLengths)
     static_cast<void>(hose.grab(
         10, Vec3(1.15, 0.0, 0.0))); // stretched: every segment longer than its rest length
     std::vector<double> rest;
-    for (int s = 0; s < hose.segmentCount(); ++s) rest.push_back(hose.restLength(s));
+    for (int s = 0; s < hose.segmentCount(); ++s)
+        rest.push_back(hose.restLength(s));
     const Hose rebuilt = Hose::fromAxis(hose.points(), rest, hose.spec());
     for (int s = 0; s < hose.segmentCount(); ++s) {
         EXPECT_EQ(rebuilt.restLength(s), hose.restLength(s));
         EXPECT_DOUBLE_EQ(rebuilt.maxLength(s), hose.maxLength(s));
     }
     EXPECT_NEAR(measure(rebuilt).maxStretch, measure(hose).maxStretch, 1e-12);
-    EXPECT_THROW(Hose::fromAxis(hose.points(), std::vector<double>(3, 0.1), hose.spec()), InvalidArgument);
-    EXPECT_THROW(Hose::fromAxis(hose.points(), std::vector<double>(10, -1.0), hose.spec()), InvalidArgument);
+    EXPECT_THROW(Hose::fromAxis(hose.points(), std::vector<double>(3, 0.1), hose.spec()),
+                 InvalidArgument);
+    EXPECT_THROW(Hose::fromAxis(hose.points(), std::vector<double>(10, -1.0), hose.spec()),
+                 InvalidArgument);
 }
 
 // Grabs on a hose whose attachment is not met (its part moved beyond reach) keep every
@@ -371,12 +381,14 @@ TEST(SolverHardCases, GrabsOnAHoseWithAnUnmetAttachmentKeepEveryConstraint)
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     for (int trial = 0; trial < 200; ++trial) {
         const int index = 2 + static_cast<int>(random() % 17);
-        const Vec3 target = hose.point(index) + 0.3 * Vec3(unit(random), unit(random), unit(random));
+        const Vec3 target =
+            hose.point(index) + 0.3 * Vec3(unit(random), unit(random), unit(random));
         const UpdateResult r = hose.grab(index, target);
         ASSERT_NE(r.status, Status::InvalidInput);
         EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
         EXPECT_GE(hose.attachmentGap(far), gap - 1e-9) << "trial " << trial;
-        for (const Vec3& p : hose.points()) ASSERT_TRUE(p.allFinite());
+        for (const Vec3& p : hose.points())
+            ASSERT_TRUE(p.allFinite());
     }
     // Bringing the part back within reach meets the attachment again; grabs are exact again.
     pulled.translation = Vec3::Zero();

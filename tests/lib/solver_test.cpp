@@ -53,7 +53,8 @@ TEST(Solver, EveryConstraintHoldsAfterRandomDragsWhenTheRequestWasFeasible)
         for (int drag = 0; drag < 60; ++drag) {
             const int index = std::uniform_int_distribution<int>(0, hose.pointCount() - 1)(rng);
             if (hose.isFixed(index)) continue;
-            const Vec3 offset = Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5) * scale * 0.6;
+            const Vec3 offset =
+                Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5) * scale * 0.6;
             const UpdateResult result = hose.grab(index, hose.point(index) + offset);
             ASSERT_NE(result.status, Status::InvalidInput);
             ASSERT_TRUE(allFinite(hose));
@@ -83,7 +84,8 @@ TEST(Solver, AttachedRunsFollowTheirFrameRigidlyAndTheRestFollowsInTheSameUpdate
     frame.translation = Vec3(0.3, -0.2, 0.5);
     const UpdateResult result = hose.moveAttachment(clamp, frame);
     EXPECT_EQ(result.status, Status::Ok);
-    for (int i = 0; i <= 2; ++i) EXPECT_LT((hose.point(i) - frame.apply(before[i])).norm(), 1e-12);
+    for (int i = 0; i <= 2; ++i)
+        EXPECT_LT((hose.point(i) - frame.apply(before[i])).norm(), 1e-12);
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
     // The first free point was dragged along: it stays within one stretched segment.
     EXPECT_LE((hose.point(3) - hose.point(2)).norm(), 0.05 * 1.1 + 1e-12);
@@ -138,17 +140,20 @@ std::vector<Vec3> runSequence(const Quat& rotation, const Vec3& translation, dou
     for (int step = 0; step < 30; ++step) {
         const Vec3 offset(unit(rng), unit(rng), unit(rng));
         const int index = static_cast<int>(std::abs(unit(rng)) * 60);
-        const UpdateResult result = hose.grab(index, map(Vec3(0.05 * index, 0.0, 0.0) + 0.6 * offset));
+        const UpdateResult result =
+            hose.grab(index, map(Vec3(0.05 * index, 0.0, 0.0) + 0.6 * offset));
         EXPECT_EQ(result.status, Status::Ok) << "step " << step;
     }
     const int clamp = hose.attach(0, 1, Frame{rotation, translation});
     for (int step = 0; step < 10; ++step) {
-        const Frame f{rotation * Quat(Eigen::AngleAxisd(0.3 * step, Vec3(0.3, 0.2, 1.0).normalized())),
+        const Frame f{rotation *
+                          Quat(Eigen::AngleAxisd(0.3 * step, Vec3(0.3, 0.2, 1.0).normalized())),
                       translation + scale * (rotation * Vec3(0.05 * step, -0.02 * step, 0.0))};
         EXPECT_EQ(hose.moveAttachment(clamp, f).status, Status::Ok) << "move " << step;
     }
     std::vector<Vec3> out;
-    for (const Vec3& p : hose.points()) out.push_back(rotation.conjugate() * (p - translation) / scale);
+    for (const Vec3& p : hose.points())
+        out.push_back(rotation.conjugate() * (p - translation) / scale);
     return out;
 }
 } // namespace
@@ -158,7 +163,8 @@ TEST(Solver, ResultsAreInvariantUnderRigidMotion)
     const std::vector<Vec3> reference = runSequence(Quat::Identity(), Vec3::Zero(), 1.0);
     const Quat rotation(Eigen::AngleAxisd(1.1, Vec3(1.0, -2.0, 0.5).normalized()));
     const std::vector<Vec3> moved = runSequence(rotation, Vec3(3.0, -40.0, 12.0), 1.0);
-    for (size_t i = 0; i < reference.size(); ++i) EXPECT_LT((reference[i] - moved[i]).norm(), 1e-9) << i;
+    for (size_t i = 0; i < reference.size(); ++i)
+        EXPECT_LT((reference[i] - moved[i]).norm(), 1e-9) << i;
 }
 
 TEST(Solver, ResultsAreInvariantUnderUniformScaleFrom1e3To1eMinus3)
@@ -167,7 +173,8 @@ TEST(Solver, ResultsAreInvariantUnderUniformScaleFrom1e3To1eMinus3)
     for (double scale : {1e-3, 1e-2, 1e2, 1e3}) {
         const std::vector<Vec3> scaled = runSequence(Quat::Identity(), Vec3::Zero(), scale);
         for (size_t i = 0; i < reference.size(); ++i)
-            EXPECT_LT((reference[i] - scaled[i]).norm(), 1e-9) << "scale " << scale << " point " << i;
+            EXPECT_LT((reference[i] - scaled[i]).norm(), 1e-9)
+                << "scale " << scale << " point " << i;
     }
 }
 
@@ -187,7 +194,8 @@ TEST(Solver, MinBendRadiusGivesTheSameBendAtEveryResolution)
         static_cast<void>(hose.grab(segments, Vec3(0.95, 0.2, 0.0)));
         // Far inside the reachable set: clamped; held, the end keeps coming nearer (bounded
         // work a grab, the rest on the next ones) until the limit stops it.
-        for (int frame = 0; frame < 40; ++frame) static_cast<void>(hose.grab(segments, Vec3(0.0, 0.05, 0.0)));
+        for (int frame = 0; frame < 40; ++frame)
+            static_cast<void>(hose.grab(segments, Vec3(0.0, 0.05, 0.0)));
         const HoseMetrics m = measure(hose);
         EXPECT_GT(m.smallestBendRadius, 0.1 * (1 - 1e-9)) << segments;
         EXPECT_LT(m.smallestBendRadius, 0.1 * 1.02) << segments << " segments: the limit is used";

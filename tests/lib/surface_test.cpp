@@ -75,9 +75,10 @@ TEST(Surface, TwoRingStepsGiveThePapersProjectionToRounding)
 {
     std::vector<Hose> hoses = {wiggly(120), wiggly(121)};
     HoseSpec spec = paperSpec(6, 0.1, 100);
-    hoses.push_back(Hose::fromAxis({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.2, 0, 0), Vec3(0.2, 0.1, 0),
-                                    Vec3(0.2, 0.2, 0.01), Vec3(0.2, 0.2, 0.11), Vec3(0.3, 0.21, 0.12)},
-                                   spec));
+    hoses.push_back(
+        Hose::fromAxis({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.2, 0, 0), Vec3(0.2, 0.1, 0),
+                        Vec3(0.2, 0.2, 0.01), Vec3(0.2, 0.2, 0.11), Vec3(0.3, 0.21, 0.12)},
+                       spec));
     for (const Hose& hose : hoses) {
         TwistSeed seed;
         std::vector<RingFrame> frames;
@@ -85,10 +86,12 @@ TEST(Surface, TwoRingStepsGiveThePapersProjectionToRounding)
         int projections = 0;
         for (size_t i = 1; i < frames.size(); ++i) {
             expectOrthonormal(frames[i], 1e-14);
-            const Vec3 raw = frames[i - 1].alignment - frames[i - 1].alignment.dot(frames[i].tangent) * frames[i].tangent;
+            const Vec3 raw = frames[i - 1].alignment -
+                             frames[i - 1].alignment.dot(frames[i].tangent) * frames[i].tangent;
             if (raw.squaredNorm() <= 1e-3) continue; // the double reflection's territory
             ++projections;
-            EXPECT_LT((raw.normalized() - frames[i].alignment).norm(), 1e-13) << "ring " << i << " of " << frames.size();
+            EXPECT_LT((raw.normalized() - frames[i].alignment).norm(), 1e-13)
+                << "ring " << i << " of " << frames.size();
         }
         EXPECT_GE(projections, static_cast<int>(frames.size()) / 2);
     }
@@ -97,8 +100,9 @@ TEST(Surface, TwoRingStepsGiveThePapersProjectionToRounding)
 TEST(Surface, FoldBackAndZigZagAxesStillGiveOrthonormalFrames)
 {
     HoseSpec spec = paperSpec(4, 0.1, 179);
-    const std::vector<Vec3> axis = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0.0) + Vec3(0, 1e-13, 0),
-                                    Vec3(1, 0, 1e-13), Vec3(1, 1, 0)};
+    const std::vector<Vec3> axis = {Vec3(0, 0, 0), Vec3(1, 0, 0),
+                                    Vec3(0, 0, 0.0) + Vec3(0, 1e-13, 0), Vec3(1, 0, 1e-13),
+                                    Vec3(1, 1, 0)};
     const Hose hose = Hose::fromAxis(axis, spec);
     TwistSeed seed;
     std::vector<RingFrame> frames;
@@ -136,8 +140,10 @@ TEST(Surface, VerticesAreOnTheRingsAndTrianglesFaceOutwards)
         const Vec3 normal = (c[1] - c[0]).cross(c[2] - c[0]);
         const Vec3 centroid = (c[0] + c[1] + c[2]) / 3.0;
         Vec3 outward(centroid.x(), centroid.y(), 0.0);
-        if (centroid.z() < 1e-6) outward = -Vec3::UnitZ();        // start cap
-        else if (centroid.z() > 1.0 - 1e-6) outward = Vec3::UnitZ(); // end cap
+        if (centroid.z() < 1e-6)
+            outward = -Vec3::UnitZ(); // start cap
+        else if (centroid.z() > 1.0 - 1e-6)
+            outward = Vec3::UnitZ(); // end cap
         EXPECT_GT(normal.dot(outward), 0.0) << "triangle " << k / 3;
     }
 }
@@ -161,7 +167,8 @@ TEST(Surface, EveryProfileShapeGivesFiniteUnitNormals)
     const std::vector<Profile> profiles = {
         Profile::circle(0.01, 3), Profile::ellipse(0.02, 0.005, 12), Profile::rectangle(0.02, 0.01),
         Profile::roundedRectangle(0.03, 0.01, 0.004, 3),
-        Profile::polygon({Vec2(0, 0), Vec2(0.01, 0), Vec2(0.01, 0.01), Vec2(0.005, 0.004), Vec2(0, 0.01)}, 0.3)};
+        Profile::polygon(
+            {Vec2(0, 0), Vec2(0.01, 0), Vec2(0.01, 0.01), Vec2(0.005, 0.004), Vec2(0, 0.01)}, 0.3)};
     for (const Profile& profile : profiles) {
         HoseSpec spec = paperSpec(8);
         spec.profile = profile;
@@ -172,7 +179,8 @@ TEST(Surface, EveryProfileShapeGivesFiniteUnitNormals)
             const Vec3 n(surface.normals()[k], surface.normals()[k + 1], surface.normals()[k + 2]);
             EXPECT_NEAR(n.norm(), 1.0, 1e-6);
         }
-        for (float x : surface.positions()) EXPECT_TRUE(std::isfinite(x));
+        for (float x : surface.positions())
+            EXPECT_TRUE(std::isfinite(x));
     }
 }
 

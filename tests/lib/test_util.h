@@ -2,12 +2,10 @@
 #pragma once
 
 #include <chaintube/chaintube.h>
-
-#include <gtest/gtest.h>
-
 #include <cmath>
-#include <random>
+#include <gtest/gtest.h>
 #include <numbers>
+#include <random>
 
 namespace chaintube::test {
 
@@ -36,7 +34,8 @@ inline Violation violation(const Hose& hose)
     const std::vector<Vec3> p = hose.points();
     for (int s = 0; s + 1 < hose.pointCount(); ++s) {
         const double l = (p[s + 1] - p[s]).norm();
-        v.length = std::max(v.length, std::max(l - hose.maxLength(s), hose.minLength(s) - l) / hose.restLength(s));
+        v.length = std::max(v.length, std::max(l - hose.maxLength(s), hose.minLength(s) - l) /
+                                          hose.restLength(s));
     }
     for (int j = 1; j + 1 < hose.pointCount(); ++j) {
         const Vec3 a = p[j] - p[j - 1], b = p[j + 1] - p[j];
@@ -46,7 +45,7 @@ inline Violation violation(const Hose& hose)
     return v;
 }
 
-#define EXPECT_CONSTRAINTS_HOLD(hose, tolerance)                                                    \
+#define EXPECT_CONSTRAINTS_HOLD(hose, tolerance)                                                   \
     do {                                                                                           \
         const ::chaintube::test::Violation v_ = ::chaintube::test::violation(hose);                \
         EXPECT_LE(v_.length, tolerance) << "length band violated";                                 \

@@ -27,7 +27,8 @@ Frame rollAboutX(double angle)
 }
 
 // Signed angle about each ring's tangent from `reference` frames' alignment to `frames`'.
-std::vector<double> rollsBetween(const std::vector<RingFrame>& reference, const std::vector<RingFrame>& frames)
+std::vector<double> rollsBetween(const std::vector<RingFrame>& reference,
+                                 const std::vector<RingFrame>& frames)
 {
     std::vector<double> rolls;
     for (size_t i = 0; i < frames.size(); ++i) {
@@ -47,7 +48,8 @@ TEST(Torsion, OffByDefaultRollingAnAttachmentChangesNoRing)
     const std::vector<RingFrame> before = surface.frames();
     ASSERT_EQ(hose.moveAttachment(id, rollAboutX(1.0)).status, Status::Ok);
     surface.update(hose);
-    for (double r : rollsBetween(before, surface.frames())) EXPECT_NEAR(r, 0.0, 1e-12);
+    for (double r : rollsBetween(before, surface.frames()))
+        EXPECT_NEAR(r, 0.0, 1e-12);
     EXPECT_EQ(surface.maxTwistPerJoint(), 0.0);
 }
 
@@ -59,14 +61,16 @@ TEST(Torsion, OneAttachmentRollsTheWholeHoseRigidly)
     const std::vector<RingFrame> before = surface.frames();
     ASSERT_EQ(hose.moveAttachment(id, rollAboutX(0.7)).status, Status::Ok);
     surface.update(hose);
-    for (double r : rollsBetween(before, surface.frames())) EXPECT_NEAR(r, 0.7, 1e-9);
+    for (double r : rollsBetween(before, surface.frames()))
+        EXPECT_NEAR(r, 0.7, 1e-9);
     EXPECT_NEAR(surface.maxTwistPerJoint(), 0.0, 1e-12) << "a free end does not twist";
     // The vertices roll with the rings: the rectangle's first corner sits on the rolled axes.
     const std::span<const float> p = surface.positions();
     const Vec2 q = hose.profile().points()[0];
     const RingFrame& ring = surface.frames()[0];
     const Vec3 expected = ring.center + q.x() * ring.alignment + q.y() * ring.binormal;
-    const Vec3 unrolled = before[0].center + q.x() * before[0].alignment + q.y() * before[0].binormal;
+    const Vec3 unrolled =
+        before[0].center + q.x() * before[0].alignment + q.y() * before[0].binormal;
     EXPECT_LT((Vec3(p[0], p[1], p[2]) - expected).norm(), 1e-6);
     EXPECT_GT((expected - unrolled).norm(), 0.003) << "the corner moved";
 }
@@ -85,11 +89,14 @@ TEST(Torsion, TwoAttachmentsSpreadTheTwistEvenlyAndReportTheLimit)
         const std::vector<double> rolls = rollsBetween(before, surface.frames());
         const int joints = (kSegments - 1) - 1;
         for (int i = 0; i <= kSegments; ++i) {
-            const double expected = i <= 1 ? 0.0 : i >= kSegments - 1 ? angle : angle * (i - 1) / joints;
+            const double expected = i <= 1               ? 0.0
+                                    : i >= kSegments - 1 ? angle
+                                                         : angle * (i - 1) / joints;
             EXPECT_NEAR(rolls[static_cast<size_t>(i)], expected, 1e-9) << "ring " << i;
         }
         EXPECT_NEAR(surface.maxTwistPerJoint(), angle / joints, 1e-12);
-        EXPECT_NEAR(surface.twistViolation(), std::max(0.0, angle / joints - limit), 1e-12) << "limit " << limit;
+        EXPECT_NEAR(surface.twistViolation(), std::max(0.0, angle / joints - limit), 1e-12)
+            << "limit " << limit;
     }
 }
 
@@ -129,5 +136,6 @@ TEST(Torsion, BendingTheAttachmentAlongWithTheHoseAddsNoTwist)
     }
     const TwistSeed& seed = surface.twistSeed();
     ASSERT_EQ(seed.rolls.size(), 1u);
-    EXPECT_NEAR(seed.rolls[0].roll, 0.0, 1e-6) << "a swing about an axis across the hose is not a roll";
+    EXPECT_NEAR(seed.rolls[0].roll, 0.0, 1e-6)
+        << "a swing about an axis across the hose is not a roll";
 }

@@ -4,7 +4,6 @@
 
 #include <QApplication>
 #include <QCommandLineParser>
-
 #include <cstdio>
 
 int main(int argc, char** argv)
@@ -34,8 +33,9 @@ int main(int argc, char** argv)
         bool ok = false;
         const int milliseconds = parser.value("autosave-interval").toInt(&ok);
         if (!ok || milliseconds < 10) {
-            std::fprintf(stderr, "chaintube-studio: --autosave-interval expects milliseconds "
-                                 ">= 10, got '%s'\n",
+            std::fprintf(stderr,
+                         "chaintube-studio: --autosave-interval expects milliseconds "
+                         ">= 10, got '%s'\n",
                          qPrintable(parser.value("autosave-interval")));
             return 2;
         }

@@ -4,7 +4,6 @@
 #include "main_window.h"
 
 #include <QSocketNotifier>
-
 #include <cstdio>
 #include <iostream>
 #include <sstream>

@@ -12,11 +12,20 @@ Vec3 Camera::forward() const
     return Vec3(-std::sin(yaw) * cp, std::sin(pitch), -std::cos(yaw) * cp).normalized();
 }
 
-Vec3 Camera::eye() const { return target - distance * forward(); }
+Vec3 Camera::eye() const
+{
+    return target - distance * forward();
+}
 
-Vec3 Camera::right() const { return forward().cross(Vec3::UnitY()).normalized(); }
+Vec3 Camera::right() const
+{
+    return forward().cross(Vec3::UnitY()).normalized();
+}
 
-Vec3 Camera::up() const { return right().cross(forward()).normalized(); }
+Vec3 Camera::up() const
+{
+    return right().cross(forward()).normalized();
+}
 
 Eigen::Matrix4d Camera::view() const
 {
@@ -61,8 +70,7 @@ bool Camera::project(const Vec3& world, int width, int height, Eigen::Vector2d* 
 {
     const Eigen::Vector4d clip =
         projection(double(width) / std::max(height, 1)) * view() * world.homogeneous();
-    if (clip.w() <= 1e-12)
-        return false;
+    if (clip.w() <= 1e-12) return false;
     const double ndcX = clip.x() / clip.w(), ndcY = clip.y() / clip.w();
     *pixel = Eigen::Vector2d((ndcX + 1.0) * 0.5 * width, (1.0 - ndcY) * 0.5 * height);
     return true;
@@ -81,12 +89,14 @@ void Camera::pan(double dxPixels, double dyPixels, int viewportHeight)
     target += (-dxPixels * right() + dyPixels * up()) * metresPerPixel;
 }
 
-void Camera::zoom(double steps) { distance = std::max(1e-3, distance * std::pow(0.85, steps)); }
+void Camera::zoom(double steps)
+{
+    distance = std::max(1e-3, distance * std::pow(0.85, steps));
+}
 
 void Camera::frame(const Box& box)
 {
-    if (box.empty())
-        return;
+    if (box.empty()) return;
     target = box.centre();
     const double radius = std::max(box.radius(), 0.01);
     distance = radius / std::sin(fieldOfViewY / 2.0) * 0.9;

@@ -359,10 +359,12 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
             // reaches where one long step stops at the bend limits), then the target again.
             const Vec3 from = hose.point(point);
             const double way = (target - from).norm();
-            const int steps = std::min(kDragSubSteps, static_cast<int>(std::ceil(way / kDragSubStep)));
+            const int steps =
+                std::min(kDragSubSteps, static_cast<int>(std::ceil(way / kDragSubStep)));
             int stepMoved = 0;
             for (int s = 1; s < steps; ++s) {
-                const UpdateResult r = hose.grab(point, from + (target - from) * (double(s) / steps));
+                const UpdateResult r =
+                    hose.grab(point, from + (target - from) * (double(s) / steps));
                 stepMoved = std::max(stepMoved, r.movedPoints);
                 iterations += r.iterations;
             }
@@ -671,7 +673,8 @@ UpdateResult Document::moveAttachmentsFully(Hose& hose, const std::vector<int>& 
     UpdateResult result = hose.moveAttachments(ids, frames);
     const auto short_ = [&] {
         double gap = 0.0;
-        for (const int id : ids) gap = std::max(gap, hose.attachmentGap(id));
+        for (const int id : ids)
+            gap = std::max(gap, hose.attachmentGap(id));
         return gap > 1e-9;
     };
     if (result.status != Status::Infeasible || !short_() || from.size() != frames.size())
@@ -684,7 +687,8 @@ UpdateResult Document::moveAttachmentsFully(Hose& hose, const std::vector<int>& 
     for (int k = 1; k <= kPoseSubSteps; ++k) {
         const double t = double(k) / kPoseSubSteps;
         for (size_t i = 0; i < frames.size(); ++i) {
-            step[i].translation = from[i].translation + t * (frames[i].translation - from[i].translation);
+            step[i].translation =
+                from[i].translation + t * (frames[i].translation - from[i].translation);
             step[i].rotation = from[i].rotation.slerp(t, frames[i].rotation);
         }
         result = hose.moveAttachments(ids, step);

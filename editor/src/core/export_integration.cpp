@@ -17,8 +17,7 @@ bool exportAvailable()
 
 ExportSummary exportProjectForEditor(const formats::Project& project,
                                      const std::filesystem::path& projectFile,
-                                     const formats::NamedRoots& roots,
-                                     const ExportRequest& request)
+                                     const formats::NamedRoots& roots, const ExportRequest& request)
 {
 #ifdef CHAINTUBE_EDITOR_HAVE_EXPORT
     exporting::ExportOptions options;

@@ -18,15 +18,11 @@ bool rayBox(const Vec3& origin, const Vec3& inverseDirection, const Box& box, do
     for (int axis = 0; axis < 3; ++axis) {
         double t0 = (box.min[axis] - origin[axis]) * inverseDirection[axis];
         double t1 = (box.max[axis] - origin[axis]) * inverseDirection[axis];
-        if (t0 > t1)
-            std::swap(t0, t1);
+        if (t0 > t1) std::swap(t0, t1);
         // NaN (0 · inf) compares false and leaves the interval unchanged: the ray is in the slab.
-        if (t0 > tmin)
-            tmin = t0;
-        if (t1 < tmax)
-            tmax = t1;
-        if (tmin > tmax)
-            return false;
+        if (t0 > tmin) tmin = t0;
+        if (t1 < tmax) tmax = t1;
+        if (tmin > tmax) return false;
     }
     *entry = tmin;
     return true;
@@ -45,8 +41,7 @@ Vec3 transformVector(const Eigen::Matrix4d& m, const Vec3& v)
 Box transformBox(const Eigen::Matrix4d& m, const Box& box)
 {
     Box out;
-    if (box.empty())
-        return out;
+    if (box.empty()) return out;
     for (int corner = 0; corner < 8; ++corner) {
         const Vec3 p((corner & 1) ? box.max.x() : box.min.x(),
                      (corner & 2) ? box.max.y() : box.min.y(),
@@ -60,8 +55,7 @@ Box transformBox(const Eigen::Matrix4d& m, const Box& box)
 
 MeshBvh::MeshBvh(const formats::SceneMesh& mesh)
 {
-    if (mesh.triangleCount() == 0)
-        return;
+    if (mesh.triangleCount() == 0) return;
     try {
         m_collider = MeshCollider::fromArrays(mesh.positions.data(), mesh.vertexCount(),
                                               mesh.indices.data(), mesh.triangleCount() * 3);
@@ -75,12 +69,10 @@ MeshBvh::MeshBvh(const formats::SceneMesh& mesh)
 
 bool MeshBvh::intersect(const Vec3& origin, const Vec3& direction, double maxT, Hit* hit) const
 {
-    if (!m_collider)
-        return false;
+    if (!m_collider) return false;
     const MeshCollider::RayHit found = m_collider->raycast(origin, direction, maxT);
     hit->trianglesTested = found.trianglesTested;
-    if (!found.hit || !(found.t > 1e-9))
-        return false;
+    if (!found.hit || !(found.t > 1e-9)) return false;
     hit->t = found.t;
     hit->triangle = found.triangle;
     hit->normal = found.normal;
@@ -96,8 +88,7 @@ void ScenePicker::update(const Document& document)
     if (m_document == &document && m_poseSerial == document.poseSerial() &&
         signature == m_sceneSignature)
         return;
-    if (signature != m_sceneSignature)
-        m_bvhs.clear();
+    if (signature != m_sceneSignature) m_bvhs.clear();
     m_document = &document;
     m_poseSerial = document.poseSerial();
     m_sceneSignature = signature;
@@ -105,17 +96,14 @@ void ScenePicker::update(const Document& document)
     for (const auto& [id, scene] : document.scenes()) {
         for (size_t n = 0; n < scene.nodes.size(); ++n) {
             const formats::SceneNode& node = scene.nodes[n];
-            if (node.meshes.empty())
-                continue;
+            if (node.meshes.empty()) continue;
             const Eigen::Matrix4d world = document.nodeWorldTransform(id, static_cast<int>(n));
             const Eigen::Matrix4d inverse = world.inverse();
             for (int meshIndex : node.meshes) {
                 const formats::SceneMesh& mesh = scene.meshes[static_cast<size_t>(meshIndex)];
-                if (mesh.triangleCount() == 0)
-                    continue;
+                if (mesh.triangleCount() == 0) continue;
                 auto& bvh = m_bvhs[&mesh];
-                if (!bvh)
-                    bvh = std::make_unique<MeshBvh>(mesh);
+                if (!bvh) bvh = std::make_unique<MeshBvh>(mesh);
                 Instance instance;
                 instance.sceneId = id;
                 instance.node = static_cast<int>(n);
@@ -131,20 +119,17 @@ void ScenePicker::update(const Document& document)
 
 bool ScenePicker::pick(const Ray& ray, ScenePickHit* hit) const
 {
-    const Vec3 inverse(1.0 / ray.direction.x(), 1.0 / ray.direction.y(),
-                       1.0 / ray.direction.z());
+    const Vec3 inverse(1.0 / ray.direction.x(), 1.0 / ray.direction.y(), 1.0 / ray.direction.z());
     double best = std::numeric_limits<double>::max();
     bool found = false;
     for (const Instance& instance : m_instances) {
         double entry = 0.0;
-        if (!rayBox(ray.origin, inverse, instance.worldBounds, best, &entry))
-            continue;
+        if (!rayBox(ray.origin, inverse, instance.worldBounds, best, &entry)) continue;
         const Vec3 origin = transformPoint(instance.meshFromWorld, ray.origin);
         const Vec3 direction = transformVector(instance.meshFromWorld, ray.direction);
         MeshBvh::Hit local;
         // Ray parameters are the same in both frames since the direction is transformed too.
-        if (!instance.bvh->intersect(origin, direction, best, &local))
-            continue;
+        if (!instance.bvh->intersect(origin, direction, best, &local)) continue;
         best = local.t;
         found = true;
         hit->sceneId = instance.sceneId;
@@ -157,8 +142,7 @@ bool ScenePicker::pick(const Ray& ray, ScenePickHit* hit) const
             normal.normalize();
         else
             normal = Vec3::UnitY();
-        if (normal.dot(ray.direction) > 0)
-            normal = -normal;
+        if (normal.dot(ray.direction) > 0) normal = -normal;
         hit->normal = normal;
     }
     return found;
@@ -175,14 +159,11 @@ Box ScenePicker::bounds() const
 Box ScenePicker::nodeBounds(const std::string& sceneId, int node) const
 {
     Box box;
-    if (!m_document)
-        return box;
+    if (!m_document) return box;
     const formats::ImportedScene* scene = m_document->scene(sceneId);
-    if (!scene)
-        return box;
+    if (!scene) return box;
     for (const Instance& instance : m_instances) {
-        if (instance.sceneId != sceneId)
-            continue;
+        if (instance.sceneId != sceneId) continue;
         for (int n = instance.node; n >= 0; n = scene->nodes[static_cast<size_t>(n)].parent)
             if (n == node) {
                 box.extend(instance.worldBounds);
@@ -220,14 +201,12 @@ bool pickHose(const Document& document, const Ray& ray, double slackMetres, Hose
     double best = std::numeric_limits<double>::max();
     for (const formats::HoseDefinition& definition : document.project().hoses) {
         const Hose* hose = document.hose(definition.id);
-        if (!hose)
-            continue;
+        if (!hose) continue;
         const double radius = hose->profile().boundingRadius() + slackMetres;
         for (int segment = 0; segment < hose->segmentCount(); ++segment) {
             const Vec3 a = hose->point(segment), b = hose->point(segment + 1);
             double t = 0.0, s = 0.0;
-            if (raySegmentDistance2(ray, a, b, &t, &s) > radius * radius || t >= best)
-                continue;
+            if (raySegmentDistance2(ray, a, b, &t, &s) > radius * radius || t >= best) continue;
             best = t;
             found = true;
             hit->hoseId = definition.id;

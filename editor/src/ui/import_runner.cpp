@@ -6,7 +6,6 @@
 #include <QElapsedTimer>
 #include <QProgressDialog>
 #include <QThread>
-
 #include <atomic>
 #include <exception>
 #include <thread>
@@ -44,20 +43,15 @@ bool runWithProgress(QWidget* parent, const QString& label,
     }
     worker.join();
     dialog.reset();
-    if (cancelled)
-        *cancelled = false;
-    if (!failure)
-        return true;
+    if (cancelled) *cancelled = false;
+    if (!failure) return true;
     try {
         std::rethrow_exception(failure);
     } catch (const formats::Cancelled& exception) {
-        if (cancelled)
-            *cancelled = true;
-        if (error)
-            *error = QObject::tr("Cancelled");
+        if (cancelled) *cancelled = true;
+        if (error) *error = QObject::tr("Cancelled");
     } catch (const std::exception& exception) {
-        if (error)
-            *error = QString::fromStdString(exception.what());
+        if (error) *error = QString::fromStdString(exception.what());
     }
     return false;
 }

@@ -8,7 +8,6 @@
 
 #include <QListWidget>
 #include <QTimer>
-
 #include <memory>
 
 class QCheckBox;
@@ -20,7 +19,8 @@ namespace chaintube::editor {
 struct Problem
 {
     Problem() = default;
-    Problem(std::string hose, int first, int last, QString message, std::string scene = {}, int sceneNode = -1)
+    Problem(std::string hose, int first, int last, QString message, std::string scene = {},
+            int sceneNode = -1)
         : hoseId(std::move(hose)), firstPoint(first), lastPoint(last), text(std::move(message)),
           sceneId(std::move(scene)), node(sceneNode)
     {

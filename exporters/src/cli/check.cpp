@@ -19,9 +19,10 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
                   "Exit codes: 0 no violation, 1 the check could not run (unreadable or invalid "
                   "project, scene import failed), 2 bad command line, 3 violations found.");
     check->add_option("project", command.project, "Project file (*.ctproj)")->required();
-    check->add_option("--clearance", command.clearance,
-                      "Minimum distance in metres between a hose's surface and any scene object "
-                      "(e.g. 0.005)")
+    check
+        ->add_option("--clearance", command.clearance,
+                     "Minimum distance in metres between a hose's surface and any scene object "
+                     "(e.g. 0.005)")
         ->required()
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {
@@ -49,7 +50,8 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
     for (const std::string& root : command.roots) {
         const size_t equals = root.find('=');
         if (equals == std::string::npos || equals == 0 || equals + 1 == root.size()) {
-            err << "chaintube check: --root '" << root << "': expected NAME=DIR, e.g. scenes=../shared/scenes\n";
+            err << "chaintube check: --root '" << root
+                << "': expected NAME=DIR, e.g. scenes=../shared/scenes\n";
             return kExitUsage;
         }
         roots[root.substr(0, equals)] = root.substr(equals + 1);
@@ -62,10 +64,10 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
     out << std::setprecision(6);
     for (const exporting::ClearanceFinding& v : violations)
         out << "violation: hose " << v.hoseId << ", object " << v.sceneId << ":" << v.objectPath
-            << ", distance " << v.distance << " m, axis point " << v.axisPoint << ", at (" << v.onObject.x()
-            << ", " << v.onObject.y() << ", " << v.onObject.z() << ") m\n";
-    out << command.project << ": " << violations.size() << " clearance violation(s) below " << command.clearance
-        << " m\n";
+            << ", distance " << v.distance << " m, axis point " << v.axisPoint << ", at ("
+            << v.onObject.x() << ", " << v.onObject.y() << ", " << v.onObject.z() << ") m\n";
+    out << command.project << ": " << violations.size() << " clearance violation(s) below "
+        << command.clearance << " m\n";
     return violations.empty() ? kExitOk : kExitViolations;
 }
 

@@ -1,7 +1,6 @@
 #include "demo.h"
 
 #include <chaintube/chaintube.h>
-
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -15,8 +14,8 @@ void report(std::ostream& out, const char* what, const Hose& hose, const UpdateR
 {
     const HoseMetrics m = measure(hose);
     out << "  " << std::left << std::setw(44) << what << " status " << std::setw(10)
-        << toString(result.status) << " moved " << std::setw(4) << result.movedPoints
-        << " stretch " << std::fixed << std::setprecision(3) << m.minStretch << "…" << m.maxStretch
+        << toString(result.status) << " moved " << std::setw(4) << result.movedPoints << " stretch "
+        << std::fixed << std::setprecision(3) << m.minStretch << "…" << m.maxStretch
         << "  smallest bend radius " << std::setprecision(4)
         << (m.smallestBendRadius > 1e6 ? 0.0 : m.smallestBendRadius) << " m"
         << "  grab error " << std::scientific << std::setprecision(2) << result.grabError << "\n"
@@ -36,7 +35,8 @@ int runDemo(std::ostream& out)
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 0.6, paper);
     out << "Hose: " << hose.pointCount() << " axis points, rest length " << hose.restLengthTotal()
         << " m, expansion 20 %, deflection limit 40° per joint\n";
-    report(out, "drag point 6 up by 0.1 m (Fig. 6-9)", hose, hose.grab(6, hose.point(6) + Vec3(0, 0.1, 0)));
+    report(out, "drag point 6 up by 0.1 m (Fig. 6-9)", hose,
+           hose.grab(6, hose.point(6) + Vec3(0, 0.1, 0)));
     report(out, "drag end point 12 back to x = 0.3", hose, hose.grab(12, Vec3(0.3, 0.3, 0.0)));
     const int clamp = hose.attach(0, 1, Frame::identity());
     report(out, "fix points 0-1, pull end 5 m away", hose, hose.grab(12, Vec3(5.0, 0.0, 0.0)));
@@ -62,18 +62,21 @@ int runDemo(std::ostream& out)
         for (int i = 0; i < scene.hoseCount(); ++i) {
             Hose& h = scene.hose(i);
             const double phase = 0.05 * f + 0.3 * i;
-            const Vec3 target = h.point(50) + Vec3(0.0, 0.01 * std::sin(phase), 0.01 * std::cos(phase));
+            const Vec3 target =
+                h.point(50) + Vec3(0.0, 0.01 * std::sin(phase), 0.01 * std::cos(phase));
             if (!h.grab(50, target).ok()) ++clampedOrWorse;
         }
         scene.updateSurfaces();
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const SurfaceTopology& topology = scene.surface(0).topology();
     out << "\nScene: 50 hoses × " << scene.hose(0).pointCount() << " points × "
         << topology.ringVertexCount - 1 << "-sided rings (" << 50 * topology.vertexCount
         << " vertices, " << 50 * topology.indices.size() / 3 << " triangles)\n"
         << "  " << frames << " frames, every hose dragged each frame: " << std::fixed
-        << std::setprecision(3) << 1e3 * seconds / frames << " ms per frame (axis + rings + normals)"
+        << std::setprecision(3) << 1e3 * seconds / frames
+        << " ms per frame (axis + rings + normals)"
         << "; updates not ok: " << clampedOrWorse << "\n";
     double worstStretch = 1.0;
     for (int i = 0; i < scene.hoseCount(); ++i)

@@ -9,7 +9,8 @@
 
 namespace chaintube::exporting {
 
-std::vector<SceneObject> sceneObjects(const formats::Project& project, const formats::ImportedScenes& scenes)
+std::vector<SceneObject> sceneObjects(const formats::Project& project,
+                                      const formats::ImportedScenes& scenes)
 {
     std::vector<SceneObject> objects;
     for (const formats::SceneReference& reference : project.scenes) {
@@ -20,18 +21,21 @@ std::vector<SceneObject> sceneObjects(const formats::Project& project, const for
             std::shared_ptr<MeshCollider> collider = formats::nodeCollider(
                 scene, node, formats::posedWorldTransform(project, scenes, reference.id, node));
             if (!collider) continue;
-            objects.push_back({reference.id, node, scene.nodes[static_cast<size_t>(node)].path, std::move(collider)});
+            objects.push_back({reference.id, node, scene.nodes[static_cast<size_t>(node)].path,
+                               std::move(collider)});
         }
     }
     return objects;
 }
 
-std::vector<ClearanceFinding> clearanceViolations(const formats::Project& project, const std::vector<Hose>& hoses,
+std::vector<ClearanceFinding> clearanceViolations(const formats::Project& project,
+                                                  const std::vector<Hose>& hoses,
                                                   const std::vector<SceneObject>& objects,
                                                   const ClearanceOptions& options)
 {
     std::vector<const Hose*> pointers;
-    for (const Hose& hose : hoses) pointers.push_back(&hose);
+    for (const Hose& hose : hoses)
+        pointers.push_back(&hose);
     return clearanceViolations(project, pointers, objects, options);
 }
 
@@ -60,7 +64,8 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
         };
         // Objects whose bounds are farther than threshold + radius from the hose's box are skipped.
         Aabb hoseBox;
-        for (int i = 0; i < hose.pointCount(); ++i) hoseBox.extend(hose.point(i));
+        for (int i = 0; i < hose.pointCount(); ++i)
+            hoseBox.extend(hose.point(i));
         const double reach = options.threshold + hose.outerRadius();
         hoseBox.min.array() -= reach;
         hoseBox.max.array() += reach;
@@ -68,7 +73,9 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
             const SceneObject& object = objects[o];
             if (exempt(object)) continue;
             const Aabb box = object.collider->worldBounds();
-            if ((box.min.array() > hoseBox.max.array()).any() || (box.max.array() < hoseBox.min.array()).any()) continue;
+            if ((box.min.array() > hoseBox.max.array()).any() ||
+                (box.max.array() < hoseBox.min.array()).any())
+                continue;
             const Clearance c = clearance(hose, *object.collider, options.threshold);
             if (!c.found || !(c.distance < options.threshold)) continue;
             ClearanceFinding finding;
@@ -85,7 +92,9 @@ std::vector<ClearanceFinding> clearanceViolations(const formats::Project& projec
         }
     }
     std::stable_sort(findings.begin(), findings.end(),
-                     [](const ClearanceFinding& a, const ClearanceFinding& b) { return a.distance < b.distance; });
+                     [](const ClearanceFinding& a, const ClearanceFinding& b) {
+                         return a.distance < b.distance;
+                     });
     return findings;
 }
 
@@ -96,10 +105,12 @@ std::vector<ClearanceFinding> checkProjectClearance(const std::filesystem::path&
     formats::ProjectLoadOptions load;
     load.roots = roots;
     const formats::Project project = formats::loadProject(projectFile, load);
-    const formats::ImportedScenes scenes = formats::importProjectScenes(project, projectFile, roots);
+    const formats::ImportedScenes scenes =
+        formats::importProjectScenes(project, projectFile, roots);
     std::vector<Hose> hoses = formats::buildHoses(project, scenes);
     // Gravity hoses as they hang: what the editor shows and the export writes.
-    for (size_t h = 0; h < hoses.size(); ++h) formats::settleUnderGravity(hoses[h], project.hoses[h], project, scenes);
+    for (size_t h = 0; h < hoses.size(); ++h)
+        formats::settleUnderGravity(hoses[h], project.hoses[h], project, scenes);
     return clearanceViolations(project, hoses, sceneObjects(project, scenes), options);
 }
 

@@ -56,7 +56,8 @@ public:
     /// halves its triangles (≤ 4 per leaf, depth ⌈log2(n / 4)⌉) and its traversal never drops a
     /// subtree; coincident triangles only cost time.
     static std::shared_ptr<MeshCollider> fromArrays(const float* positions, std::size_t vertexCount,
-                                                    const std::uint32_t* indices, std::size_t indexCount,
+                                                    const std::uint32_t* indices,
+                                                    std::size_t indexCount,
                                                     const Frame& frame = Frame::identity());
     /// Same, from double positions (one Vec3 per vertex).
     static std::shared_ptr<MeshCollider> fromArrays(const std::vector<Vec3>& positions,
@@ -78,15 +79,15 @@ public:
     /// Closest point of the mesh to a query (point or segment), world metres.
     struct Closest
     {
-        bool found = false;     ///< false: nothing within maxDistance (the other fields unset)
-        double distance = 0.0;  ///< ≥ 0
+        bool found = false;          ///< false: nothing within maxDistance (the other fields unset)
+        double distance = 0.0;       ///< ≥ 0
         Vec3 onMesh = Vec3::Zero();  ///< world point on the triangles
         Vec3 onQuery = Vec3::Zero(); ///< world point on the query (the point, or on the segment)
         /// World, unit: from onMesh towards onQuery; where they coincide (a segment crossing
         /// the mesh), the triangle's normal (as wound).
         Vec3 normal = Vec3::UnitY();
         double segmentParameter = 0.0; ///< segment queries: onQuery = a + s (b − a), s ∈ [0, 1]
-        int triangle = -1;      ///< index of the triangle (in the order given)
+        int triangle = -1;             ///< index of the triangle (in the order given)
     };
     /// Closest point of the mesh to `point` among points nearer than maxDistance.
     Closest closestToPoint(const Vec3& point,
@@ -103,8 +104,8 @@ public:
     struct Sweep
     {
         bool hit = false;
-        double fraction = 1.0;          ///< of the move, in [0, 1], at first contact
-        Vec3 normal = Vec3::UnitY();    ///< world, unit, from the contact towards the centre
+        double fraction = 1.0;       ///< of the move, in [0, 1], at first contact
+        Vec3 normal = Vec3::UnitY(); ///< world, unit, from the contact towards the centre
         int triangle = -1;
     };
     Sweep sweepSphere(const Vec3& from, const Vec3& to, double radius) const;
@@ -138,8 +139,7 @@ private:
     MeshCollider() = default;
     void build();
     /// Depth-first traversal shared by every query (collision.cpp documents the visitor).
-    template <class Visitor>
-    void traverse(Visitor& visitor) const;
+    template <class Visitor> void traverse(Visitor& visitor) const;
     std::vector<Triangle> m_triangles; ///< in the BVH's leaf order
     std::vector<int> m_originalIndex;  ///< triangle index as given, per stored triangle
     std::vector<Node> m_nodes;
@@ -165,13 +165,13 @@ struct CollisionOptions
 /// Where a hose comes closest to a scene object.
 struct Clearance
 {
-    bool found = false;    ///< false: the object is farther than the search distance, or empty
+    bool found = false; ///< false: the object is farther than the search distance, or empty
     /// Hose surface to the nearest triangle (metres): axis distance − the hose's outer radius;
     /// negative when the hose is inside the object by that much.
     double distance = 0.0;
-    int segment = -1;      ///< axis segment (points segment … segment + 1) where it occurs
-    int axisPoint = -1;    ///< the axis point nearest to it (segment or segment + 1)
-    Vec3 onAxis = Vec3::Zero();    ///< world point on the hose axis
+    int segment = -1;           ///< axis segment (points segment … segment + 1) where it occurs
+    int axisPoint = -1;         ///< the axis point nearest to it (segment or segment + 1)
+    Vec3 onAxis = Vec3::Zero(); ///< world point on the hose axis
     Vec3 onSurface = Vec3::Zero(); ///< world point on the hose surface towards the object
     Vec3 onObject = Vec3::Zero();  ///< world point on the object's triangles
     int triangle = -1;

@@ -92,7 +92,7 @@ struct Torsion
 /// Parameters that make a hose.
 struct HoseSpec
 {
-    double outerDiameter = 0.02;  ///< metres, > 0
+    double outerDiameter = 0.02; ///< metres, > 0
     Material material;
     /// Number of axis segments (points − 1), 1 … 1,000,000. If 0, segmentLength is used.
     int segmentCount = 0;
@@ -181,8 +181,8 @@ public:
     /// one per segment, each > 0 and finite): e.g. a hose saved or exported while deformed.
     /// The shape may violate the constraints; settle() or the next update re-imposes them.
     /// Throws InvalidArgument.
-    static Hose fromAxis(const std::vector<Vec3>& axisPoints, const std::vector<double>& restLengths,
-                         const HoseSpec& spec);
+    static Hose fromAxis(const std::vector<Vec3>& axisPoints,
+                         const std::vector<double>& restLengths, const HoseSpec& spec);
 
     // --- geometry -------------------------------------------------------------------------
     int pointCount() const { return static_cast<int>(m_local.size()); }
@@ -310,7 +310,10 @@ public:
     /// already intersect. Throws InvalidArgument for a null collider or options out of range.
     void setColliders(std::vector<std::shared_ptr<const MeshCollider>> colliders,
                       const CollisionOptions& options = CollisionOptions());
-    const std::vector<std::shared_ptr<const MeshCollider>>& colliders() const { return m_colliders; }
+    const std::vector<std::shared_ptr<const MeshCollider>>& colliders() const
+    {
+        return m_colliders;
+    }
     const CollisionOptions& collisionOptions() const { return m_collisionOptions; }
     /// Push the hose out of its colliders now (after moving a collider's frame, or after
     /// setColliders on a shape that intersects): points inside are moved out on the side
@@ -353,7 +356,7 @@ private:
     std::vector<double> m_minLength;
     std::vector<double> m_maxLength;
     std::vector<double> m_minLengthBefore; ///< per point: sum of the minimum lengths before it
-    std::vector<double> m_cosLimit; ///< per point (0 and n unused = -1)
+    std::vector<double> m_cosLimit;        ///< per point (0 and n unused = -1)
     std::vector<double> m_sinLimit;
     std::vector<double> m_cosHalfLimit;
     std::vector<double> m_sinHalfLimit;
@@ -362,18 +365,18 @@ private:
     std::vector<Attachment> m_attachments;
     std::vector<Vec3> m_scratch; ///< the shape before the current update (restored if it fails)
     int m_nextAttachmentId = 1;
-    int m_held = -1;                      ///< see heldPoint()
-    int m_edgePoint = -1;                 ///< point last grabbed to the edge of its reach
-    std::uint64_t m_edgeRevision = 0;     ///< m_revision right after that grab
-    Vec3 m_edgeTarget = Vec3::Zero();     ///< that grab's local target
-    UpdateResult m_edgeResult;            ///< and what it returned
-    std::vector<Vec3> m_gravityPrevious;  ///< step(): positions one step back (velocity)
-    std::vector<Vec3> m_gravityLast;      ///< step(): positions when the last step ended
-    std::uint64_t m_settledRevision = 0;  ///< step(): revision at which the hose settled
+    int m_held = -1;                          ///< see heldPoint()
+    int m_edgePoint = -1;                     ///< point last grabbed to the edge of its reach
+    std::uint64_t m_edgeRevision = 0;         ///< m_revision right after that grab
+    Vec3 m_edgeTarget = Vec3::Zero();         ///< that grab's local target
+    UpdateResult m_edgeResult;                ///< and what it returned
+    std::vector<Vec3> m_gravityPrevious;      ///< step(): positions one step back (velocity)
+    std::vector<Vec3> m_gravityLast;          ///< step(): positions when the last step ended
+    std::uint64_t m_settledRevision = 0;      ///< step(): revision at which the hose settled
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
-    double m_gravityLowestEnergy = 0.0;   ///< step(): lowest potential energy since an input changed
-    int m_gravityStallSteps = 0;          ///< step(): steps since it last fell
-    bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
+    double m_gravityLowestEnergy = 0.0; ///< step(): lowest potential energy since an input changed
+    int m_gravityStallSteps = 0;        ///< step(): steps since it last fell
+    bool m_dirtyViolation = false;      ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;
@@ -384,9 +387,9 @@ private:
     void applyCollisions(UpdateResult& result, int grabbed, const Vec3& localTarget);
     std::vector<std::shared_ptr<const MeshCollider>> m_colliders;
     CollisionOptions m_collisionOptions;
-    std::vector<Vec3> m_collisionStart; ///< last collision-resolved shape (local)
-    std::vector<double> m_collisionFree; ///< per point: clearance left before a query is needed
-    std::vector<Frame> m_colliderFrames; ///< collider frames at the last resolve
+    std::vector<Vec3> m_collisionStart;    ///< last collision-resolved shape (local)
+    std::vector<double> m_collisionFree;   ///< per point: clearance left before a query is needed
+    std::vector<Frame> m_colliderFrames;   ///< collider frames at the last resolve
     std::uint64_t m_collisionRevision = 0; ///< m_revision when m_collisionStart was taken
 };
 

@@ -19,7 +19,10 @@ public:
     int hoseCount() const { return static_cast<int>(m_hoses.size()); }
     Hose& hose(int index) { return m_hoses.at(static_cast<size_t>(index)); }
     const Hose& hose(int index) const { return m_hoses.at(static_cast<size_t>(index)); }
-    const HoseSurface& surface(int index) const { return m_surfaces.at(static_cast<size_t>(index)); }
+    const HoseSurface& surface(int index) const
+    {
+        return m_surfaces.at(static_cast<size_t>(index));
+    }
 
     struct FrameStats
     {

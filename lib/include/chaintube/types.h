@@ -13,7 +13,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <stdexcept>
 #include <string>
 

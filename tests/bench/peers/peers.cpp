@@ -1,8 +1,7 @@
 #include "peers.h"
 
-#include <chaintube/chaintube.h>
-
 #include <algorithm>
+#include <chaintube/chaintube.h>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -18,7 +17,6 @@
 namespace chaintube::bench {
 
 namespace {
-
 
 double jointLimit(const RodSetup& setup, double meanLength)
 {
@@ -43,14 +41,16 @@ public:
         if (setup.floorHeight > -std::numeric_limits<double>::infinity()) {
             const double y = setup.floorHeight - m_hose.outerRadius(), far = 1e3;
             m_hose.setColliders({MeshCollider::fromArrays(
-                {Vec3(-far, y, -far), Vec3(far, y, -far), Vec3(far, y, far), Vec3(-far, y, far)}, {0, 2, 1, 0, 3, 2})});
+                {Vec3(-far, y, -far), Vec3(far, y, -far), Vec3(far, y, far), Vec3(-far, y, far)},
+                {0, 2, 1, 0, 3, 2})});
         }
     }
     std::string name() const override { return "ChainTube"; }
     void fixStart(int count) override { m_start = m_hose.attach(0, count - 1, Frame::identity()); }
     void fixEnd(int count) override
     {
-        m_end = m_hose.attach(m_hose.pointCount() - count, m_hose.pointCount() - 1, Frame::identity());
+        m_end =
+            m_hose.attach(m_hose.pointCount() - count, m_hose.pointCount() - 1, Frame::identity());
     }
     void step(const FrameRequest& r) override
     {
@@ -60,10 +60,12 @@ public:
         if (r.moveEnd) ids.push_back(m_end), frames.push_back(r.end);
         // The peers report no status: the results are measured from points() afterwards.
         if (!ids.empty()) static_cast<void>(m_hose.moveAttachments(ids, frames));
-        for (const auto& [index, target] : r.grabs) static_cast<void>(m_hose.grab(index, target));
+        for (const auto& [index, target] : r.grabs)
+            static_cast<void>(m_hose.grab(index, target));
         // The runtime's per-frame gravity call: damped rounds whose velocity carries over
         // from frame to frame, as the peers' inertia does (a settled hose costs nothing).
-        if (m_gravity != Vec3::Zero()) static_cast<void>(m_hose.step()); // one implicit step a frame
+        if (m_gravity != Vec3::Zero())
+            static_cast<void>(m_hose.step()); // one implicit step a frame
     }
     std::vector<Vec3> points() const override { return m_hose.points(); }
 
@@ -76,9 +78,10 @@ private:
             spec.gravity.direction = setup.gravity;
         }
         spec.material.expansionCoefficient = setup.expansionCoefficient;
-        spec.material.bendLimit = setup.noBendLimit           ? BendLimit::minBendRadius(0.0)
-                                  : setup.minBendRadius > 0.0 ? BendLimit::minBendRadius(setup.minBendRadius)
-                                                              : BendLimit::deflectionAngle(setup.deflectionAngle);
+        spec.material.bendLimit = setup.noBendLimit ? BendLimit::minBendRadius(0.0)
+                                  : setup.minBendRadius > 0.0
+                                      ? BendLimit::minBendRadius(setup.minBendRadius)
+                                      : BendLimit::deflectionAngle(setup.deflectionAngle);
         return spec;
     }
     Hose m_hose;
@@ -90,8 +93,8 @@ class XpbdRod final : public RodSolver
 {
 public:
     XpbdRod(const RodSetup& setup, int iterations)
-        : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations), m_gravity(setup.gravity), m_dt(setup.timeStep),
-          m_floor(setup.floorHeight)
+        : m_rest(setup.axis), m_x(setup.axis), m_iterations(iterations), m_gravity(setup.gravity),
+          m_dt(setup.timeStep), m_floor(setup.floorHeight)
     {
         m_velocity.assign(m_x.size(), Vec3::Zero());
         const size_t n = m_x.size();
@@ -104,7 +107,8 @@ public:
         m_minChord.assign(n, 0.0);
         for (size_t j = 1; j + 1 < n; ++j) {
             const double a = (m_x[j] - m_x[j - 1]).norm(), b = (m_x[j + 1] - m_x[j]).norm();
-            const double turn = setup.noBendLimit ? std::numbers::pi : jointLimit(setup, 0.5 * (a + b));
+            const double turn =
+                setup.noBendLimit ? std::numbers::pi : jointLimit(setup, 0.5 * (a + b));
             // Law of cosines: the neighbours' distance when the joint turns by `turn`.
             m_minChord[j] = std::sqrt(std::max(0.0, a * a + b * b + 2 * a * b * std::cos(turn)));
         }
@@ -113,18 +117,21 @@ public:
     void fixStart(int count) override
     {
         m_startCount = count;
-        for (int i = 0; i < count; ++i) m_inverseMass[static_cast<size_t>(i)] = 0.0;
+        for (int i = 0; i < count; ++i)
+            m_inverseMass[static_cast<size_t>(i)] = 0.0;
     }
     void fixEnd(int count) override
     {
         m_endCount = count;
-        for (int i = 0; i < count; ++i) m_inverseMass[m_x.size() - 1 - static_cast<size_t>(i)] = 0.0;
+        for (int i = 0; i < count; ++i)
+            m_inverseMass[m_x.size() - 1 - static_cast<size_t>(i)] = 0.0;
     }
     void step(const FrameRequest& r) override
     {
         const size_t n = m_x.size();
         if (r.moveStart)
-            for (int i = 0; i < m_startCount; ++i) m_x[static_cast<size_t>(i)] = r.start.apply(m_rest[static_cast<size_t>(i)]);
+            for (int i = 0; i < m_startCount; ++i)
+                m_x[static_cast<size_t>(i)] = r.start.apply(m_rest[static_cast<size_t>(i)]);
         if (r.moveEnd)
             for (int i = 0; i < m_endCount; ++i) {
                 const size_t k = n - 1 - static_cast<size_t>(i);
@@ -146,7 +153,8 @@ public:
                 }
         }
         for (int it = 0; it < m_iterations; ++it) {
-            for (size_t s = 0; s + 1 < n; ++s) project(s, s + 1, m_minLength[s], m_maxLength[s]);
+            for (size_t s = 0; s + 1 < n; ++s)
+                project(s, s + 1, m_minLength[s], m_maxLength[s]);
             for (size_t j = 1; j + 1 < n; ++j)
                 if (m_minChord[j] > 0.0) project(j - 1, j + 1, m_minChord[j], 1e300);
             if (m_floor > -std::numeric_limits<double>::infinity())
@@ -154,8 +162,10 @@ public:
                     if (m_inverseMass[i] > 0.0) m_x[i].y() = std::max(m_x[i].y(), m_floor);
         }
         if (inertia)
-            for (size_t i = 0; i < n; ++i) m_velocity[i] = (1.0 - kDamping) * (m_x[i] - m_previous[i]) / m_dt;
-        for (size_t g = 0; g < r.grabs.size(); ++g) m_inverseMass[static_cast<size_t>(r.grabs[g].first)] = saved[g];
+            for (size_t i = 0; i < n; ++i)
+                m_velocity[i] = (1.0 - kDamping) * (m_x[i] - m_previous[i]) / m_dt;
+        for (size_t g = 0; g < r.grabs.size(); ++g)
+            m_inverseMass[static_cast<size_t>(r.grabs[g].first)] = saved[g];
     }
     std::vector<Vec3> points() const override { return m_x; }
 
@@ -191,8 +201,8 @@ public:
     BulletRope(const RodSetup& setup, int iterations, double bendStiffness)
         : m_rest(setup.axis), m_iterations(iterations), m_dt(setup.timeStep)
     {
-        m_world = std::make_unique<btSoftRigidDynamicsWorld>(&m_dispatcher, &m_broadphase, &m_solver,
-                                                             &m_configuration, &m_softSolver);
+        m_world = std::make_unique<btSoftRigidDynamicsWorld>(
+            &m_dispatcher, &m_broadphase, &m_solver, &m_configuration, &m_softSolver);
         const btVector3 gravity(setup.gravity.x(), setup.gravity.y(), setup.gravity.z());
         m_world->setGravity(gravity);
         m_info.m_gravity = gravity;
@@ -200,7 +210,8 @@ public:
         m_info.m_dispatcher = &m_dispatcher;
         m_info.m_sparsesdf.Initialize();
         const Vec3 a = setup.axis.front(), b = setup.axis.back();
-        m_rope = btSoftBodyHelpers::CreateRope(m_info, btVector3(a.x(), a.y(), a.z()), btVector3(b.x(), b.y(), b.z()),
+        m_rope = btSoftBodyHelpers::CreateRope(m_info, btVector3(a.x(), a.y(), a.z()),
+                                               btVector3(b.x(), b.y(), b.z()),
                                                static_cast<int>(setup.axis.size()) - 2, 0);
         for (int i = 0; i < m_rope->m_nodes.size(); ++i) {
             const Vec3& p = setup.axis[static_cast<size_t>(i)];
@@ -229,12 +240,14 @@ public:
     void fixStart(int count) override
     {
         m_startCount = count;
-        for (int i = 0; i < count; ++i) m_rope->setMass(i, 0);
+        for (int i = 0; i < count; ++i)
+            m_rope->setMass(i, 0);
     }
     void fixEnd(int count) override
     {
         m_endCount = count;
-        for (int i = 0; i < count; ++i) m_rope->setMass(m_rope->m_nodes.size() - 1 - i, 0);
+        for (int i = 0; i < count; ++i)
+            m_rope->setMass(m_rope->m_nodes.size() - 1 - i, 0);
     }
     void step(const FrameRequest& r) override
     {
@@ -245,9 +258,11 @@ public:
             m_rope->m_nodes[i].m_v.setZero();
         };
         if (r.moveStart)
-            for (int i = 0; i < m_startCount; ++i) place(i, r.start.apply(m_rest[static_cast<size_t>(i)]));
+            for (int i = 0; i < m_startCount; ++i)
+                place(i, r.start.apply(m_rest[static_cast<size_t>(i)]));
         if (r.moveEnd)
-            for (int i = 0; i < m_endCount; ++i) place(n - 1 - i, r.end.apply(m_rest[static_cast<size_t>(n - 1 - i)]));
+            for (int i = 0; i < m_endCount; ++i)
+                place(n - 1 - i, r.end.apply(m_rest[static_cast<size_t>(n - 1 - i)]));
         for (const auto& [index, target] : r.grabs) {
             if (m_rope->getMass(index) != 0) m_rope->setMass(index, 0); // kinematic from now on
             place(index, target);
@@ -282,7 +297,10 @@ private:
 
 } // namespace
 
-std::unique_ptr<RodSolver> makeChainTubeRod(const RodSetup& setup) { return std::make_unique<ChainTubeRod>(setup); }
+std::unique_ptr<RodSolver> makeChainTubeRod(const RodSetup& setup)
+{
+    return std::make_unique<ChainTubeRod>(setup);
+}
 
 std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations)
 {
@@ -290,7 +308,8 @@ std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations)
 }
 
 #ifdef CHAINTUBE_HAVE_BULLET
-std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations, double bendStiffness)
+std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations,
+                                          double bendStiffness)
 {
     return std::make_unique<BulletRope>(setup, iterations, bendStiffness);
 }

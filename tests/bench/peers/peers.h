@@ -3,7 +3,6 @@
 #pragma once
 
 #include <chaintube/types.h>
-
 #include <limits>
 #include <memory>
 #include <string>
@@ -14,7 +13,7 @@ namespace chaintube::bench {
 /// Rest shape and material shared by every solver of one run.
 struct RodSetup
 {
-    std::vector<Vec3> axis;       ///< initial (rest) axis points
+    std::vector<Vec3> axis; ///< initial (rest) axis points
     double expansionCoefficient = 0.0;
     double minBendRadius = 0.0;   ///< metres; 0 = use deflectionAngle
     double deflectionAngle = 0.0; ///< radians per joint (the paper's parameter)
@@ -77,7 +76,8 @@ std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations);
 /// mass back after each step (the first version of this peer) leaves the links' constants
 /// stale and the node then does not pull its neighbours. One stepSimulation(timeStep) per frame
 /// with `iterations` position iterations. Bullet has no bend limit, only bending stiffness.
-std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations, double bendStiffness = 1.0);
+std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations,
+                                          double bendStiffness = 1.0);
 #endif
 
 } // namespace chaintube::bench

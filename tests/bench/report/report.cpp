@@ -15,6 +15,8 @@
 #include <chaintube/formats/scene_import.h>
 #endif
 
+#include "../realtime/machine.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,10 +27,8 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
-#include <sstream>
 #include <numbers>
-
-#include "../realtime/machine.h"
+#include <sstream>
 
 using namespace chaintube;
 using namespace chaintube::bench;
@@ -62,7 +62,8 @@ const double kBulletBendStiffness = 1.0;
 std::vector<double> restArclength(const RodSetup& setup)
 {
     std::vector<double> s(setup.axis.size(), 0.0);
-    for (size_t i = 1; i < s.size(); ++i) s[i] = s[i - 1] + (setup.axis[i] - setup.axis[i - 1]).norm();
+    for (size_t i = 1; i < s.size(); ++i)
+        s[i] = s[i - 1] + (setup.axis[i] - setup.axis[i - 1]).norm();
     return s;
 }
 
@@ -91,7 +92,9 @@ double hairpinError(const std::vector<Vec3>& points, const RodSetup& setup)
     for (double side : {1.0, -1.0}) { // which leg is on which side is the path's choice
         double worst = 0.0;
         for (size_t i = 0; i < points.size(); ++i)
-            worst = std::max(worst, (points[i] - hairpinPoint(apex, std::abs(s[i] - s[middle]), i < middle ? side : -side)).norm());
+            worst = std::max(worst, (points[i] - hairpinPoint(apex, std::abs(s[i] - s[middle]),
+                                                              i < middle ? side : -side))
+                                        .norm());
         best = std::min(best, worst);
     }
     return best;
@@ -130,7 +133,8 @@ struct TautSpan
     Vec3 point(double s) const
     {
         if (s <= tangentLength) return s * Vec3(std::cos(lineAngle), std::sin(lineAngle), 0.0);
-        const double psi = std::min(lineAngle, (s - tangentLength) / kBendRadius), a = lineAngle - psi;
+        const double psi = std::min(lineAngle, (s - tangentLength) / kBendRadius),
+                     a = lineAngle - psi;
         return centre() + kBendRadius * Vec3(-std::sin(a), std::cos(a), 0.0);
     }
 };
@@ -151,7 +155,8 @@ double tautSpanError(const std::vector<Vec3>& points, const RodSetup& setup)
     double worst = 0.0;
     for (size_t i = 0; i < points.size(); ++i) {
         Vec3 reference;
-        if (s[i] <= 0.5 * total) reference = taut.point(s[i]);
+        if (s[i] <= 0.5 * total)
+            reference = taut.point(s[i]);
         else {
             reference = taut.point(total - s[i]);
             reference.x() = taut.span - reference.x();
@@ -173,7 +178,8 @@ Frame attachmentFrame(int f)
     frame.rotation = Quat(Eigen::AngleAxisd(1.2 * t, Vec3(0.0, 0.3, 1.0).normalized()));
     frame.translation = Vec3(0.4 * t, 0.3 * std::sin(std::numbers::pi * t), 0.0);
     if (f >= kAttachmentTurnFrames) {
-        const double pull = kAttachmentPull * (f + 1 - kAttachmentTurnFrames) / kAttachmentPullFrames;
+        const double pull =
+            kAttachmentPull * (f + 1 - kAttachmentTurnFrames) / kAttachmentPullFrames;
         frame.translation -= pull * (frame.rotation * Vec3::UnitX());
     }
     return frame;
@@ -183,7 +189,8 @@ double trailingError(const std::vector<Vec3>& points, const RodSetup& setup)
 {
     const Frame final = attachmentFrame(kAttachmentTurnFrames + kAttachmentPullFrames - 1);
     double worst = 0.0;
-    for (size_t i = 0; i < points.size(); ++i) worst = std::max(worst, (points[i] - final.apply(setup.axis[i])).norm());
+    for (size_t i = 0; i < points.size(); ++i)
+        worst = std::max(worst, (points[i] - final.apply(setup.axis[i])).norm());
     return worst;
 }
 
@@ -215,7 +222,8 @@ struct Catenary
 std::vector<Vec3> straightAxis(int segments)
 {
     std::vector<Vec3> axis;
-    for (int i = 0; i <= segments; ++i) axis.emplace_back(kHoseLength * i / segments, 0.0, 0.0);
+    for (int i = 0; i <= segments; ++i)
+        axis.emplace_back(kHoseLength * i / segments, 0.0, 0.0);
     return axis;
 }
 
@@ -248,8 +256,10 @@ std::vector<Vec3> wrapRoute()
 
 double wrapDistance(const Vec3& p)
 {
-    if (p.x() <= kWrapStraight) return std::min(std::hypot(p.y(), p.z()), std::hypot(p.y() - 2 * kWrapRadius, p.z()));
-    return std::hypot((Vec3(p.x(), p.y(), 0) - Vec3(kWrapStraight, kWrapRadius, 0)).norm() - kWrapRadius, p.z());
+    if (p.x() <= kWrapStraight)
+        return std::min(std::hypot(p.y(), p.z()), std::hypot(p.y() - 2 * kWrapRadius, p.z()));
+    return std::hypot(
+        (Vec3(p.x(), p.y(), 0) - Vec3(kWrapStraight, kWrapRadius, 0)).norm() - kWrapRadius, p.z());
 }
 
 // Lays a hose along the wrap route at the given axis resolution; returns the time it took.
@@ -263,7 +273,8 @@ double layWrap(int segments, const BendLimit& limit, std::vector<Vec3>& axis, in
     for (int r = 0; r < repeats; ++r) {
         const auto start = std::chrono::steady_clock::now();
         const Hose hose = Hose::alongRoute(wrapRoute(), spec);
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         axis = hose.points();
     }
     return best;
@@ -273,7 +284,8 @@ double wrapError(const std::vector<Vec3>& axis)
 {
     double worst = 0.0;
     for (size_t i = 0; i + 1 < axis.size(); ++i)
-        worst = std::max({worst, wrapDistance(axis[i]), wrapDistance(0.5 * (axis[i] + axis[i + 1]))});
+        worst =
+            std::max({worst, wrapDistance(axis[i]), wrapDistance(0.5 * (axis[i] + axis[i + 1]))});
     return worst;
 }
 
@@ -284,31 +296,39 @@ std::vector<Scenario> scenarios()
     // whose closed form is known. The path before it is what a user would do (drag around,
     // move and turn the part); the error is measured at the final frame.
     std::vector<Scenario> list;
-    list.push_back({"drag-middle",
-                    "paper Fig. 6-9: free hose, middle point dragged round a loop in the xy plane (30 frames), then "
-                    "pulled 4 m along +y at 2 cm a frame (200 frames, 1.2 m/s at 60 Hz)",
-                    "the hairpin a long pull leaves: a half circle of radius R = 0.1 m with the pulled point at its "
-                    "apex and two straight legs trailing parallel to the pull. Whatever the loop did, a hose dragged "
-                    "by one point ends up trailing along the point's path; after 4 m (8 half-lengths of hose) only "
-                    "the hairpin that the bend limit forces remains. The plane is fixed (everything happens in z = 0); "
-                    "which leg lies on which side is left to the solver (the smaller error of the two counts)",
-                    0, 0, 230,
-                    [](int n) { return radiusSetup(n, kBendRadius, 0.0); },
-                    [](int f, int, int n) {
-                        FrameRequest r;
-                        if (f < 30) {
-                            const double t = static_cast<double>(f + 1) / 30;
-                            r.grabs.emplace_back(n / 2, Vec3(0.5 + 0.15 * std::sin(2 * std::numbers::pi * t), 0.25 * std::sin(std::numbers::pi * t), 0.0));
-                        } else {
-                            r.grabs.emplace_back(n / 2, Vec3(0.5, kPullDistance * (f - 29) / 200.0, 0.0));
-                        }
-                        return r;
-                    },
-                    hairpinError});
+    list.push_back(
+        {"drag-middle",
+         "paper Fig. 6-9: free hose, middle point dragged round a loop in the xy plane (30 "
+         "frames), then "
+         "pulled 4 m along +y at 2 cm a frame (200 frames, 1.2 m/s at 60 Hz)",
+         "the hairpin a long pull leaves: a half circle of radius R = 0.1 m with the pulled point "
+         "at its "
+         "apex and two straight legs trailing parallel to the pull. Whatever the loop did, a hose "
+         "dragged "
+         "by one point ends up trailing along the point's path; after 4 m (8 half-lengths of hose) "
+         "only "
+         "the hairpin that the bend limit forces remains. The plane is fixed (everything happens "
+         "in z = 0); "
+         "which leg lies on which side is left to the solver (the smaller error of the two counts)",
+         0, 0, 230, [](int n) { return radiusSetup(n, kBendRadius, 0.0); },
+         [](int f, int, int n) {
+             FrameRequest r;
+             if (f < 30) {
+                 const double t = static_cast<double>(f + 1) / 30;
+                 r.grabs.emplace_back(n / 2, Vec3(0.5 + 0.15 * std::sin(2 * std::numbers::pi * t),
+                                                  0.25 * std::sin(std::numbers::pi * t), 0.0));
+             } else {
+                 r.grabs.emplace_back(n / 2, Vec3(0.5, kPullDistance * (f - 29) / 200.0, 0.0));
+             }
+             return r;
+         },
+         hairpinError});
     list.push_back({"moving-attachment",
-                    "start segment fixed to an object that moves and turns (40 frames), then is pulled 4 m back along "
+                    "start segment fixed to an object that moves and turns (40 frames), then is "
+                    "pulled 4 m back along "
                     "its own axis at 2 cm a frame (200 frames, 1.2 m/s at 60 Hz); free end",
-                    "the taut straight span: the hose trails straight behind the clamp, i.e. the rest shape carried "
+                    "the taut straight span: the hose trails straight behind the clamp, i.e. the "
+                    "rest shape carried "
                     "rigidly by the clamp's final frame",
                     2, 0, kAttachmentTurnFrames + kAttachmentPullFrames,
                     [](int n) { return radiusSetup(n, kBendRadius, 0.0); },
@@ -319,32 +339,39 @@ std::vector<Scenario> scenarios()
                         return r;
                     },
                     trailingError});
-    list.push_back({"ends-fixed-middle-grab",
-                    "both ends pinned, brought 0.8 m apart (15 frames), middle grabbed along a 3-D path (30 frames), "
-                    "then pulled straight up to 1 cm beyond its reach and held (15 frames)",
-                    "the taut shape: from each pin a straight line tangent to a circle of radius R = 0.1 m, then the "
-                    "arc to the apex (closed form; the apex height solves one equation). Pulled beyond reach, an "
-                    "inextensible hose is taut and its shape unique; exactly at the apex it would not be (the "
-                    "discrete chain is slightly slack there, and a slack chain has many shapes). A solver that keeps "
-                    "its constraints stops at the apex; one that puts the point on the target overstretches by 1 cm "
-                    "at least",
-                    1, 1, 60,
-                    [](int n) { return radiusSetup(n, kBendRadius, 0.0); },
-                    [](int f, int, int n) {
-                        FrameRequest r;
-                        if (f < 15) { // bring the ends together first
-                            r.moveEnd = true;
-                            r.end = translation(Vec3(-0.2 * (f + 1) / 15, 0.0, 0.0));
-                        } else if (f < 45) {
-                            const double t = static_cast<double>(f - 14) / 30;
-                            r.grabs.emplace_back(n / 2, Vec3(0.4, 0.2 * std::sin(std::numbers::pi * t), 0.12 * std::sin(2 * std::numbers::pi * t)));
-                        } else {
-                            const double t = std::min(1.0, static_cast<double>(f - 44) / 10);
-                            r.grabs.emplace_back(n / 2, Vec3(0.4, t * (tautSpan().apexHeight + kBeyondReach), 0.0));
-                        }
-                        return r;
-                    },
-                    tautSpanError});
+    list.push_back(
+        {"ends-fixed-middle-grab",
+         "both ends pinned, brought 0.8 m apart (15 frames), middle grabbed along a 3-D path (30 "
+         "frames), "
+         "then pulled straight up to 1 cm beyond its reach and held (15 frames)",
+         "the taut shape: from each pin a straight line tangent to a circle of radius R = 0.1 m, "
+         "then the "
+         "arc to the apex (closed form; the apex height solves one equation). Pulled beyond reach, "
+         "an "
+         "inextensible hose is taut and its shape unique; exactly at the apex it would not be (the "
+         "discrete chain is slightly slack there, and a slack chain has many shapes). A solver "
+         "that keeps "
+         "its constraints stops at the apex; one that puts the point on the target overstretches "
+         "by 1 cm "
+         "at least",
+         1, 1, 60, [](int n) { return radiusSetup(n, kBendRadius, 0.0); },
+         [](int f, int, int n) {
+             FrameRequest r;
+             if (f < 15) { // bring the ends together first
+                 r.moveEnd = true;
+                 r.end = translation(Vec3(-0.2 * (f + 1) / 15, 0.0, 0.0));
+             } else if (f < 45) {
+                 const double t = static_cast<double>(f - 14) / 30;
+                 r.grabs.emplace_back(n / 2, Vec3(0.4, 0.2 * std::sin(std::numbers::pi * t),
+                                                  0.12 * std::sin(2 * std::numbers::pi * t)));
+             } else {
+                 const double t = std::min(1.0, static_cast<double>(f - 44) / 10);
+                 r.grabs.emplace_back(n / 2,
+                                      Vec3(0.4, t * (tautSpan().apexHeight + kBeyondReach), 0.0));
+             }
+             return r;
+         },
+         tautSpanError});
     return list;
 }
 
@@ -370,7 +397,8 @@ constexpr double kRoundingPerturbation = 1e-15;
 FrameRequest perturbed(FrameRequest r, int repeat)
 {
     const double scale = 1.0 + kRoundingPerturbation * repeat;
-    for (auto& grab : r.grabs) grab.second *= scale;
+    for (auto& grab : r.grabs)
+        grab.second *= scale;
     r.start.translation *= scale;
     r.end.translation *= scale;
     return r;
@@ -390,8 +418,10 @@ Run runScenario(const Scenario& scenario, const SolverFactory& factory, int segm
         for (int f = 0; f < scenario.frames; ++f)
             requests.push_back(perturbed(scenario.request(f, scenario.frames, segments), rep));
         const auto start = std::chrono::steady_clock::now();
-        for (const FrameRequest& r : requests) solver->step(r);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        for (const FrameRequest& r : requests)
+            solver->step(r);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         best = std::min(best, seconds / scenario.frames);
         const std::vector<Vec3> points = solver->points();
         const double error = scenario.error(points, setup);
@@ -407,9 +437,9 @@ Run runScenario(const Scenario& scenario, const SolverFactory& factory, int segm
 
 struct Violations
 {
-    double stretchPercent = 0.0;  ///< largest |length/rest − 1| in %
-    double bendExcess = 0.0;      ///< largest turn beyond the joint limit (rad)
-    int selfIntersections = 0;    ///< segments whose rings cross (radius kHoseRadius)
+    double stretchPercent = 0.0; ///< largest |length/rest − 1| in %
+    double bendExcess = 0.0;     ///< largest turn beyond the joint limit (rad)
+    int selfIntersections = 0;   ///< segments whose rings cross (radius kHoseRadius)
 };
 
 Violations violations(const RodSetup& setup, const std::vector<Vec3>& p)
@@ -419,19 +449,24 @@ Violations violations(const RodSetup& setup, const std::vector<Vec3>& p)
     std::vector<double> halfTan(n, 0.0);
     for (size_t s = 0; s + 1 < n; ++s) {
         const double rest = (setup.axis[s + 1] - setup.axis[s]).norm();
-        v.stretchPercent = std::max(v.stretchPercent, 100.0 * std::abs((p[s + 1] - p[s]).norm() / rest - 1.0));
+        v.stretchPercent =
+            std::max(v.stretchPercent, 100.0 * std::abs((p[s + 1] - p[s]).norm() / rest - 1.0));
     }
     for (size_t j = 1; j + 1 < n; ++j) {
         const Vec3 a = p[j] - p[j - 1], b = p[j + 1] - p[j];
         const double turn = std::atan2(a.cross(b).norm(), a.dot(b));
-        const double rest = 0.5 * ((setup.axis[j] - setup.axis[j - 1]).norm() + (setup.axis[j + 1] - setup.axis[j]).norm());
-        const double limit = setup.minBendRadius > 0 ? jointDeflectionLimit(BendLimit::minBendRadius(setup.minBendRadius), rest)
-                                                     : setup.deflectionAngle;
+        const double rest = 0.5 * ((setup.axis[j] - setup.axis[j - 1]).norm() +
+                                   (setup.axis[j + 1] - setup.axis[j]).norm());
+        const double limit =
+            setup.minBendRadius > 0
+                ? jointDeflectionLimit(BendLimit::minBendRadius(setup.minBendRadius), rest)
+                : setup.deflectionAngle;
         v.bendExcess = std::max(v.bendExcess, turn - limit);
         halfTan[j] = std::tan(0.5 * std::min(turn, 3.14));
     }
     for (size_t s = 0; s + 1 < n; ++s)
-        if (kHoseRadius * (halfTan[s] + halfTan[s + 1]) > (p[s + 1] - p[s]).norm()) ++v.selfIntersections;
+        if (kHoseRadius * (halfTan[s] + halfTan[s + 1]) > (p[s + 1] - p[s]).norm())
+            ++v.selfIntersections;
     return v;
 }
 
@@ -442,7 +477,7 @@ struct Row
     double microseconds = 0;     ///< per update; ChainTube's includes its surface at `sides`
     double axisMicroseconds = 0; ///< per update, the solver alone (what equal-error compares)
     double centreline = 0, surface = 0; ///< largest over the repeats
-    double bestCentreline = 0;          ///< smallest over the repeats (rounding-level perturbations)
+    double bestCentreline = 0; ///< smallest over the repeats (rounding-level perturbations)
     Violations violation;
 };
 
@@ -463,7 +498,8 @@ struct Front
         });
         Front front;
         for (const Point& p : runs)
-            if (std::isfinite(p.error) && std::isfinite(p.time) && (front.points.empty() || p.error < front.points.back().error))
+            if (std::isfinite(p.error) && std::isfinite(p.time) &&
+                (front.points.empty() || p.error < front.points.back().error))
                 front.points.push_back(p);
         return front;
     }
@@ -481,8 +517,10 @@ struct Front
         for (size_t k = 1; k < points.size(); ++k)
             if (error >= points[k].error) {
                 const Point &a = points[k - 1], &b = points[k];
-                const double lo = std::log(std::max(b.error, 1e-300)), hi = std::log(std::max(a.error, 1e-300));
-                const double f = hi > lo ? (std::log(std::max(error, 1e-300)) - lo) / (hi - lo) : 0.0;
+                const double lo = std::log(std::max(b.error, 1e-300)),
+                             hi = std::log(std::max(a.error, 1e-300));
+                const double f =
+                    hi > lo ? (std::log(std::max(error, 1e-300)) - lo) / (hi - lo) : 0.0;
                 time = std::exp(std::log(b.time) + f * (std::log(a.time) - std::log(b.time)));
                 return true;
             }
@@ -503,7 +541,8 @@ struct EqualErrorSummary
 
 /// Markdown: for each run on the peer's front, ChainTube's interpolated time at the peer's
 /// error and the ratio; where the peer is more accurate than every ChainTube run, says so.
-std::string equalErrorTable(const Front& chaintube, const std::vector<std::pair<std::string, Front>>& peers,
+std::string equalErrorTable(const Front& chaintube,
+                            const std::vector<std::pair<std::string, Front>>& peers,
                             const std::string& unit, EqualErrorSummary* summary = nullptr)
 {
     std::ostringstream md;
@@ -513,29 +552,37 @@ std::string equalErrorTable(const Front& chaintube, const std::vector<std::pair<
         for (const Front::Point& p : front.points) {
             double time = 0;
             bool upper = false;
-            md << "| " << name << " | " << p.label << " | " << std::setprecision(3) << p.error << " | " << p.time << " | ";
+            md << "| " << name << " | " << p.label << " | " << std::setprecision(3) << p.error
+               << " | " << p.time << " | ";
             if (summary) {
                 summary->bestPeerError = std::min(summary->bestPeerError, p.error);
-                if (!chaintube.points.empty()) summary->bestChainTubeError = chaintube.points.back().error;
+                if (!chaintube.points.empty())
+                    summary->bestChainTubeError = chaintube.points.back().error;
             }
             if (!chaintube.timeAt(p.error, time, upper)) {
                 if (summary) ++summary->moreAccurate;
-                md << "— | peer more accurate than every ChainTube run (best " << chaintube.points.back().error << " m) |\n";
+                md << "— | peer more accurate than every ChainTube run (best "
+                   << chaintube.points.back().error << " m) |\n";
                 continue;
             }
             const double ratio = p.time / time;
             if (summary) {
                 ++summary->compared;
-                if (ratio < summary->minRatio) summary->minRatio = ratio, summary->minIsLowerBound = upper;
+                if (ratio < summary->minRatio)
+                    summary->minRatio = ratio, summary->minIsLowerBound = upper;
                 summary->maxRatio = std::max(summary->maxRatio, ratio);
             }
-            md << (upper ? "≤ " : "") << time << (upper ? " (coarsest run)" : "") << " | " << (upper ? "≥ " : "") << ratio
-               << "x" << (ratio < 1 ? " (peer faster)" : "") << " |\n";
+            md << (upper ? "≤ " : "") << time << (upper ? " (coarsest run)" : "") << " | "
+               << (upper ? "≥ " : "") << ratio << "x" << (ratio < 1 ? " (peer faster)" : "")
+               << " |\n";
         }
     return md.str();
 }
 
-double ringError(int sides) { return kHoseRadius * (1 - std::cos(std::numbers::pi / sides)); }
+double ringError(int sides)
+{
+    return kHoseRadius * (1 - std::cos(std::numbers::pi / sides));
+}
 
 // Surface update cost of one hose (rings, normals) at this resolution, µs.
 double surfaceMicroseconds(int segments, int sides, int repeats)
@@ -552,7 +599,8 @@ double surfaceMicroseconds(int segments, int sides, int repeats)
         surface.invalidate();
         surface.update(hose);
     }
-    return 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / loops;
+    return 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+           loops;
 }
 
 std::string fmt(double value, int precision = 3)
@@ -577,7 +625,9 @@ double frameMicroseconds(int moving, int frames, int rounds, size_t& vertexBytes
         scene.addHose(Hose::straight(Vec3(0.0, 0.0, 0.05 * i), Vec3::UnitX(), 1.0, spec));
     }
     vertexBytes = 0;
-    for (int i = 0; i < 50; ++i) vertexBytes += 4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
+    for (int i = 0; i < 50; ++i)
+        vertexBytes +=
+            4 * (scene.surface(i).positions().size() + scene.surface(i).normals().size());
     double best = 1e300;
     int frame = 0;
     for (int round = 0; round < rounds; ++round) {
@@ -590,7 +640,10 @@ double frameMicroseconds(int moving, int frames, int rounds, size_t& vertexBytes
             }
             scene.updateSurfaces();
         }
-        best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames);
+        best = std::min(
+            best,
+            1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+                frames);
     }
     return best;
 }
@@ -605,7 +658,10 @@ double memsetMicroseconds(size_t bytes, int rounds)
             std::memset(buffer.data(), k & 0xff, buffer.size());
             asm volatile("" : : "r"(buffer.data()) : "memory");
         }
-        best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 200);
+        best = std::min(
+            best,
+            1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+                200);
     }
     return best;
 }
@@ -622,8 +678,9 @@ struct FeatureRun
     std::vector<Vec3> axis;
 };
 
-FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const std::function<void(Hose&)>& prepare,
-                        bool rollClamp, int frames, int rounds)
+FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure,
+                        const std::function<void(Hose&)>& prepare, bool rollClamp, int frames,
+                        int rounds)
 {
     FeatureRun result;
     double best = 1e300;
@@ -634,8 +691,8 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
         spec.material.bendLimit = BendLimit::minBendRadius(0.1);
         spec.profile = Profile::circle(kHoseRadius, 16);
         configure(spec);
-        Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.2, 0, 0), Vec3(0.3, -0.25, 0), Vec3(0.5, -0.25, 0),
-                                      Vec3(0.6, 0, 0), Vec3(0.8, 0, 0)},
+        Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.2, 0, 0), Vec3(0.3, -0.25, 0),
+                                      Vec3(0.5, -0.25, 0), Vec3(0.6, 0, 0), Vec3(0.8, 0, 0)},
                                      spec);
         const int clamp = hose.attach(0, 1, Frame::identity());
         if (prepare) prepare(hose);
@@ -647,7 +704,8 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
             const double phase = 2 * std::numbers::pi * (f + 1) / frames;
             if (rollClamp) { // turn the clamp about the hose's axis there (+x), a quarter turn
                 Frame frame;
-                frame.rotation = Quat(Eigen::AngleAxisd(0.5 * std::numbers::pi * (f + 1) / frames, Vec3::UnitX()));
+                frame.rotation = Quat(
+                    Eigen::AngleAxisd(0.5 * std::numbers::pi * (f + 1) / frames, Vec3::UnitX()));
                 static_cast<void>(hose.moveAttachment(clamp, frame));
             }
             static_cast<void>(
@@ -655,7 +713,10 @@ FeatureRun featureFrame(const std::function<void(HoseSpec&)>& configure, const s
             static_cast<void>(hose.step()); // per-frame gravity; one comparison when it is off
             surface.update(hose);
         }
-        best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames);
+        best = std::min(
+            best,
+            1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+                frames);
         result.positions.assign(surface.positions().begin(), surface.positions().end());
         result.axis = hose.points();
     }
@@ -677,15 +738,22 @@ int main(int argc, char** argv)
     std::string only, onlyPeer; // --scenario, --peer: one scenario / solver (while working on it)
     std::filesystem::path outDir = "bench-report";
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "-o") && i + 1 < argc) outDir = argv[++i];
-        else if (!std::strcmp(argv[i], "--scenario") && i + 1 < argc) only = argv[++i];
-        else if (!std::strcmp(argv[i], "--peer") && i + 1 < argc) onlyPeer = argv[++i];
+        if (!std::strcmp(argv[i], "--quick"))
+            quick = true;
+        else if (!std::strcmp(argv[i], "-o") && i + 1 < argc)
+            outDir = argv[++i];
+        else if (!std::strcmp(argv[i], "--scenario") && i + 1 < argc)
+            only = argv[++i];
+        else if (!std::strcmp(argv[i], "--peer") && i + 1 < argc)
+            onlyPeer = argv[++i];
         else {
-            std::cerr << "usage: chaintube-bench-report [--quick] [-o DIR] [--scenario NAME] [--peer NAME]\n"
-                         "Writes report.md, report.csv, speed-vs-error-<scenario>.svg and convergence.svg to DIR\n"
-                         "(default ./bench-report). --quick: fewer resolutions and repeats (CI).\n"
-                         "--scenario, --peer: measure only that scenario / solver (a partial report).\n";
+            std::cerr
+                << "usage: chaintube-bench-report [--quick] [-o DIR] [--scenario NAME] [--peer "
+                   "NAME]\n"
+                   "Writes report.md, report.csv, speed-vs-error-<scenario>.svg and "
+                   "convergence.svg to DIR\n"
+                   "(default ./bench-report). --quick: fewer resolutions and repeats (CI).\n"
+                   "--scenario, --peer: measure only that scenario / solver (a partial report).\n";
             return std::strcmp(argv[i], "--help") == 0 ? 0 : 2;
         }
     }
@@ -697,12 +765,16 @@ int main(int argc, char** argv)
     };
     const std::string loadAtStart = loadAverage();
     std::string command = "chaintube-bench-report";
-    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
-    const std::string provenance = "Commit " + realtime::gitCommit(CHAINTUBE_SOURCE_DIR) + ", " + realtime::utcDate() +
-                                   ", " + realtime::cpuModel() + ", CPUs allowed: " + realtime::allowedCpus() +
-                                   ". Command: `" + command + "`.\n\n";
-    const std::vector<int> resolutions = quick ? std::vector<int>{10, 20, 40} : std::vector<int>{10, 20, 40, 80, 160};
-    const std::vector<int> ringSides = quick ? std::vector<int>{8, 16} : std::vector<int>{8, 16, 32};
+    for (int i = 1; i < argc; ++i)
+        command += std::string(" ") + argv[i];
+    const std::string provenance = "Commit " + realtime::gitCommit(CHAINTUBE_SOURCE_DIR) + ", " +
+                                   realtime::utcDate() + ", " + realtime::cpuModel() +
+                                   ", CPUs allowed: " + realtime::allowedCpus() + ". Command: `" +
+                                   command + "`.\n\n";
+    const std::vector<int> resolutions =
+        quick ? std::vector<int>{10, 20, 40} : std::vector<int>{10, 20, 40, 80, 160};
+    const std::vector<int> ringSides =
+        quick ? std::vector<int>{8, 16} : std::vector<int>{8, 16, 32};
     const int repeats = quick ? 1 : 5; // best of: the machine is shared
 
     struct Peer
@@ -710,22 +782,29 @@ int main(int argc, char** argv)
         std::string name;
         SolverFactory factory;
     };
-    std::vector<Peer> peers = {{"ChainTube", [](const RodSetup& s) { return makeChainTubeRod(s); }}};
+    std::vector<Peer> peers = {
+        {"ChainTube", [](const RodSetup& s) { return makeChainTubeRod(s); }}};
     for (int it : {1, 4, 16, 64})
-        peers.push_back({"XPBD x" + std::to_string(it), [it](const RodSetup& s) { return makeXpbdRod(s, it); }});
+        peers.push_back({"XPBD x" + std::to_string(it),
+                         [it](const RodSetup& s) { return makeXpbdRod(s, it); }});
 #ifdef CHAINTUBE_HAVE_BULLET
     for (int it : {4, 16, 64})
-        peers.push_back({"Bullet rope x" + std::to_string(it), [it](const RodSetup& s) { return makeBulletRope(s, it, kBulletBendStiffness); }});
+        peers.push_back({"Bullet rope x" + std::to_string(it), [it](const RodSetup& s) {
+                             return makeBulletRope(s, it, kBulletBendStiffness);
+                         }});
 #endif
 
     std::vector<Row> rows;
-    std::map<std::string, double> surfaceCost; // "segments/sides" → µs
+    std::map<std::string, double> surfaceCost;                      // "segments/sides" → µs
     surfaceMicroseconds(resolutions.front(), ringSides.front(), 1); // warm up (first-touch, clocks)
     for (int n : resolutions)
-        for (int sides : ringSides) surfaceCost[std::to_string(n) + "/" + std::to_string(sides)] = surfaceMicroseconds(n, sides, repeats);
+        for (int sides : ringSides)
+            surfaceCost[std::to_string(n) + "/" + std::to_string(sides)] =
+                surfaceMicroseconds(n, sides, repeats);
 
     std::map<std::string, std::vector<PlotSeries>> scenarioPlots;
-    const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#ff7f0e", "#17becf", "#7f7f7f", "#bcbd22"};
+    const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b",
+                             "#ff7f0e", "#17becf", "#7f7f7f", "#bcbd22"};
     // Per scenario: every solver's (error, axis time) runs, for the equal-error tables.
     std::map<std::string, std::map<std::string, std::vector<Front::Point>>> runsOf;
     for (const Scenario& scenario : scenarios()) {
@@ -738,11 +817,22 @@ int main(int argc, char** argv)
                 const RodSetup setup = scenario.setup(n);
                 const double error = run.error;
                 const Violations v = violations(setup, run.points);
-                runsOf[scenario.name][peer.name].push_back({error, 1e6 * run.secondsPerFrame, std::to_string(n) + " segments"});
+                runsOf[scenario.name][peer.name].push_back(
+                    {error, 1e6 * run.secondsPerFrame, std::to_string(n) + " segments"});
                 for (int sides : ringSides) {
-                    Row row{scenario.name, peer.name, n, sides, 1e6 * run.secondsPerFrame, 1e6 * run.secondsPerFrame,
-                            error, error + ringError(sides), run.bestError, v};
-                    if (peer.name == "ChainTube") row.microseconds += surfaceCost[std::to_string(n) + "/" + std::to_string(sides)];
+                    Row row{scenario.name,
+                            peer.name,
+                            n,
+                            sides,
+                            1e6 * run.secondsPerFrame,
+                            1e6 * run.secondsPerFrame,
+                            error,
+                            error + ringError(sides),
+                            run.bestError,
+                            v};
+                    if (peer.name == "ChainTube")
+                        row.microseconds +=
+                            surfaceCost[std::to_string(n) + "/" + std::to_string(sides)];
                     rows.push_back(row);
                 }
             }
@@ -752,20 +842,24 @@ int main(int argc, char** argv)
     if (!only.empty() || !onlyPeer.empty()) {
         // A partial run: the rows only (the report's cross-scenario sections need them all).
         if (rows.empty()) {
-            std::cerr << "chaintube-bench-report: no scenario/solver matches --scenario '" << only << "' --peer '"
-                      << onlyPeer << "'; scenarios:";
-            for (const Scenario& scenario : scenarios()) std::cerr << " " << scenario.name;
+            std::cerr << "chaintube-bench-report: no scenario/solver matches --scenario '" << only
+                      << "' --peer '" << onlyPeer << "'; scenarios:";
+            for (const Scenario& scenario : scenarios())
+                std::cerr << " " << scenario.name;
             std::cerr << "; solvers:";
-            for (const Peer& peer : peers) std::cerr << " '" << peer.name << "'";
+            for (const Peer& peer : peers)
+                std::cerr << " '" << peer.name << "'";
             std::cerr << "\n";
             return 2;
         }
-        std::cout << "| scenario | solver | segments | sides | axis µs/update | centreline error | stretch % | bend excess |\n";
+        std::cout << "| scenario | solver | segments | sides | axis µs/update | centreline error | "
+                     "stretch % | bend excess |\n";
         for (const Row& row : rows)
             if (row.sides == ringSides.front())
-                std::cout << "| " << row.scenario << " | " << row.solver << " | " << row.segments << " | " << row.sides
-                          << " | " << fmt(row.axisMicroseconds) << " | " << fmt(row.centreline) << " | "
-                          << fmt(row.violation.stretchPercent) << " | " << fmt(row.violation.bendExcess) << " |\n";
+                std::cout << "| " << row.scenario << " | " << row.solver << " | " << row.segments
+                          << " | " << row.sides << " | " << fmt(row.axisMicroseconds) << " | "
+                          << fmt(row.centreline) << " | " << fmt(row.violation.stretchPercent)
+                          << " | " << fmt(row.violation.bendExcess) << " |\n";
         return 0;
     }
 
@@ -773,38 +867,50 @@ int main(int argc, char** argv)
     // radius against the paper's fixed angle (chosen to give R at the coarsest resolution).
     std::vector<std::pair<double, double>> radiusConvergence, angleConvergence;
     std::ostringstream wrapTable;
-    const std::vector<int> convergenceResolutions = quick ? std::vector<int>{15, 30, 60, 120} : std::vector<int>{15, 30, 60, 120, 240, 480};
+    const std::vector<int> convergenceResolutions =
+        quick ? std::vector<int>{15, 30, 60, 120} : std::vector<int>{15, 30, 60, 120, 240, 480};
     const double wrapLength = 2 * kWrapStraight + std::numbers::pi * kWrapRadius;
-    const double fixedAngle = jointDeflectionLimit(BendLimit::minBendRadius(kWrapRadius), wrapLength / convergenceResolutions.front());
-    wrapTable << "| segments | lay-out time µs | error, min bend radius " << kWrapRadius << " m | error, fixed "
-              << fmt(fixedAngle * 180 / std::numbers::pi) << "° per joint (paper) |\n|---|---|---|---|\n";
+    const double fixedAngle = jointDeflectionLimit(BendLimit::minBendRadius(kWrapRadius),
+                                                   wrapLength / convergenceResolutions.front());
+    wrapTable << "| segments | lay-out time µs | error, min bend radius " << kWrapRadius
+              << " m | error, fixed " << fmt(fixedAngle * 180 / std::numbers::pi)
+              << "° per joint (paper) |\n|---|---|---|---|\n";
     for (int n : convergenceResolutions) {
         std::vector<Vec3> axis;
         const double seconds = layWrap(n, BendLimit::minBendRadius(kWrapRadius), axis, repeats);
         radiusConvergence.emplace_back(n, wrapError(axis));
         layWrap(n, BendLimit::deflectionAngle(fixedAngle), axis, 1);
         angleConvergence.emplace_back(n, wrapError(axis));
-        wrapTable << "| " << n << " | " << fmt(1e6 * seconds) << " | " << fmt(radiusConvergence.back().second) << " | "
+        wrapTable << "| " << n << " | " << fmt(1e6 * seconds) << " | "
+                  << fmt(radiusConvergence.back().second) << " | "
                   << fmt(angleConvergence.back().second) << " |\n";
     }
 
     // Model only what a scene needs: tolerance → resolution → time.
     std::ostringstream tolerances;
-    tolerances << "| tolerance | segment length | segments per metre | ring sides | centreline bound | ring bound | update µs (1 m hose, drag + surface) |\n|---|---|---|---|---|---|---|\n";
+    tolerances
+        << "| tolerance | segment length | segments per metre | ring sides | centreline bound | "
+           "ring bound | update µs (1 m hose, drag + surface) |\n|---|---|---|---|---|---|---|\n";
     for (double tolerance : {1e-2, 3e-3, 1e-3, 3e-4, 1e-4}) {
         const Resolution r = resolutionFor(tolerance, BendLimit::minBendRadius(0.1), kHoseRadius);
-        const int segments = std::max(1, static_cast<int>(std::ceil(kHoseLength / r.segmentLength)));
+        const int segments =
+            std::max(1, static_cast<int>(std::ceil(kHoseLength / r.segmentLength)));
         const Scenario drag = scenarios().front();
-        const Run run = runScenario(drag, [](const RodSetup& s) { return makeChainTubeRod(s); }, segments, repeats);
-        tolerances << "| " << fmt(tolerance * 1e3) << " mm | " << fmt(r.segmentLength * 1e3) << " mm | " << segments << " | "
-                   << r.ringSides << " | " << fmt(r.centrelineError * 1e3) << " mm | " << fmt(r.ringError * 1e3) << " mm | "
-                   << fmt(1e6 * run.secondsPerFrame + surfaceMicroseconds(segments, r.ringSides, 1)) << " |\n";
+        const Run run = runScenario(
+            drag, [](const RodSetup& s) { return makeChainTubeRod(s); }, segments, repeats);
+        tolerances << "| " << fmt(tolerance * 1e3) << " mm | " << fmt(r.segmentLength * 1e3)
+                   << " mm | " << segments << " | " << r.ringSides << " | "
+                   << fmt(r.centrelineError * 1e3) << " mm | " << fmt(r.ringError * 1e3) << " mm | "
+                   << fmt(1e6 * run.secondsPerFrame + surfaceMicroseconds(segments, r.ringSides, 1))
+                   << " |\n";
     }
 
     // Catenary (closed form): a hose hung between points 1 m apart, inextensible, no bend limit.
     std::ostringstream catenaryTable;
-    catenaryTable << "| length | segments | sag | catenary | error | settle time s | rounds |\n|---|---|---|---|---|---|---|\n";
-    for (const auto& [length, expected] : {std::pair{1.05, 0.13930}, std::pair{1.2, 0.29234}, std::pair{2.0, 0.79639}}) {
+    catenaryTable << "| length | segments | sag | catenary | error | settle time s | rounds "
+                     "|\n|---|---|---|---|---|---|---|\n";
+    for (const auto& [length, expected] :
+         {std::pair{1.05, 0.13930}, std::pair{1.2, 0.29234}, std::pair{2.0, 0.79639}}) {
         const int segments = 64;
         HoseSpec spec;
         spec.segmentCount = segments;
@@ -816,11 +922,14 @@ int main(int argc, char** argv)
         hose.attach(segments, segments, Frame::identity());
         const auto start = std::chrono::steady_clock::now();
         const SagResult result = hose.sag();
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         double lowest = 0.0;
-        for (const Vec3& p : hose.points()) lowest = std::min(lowest, p.y());
-        catenaryTable << "| " << length << " m | " << segments << " | " << fmt(-lowest, 5) << " | " << expected << " | "
-                      << fmt(100.0 * (-lowest - expected) / expected, 2) << " % | " << fmt(seconds) << " | " << result.rounds << " |\n";
+        for (const Vec3& p : hose.points())
+            lowest = std::min(lowest, p.y());
+        catenaryTable << "| " << length << " m | " << segments << " | " << fmt(-lowest, 5) << " | "
+                      << expected << " | " << fmt(100.0 * (-lowest - expected) / expected, 2)
+                      << " % | " << fmt(seconds) << " | " << result.rounds << " |\n";
     }
 
     // The catenary against the peers: every solver settles the same hose (1.2 m hung between
@@ -833,18 +942,25 @@ int main(int argc, char** argv)
     double catenaryStartError = 0.0;
     std::ostringstream catenaryCsv; // microseconds = time to settle to that state
     {
-        const std::vector<int> catenaryResolutions = quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128};
+        const std::vector<int> catenaryResolutions =
+            quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128};
         const int maxFrames = quick ? 128 : 2048;
-        constexpr int kEveryFrameUpTo = 64; // checkpoints: every frame up to here, then powers of two
-        std::vector<Peer> gravityPeers = {{"ChainTube", [](const RodSetup& s) { return makeChainTubeRod(s); }}};
+        constexpr int kEveryFrameUpTo =
+            64; // checkpoints: every frame up to here, then powers of two
+        std::vector<Peer> gravityPeers = {
+            {"ChainTube", [](const RodSetup& s) { return makeChainTubeRod(s); }}};
         for (int it : {4, 16, 64})
-            gravityPeers.push_back({"XPBD x" + std::to_string(it), [it](const RodSetup& s) { return makeXpbdRod(s, it); }});
+            gravityPeers.push_back({"XPBD x" + std::to_string(it),
+                                    [it](const RodSetup& s) { return makeXpbdRod(s, it); }});
 #ifdef CHAINTUBE_HAVE_BULLET
         for (int it : {4, 16, 64})
-            gravityPeers.push_back({"Bullet rope x" + std::to_string(it), [it](const RodSetup& s) { return makeBulletRope(s, it); }});
+            gravityPeers.push_back({"Bullet rope x" + std::to_string(it),
+                                    [it](const RodSetup& s) { return makeBulletRope(s, it); }});
 #endif
-        catenaryPeers << "| solver | segments | error after 8 frames (m) | after 64 | after " << maxFrames
-                      << " | solver µs per frame | max stretch % at the end |\n|---|---|---|---|---|---|---|\n";
+        catenaryPeers << "| solver | segments | error after 8 frames (m) | after 64 | after "
+                      << maxFrames
+                      << " | solver µs per frame | max stretch % at the end "
+                         "|\n|---|---|---|---|---|---|---|\n";
         std::vector<PlotSeries>& plot = scenarioPlots["catenary"];
         size_t colour = 0;
         for (const Peer& peer : gravityPeers) {
@@ -854,7 +970,8 @@ int main(int argc, char** argv)
                 const double depth = std::sqrt(0.25 * catenary.length * catenary.length - 0.25);
                 for (int i = 0; i <= n; ++i) { // a V of straight legs, uniform rest arclength
                     const double u = 2.0 * i / n;
-                    setup.axis.push_back(u <= 1.0 ? Vec3(0.5 * u, -depth * u, 0.0) : Vec3(0.5 * u, -depth * (2.0 - u), 0.0));
+                    setup.axis.push_back(u <= 1.0 ? Vec3(0.5 * u, -depth * u, 0.0)
+                                                  : Vec3(0.5 * u, -depth * (2.0 - u), 0.0));
                 }
                 setup.noBendLimit = true;
                 setup.gravity = Vec3(0.0, -9.81, 0.0);
@@ -862,12 +979,14 @@ int main(int argc, char** argv)
                 const std::vector<double> arclength = restArclength(setup);
                 auto error = [&](const std::vector<Vec3>& p) {
                     double worst = 0.0;
-                    for (size_t i = 0; i < p.size(); ++i) worst = std::max(worst, (p[i] - catenary.point(arclength[i])).norm());
+                    for (size_t i = 0; i < p.size(); ++i)
+                        worst = std::max(worst, (p[i] - catenary.point(arclength[i])).norm());
                     return worst;
                 };
                 const double startError = error(setup.axis);
                 catenaryStartError = startError;
-                std::map<int, double> errorAt, secondsAt; // per checkpoint: the best time of the repeats
+                std::map<int, double> errorAt,
+                    secondsAt; // per checkpoint: the best time of the repeats
                 std::unique_ptr<RodSolver> solver;
                 for (int rep = 0; rep < repeats; ++rep) {
                     solver = peer.factory(setup);
@@ -877,7 +996,9 @@ int main(int argc, char** argv)
                     for (int f = 1; f <= maxFrames; ++f) {
                         const auto start = std::chrono::steady_clock::now();
                         solver->step(FrameRequest());
-                        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                        seconds +=
+                            std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                                .count();
                         if (f <= kEveryFrameUpTo || (f & (f - 1)) == 0) {
                             errorAt[f] = error(solver->points());
                             secondsAt[f] = rep == 0 ? seconds : std::min(secondsAt[f], seconds);
@@ -888,19 +1009,26 @@ int main(int argc, char** argv)
                 // Only states that removed 90 % of the starting V's error count as settled
                 // enough to compare (a solver that has barely moved is "fast" but not settling).
                 for (const auto& [f, e] : errorAt)
-                    catenaryCsv << "catenary," << peer.name << "," << n << ",," << 1e6 * secondsAt[f] << "," << e << ",,,,," << f << "\n";
+                    catenaryCsv << "catenary," << peer.name << "," << n << ",,"
+                                << 1e6 * secondsAt[f] << "," << e << ",,,,," << f << "\n";
                 for (const auto& [f, e] : errorAt)
                     if (e < 0.1 * startError)
-                        points.push_back({e, 1e6 * secondsAt[f], std::to_string(n) + " segments, " + std::to_string(f) + " frames"});
-                catenaryPeers << "| " << peer.name << " | " << n << " | " << fmt(errorAt[8]) << " | " << fmt(errorAt[64]) << " | "
-                              << fmt(errorAt[maxFrames]) << " | " << fmt(1e6 * seconds / maxFrames) << " | "
+                        points.push_back(
+                            {e, 1e6 * secondsAt[f],
+                             std::to_string(n) + " segments, " + std::to_string(f) + " frames"});
+                catenaryPeers << "| " << peer.name << " | " << n << " | " << fmt(errorAt[8])
+                              << " | " << fmt(errorAt[64]) << " | " << fmt(errorAt[maxFrames])
+                              << " | " << fmt(1e6 * seconds / maxFrames) << " | "
                               << fmt(violations(setup, solver->points()).stretchPercent) << " |\n";
             }
             PlotSeries series{peer.name, colours[colour++ % 9], {}, true};
-            for (const Front::Point& p : Front::of(points).points) series.points.emplace_back(p.error, p.time);
+            for (const Front::Point& p : Front::of(points).points)
+                series.points.emplace_back(p.error, p.time);
             plot.push_back(series);
-            if (peer.name == "ChainTube") catenaryChainTube = points;
-            else catenaryFronts.emplace_back(peer.name, Front::of(points));
+            if (peer.name == "ChainTube")
+                catenaryChainTube = points;
+            else
+                catenaryFronts.emplace_back(peer.name, Front::of(points));
         }
     }
 
@@ -913,7 +1041,8 @@ int main(int argc, char** argv)
         const double five = frameMicroseconds(5, frames, rounds, bytes);
         const double one = frameMicroseconds(1, frames, rounds, bytes);
         const double bound = memsetMicroseconds(bytes, rounds);
-        frameTable << "| hoses moving (of 50) | µs per frame | × memset of the frame's " << fmt(bytes / 1e6) << " MB |\n|---|---|---|\n"
+        frameTable << "| hoses moving (of 50) | µs per frame | × memset of the frame's "
+                   << fmt(bytes / 1e6) << " MB |\n|---|---|---|\n"
                    << "| 50 | " << fmt(all) << " | " << fmt(all / bound) << " |\n"
                    << "| 5 | " << fmt(five) << " | " << fmt(five / bound) << " |\n"
                    << "| 1 | " << fmt(one) << " | " << fmt(one / bound) << " |\n"
@@ -927,22 +1056,34 @@ int main(int argc, char** argv)
     {
         const std::filesystem::path scenes = CHAINTUBE_SCENES_DIR;
         const std::filesystem::path engine = scenes / "2CylinderEngine.glb";
-        const std::filesystem::path project = std::filesystem::path(CHAINTUBE_SAMPLES_DIR) / "engine-50-hoses.ctproj";
+        const std::filesystem::path project =
+            std::filesystem::path(CHAINTUBE_SAMPLES_DIR) / "engine-50-hoses.ctproj";
         if (std::filesystem::exists(engine)) {
             std::filesystem::create_directories(outDir / ".export-timing"); // removed after timing
             double importBest = 1e300, exportBest = 1e300;
             for (int round = 0; round < (quick ? 1 : 3); ++round) {
                 auto start = std::chrono::steady_clock::now();
                 const formats::ImportedScene scene = formats::importScene(engine);
-                importBest = std::min(importBest, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                importBest =
+                    std::min(importBest,
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                                 .count());
                 start = std::chrono::steady_clock::now();
-                exporting::exportProjectFile(project, outDir / ".export-timing" / "engine-50-hoses.glb", {{"scenes", scenes}});
-                exportBest = std::min(exportBest, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                exporting::exportProjectFile(project,
+                                             outDir / ".export-timing" / "engine-50-hoses.glb",
+                                             {{"scenes", scenes}});
+                exportBest =
+                    std::min(exportBest,
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                                 .count());
                 (void)scene;
             }
             std::filesystem::remove_all(outDir / ".export-timing");
-            pipelineTable << "| step | seconds | target |\n|---|---|---|\n| import 2CylinderEngine.glb | " << fmt(importBest)
-                          << " | < 1 |\n| export samples/engine-50-hoses.ctproj (import + build + GLB) | " << fmt(exportBest) << " | < 1 |\n";
+            pipelineTable
+                << "| step | seconds | target |\n|---|---|---|\n| import 2CylinderEngine.glb | "
+                << fmt(importBest)
+                << " | < 1 |\n| export samples/engine-50-hoses.ctproj (import + build + GLB) | "
+                << fmt(exportBest) << " | < 1 |\n";
             // The 50-hose engine sample, error and time per resolution. The frame: every hose's
             // middle point moved on a 2 cm circle round where it was laid (the hoses are fixed to
             // the engine's parts, so most of these are grabs between two fixed runs), then every
@@ -951,21 +1092,27 @@ int main(int argc, char** argv)
             // whose own error is 1/256 of it (the sagitta l^2/8R, see the wrap section): the
             // largest distance of an axis point or segment midpoint from the fine polyline.
             const formats::Project engineProject = formats::loadProject(project);
-            const formats::ImportedScenes imported = formats::importProjectScenes(engineProject, project, {{"scenes", scenes}});
+            const formats::ImportedScenes imported =
+                formats::importProjectScenes(engineProject, project, {{"scenes", scenes}});
             auto hosesAt = [&](int scale, int sides) {
                 formats::Project scaled = engineProject;
                 for (formats::HoseDefinition& hose : scaled.hoses) {
-                    if (hose.segmentCount > 0) hose.segmentCount *= scale;
-                    else hose.segmentLength /= scale;
+                    if (hose.segmentCount > 0)
+                        hose.segmentCount *= scale;
+                    else
+                        hose.segmentLength /= scale;
                     hose.profile.sides = sides;
                     for (formats::HoseAttachment& a : hose.attachments) // the same run of hose
                         a.firstPoint *= scale, a.lastPoint *= scale;
                 }
                 return formats::buildHoses(scaled, imported);
             };
-            engineTable << "| axis resolution | axis points (50 hoses) | ring sides | µs per frame (50 moving) | "
-                           "centreline error of the lay-out (max over hoses) | surface error bound | length violation "
-                           "after the frames | bend violation (rad) | hoses violating as laid out | last frame's grabs |\n"
+            engineTable << "| axis resolution | axis points (50 hoses) | ring sides | µs per frame "
+                           "(50 moving) | "
+                           "centreline error of the lay-out (max over hoses) | surface error bound "
+                           "| length violation "
+                           "after the frames | bend violation (rad) | hoses violating as laid out "
+                           "| last frame's grabs |\n"
                            "|---|---|---|---|---|---|---|---|---|---|\n";
             for (int scale : quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 4}) {
                 const std::vector<Hose> fine = hosesAt(16 * scale, 8);
@@ -974,20 +1121,24 @@ int main(int argc, char** argv)
                     double error = 0.0, radius = 0.0;
                     int points = 0;
                     for (size_t h = 0; h < hoses.size(); ++h) {
-                        const std::vector<Vec3> coarse = hoses[h].points(), reference = fine[h].points();
+                        const std::vector<Vec3> coarse = hoses[h].points(),
+                                                reference = fine[h].points();
                         points += static_cast<int>(coarse.size());
                         auto distance = [&](const Vec3& p) {
                             double best = 1e300;
                             for (size_t k = 0; k + 1 < reference.size(); ++k) {
                                 const Vec3 d = reference[k + 1] - reference[k];
-                                const double t = std::clamp((p - reference[k]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+                                const double t = std::clamp(
+                                    (p - reference[k]).dot(d) / d.squaredNorm(), 0.0, 1.0);
                                 best = std::min(best, (p - reference[k] - t * d).norm());
                             }
                             return best;
                         };
                         for (size_t k = 0; k < coarse.size(); ++k) {
                             error = std::max(error, distance(coarse[k]));
-                            if (k + 1 < coarse.size()) error = std::max(error, distance(0.5 * (coarse[k] + coarse[k + 1])));
+                            if (k + 1 < coarse.size())
+                                error =
+                                    std::max(error, distance(0.5 * (coarse[k] + coarse[k + 1])));
                         }
                         radius = std::max(radius, 0.5 * engineProject.hoses[h].outerDiameter);
                     }
@@ -1013,13 +1164,20 @@ int main(int argc, char** argv)
                             for (int i = 0; i < scene.hoseCount(); ++i) {
                                 const int middle = scene.hose(i).pointCount() / 2;
                                 if (scene.hose(i).isFixed(middle)) continue;
-                                const UpdateResult r = scene.hose(i).grab(
-                                    middle, laid[static_cast<size_t>(i)] + 0.02 * Vec3(std::cos(phase) - 1, std::sin(phase), 0));
-                                if (f + 1 == frames && round + 1 == rounds) ++statuses[toString(r.status)];
+                                const UpdateResult r =
+                                    scene.hose(i).grab(middle, laid[static_cast<size_t>(i)] +
+                                                                   0.02 * Vec3(std::cos(phase) - 1,
+                                                                               std::sin(phase), 0));
+                                if (f + 1 == frames && round + 1 == rounds)
+                                    ++statuses[toString(r.status)];
                             }
                             scene.updateSurfaces();
                         }
-                        best = std::min(best, 1e6 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / frames);
+                        best = std::min(best, 1e6 *
+                                                  std::chrono::duration<double>(
+                                                      std::chrono::steady_clock::now() - start)
+                                                      .count() /
+                                                  frames);
                     }
                     double lengthViolation = 0.0, bendViolation = 0.0;
                     for (int i = 0; i < scene.hoseCount(); ++i) {
@@ -1027,11 +1185,16 @@ int main(int argc, char** argv)
                         lengthViolation = std::max(lengthViolation, v.lengthViolation);
                         bendViolation = std::max(bendViolation, v.angleViolation);
                     }
-                    engineTable << "| " << (scale == 1 ? std::string("as authored") : std::to_string(scale) + "x") << " | " << points
-                                << " | " << sides << " | " << fmt(best) << " | " << fmt(error) << " | "
-                                << fmt(error + radius * (1 - std::cos(std::numbers::pi / sides))) << " | " << fmt(lengthViolation) << " | "
-                                << fmt(bendViolation) << " | " << violatingAsLaid << " |";
-                    for (const auto& [status, count] : statuses) engineTable << " " << status << " " << count;
+                    engineTable << "| "
+                                << (scale == 1 ? std::string("as authored")
+                                               : std::to_string(scale) + "x")
+                                << " | " << points << " | " << sides << " | " << fmt(best) << " | "
+                                << fmt(error) << " | "
+                                << fmt(error + radius * (1 - std::cos(std::numbers::pi / sides)))
+                                << " | " << fmt(lengthViolation) << " | " << fmt(bendViolation)
+                                << " | " << violatingAsLaid << " |";
+                    for (const auto& [status, count] : statuses)
+                        engineTable << " " << status << " " << count;
                     engineTable << " |\n";
                     engineErrors.push_back(error);
                     engineErrors.push_back(best);
@@ -1056,24 +1219,31 @@ int main(int argc, char** argv)
         const auto none = [](HoseSpec&) {};
         const FeatureRun base = featureFrame(none, {}, false, frames, rounds);
         const FeatureRun baseRoll = featureFrame(none, {}, true, frames, rounds);
-        featureTable << "| feature | µs per frame without | with | extra | effect in this build |\n|---|---|---|---|---|\n";
-        auto row = [&](const std::string& name, const FeatureRun& without, const FeatureRun& with, const std::string& note,
-                       bool mustChange = true) {
+        featureTable << "| feature | µs per frame without | with | extra | effect in this build "
+                        "|\n|---|---|---|---|---|\n";
+        auto row = [&](const std::string& name, const FeatureRun& without, const FeatureRun& with,
+                       const std::string& note, bool mustChange = true) {
             bool changed = !mustChange || with.positions.size() != without.positions.size();
-            for (size_t i = 0; !changed && i < with.positions.size(); ++i) changed = with.positions[i] != without.positions[i];
+            for (size_t i = 0; !changed && i < with.positions.size(); ++i)
+                changed = with.positions[i] != without.positions[i];
             featureFigures.push_back(with.microseconds);
             featureTable << "| " << name << " | " << fmt(without.microseconds) << " | ";
             if (changed)
-                featureTable << fmt(with.microseconds) << " | " << fmt(with.microseconds - without.microseconds) << " ("
-                             << fmt(100.0 * (with.microseconds / without.microseconds - 1.0)) << " %) | " << note << " |\n";
+                featureTable << fmt(with.microseconds) << " | "
+                             << fmt(with.microseconds - without.microseconds) << " ("
+                             << fmt(100.0 * (with.microseconds / without.microseconds - 1.0))
+                             << " %) | " << note << " |\n";
             else
-                featureTable << "— | — | switched on it changes no vertex: not implemented in lib/ at the time of this run |\n";
+                featureTable << "— | — | switched on it changes no vertex: not implemented in lib/ "
+                                "at the time of this run |\n";
         };
         row("per-frame gravity (HoseSpec::gravity, Hose::step() 4 rounds a frame)", base,
-            featureFrame([](HoseSpec& spec) { spec.gravity.enabled = true; }, {}, false, frames, rounds),
+            featureFrame([](HoseSpec& spec) { spec.gravity.enabled = true; }, {}, false, frames,
+                         rounds),
             "the hose sags while dragged; every constraint exact after each frame");
         row("torsion (HoseSpec::torsion), clamp turned a quarter turn", baseRoll,
-            featureFrame([](HoseSpec& spec) { spec.torsion.enabled = true; }, {}, true, frames, rounds),
+            featureFrame([](HoseSpec& spec) { spec.torsion.enabled = true; }, {}, true, frames,
+                         rounds),
             "rings roll with the clamp (the free end rolls rigidly)");
         // Collision: a floor of 2 × 150 × 150 = 45,000 triangles under the hose. Pressed: the floor
         // 1 cm below the hose's lowest surface point, so the circle's lower half pushes the hose
@@ -1083,22 +1253,28 @@ int main(int argc, char** argv)
             std::vector<std::uint32_t> indices;
             const int cells = 150;
             for (int i = 0; i <= cells; ++i)
-                for (int k = 0; k <= cells; ++k) positions.emplace_back(-0.2 + 1.2 * i / cells, y, -0.6 + 1.2 * k / cells);
+                for (int k = 0; k <= cells; ++k)
+                    positions.emplace_back(-0.2 + 1.2 * i / cells, y, -0.6 + 1.2 * k / cells);
             for (int i = 0; i < cells; ++i)
                 for (int k = 0; k < cells; ++k) {
-                    const std::uint32_t a = static_cast<std::uint32_t>(i * (cells + 1) + k), b = a + cells + 1;
+                    const std::uint32_t a = static_cast<std::uint32_t>(i * (cells + 1) + k),
+                                        b = a + cells + 1;
                     indices.insert(indices.end(), {a, b, a + 1, a + 1, b, b + 1});
                 }
             return MeshCollider::fromArrays(positions, indices);
         };
         double lowest = 0.0;
-        for (const Vec3& p : base.axis) lowest = std::min(lowest, p.y());
-        const std::shared_ptr<MeshCollider> pressed = floorAt(lowest - kHoseRadius - 0.01), apart = floorAt(lowest - 1.0);
+        for (const Vec3& p : base.axis)
+            lowest = std::min(lowest, p.y());
+        const std::shared_ptr<MeshCollider> pressed = floorAt(lowest - kHoseRadius - 0.01),
+                                            apart = floorAt(lowest - 1.0);
         row("collision, 45,000-triangle floor the drag presses the hose into", base,
-            featureFrame(none, [&](Hose& hose) { hose.setColliders({pressed}); }, false, frames, rounds),
+            featureFrame(
+                none, [&](Hose& hose) { hose.setColliders({pressed}); }, false, frames, rounds),
             "the hose stays on the floor (continuous sweeps, contact rounds)");
         row("collision, the same floor 1 m away (no contact)", base,
-            featureFrame(none, [&](Hose& hose) { hose.setColliders({apart}); }, false, frames, rounds),
+            featureFrame(
+                none, [&](Hose& hose) { hose.setColliders({apart}); }, false, frames, rounds),
             "bounding-volume queries only", false);
     }
 
@@ -1106,80 +1282,114 @@ int main(int argc, char** argv)
     // issue's catenary sags; the taut span is exactly as long as the hose and ends at its apex)
     // and every measured number is finite. Never speed.
     std::vector<std::string> failures;
-    for (const auto& [length, expected] : {std::pair{1.05, 0.13930}, std::pair{1.2, 0.29234}, std::pair{2.0, 0.79639}})
+    for (const auto& [length, expected] :
+         {std::pair{1.05, 0.13930}, std::pair{1.2, 0.29234}, std::pair{2.0, 0.79639}})
         if (!(std::abs(Catenary::solve(length).sag() - expected) < 1e-5))
-            failures.push_back("catenary reference: sag for length " + fmt(length) + " is " + fmt(Catenary::solve(length).sag(), 6) +
-                               ", expected " + fmt(expected, 6));
+            failures.push_back("catenary reference: sag for length " + fmt(length) + " is " +
+                               fmt(Catenary::solve(length).sag(), 6) + ", expected " +
+                               fmt(expected, 6));
     {
         const TautSpan& taut = tautSpan();
         const double length = taut.tangentLength + kBendRadius * taut.lineAngle;
         const Vec3 apex = taut.point(taut.halfLength);
-        if (!(std::abs(length - taut.halfLength) < 1e-9) || !((apex - Vec3(0.5 * taut.span, taut.apexHeight, 0.0)).norm() < 1e-9))
-            failures.push_back("taut-span reference: half length " + fmt(length, 12) + " (expected 0.5), apex off by " +
+        if (!(std::abs(length - taut.halfLength) < 1e-9) ||
+            !((apex - Vec3(0.5 * taut.span, taut.apexHeight, 0.0)).norm() < 1e-9))
+            failures.push_back("taut-span reference: half length " + fmt(length, 12) +
+                               " (expected 0.5), apex off by " +
                                fmt((apex - Vec3(0.5 * taut.span, taut.apexHeight, 0.0)).norm()));
         if (!((hairpinPoint(Vec3::Zero(), 0.0, 1.0) - Vec3::Zero()).norm() < 1e-12))
             failures.push_back("hairpin reference: the apex is not the pulled point");
     }
     for (const Row& r : rows)
-        if (!std::isfinite(r.microseconds) || !std::isfinite(r.centreline) || !std::isfinite(r.violation.stretchPercent))
-            failures.push_back("non-finite figure: " + r.scenario + ", " + r.solver + ", " + std::to_string(r.segments) + " segments");
+        if (!std::isfinite(r.microseconds) || !std::isfinite(r.centreline) ||
+            !std::isfinite(r.violation.stretchPercent))
+            failures.push_back("non-finite figure: " + r.scenario + ", " + r.solver + ", " +
+                               std::to_string(r.segments) + " segments");
     for (double figure : featureFigures)
         if (!std::isfinite(figure)) failures.push_back("non-finite figure in the feature table");
     for (double figure : engineErrors)
         if (!std::isfinite(figure)) failures.push_back("non-finite figure in the engine table");
     for (const Front::Point& p : catenaryChainTube)
-        if (!std::isfinite(p.error) || !std::isfinite(p.time)) failures.push_back("non-finite catenary figure: ChainTube, " + p.label);
+        if (!std::isfinite(p.error) || !std::isfinite(p.time))
+            failures.push_back("non-finite catenary figure: ChainTube, " + p.label);
 
     // --- outputs ----------------------------------------------------------------------------
     std::map<std::string, int> framesOf;
-    for (const Scenario& scenario : scenarios()) framesOf[scenario.name] = scenario.frames;
+    for (const Scenario& scenario : scenarios())
+        framesOf[scenario.name] = scenario.frames;
     std::ostringstream csv;
-    csv << "scenario,solver,segments,ring_sides,microseconds_per_update,centreline_error_m,surface_error_m,"
-           "max_stretch_percent,bend_excess_rad,self_intersecting_segments,frames,centreline_error_best_repeat_m\n";
+    csv << "scenario,solver,segments,ring_sides,microseconds_per_update,centreline_error_m,surface_"
+           "error_m,"
+           "max_stretch_percent,bend_excess_rad,self_intersecting_segments,frames,centreline_error_"
+           "best_repeat_m\n";
     for (const Row& r : rows)
-        csv << r.scenario << "," << r.solver << "," << r.segments << "," << r.sides << "," << r.microseconds << ","
-            << r.centreline << "," << r.surface << "," << r.violation.stretchPercent << "," << r.violation.bendExcess << ","
-            << r.violation.selfIntersections << "," << framesOf[r.scenario] << "," << r.bestCentreline << "\n";
+        csv << r.scenario << "," << r.solver << "," << r.segments << "," << r.sides << ","
+            << r.microseconds << "," << r.centreline << "," << r.surface << ","
+            << r.violation.stretchPercent << "," << r.violation.bendExcess << ","
+            << r.violation.selfIntersections << "," << framesOf[r.scenario] << ","
+            << r.bestCentreline << "\n";
     csv << catenaryCsv.str();
 
     std::ostringstream md;
     md << "# Speed against error\n\n"
        << (quick ? "Quick run (`--quick`): fewer resolutions and one repeat.\n\n" : "Full run.\n\n")
-       << provenance
-       << "Load average (1 min, /proc/loadavg) at the start " << loadAtStart << ", at the end of the measurements "
-       << loadAverage() << ": other processes shared the machine, so timings are the best of repeats and carry noise.\n\n"
-       << "Time per update is the best of the repeats, one core (other builds were loading the machine's second "
-          "core). In the tables ChainTube's time includes its surface (rings + normals) at the ring sides shown; "
-          "speed at equal error compares solver time only (the peers make no surface). Every scenario has one "
-          "reference common to all solvers, a closed-form shape (named in each section with why it is the "
-          "right one); the centreline error is the largest distance of an axis point from the reference point "
-          "at the same rest arclength (so stretch counts as error); each repeat perturbs every target and moved "
-          "frame by a few units in the last place (x (1 + r 1e-15), repeat r), and the error shown is the largest "
-          "of the repeats (the best repeat's beside it: where they differ, the result depends on rounding). "
+       << provenance << "Load average (1 min, /proc/loadavg) at the start " << loadAtStart
+       << ", at the end of the measurements " << loadAverage()
+       << ": other processes shared the machine, so timings are the best of repeats and carry "
+          "noise.\n\n"
+       << "Time per update is the best of the repeats, one core (other builds were loading the "
+          "machine's second "
+          "core). In the tables ChainTube's time includes its surface (rings + normals) at the "
+          "ring sides shown; "
+          "speed at equal error compares solver time only (the peers make no surface). Every "
+          "scenario has one "
+          "reference common to all solvers, a closed-form shape (named in each section with why it "
+          "is the "
+          "right one); the centreline error is the largest distance of an axis point from the "
+          "reference point "
+          "at the same rest arclength (so stretch counts as error); each repeat perturbs every "
+          "target and moved "
+          "frame by a few units in the last place (x (1 + r 1e-15), repeat r), and the error shown "
+          "is the largest "
+          "of the repeats (the best repeat's beside it: where they differ, the result depends on "
+          "rounding). "
           "Surface error bound = centreline error + "
-          "r(1 - cos(pi/N)). Equal error: each solver's runs form a front (the fastest run reaching each error); "
-          "ChainTube's time at a peer's error is interpolated on its front linearly in log(error)/log(time) "
+          "r(1 - cos(pi/N)). Equal error: each solver's runs form a front (the fastest run "
+          "reaching each error); "
+          "ChainTube's time at a peer's error is interpolated on its front linearly in "
+          "log(error)/log(time) "
           "between the two runs around it, so the ratio compares runs of the same report.\n\n"
-          "Peers: an XPBD rod (hard constraints: stretch band per segment, bend limit as a minimum distance of a "
-          "joint's neighbours; quasi-static, no inertia, 1/4/16/64 Gauss-Seidel sweeps per frame) and Bullet's "
-          "soft-body rope (btSoftBodyHelpers::CreateRope, one stepSimulation(1/60 s) per frame, 4/16/64 position "
-          "iterations, distance-2 bending links of stiffness " << kBulletBendStiffness << "; Bullet has bending "
-          "stiffness, no bend limit). Grabs in Bullet: the grabbed node becomes a zero-mass (kinematic) node "
-          "placed at the target every frame and stays kinematic while grabbed; the first version of this peer "
-          "restored its mass after every step, which left Bullet's link constants stale so the node did not "
+          "Peers: an XPBD rod (hard constraints: stretch band per segment, bend limit as a minimum "
+          "distance of a "
+          "joint's neighbours; quasi-static, no inertia, 1/4/16/64 Gauss-Seidel sweeps per frame) "
+          "and Bullet's "
+          "soft-body rope (btSoftBodyHelpers::CreateRope, one stepSimulation(1/60 s) per frame, "
+          "4/16/64 position "
+          "iterations, distance-2 bending links of stiffness "
+       << kBulletBendStiffness
+       << "; Bullet has bending "
+          "stiffness, no bend limit). Grabs in Bullet: the grabbed node becomes a zero-mass "
+          "(kinematic) node "
+          "placed at the target every frame and stays kinematic while grabbed; the first version "
+          "of this peer "
+          "restored its mass after every step, which left Bullet's link constants stale so the "
+          "node did not "
           "pull its neighbours.\n\n";
-    std::vector<std::pair<std::string, EqualErrorSummary>> xpbdSummaries; // per scenario, against the best XPBD runs
+    std::vector<std::pair<std::string, EqualErrorSummary>>
+        xpbdSummaries; // per scenario, against the best XPBD runs
     for (const Scenario& scenario : scenarios()) {
-        md << "## " << scenario.name << "\n\n" << scenario.description << ".\n\nReference: " << scenario.reference
-           << ".\n\n"
-           << "| solver | segments | sides | µs/update | centreline error | (best repeat) | surface error | max stretch % | bend excess (rad) | ring crossings |\n"
+        md << "## " << scenario.name << "\n\n"
+           << scenario.description << ".\n\nReference: " << scenario.reference << ".\n\n"
+           << "| solver | segments | sides | µs/update | centreline error | (best repeat) | "
+              "surface error | max stretch % | bend excess (rad) | ring crossings |\n"
            << "|---|---|---|---|---|---|---|---|---|---|\n";
         for (const Row& r : rows)
             if (r.scenario == scenario.name && r.sides == ringSides.back())
-                md << "| " << r.solver << " | " << r.segments << " | " << r.sides << " | " << fmt(r.microseconds) << " | "
-                   << fmt(r.centreline) << " | " << fmt(r.bestCentreline) << " | " << fmt(r.surface) << " | "
-                   << fmt(r.violation.stretchPercent) << " | "
-                   << fmt(r.violation.bendExcess) << " | " << r.violation.selfIntersections << " |\n";
+                md << "| " << r.solver << " | " << r.segments << " | " << r.sides << " | "
+                   << fmt(r.microseconds) << " | " << fmt(r.centreline) << " | "
+                   << fmt(r.bestCentreline) << " | " << fmt(r.surface) << " | "
+                   << fmt(r.violation.stretchPercent) << " | " << fmt(r.violation.bendExcess)
+                   << " | " << r.violation.selfIntersections << " |\n";
         const auto& runs = runsOf[scenario.name];
         const Front chaintube = Front::of(runs.at("ChainTube"));
         std::vector<std::pair<std::string, Front>> peerFronts;
@@ -1188,66 +1398,96 @@ int main(int argc, char** argv)
             if (name == "ChainTube") continue;
             peerFronts.emplace_back(name, Front::of(points));
             if (name.rfind("XPBD", 0) == 0)
-                for (Front::Point p : points) xpbdAll.push_back({p.error, p.time, name + ", " + p.label});
+                for (Front::Point p : points)
+                    xpbdAll.push_back({p.error, p.time, name + ", " + p.label});
         }
-        md << "\nSpeed at equal centreline error (solver µs per update; each peer's front against ChainTube's):\n\n"
-           << equalErrorTable(chaintube, peerFronts, "µs") << "\nAgainst the best XPBD run at each error (any "
+        md << "\nSpeed at equal centreline error (solver µs per update; each peer's front against "
+              "ChainTube's):\n\n"
+           << equalErrorTable(chaintube, peerFronts, "µs")
+           << "\nAgainst the best XPBD run at each error (any "
            << "iteration count, any resolution):\n\n"
-           << equalErrorTable(chaintube, {{"XPBD (best)", Front::of(xpbdAll)}}, "µs", &xpbdSummaries.emplace_back(scenario.name, EqualErrorSummary()).second)
+           << equalErrorTable(
+                  chaintube, {{"XPBD (best)", Front::of(xpbdAll)}}, "µs",
+                  &xpbdSummaries.emplace_back(scenario.name, EqualErrorSummary()).second)
            << "\n";
         size_t colour = 0;
         std::vector<PlotSeries>& plot = scenarioPlots[scenario.name];
         for (const Peer& peer : peers) {
             PlotSeries series{peer.name, colours[colour++ % 9], {}, true};
-            for (const Front::Point& p : runs.at(peer.name)) series.points.emplace_back(p.error, p.time);
+            for (const Front::Point& p : runs.at(peer.name))
+                series.points.emplace_back(p.error, p.time);
             plot.push_back(series);
         }
     }
     md << "## wrap (closed form): a hose laid round a cylinder, and resolution independence\n\n"
-       << "Laid along a route round a cylinder of radius R = " << kWrapRadius << " m; the closed form is two lines "
-          "and a semicircle of radius R. With the datasheet radius the error falls with resolution (the sagitta "
-          "l^2/8R); with the paper's fixed angle per joint the hose bends ever tighter as it is refined and the "
+       << "Laid along a route round a cylinder of radius R = " << kWrapRadius
+       << " m; the closed form is two lines "
+          "and a semicircle of radius R. With the datasheet radius the error falls with resolution "
+          "(the sagitta "
+          "l^2/8R); with the paper's fixed angle per joint the hose bends ever tighter as it is "
+          "refined and the "
           "error does not fall. (The peers do not lay out routes.)\n\n"
        << wrapTable.str();
     md << "\n## catenary (closed form): a hose hung between two pins\n\n"
-       << "Reference: the catenary, span 1 m, pins at the same height, y = a cosh(x/a) + c with 2a sinh(1/2a) = L "
-          "(the equilibrium of an inextensible chain under gravity; sag " << fmt(Catenary::solve(1.05).sag(), 5) << " / "
-       << fmt(Catenary::solve(1.2).sag(), 5) << " / " << fmt(Catenary::solve(2.0).sag(), 5)
-       << " m for L = 1.05 / 1.2 / 2 m). ChainTube: Hose::sag() to its tolerance, 64 segments:\n\n" << catenaryTable.str()
-       << "\nAgainst the peers (L = 1.2 m, inextensible, no bend limit), all from the same V of two straight legs: "
-          "a frame is one Hose::step(5) for ChainTube (the runtime's per-frame gravity call: 5 damped rounds, the "
-          "velocity carried over from frame to frame), one step of 1/60 s with gravity 9.81 m/s² for XPBD "
-          "(PBD with inertia, 2 % damping per frame) and Bullet (2 % damping, no bending links: the catenary has no "
-          "bend limit). Error = largest distance of a point from the catenary point at the same rest arclength, "
-          "after every frame up to 64, then 128, 256, … frames; time = the solver's time to get there (settle "
+       << "Reference: the catenary, span 1 m, pins at the same height, y = a cosh(x/a) + c with 2a "
+          "sinh(1/2a) = L "
+          "(the equilibrium of an inextensible chain under gravity; sag "
+       << fmt(Catenary::solve(1.05).sag(), 5) << " / " << fmt(Catenary::solve(1.2).sag(), 5)
+       << " / " << fmt(Catenary::solve(2.0).sag(), 5)
+       << " m for L = 1.05 / 1.2 / 2 m). ChainTube: Hose::sag() to its tolerance, 64 segments:\n\n"
+       << catenaryTable.str()
+       << "\nAgainst the peers (L = 1.2 m, inextensible, no bend limit), all from the same V of "
+          "two straight legs: "
+          "a frame is one Hose::step(5) for ChainTube (the runtime's per-frame gravity call: 5 "
+          "damped rounds, the "
+          "velocity carried over from frame to frame), one step of 1/60 s with gravity 9.81 m/s² "
+          "for XPBD "
+          "(PBD with inertia, 2 % damping per frame) and Bullet (2 % damping, no bending links: "
+          "the catenary has no "
+          "bend limit). Error = largest distance of a point from the catenary point at the same "
+          "rest arclength, "
+          "after every frame up to 64, then 128, 256, … frames; time = the solver's time to get "
+          "there (settle "
           "time, best of the repeats). Only "
-          "states with less than a tenth of the starting V's error (the V's error is " << fmt(catenaryStartError) << " m) enter the equal-error comparison.\n\n"
-       << catenaryPeers.str() << "\nSpeed at equal error (time to settle to the peer's error, µs, fronts over "
+          "states with less than a tenth of the starting V's error (the V's error is "
+       << fmt(catenaryStartError) << " m) enter the equal-error comparison.\n\n"
+       << catenaryPeers.str()
+       << "\nSpeed at equal error (time to settle to the peer's error, µs, fronts over "
           "resolutions and frame counts):\n\n"
        << equalErrorTable(Front::of(catenaryChainTube), catenaryFronts, "µs") << "\n";
     {
         std::vector<Front::Point> xpbdAll;
         for (const auto& [name, front] : catenaryFronts)
             if (name.rfind("XPBD", 0) == 0)
-                for (Front::Point p : front.points) xpbdAll.push_back({p.error, p.time, name + ", " + p.label});
+                for (Front::Point p : front.points)
+                    xpbdAll.push_back({p.error, p.time, name + ", " + p.label});
         std::ostringstream ignored;
-        ignored << equalErrorTable(Front::of(catenaryChainTube), {{"XPBD (best)", Front::of(xpbdAll)}}, "µs",
-                                   &xpbdSummaries.emplace_back("catenary (time to settle)", EqualErrorSummary()).second);
+        ignored << equalErrorTable(
+            Front::of(catenaryChainTube), {{"XPBD (best)", Front::of(xpbdAll)}}, "µs",
+            &xpbdSummaries.emplace_back("catenary (time to settle)", EqualErrorSummary()).second);
     }
     {
         std::ostringstream summary;
         summary << "## Summary: ChainTube against the best XPBD run at equal centreline error\n\n"
-                << "Per scenario, over the XPBD runs on its front (the fastest XPBD run, any iteration count and "
-                   "resolution, reaching each error): the range of \"ChainTube faster by\" (≥: ChainTube's coarsest "
-                   "run is already more accurate, so the ratio is a lower bound), and how many XPBD runs are more "
+                << "Per scenario, over the XPBD runs on its front (the fastest XPBD run, any "
+                   "iteration count and "
+                   "resolution, reaching each error): the range of \"ChainTube faster by\" (≥: "
+                   "ChainTube's coarsest "
+                   "run is already more accurate, so the ratio is a lower bound), and how many "
+                   "XPBD runs are more "
                    "accurate than every ChainTube run. Details and Bullet in each section.\n\n"
-                << "| scenario | XPBD front runs | ChainTube faster by | XPBD more accurate than every ChainTube run | "
+                << "| scenario | XPBD front runs | ChainTube faster by | XPBD more accurate than "
+                   "every ChainTube run | "
                    "best XPBD error (m) | best ChainTube error (m) |\n|---|---|---|---|---|---|\n";
         for (const auto& [name, sum] : xpbdSummaries) {
             summary << "| " << name << " | " << sum.compared + sum.moreAccurate << " | ";
-            if (sum.compared) summary << (sum.minIsLowerBound ? "≥ " : "") << fmt(sum.minRatio) << "x … " << fmt(sum.maxRatio) << "x";
-            else summary << "—";
-            summary << " | " << sum.moreAccurate << " | " << fmt(sum.bestPeerError) << " | " << fmt(sum.bestChainTubeError) << " |\n";
+            if (sum.compared)
+                summary << (sum.minIsLowerBound ? "≥ " : "") << fmt(sum.minRatio) << "x … "
+                        << fmt(sum.maxRatio) << "x";
+            else
+                summary << "—";
+            summary << " | " << sum.moreAccurate << " | " << fmt(sum.bestPeerError) << " | "
+                    << fmt(sum.bestChainTubeError) << " |\n";
         }
         summary << "\n";
         const std::string text = md.str();
@@ -1255,45 +1495,73 @@ int main(int argc, char** argv)
         md.str(text.substr(0, at) + summary.str() + text.substr(at));
         md.seekp(0, std::ios_base::end);
     }
-    md << "\n## The 50-hose frame (50 × 100 points × 16-sided rings; axis, rings, normals; one core)\n\n"
-       << "Hoses whose inputs did not change cost one revision compare; the bound is writing the frame's vertex "
-          "bytes once.\n\n" << frameTable.str();
-    md << "\n## The 50-hose engine sample (samples/engine-50-hoses.ctproj): error and time per resolution\n\n"
-       << "A frame moves every hose's middle point on a 2 cm circle round where it was laid (the hoses are fixed "
-          "to the engine's parts at both ends, so these are grabs between fixed runs) and updates every surface "
-          "(axis, rings, normals). Error: the lay-out along the authored routes against the same routes laid out "
-          "at 16x the resolution (whose own error is 1/256 of it, the sagitta l^2/8R): the largest distance of "
-          "an axis point or segment midpoint from the fine polyline; surface bound = that + r(1 - cos(pi/N)). "
-          "Violations: largest over the 50 hoses after the frames (length relative, bend in rad).\n\n"
+    md << "\n## The 50-hose frame (50 × 100 points × 16-sided rings; axis, rings, normals; one "
+          "core)\n\n"
+       << "Hoses whose inputs did not change cost one revision compare; the bound is writing the "
+          "frame's vertex "
+          "bytes once.\n\n"
+       << frameTable.str();
+    md << "\n## The 50-hose engine sample (samples/engine-50-hoses.ctproj): error and time per "
+          "resolution\n\n"
+       << "A frame moves every hose's middle point on a 2 cm circle round where it was laid (the "
+          "hoses are fixed "
+          "to the engine's parts at both ends, so these are grabs between fixed runs) and updates "
+          "every surface "
+          "(axis, rings, normals). Error: the lay-out along the authored routes against the same "
+          "routes laid out "
+          "at 16x the resolution (whose own error is 1/256 of it, the sagitta l^2/8R): the largest "
+          "distance of "
+          "an axis point or segment midpoint from the fine polyline; surface bound = that + r(1 - "
+          "cos(pi/N)). "
+          "Violations: largest over the 50 hoses after the frames (length relative, bend in "
+          "rad).\n\n"
        << engineTable.str();
     md << "\n## Import and export\n\n" << pipelineTable.str();
     md << "\n## Cost of the features beyond the paper\n\n"
-       << "A 100-point hose (about 1.1 m laid in a U, the first segment clamped, the other end free, 16-sided rings), its middle point moved on a 2 cm "
-          "circle every frame (grab + surface update), with and without the feature; for torsion the clamp "
-          "also turns a quarter turn about the hose axis over the run, in both columns. Every frame calls Hose::step() (per-frame gravity; "
-          "one comparison when gravity is off). Gravity's settle step for authoring (Hose::sag()) is timed in the "
-          "catenary section. A switch that changes no vertex would be reported as not implemented, never as free.\n\n"
+       << "A 100-point hose (about 1.1 m laid in a U, the first segment clamped, the other end "
+          "free, 16-sided rings), its middle point moved on a 2 cm "
+          "circle every frame (grab + surface update), with and without the feature; for torsion "
+          "the clamp "
+          "also turns a quarter turn about the hose axis over the run, in both columns. Every "
+          "frame calls Hose::step() (per-frame gravity; "
+          "one comparison when gravity is off). Gravity's settle step for authoring (Hose::sag()) "
+          "is timed in the "
+          "catenary section. A switch that changes no vertex would be reported as not implemented, "
+          "never as free.\n\n"
        << featureTable.str();
-    md << "\n## Model only what a scene needs (min bend radius 0.1 m, radius " << kHoseRadius << " m)\n\n" << tolerances.str();
+    md << "\n## Model only what a scene needs (min bend radius 0.1 m, radius " << kHoseRadius
+       << " m)\n\n"
+       << tolerances.str();
 
     writeFile(outDir / "report.md", md.str());
     writeFile(outDir / "report.csv", csv.str());
-    std::vector<std::string> written = {(outDir / "report.md").string(), (outDir / "report.csv").string()};
+    std::vector<std::string> written = {(outDir / "report.md").string(),
+                                        (outDir / "report.csv").string()};
     for (const auto& [name, plot] : scenarioPlots) {
         const std::filesystem::path file = outDir / ("speed-vs-error-" + name + ".svg");
-        writeFile(file, logLogPlotSvg(name == "catenary" ? std::string("catenary: time to settle against error (front over resolutions and frames)") : name + ": time against centreline error (one point per resolution)",
-                                      "centreline error (m)", name == "catenary" ? "time to settle (us)" : "solver time per update (us)", plot));
+        writeFile(file,
+                  logLogPlotSvg(
+                      name == "catenary"
+                          ? std::string("catenary: time to settle against error (front over "
+                                        "resolutions and frames)")
+                          : name + ": time against centreline error (one point per resolution)",
+                      "centreline error (m)",
+                      name == "catenary" ? "time to settle (us)" : "solver time per update (us)",
+                      plot));
         written.push_back(file.string());
     }
     writeFile(outDir / "convergence.svg",
-              logLogPlotSvg("Wrap round a cylinder: error against resolution", "axis segments", "centreline error (m)",
+              logLogPlotSvg("Wrap round a cylinder: error against resolution", "axis segments",
+                            "centreline error (m)",
                             {{"min bend radius (ChainTube)", "#d62728", radiusConvergence, true},
                              {"fixed angle (paper)", "#1f77b4", angleConvergence, true}}));
     written.push_back((outDir / "convergence.svg").string());
-    for (const std::string& failure : failures) std::cerr << "chaintube-bench-report: " << failure << "\n";
+    for (const std::string& failure : failures)
+        std::cerr << "chaintube-bench-report: " << failure << "\n";
     if (!failures.empty()) return 1;
     std::cout << "wrote";
-    for (const std::string& file : written) std::cout << " " << file;
+    for (const std::string& file : written)
+        std::cout << " " << file;
     std::cout << "\n";
     return 0;
 }

@@ -9,13 +9,13 @@ namespace chaintube::bench {
 struct PlotSeries
 {
     std::string label;
-    std::string colour; ///< CSS colour
+    std::string colour;                            ///< CSS colour
     std::vector<std::pair<double, double>> points; ///< (x, y), both > 0
     bool line = false;
 };
 
 /// Writes an SVG document with logarithmic x and y axes, a title, axis labels and a legend.
-std::string logLogPlotSvg(const std::string& title, const std::string& xLabel, const std::string& yLabel,
-                          const std::vector<PlotSeries>& series);
+std::string logLogPlotSvg(const std::string& title, const std::string& xLabel,
+                          const std::string& yLabel, const std::vector<PlotSeries>& series);
 
 } // namespace chaintube::bench

@@ -42,9 +42,9 @@ class Camera
 {
 public:
     Vec3 target = Vec3::Zero();
-    double distance = 2.0;  ///< metres > 0
-    double yaw = 0.6;       ///< radians about +Y
-    double pitch = -0.45;   ///< radians, negative looks down
+    double distance = 2.0; ///< metres > 0
+    double yaw = 0.6;      ///< radians about +Y
+    double pitch = -0.45;  ///< radians, negative looks down
     double fieldOfViewY = 45.0 * 3.14159265358979323846 / 180.0;
 
     /// World position of the eye.

@@ -19,7 +19,7 @@ namespace chaintube::editor {
 
 struct ExportRequest
 {
-    std::filesystem::path output;  ///< .glb or .gltf; empty: the project's export settings
+    std::filesystem::path output; ///< .glb or .gltf; empty: the project's export settings
     bool includeSceneMeshes = true;
     bool writeSidecarDescriptor = true;
     /// Fraction done 0 … 1 (called on the exporting thread); return false to cancel.

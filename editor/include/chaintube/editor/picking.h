@@ -30,9 +30,9 @@ public:
 
     struct Hit
     {
-        double t = 0.0;         ///< ray parameter (distance if the direction is unit length)
-        int triangle = -1;      ///< index into the mesh's triangles
-        Vec3 normal;            ///< geometric normal, facing the ray origin, unit length
+        double t = 0.0;          ///< ray parameter (distance if the direction is unit length)
+        int triangle = -1;       ///< index into the mesh's triangles
+        Vec3 normal;             ///< geometric normal, facing the ray origin, unit length
         int trianglesTested = 0; ///< the hierarchy's work for this query (MeshCollider::RayHit)
     };
     /// Closest hit with t in (1e-9, maxT); both faces count. Returns false if none.
@@ -51,9 +51,9 @@ struct ScenePickHit
 {
     std::string sceneId;
     int node = -1;
-    Vec3 point = Vec3::Zero();  ///< world metres
+    Vec3 point = Vec3::Zero();   ///< world metres
     Vec3 normal = Vec3::UnitY(); ///< world, unit, facing the ray origin
-    double distance = 0.0;      ///< along the ray (metres)
+    double distance = 0.0;       ///< along the ray (metres)
 };
 
 /// Picks against every mesh instance of a document's scenes, with its pose.
@@ -91,9 +91,9 @@ private:
 struct HosePickHit
 {
     std::string hoseId;
-    int point = -1;         ///< nearest axis point to the hit
+    int point = -1;               ///< nearest axis point to the hit
     Vec3 position = Vec3::Zero(); ///< that axis point (world)
-    double distance = 0.0;  ///< along the ray to the closest approach
+    double distance = 0.0;        ///< along the ray to the closest approach
 };
 
 /// Picks the live hoses of a document: a segment counts as hit when the ray passes within

@@ -29,18 +29,19 @@ struct SceneObject
 /// A collider per node with at least one triangle, in scene and node order. `scenes` at their
 /// file pose (as formats::importProjectScenes gives them). Throws InvalidArgument for a pose
 /// naming an unknown scene or node.
-std::vector<SceneObject> sceneObjects(const formats::Project& project, const formats::ImportedScenes& scenes);
+std::vector<SceneObject> sceneObjects(const formats::Project& project,
+                                      const formats::ImportedScenes& scenes);
 
 /// Where one hose comes closest to one object.
 struct ClearanceFinding
 {
-    int hose = -1;            ///< index in project.hoses (and in the hose list given)
+    int hose = -1; ///< index in project.hoses (and in the hose list given)
     std::string hoseId;
-    int object = -1;          ///< index in the SceneObject list given
+    int object = -1; ///< index in the SceneObject list given
     std::string sceneId;
     std::string objectPath;
-    double distance = 0.0;    ///< hose surface to the object (metres; negative = inside)
-    int axisPoint = -1;       ///< nearest axis point of the hose
+    double distance = 0.0;        ///< hose surface to the object (metres; negative = inside)
+    int axisPoint = -1;           ///< nearest axis point of the hose
     Vec3 onHose = Vec3::Zero();   ///< world point on the hose surface
     Vec3 onObject = Vec3::Zero(); ///< world point on the object
 };
@@ -59,7 +60,8 @@ struct ClearanceOptions
 /// it occurs (a violation). `hoses[i]` is the built form of `project.hoses[i]` (same order and
 /// size, e.g. formats::buildHoses or the editor's live hoses). Sorted by distance, closest
 /// first. Throws InvalidArgument for a negative or non-finite threshold or mismatched sizes.
-std::vector<ClearanceFinding> clearanceViolations(const formats::Project& project, const std::vector<Hose>& hoses,
+std::vector<ClearanceFinding> clearanceViolations(const formats::Project& project,
+                                                  const std::vector<Hose>& hoses,
                                                   const std::vector<SceneObject>& objects,
                                                   const ClearanceOptions& options);
 /// Same with hoses by pointer (the editor's live hoses); a null entry (a hose that could not be

@@ -34,8 +34,7 @@ inline bool attachmentExemptsPath(std::string_view attached, std::string_view ca
     if (attached.empty() || candidate.empty()) return false;
     if (attached == candidate) return true;
     return attached.size() > candidate.size() &&
-           attached.substr(0, candidate.size()) == candidate &&
-           attached[candidate.size()] == '/';
+           attached.substr(0, candidate.size()) == candidate && attached[candidate.size()] == '/';
 }
 
 } // namespace chaintube::formats
