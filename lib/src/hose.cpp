@@ -215,6 +215,7 @@ void Hose::recomputeLimits()
     const size_t points = m_local.size();
     m_cosLimit.assign(points, -1.0);
     m_sinLimit.assign(points, 0.0);
+    m_limitAngle.assign(points, std::atan2(0.0, -1.0));
     m_cosHalfLimit.assign(points, 0.0);
     m_sinHalfLimit.assign(points, 1.0);
     m_chordLimit2.assign(points, 4.0 + 1e-9);
@@ -223,6 +224,7 @@ void Hose::recomputeLimits()
         const double limit = jointDeflectionLimit(m_spec.material.bendLimit, mean);
         m_cosLimit[j] = std::cos(limit);
         m_sinLimit[j] = std::sin(limit);
+        m_limitAngle[j] = std::atan2(m_sinLimit[j], m_cosLimit[j]);
         m_cosHalfLimit[j] = std::cos(0.5 * limit);
         m_sinHalfLimit[j] = std::sin(0.5 * limit);
         // Squared chord between unit directions turning by the limit, 4 sin²(θ/2), plus

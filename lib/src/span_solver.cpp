@@ -12,6 +12,8 @@ namespace {
 /// SpanSolver::advance: the least gain (of a segment) of a step along the edge of the
 /// reachable set.
 constexpr double kEdgeGain = 1e-3;
+/// SpanSolver::solve: the room of a free joint not worked out yet.
+constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
 using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
@@ -62,10 +64,28 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     m_lengthHeld.assign(segments, 0);
     m_normal.resize(segments);
     m_room.resize(segments);
+    m_turnSin.resize(segments);
+    m_turnCos.resize(segments);
     const bool stretchable = h.m_spec.material.expansionCoefficient > 0.0;
 
     auto limitCos = [&](int s) { return h.m_cosLimit[point(s)]; };
     auto limitSin = [&](int s) { return h.m_sinLimit[point(s)]; };
+    auto limitAngle = [&](int s) { return h.m_limitAngle[point(s)]; };
+    // How far the turn of joint s may still grow (its normal set): exact once asked for.
+    auto roomOf = [&](size_t k) {
+        if (std::isnan(m_room[k]))
+            m_room[k] = limitAngle(static_cast<int>(k)) - std::atan2(m_turnSin[k], m_turnCos[k]);
+        return m_room[k];
+    };
+    // Whether a free joint turning by t more along its normal passes its limit. The turn is at
+    // most tan(turn) = sin / cos below a right angle, so a small t is decided without atan2.
+    auto passesLimit = [&](size_t k, double t) {
+        if (!(t > 0.0)) return false;
+        if (m_turnCos[k] > 0.0 && std::isnan(m_room[k]) &&
+            t <= limitAngle(static_cast<int>(k)) - m_turnSin[k] / m_turnCos[k])
+            return false;
+        return t > roomOf(k);
+    };
     // The direction before segment s (null for the root without a fixed segment before it).
     auto previousOf = [&](const std::vector<Vec3>& d, int s) -> const Vec3* {
         if (s > 0) return &d[static_cast<size_t>(s - 1)];
@@ -170,8 +190,10 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     bool anySoft = false;
     for (int g = 0; g < goalCount; ++g)
         anySoft = anySoft || !goals[static_cast<size_t>(g)].hard;
-    std::vector<Vec3> omega(segments);
-    std::vector<double> stretch(segments, 0.0);
+    std::vector<Vec3>& omega = m_omega;
+    std::vector<double>& stretch = m_stretch;
+    omega.assign(segments, Vec3::Zero());
+    stretch.assign(segments, 0.0);
     const int rows = 3 * goalCount + 3 + 1;
     for (; out.iterations < maxIterations; ++out.iterations) {
         // The last two steps of the budget close the span alone (the soft goals as they are).
@@ -205,8 +227,11 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             const double sn = cross.norm();
             if (!(sn > 1e-12)) continue; // straight (or folded): no bend plane to limit in
             m_normal[k] = cross / sn;
+            m_turnSin[k] = sn;
+            m_turnCos[k] = before.dot(m_direction[k]);
+            // The room of a free joint is worked out when a step might use it up (roomOf).
             m_room[k] =
-                std::atan2(limitSin(s), limitCos(s)) - std::atan2(sn, before.dot(m_direction[k]));
+                m_saturated[k] ? limitAngle(s) - std::atan2(sn, m_turnCos[k]) : kRoomUnknown;
         }
         // Blocks of three rows (the goals, then the end) and the end's bend row. Joint s turns
         // segments s … m−1 about position s: a block's point q > s moves by ω × (p_q − p_s)
@@ -217,46 +242,54 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             blockPoint[g] = (goals[static_cast<size_t>(g)].point - root) * dir;
         blockPoint[goalCount] = m;
         const Vec3 u = bendAxis;
-        RowMatrix a;
-        RowVector lambda, rhs;
-        for (int pass = 0; pass < 4; ++pass) {
-            // A joint held on its limit turns along it: its turn grows by exactly its room (≥ 0,
-            // tiny), the rest of its rotation is free.
-            a.setZero(rows, rows);
-            rhs = -current.residual;
+        // The normal equations, upper blocks: each joint adds its part (add(s, ±1) with its
+        // state at the time), so a pass that holds or frees a few joints changes only theirs.
+        RowMatrix raw, a;
+        RowVector rawRhs, lambda, rhs;
+        raw.setZero(rows, rows);
+        rawRhs = -current.residual;
+        auto add = [&](int s, bool held, bool lengthFree, double sign) {
+            // A joint held on its limit turns along it: its turn grows by exactly its room
+            // (≥ 0, tiny), the rest of its rotation is free.
             Vec3 v[kMaxRows / 3], c[kMaxRows / 3], e[kMaxRows / 3];
-            for (int s = 0; s < m; ++s) {
-                const size_t k = static_cast<size_t>(s);
-                const Vec3& d = m_direction[k];
-                const bool held = m_saturated[k] != 0;
-                const Vec3& n = m_normal[k];
-                int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
-                while (first < blocks && blockPoint[first] <= s)
-                    ++first;
-                for (int b = first; b < blocks; ++b) {
-                    v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
-                    c[b] = v[b].cross(d);
-                    if (held) e[b] = v[b].cross(n);
-                }
-                for (int b = first; b < blocks; ++b) {
-                    for (int q = b; q < blocks; ++q) {
-                        Mat3 block = -v[q] * v[b].transpose() - c[b] * c[q].transpose();
-                        block.diagonal().array() += v[b].dot(v[q]);
-                        if (held) block -= e[b] * e[q].transpose();
-                        if (stretchable && !m_lengthHeld[k]) block += d * d.transpose();
-                        a.block<3, 3>(3 * b, 3 * q) += block;
-                    }
-                    if (held) rhs.segment<3>(3 * b) -= m_room[k] * n.cross(v[b]);
-                }
-                if (current.bendRow) {
-                    Vec3 pu = u - u.dot(d) * d;
-                    if (held) pu -= u.dot(n) * n;
-                    a(rows - 1, rows - 1) += u.dot(pu);
-                    for (int b = first; b < blocks; ++b)
-                        a.block<3, 1>(3 * b, rows - 1) -= v[b].cross(pu);
-                    if (held) rhs(rows - 1) -= m_room[k] * u.dot(n);
-                }
+            const size_t k = static_cast<size_t>(s);
+            const Vec3& d = m_direction[k];
+            const Vec3& n = m_normal[k];
+            int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
+            while (first < blocks && blockPoint[first] <= s)
+                ++first;
+            for (int b = first; b < blocks; ++b) {
+                v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
+                c[b] = v[b].cross(d);
+                if (held) e[b] = v[b].cross(n);
             }
+            for (int b = first; b < blocks; ++b) {
+                for (int q = b; q < blocks; ++q) {
+                    Mat3 block = -v[q] * v[b].transpose() - c[b] * c[q].transpose();
+                    block.diagonal().array() += v[b].dot(v[q]);
+                    if (held) block -= e[b] * e[q].transpose();
+                    if (lengthFree) block += d * d.transpose();
+                    raw.block<3, 3>(3 * b, 3 * q) += sign * block;
+                }
+                if (held) rawRhs.segment<3>(3 * b) -= sign * m_room[k] * n.cross(v[b]);
+            }
+            if (current.bendRow) {
+                Vec3 pu = u - u.dot(d) * d;
+                if (held) pu -= u.dot(n) * n;
+                raw(rows - 1, rows - 1) += sign * u.dot(pu);
+                for (int b = first; b < blocks; ++b)
+                    raw.block<3, 1>(3 * b, rows - 1) -= sign * v[b].cross(pu);
+                if (held) rawRhs(rows - 1) -= sign * m_room[k] * u.dot(n);
+            }
+        };
+        for (int s = 0; s < m; ++s) {
+            const size_t k = static_cast<size_t>(s);
+            add(s, m_saturated[k] != 0, stretchable && !m_lengthHeld[k], 1.0);
+        }
+        std::vector<ActiveChange>& changes = m_changes;
+        for (int pass = 0; pass < 4; ++pass) {
+            a = raw;
+            rhs = rawRhs;
             // Only the upper blocks were summed: mirror them.
             for (int i = 0; i < rows; ++i)
                 for (int j = 0; j < i; ++j)
@@ -290,10 +323,12 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // ω_s = P_s R_sᵀ λ (+ the held turn). A free joint whose turn would pass its limit
             // is held on it; a held joint that this step would turn back inside is freed.
             bool changed = false;
+            changes.clear();
             Vec3 tail = current.bendRow ? Vec3(lambda(rows - 1) * u) : Vec3::Zero();
             for (int s = 0; s < m; ++s) {
                 const size_t k = static_cast<size_t>(s);
                 const Vec3& d = m_direction[k];
+                const ActiveChange before{s, m_saturated[k] != 0, stretchable && !m_lengthHeld[k]};
                 Vec3 full = tail;
                 int first = 0;
                 while (first < blocks && blockPoint[first] <= s)
@@ -311,13 +346,13 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     } else {
                         w += (m_room[k] - n.dot(w)) * n;
                     }
-                } else if (hasNormal && n.dot(w) > m_room[k]) {
+                } else if (hasNormal && passesLimit(k, n.dot(w))) {
                     m_saturated[k] = 1;
                     changed = true;
                 } else if (!hasNormal && limited(s)) {
                     // A straight joint turns in the plane the step chooses: held on its limit
                     // there if the step would turn it further.
-                    const double limit = std::atan2(limitSin(s), limitCos(s));
+                    const double limit = limitAngle(s);
                     const double turn = w.norm();
                     if (turn > limit) {
                         m_normal[k] = w / turn;
@@ -343,8 +378,16 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     }
                     stretch[k] = m_lengthHeld[k] ? 0.0 : dl;
                 }
+                if (before.held != (m_saturated[k] != 0) ||
+                    before.lengthFree != (stretchable && !m_lengthHeld[k]))
+                    changes.push_back(before);
             }
             if (!changed) break;
+            for (const ActiveChange& change : changes) {
+                const size_t k = static_cast<size_t>(change.joint);
+                add(change.joint, change.held, change.lengthFree, -1.0);
+                add(change.joint, m_saturated[k] != 0, stretchable && !m_lengthHeld[k], 1.0);
+            }
         }
         // The step: joint rotations accumulate along the chain.
         Vec3 total = Vec3::Zero();
@@ -421,6 +464,10 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
     double radius = std::numeric_limits<double>::infinity();
+    // A hard sub-goal failed: the point is at the edge of what the span reaches, and later
+    // steps of this call go as near the target as the span allows (soft) without trying hard
+    // sub-goals that would fail again.
+    bool atEdge = false;
     for (int step = 0; step < maxSteps; ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
@@ -438,7 +485,10 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
             out.goalsMet = true;
             break;
         }
-        const Vec3 subGoal = error <= radius ? target : Vec3(at + (target - at) * (radius / error));
+        const bool skippedHard = atEdge && moving >= 0;
+        // At the edge a soft step aims at the target itself: as near it as the span allows.
+        const Vec3 subGoal =
+            error <= radius || skippedHard ? target : Vec3(at + (target - at) * (radius / error));
         if (moving >= 0) goals[static_cast<size_t>(moving)].target = subGoal;
         const int lo = std::min(root, end), hi = std::max(root, end);
         m_saved.assign(p.begin() + lo, p.begin() + hi + 1);
@@ -458,16 +508,19 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals,
-                                rootDirection, endDirection, stepIterations, tolerance);
-        out.iterations += o.iterations;
-        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
-            if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
-            if (o.goalsMet) radius = 2.0 * std::min(radius, error);
-            continue;
+        if (!skippedHard) {
+            const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals,
+                                    rootDirection, endDirection, stepIterations, tolerance);
+            out.iterations += o.iterations;
+            if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
+                if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
+                if (o.goalsMet) radius = 2.0 * std::min(radius, error);
+                continue;
+            }
+            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+            radius = 0.5 * std::min(radius, error);
+            atEdge = true;
         }
-        std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
-        radius = 0.5 * std::min(radius, error);
         // The sub-goal is out of the span's reach (bend limits and the fixed segments' tangents
         // make the reachable set smaller than the balls of the grab's reach): the point goes as
         // near it as the span allows, the end still hard, so a held target keeps coming nearer
@@ -478,8 +531,15 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
         out.iterations += soft.iterations;
         // A soft step counts when it gains kEdgeGain of a segment (the same creep).
-        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain)))
+        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain))) {
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+            // Soft steps gain no more here: back to hard sub-goals, smaller ones (a taut span
+            // may still creep along the edge by less than a soft step must gain).
+            if (skippedHard) {
+                atEdge = false;
+                radius = 0.5 * std::min(radius, error);
+            }
+        }
     }
     if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
         p[static_cast<size_t>(point)] = target;

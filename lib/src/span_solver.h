@@ -81,11 +81,21 @@ public:
                     const Vec3* requested = nullptr);
 
 private:
+    /// A joint whose active-set state a pass of SpanSolver::solve changed: its state before.
+    struct ActiveChange
+    {
+        int joint = 0;
+        bool held = false;       ///< on its bend limit
+        bool lengthFree = false; ///< its length free to change (a stretchable hose, not held)
+    };
+
     Hose& h;
+    std::vector<ActiveChange> m_changes;
     std::vector<Vec3> m_saved, m_savedPositions;
     std::vector<Vec3> m_direction, m_trial, m_position;
-    std::vector<double> m_length, m_trialLength, m_room;
-    std::vector<Vec3> m_normal;
+    std::vector<double> m_length, m_trialLength, m_room, m_turnSin, m_turnCos;
+    std::vector<Vec3> m_normal, m_omega;
+    std::vector<double> m_stretch;
     std::vector<unsigned char> m_saturated;
     std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band
 };

@@ -358,6 +358,7 @@ private:
     std::vector<double> m_minLengthBefore; ///< per point: sum of the minimum lengths before it
     std::vector<double> m_cosLimit;        ///< per point (0 and n unused = -1)
     std::vector<double> m_sinLimit;
+    std::vector<double> m_limitAngle; ///< atan2(m_sinLimit, m_cosLimit): the limit in radians
     std::vector<double> m_cosHalfLimit;
     std::vector<double> m_sinHalfLimit;
     std::vector<double> m_chordLimit2; ///< 4 sin²(θ/2) + tolerance, the solver's turn test

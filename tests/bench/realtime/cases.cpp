@@ -247,6 +247,7 @@ void checkChainTubeUpdate(FrameChecks& checks, const Hose& hose, const ChainLimi
         countStatus(checks.stepStatuses, stepped->status);
     }
     if (grabbed.blocked || (stepped && stepped->blocked)) ++checks.blocked;
+    checks.iterations.push_back(grabbed.iterations + (stepped ? stepped->iterations : 0));
     const std::vector<Vec3> points = hose.points();
     checkPoints(checks, points, limits, grabbedPoint, target);
 

@@ -82,6 +82,9 @@ struct FrameChecks
     bool hasFloor = false;
     double floorPenetration = 0.0; ///< metres: deepest axis point below floor + radius
     int blocked = 0;               ///< ChainTube: updates with UpdateResult::blocked
+    /// ChainTube: per update, the Newton steps it reported (UpdateResult::iterations; the grab's
+    /// plus the step's with gravity): the work counter, bounded by the solver's budget.
+    std::vector<int> iterations;
     /// ChainTube: updates whose final status is Ok or Clamped (every constraint holds) while
     /// Hose::measureViolation() exceeds 1e-9 (with colliders: CollisionOptions::
     /// constraintTolerance). −1: not applicable.

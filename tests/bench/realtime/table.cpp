@@ -30,6 +30,16 @@ std::string number(double value)
     return printf1("%.6g", value);
 }
 
+// Nearest-rank percentile of a work counter (q = 1: the largest); 0 for none.
+int percentile(std::vector<int> values, double q)
+{
+    if (values.empty()) return 0;
+    const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
+    const size_t k = std::min(values.size() - 1, rank > 0 ? rank - 1 : 0);
+    std::nth_element(values.begin(), values.begin() + static_cast<long>(k), values.end());
+    return values[k];
+}
+
 std::string statuses(const std::array<int, 4>& counts)
 {
     std::string text = std::to_string(counts[0]) + " / " + std::to_string(counts[1]) + " / " +
@@ -161,6 +171,23 @@ const std::vector<Column>& columns()
          [](R r, T) {
              return r.checks.hasFloor ? number(r.checks.floorPenetration) : std::string();
          }},
+        {"Newton steps an update (median / max)", "iterations_median",
+         [](R r, T) {
+             return r.checks.hasStatuses
+                        ? std::to_string(percentile(r.checks.iterations, 0.5)) + " / " +
+                              std::to_string(percentile(r.checks.iterations, 1.0))
+                        : kNotApplicable;
+         },
+         [](R r, T) {
+             return r.checks.hasStatuses ? std::to_string(percentile(r.checks.iterations, 0.5))
+                                         : std::string();
+         }},
+        csvOnly("iterations_max",
+                [](R r, T) {
+                    return r.checks.hasStatuses
+                               ? std::to_string(percentile(r.checks.iterations, 1.0))
+                               : std::string();
+                }),
         csvOnly("blocked_updates",
                 [](R r, T) {
                     return r.checks.hasStatuses ? std::to_string(r.checks.blocked) : std::string();
