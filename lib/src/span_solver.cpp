@@ -464,10 +464,6 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
     double radius = std::numeric_limits<double>::infinity();
-    // A hard sub-goal failed: the point is at the edge of what the span reaches, and later
-    // steps of this call go as near the target as the span allows (soft) without trying hard
-    // sub-goals that would fail again.
-    bool atEdge = false;
     for (int step = 0; step < maxSteps; ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
@@ -485,10 +481,7 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
             out.goalsMet = true;
             break;
         }
-        const bool skippedHard = atEdge && moving >= 0;
-        // At the edge a soft step aims at the target itself: as near it as the span allows.
-        const Vec3 subGoal =
-            error <= radius || skippedHard ? target : Vec3(at + (target - at) * (radius / error));
+        const Vec3 subGoal = error <= radius ? target : Vec3(at + (target - at) * (radius / error));
         if (moving >= 0) goals[static_cast<size_t>(moving)].target = subGoal;
         const int lo = std::min(root, end), hi = std::max(root, end);
         m_saved.assign(p.begin() + lo, p.begin() + hi + 1);
@@ -508,19 +501,16 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        if (!skippedHard) {
-            const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals,
-                                    rootDirection, endDirection, stepIterations, tolerance);
-            out.iterations += o.iterations;
-            if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
-                if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
-                if (o.goalsMet) radius = 2.0 * std::min(radius, error);
-                continue;
-            }
-            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
-            radius = 0.5 * std::min(radius, error);
-            atEdge = true;
+        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals,
+                                rootDirection, endDirection, stepIterations, tolerance);
+        out.iterations += o.iterations;
+        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
+            if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
+            if (o.goalsMet) radius = 2.0 * std::min(radius, error);
+            continue;
         }
+        std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+        radius = 0.5 * std::min(radius, error);
         // The sub-goal is out of the span's reach (bend limits and the fixed segments' tangents
         // make the reachable set smaller than the balls of the grab's reach): the point goes as
         // near it as the span allows, the end still hard, so a held target keeps coming nearer
@@ -531,15 +521,8 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
         out.iterations += soft.iterations;
         // A soft step counts when it gains kEdgeGain of a segment (the same creep).
-        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain))) {
+        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain)))
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
-            // Soft steps gain no more here: back to hard sub-goals, smaller ones (a taut span
-            // may still creep along the edge by less than a soft step must gain).
-            if (skippedHard) {
-                atEdge = false;
-                radius = 0.5 * std::min(radius, error);
-            }
-        }
     }
     if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
         p[static_cast<size_t>(point)] = target;
