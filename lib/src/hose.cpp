@@ -260,8 +260,7 @@ double Hose::currentLength() const
 double Hose::deflectionLimit(int joint) const
 {
     if (joint <= 0 || joint >= pointCount() - 1) return std::numbers::pi;
-    return std::atan2(m_sinLimit[static_cast<size_t>(joint)],
-                      m_cosLimit[static_cast<size_t>(joint)]);
+    return m_limitAngle[static_cast<size_t>(joint)];
 }
 
 void Hose::setMaterial(const Material& material)

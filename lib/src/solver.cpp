@@ -436,7 +436,7 @@ double Hose::turnExcess(size_t j, const std::vector<Vec3>& points) const
     const double dot = in.dot(out), lengths = std::sqrt(in.squaredNorm() * out.squaredNorm());
     if (dot >= (m_cosLimit[j] + 1e-9) * lengths && lengths > 0.0) return -1.0;
     const double turn = std::atan2(in.cross(out).norm(), dot);
-    return turn - std::atan2(m_sinLimit[j], m_cosLimit[j]);
+    return turn - m_limitAngle[j];
 }
 
 UpdateResult Hose::measureViolation() const

@@ -137,8 +137,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     const double restEnd = h.m_restLength[segment(m - 1)];
     const size_t endJoint = static_cast<size_t>(end);
     const bool endBendLimited = endFixed && endDirection && h.m_cosLimit[endJoint] > -1.0 + 1e-12;
-    const double endLimit =
-        endBendLimited ? std::atan2(h.m_sinLimit[endJoint], h.m_cosLimit[endJoint]) : 0.0;
+    const double endLimit = endBendLimited ? h.m_limitAngle[endJoint] : 0.0;
     constexpr double kSoftWeight = 1e-2; // a soft goal's share of the squared residual
 
     bool polishing = false; // the soft goals are left out: the closure alone
