@@ -39,6 +39,92 @@ Mat3 rotationBetween(const Vec3& from, const Vec3& to)
     return Mat3::Identity() + s * k + (1.0 - c) * k * k;
 }
 
+/// The cross-product matrix [a]: [a] x = a × x.
+Mat3 skew(const Vec3& a)
+{
+    Mat3 k;
+    k << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+    return k;
+}
+
+/// Sums over a run of joints from which the normal equations' blocks of every pair of goal
+/// blocks beyond the run follow in constant time. Joint s (direction d, position y relative to
+/// a reference point o, bend normal n when held on its limit, length free or not) turns the
+/// points beyond it: a block at a = p_b − o moves by ω × (a − y) (+ d δl), so it adds
+/// [a_b − y]ᵀ Q [a_q − y] (+ d dᵀ) to block (b, q), Q = I − d dᵀ (− n nᵀ). With c = d × y and
+/// e = n × y: Σ Q = count I − Σ d dᵀ − Σ n nᵀ, Σ Q [y] = [Σ y] − Σ d cᵀ − Σ n eᵀ,
+/// Σ [y]ᵀ Q [y] = Σ |y|² I − Σ y yᵀ − Σ c cᵀ − Σ e eᵀ (sumYQY adds the lengths' Σ d dᵀ).
+struct JointMoments
+{
+    /// A symmetric 3 × 3 sum (xx, yy, zz, xy, xz, yz) and a general one (row-major).
+    struct Sym
+    {
+        double m[6] = {};
+        void add(const Vec3& a)
+        {
+            m[0] += a.x() * a.x(), m[1] += a.y() * a.y(), m[2] += a.z() * a.z();
+            m[3] += a.x() * a.y(), m[4] += a.x() * a.z(), m[5] += a.y() * a.z();
+        }
+        Mat3 matrix() const
+        {
+            Mat3 r;
+            r << m[0], m[3], m[4], m[3], m[1], m[5], m[4], m[5], m[2];
+            return r;
+        }
+    };
+    struct Outer
+    {
+        double m[9] = {};
+        void add(const Vec3& a, const Vec3& b)
+        {
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                    m[3 * i + j] += a[i] * b[j];
+        }
+        Mat3 matrix() const
+        {
+            Mat3 r;
+            r << m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8];
+            return r;
+        }
+    };
+
+    double count = 0.0, yy = 0.0;
+    Vec3 y = Vec3::Zero();
+    Sym yyT, dd, cc, nn, ee;
+    Sym lengthDD; ///< Σ d dᵀ of the joints whose length is free
+    Outer dc, ne;
+    Vec3 heldRoom = Vec3::Zero(), heldRoomE = Vec3::Zero(); ///< Σ room n, Σ room e (held joints)
+
+    void add(const Vec3& at, const Vec3& d, const Vec3* held, double room, bool lengthFree)
+    {
+        const Vec3 c = d.cross(at);
+        count += 1.0;
+        yy += at.squaredNorm();
+        y += at;
+        yyT.add(at);
+        dd.add(d);
+        dc.add(d, c);
+        cc.add(c);
+        if (lengthFree) lengthDD.add(d);
+        if (held) {
+            const Vec3& n = *held;
+            const Vec3 e = n.cross(at);
+            nn.add(n);
+            ne.add(n, e);
+            ee.add(e);
+            heldRoom += room * n;
+            heldRoomE += room * e;
+        }
+    }
+    Mat3 sumQ() const { return count * Mat3::Identity() - dd.matrix() - nn.matrix(); }
+    Mat3 sumQY() const { return skew(y) - dc.matrix() - ne.matrix(); }
+    Mat3 sumYQY() const
+    {
+        return yy * Mat3::Identity() - yyT.matrix() - cc.matrix() - ee.matrix() + lengthDD.matrix();
+    }
+};
+
 } // namespace
 
 SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Vec3& endTarget,
@@ -281,9 +367,38 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 if (held) rawRhs(rows - 1) -= sign * m_room[k] * u.dot(n);
             }
         };
-        for (int s = 0; s < m; ++s) {
-            const size_t k = static_cast<size_t>(s);
-            add(s, m_saturated[k] != 0, stretchable && !m_lengthHeld[k], 1.0);
+        // Every joint's part at once: the joints between consecutive block points (the run
+        // before block r, whose points lie beyond them all from r on) summed as moments about
+        // block r's point.
+        for (int r = 0, s = 0; r < blocks; ++r) {
+            JointMoments sum;
+            const Vec3& origin = m_position[static_cast<size_t>(blockPoint[r])];
+            for (; s < blockPoint[r]; ++s) {
+                const size_t k = static_cast<size_t>(s);
+                sum.add(m_position[k] - origin, m_direction[k],
+                        m_saturated[k] ? &m_normal[k] : nullptr, m_room[k],
+                        stretchable && !m_lengthHeld[k]);
+            }
+            if (sum.count == 0.0) continue;
+            const Mat3 q = sum.sumQ(), qy = sum.sumQY(), yqy = sum.sumYQY();
+            Mat3 arm[kMaxRows / 3];
+            for (int b = r; b < blocks; ++b)
+                arm[b] = skew(m_position[static_cast<size_t>(blockPoint[b])] - origin);
+            for (int b = r; b < blocks; ++b) {
+                for (int q2 = b; q2 < blocks; ++q2)
+                    raw.block<3, 3>(3 * b, 3 * q2) +=
+                        -arm[b] * q * arm[q2] + arm[b] * qy - qy.transpose() * arm[q2] + yqy;
+                const Vec3 toBlock = m_position[static_cast<size_t>(blockPoint[b])] - origin;
+                rawRhs.segment<3>(3 * b) -= sum.heldRoom.cross(toBlock) - sum.heldRoomE;
+            }
+            if (current.bendRow) {
+                const Vec3 qu = q * u;
+                raw(rows - 1, rows - 1) += u.dot(qu);
+                const Vec3 qyu = qy.transpose() * u;
+                for (int b = r; b < blocks; ++b)
+                    raw.block<3, 1>(3 * b, rows - 1) += arm[b].transpose() * qu - qyu;
+                rawRhs(rows - 1) -= u.dot(sum.heldRoom);
+            }
         }
         std::vector<ActiveChange>& changes = m_changes;
         for (int pass = 0; pass < 4; ++pass) {
@@ -323,18 +438,28 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // is held on it; a held joint that this step would turn back inside is freed.
             bool changed = false;
             changes.clear();
-            Vec3 tail = current.bendRow ? Vec3(lambda(rows - 1) * u) : Vec3::Zero();
+            const Vec3 tail = current.bendRow ? Vec3(lambda(rows - 1) * u) : Vec3::Zero();
+            // Σ over the blocks beyond joint s of (p_b − p_s) × λ_b = moment[f] − (p_s − p_0) ×
+            // force[f], f the first block beyond s: sums from the last block back.
+            Vec3 moment[kMaxRows / 3 + 1], force[kMaxRows / 3 + 1];
+            moment[blocks] = tail;
+            force[blocks] = Vec3::Zero();
+            for (int b = blocks - 1; b >= 0; --b) {
+                const Vec3 l = lambda.segment<3>(3 * b);
+                force[b] = force[b + 1] + l;
+                moment[b] =
+                    moment[b + 1] +
+                    (m_position[static_cast<size_t>(blockPoint[b])] - m_position[0]).cross(l);
+            }
+            int first = 0;
             for (int s = 0; s < m; ++s) {
                 const size_t k = static_cast<size_t>(s);
                 const Vec3& d = m_direction[k];
                 const ActiveChange before{s, m_saturated[k] != 0, stretchable && !m_lengthHeld[k]};
-                Vec3 full = tail;
-                int first = 0;
                 while (first < blocks && blockPoint[first] <= s)
                     ++first;
-                for (int b = first; b < blocks; ++b)
-                    full += (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k])
-                                .cross(Vec3(lambda.segment<3>(3 * b)));
+                const Vec3 full =
+                    moment[first] - (m_position[k] - m_position[0]).cross(force[first]);
                 Vec3 w = full - d.dot(full) * d;
                 const Vec3& n = m_normal[k];
                 const bool hasNormal = n.squaredNorm() > 0.0;
@@ -364,9 +489,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 if (stretchable) {
                     // A length at an end of its band that the step would take beyond it is held
                     // there (its row left out); held, it is freed when the step pulls it back in.
-                    double dl = 0.0;
-                    for (int b = first; b < blocks; ++b)
-                        dl += d.dot(Vec3(lambda.segment<3>(3 * b)));
+                    const double dl = d.dot(force[first]);
                     const size_t seg = segment(s);
                     const bool atMax = m_length[k] >= h.m_maxLength[seg] * (1.0 - 1e-12);
                     const bool atMin = m_length[k] <= h.m_minLength[seg] * (1.0 + 1e-12);
