@@ -12,6 +12,10 @@ namespace {
 /// SpanSolver::advance: the least gain (of a segment) of a step along the edge of the
 /// reachable set.
 constexpr double kEdgeGain = 1e-3;
+/// SpanSolver::advance: a hard sub-goal is given up after this many undone Newton steps. Its
+/// Newton steps converge from the step's warm start when the sub-goal is reachable; one that
+/// has to be undone twice is the sign of a sub-goal out of reach (the soft try follows).
+constexpr int kHardTryRejects = 2;
 /// SpanSolver::solve: the room of a free joint not worked out yet.
 constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
@@ -130,7 +134,7 @@ struct JointMoments
 SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Vec3& endTarget,
                                       const std::vector<SpanGoal>& goals, const Vec3* rootDirection,
                                       const Vec3* endDirection, int maxIterations, double tolerance,
-                                      bool writeAnyway)
+                                      bool writeAnyway, int rejectLimit)
 {
     Outcome out;
     std::vector<Vec3>& p = h.m_local;
@@ -272,6 +276,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     State current;
     evaluate(current);
     double damping = 0.0;
+    int rejected = 0; // steps undone
     bool anySoft = false;
     for (int g = 0; g < goalCount; ++g)
         anySoft = anySoft || !goals[static_cast<size_t>(g)].hard;
@@ -560,6 +565,10 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             std::swap(m_length, m_trialLength);
             m_position = m_savedPositions;
             damping = std::max(4.0 * damping, 1e-4);
+            if (++rejected == rejectLimit) {
+                ++out.iterations;
+                break;
+            }
         }
     }
     out.valid = current.closure <= tolerance || !endFixed;
@@ -623,8 +632,9 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        const Outcome o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals,
-                                rootDirection, endDirection, stepIterations, tolerance);
+        const Outcome o =
+            solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
+                  endDirection, stepIterations, tolerance, false, kHardTryRejects);
         out.iterations += o.iterations;
         if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;

@@ -62,10 +62,11 @@ public:
     /// leaves them as they were otherwise.
     /// root > end solves the span the other way round (root is still the point that stays).
     /// writeAnyway: write the points even when the end was not reached (the best state found).
+    /// rejectLimit: give up (not valid) after this many Newton steps had to be undone (0: never).
     Outcome solve(int root, int end, bool endFixed, const Vec3& endTarget,
                   const std::vector<SpanGoal>& goals, const Vec3* rootDirection,
                   const Vec3* endDirection, int maxIterations, double tolerance,
-                  bool writeAnyway = false);
+                  bool writeAnyway = false, int rejectLimit = 0);
 
     /// From a valid span (its end reached), brings one point towards `target` in steps that
     /// each end valid: a sub-goal at most a trust radius away (doubled after a step that
