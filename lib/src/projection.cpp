@@ -123,14 +123,13 @@ double ChainProjection::gather(bool onlyMeasure)
         // three points lie in the range).
         if (m_bends && i > m_first && h.m_cosLimit[k] > -1.0 + 1e-12 && beforeLength > 0.0 &&
             length > 0.0 && w[k - 1] + w[k] + w[k + 1] > 0.0) {
-            const double cosLimit = h.m_cosLimit[k], sinLimit = h.m_sinLimit[k];
             const double cosTurn = before.dot(unit);
             // Candidates: turning by more than half the limit (cos φ < cos(θ/2)).
             if (cosTurn < h.m_cosHalfLimit[k] || work[3 * k + 2] != 0) {
                 const Vec3 normal = before.cross(unit);
                 const double sinTurn = normal.norm();
                 const double turn = std::atan2(sinTurn, cosTurn);
-                const double limit = std::atan2(sinLimit, cosLimit);
+                const double limit = h.m_limitAngle[k];
                 const double value = turn - limit;
                 worst = std::max(worst, value);
                 if (value > 0.0) m_merit += value * value;
