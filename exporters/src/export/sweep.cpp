@@ -368,12 +368,10 @@ SweepReport sweepMotions(const formats::Project& project, const formats::Importe
             const bool hoseMoved = step == 0 || hose.revision() != state.measuredRevision;
             state.measuredRevision = hose.revision();
             Aabb hoseBox;
-            if (hoseMoved || step > 0) {
-                for (int i = 0; i < hose.pointCount(); ++i)
-                    hoseBox.extend(hose.point(i));
-                hoseBox.min.array() -= search + hose.outerRadius();
-                hoseBox.max.array() += search + hose.outerRadius();
-            }
+            for (int i = 0; i < hose.pointCount(); ++i)
+                hoseBox.extend(hose.point(i));
+            hoseBox.min.array() -= search + hose.outerRadius();
+            hoseBox.max.array() += search + hose.outerRadius();
             double nearest = kInfinity;
             for (size_t o = 0; o < objects.size(); ++o) {
                 if (state.exempt[o]) continue;

@@ -5,6 +5,7 @@
 #include "chaintube/formats/project.h"
 #include "chaintube/formats/project_hoses.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
