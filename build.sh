@@ -81,7 +81,7 @@ install_npm_packages() {
 # self-contained samples are exported, and the skipped ones are named.
 export_samples() {
   local scenes=../shared/scenes
-  local projects=(samples/single-hose.ctproj samples/test-rig.ctproj)
+  local projects=(samples/single-hose.ctproj samples/test-rig.ctproj samples/motion-rig.ctproj)
   local roots=()
   if [ -f "$scenes/2CylinderEngine.glb" ]; then
     projects=(samples/*.ctproj)

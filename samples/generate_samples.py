@@ -186,46 +186,52 @@ def box(size):
     return positions, normals, indices
 
 
-meshes_spec = {"floor_plate": (0.8, 0.01, 0.5), "bracket": (0.04, 0.2, 0.06), "valve_body": (0.08, 0.06, 0.06)}
-buffer = bytearray()
-views, accessors, meshes = [], [], []
-for name, size in meshes_spec.items():
-    positions, normals, indices = box(size)
-    first = len(accessors)
-    for data, kind, comp in ((positions, "VEC3", None), (normals, "VEC3", None)):
+def box_scene(scene_name, meshes_spec, nodes):
+    """A glTF scene (embedded buffer) whose meshes are the boxes of `meshes_spec` (name → size)
+    and whose nodes are `nodes` (mesh indices in the order of `meshes_spec`)."""
+    buffer = bytearray()
+    views, accessors, meshes = [], [], []
+    for name, size in meshes_spec.items():
+        positions, normals, indices = box(size)
+        first = len(accessors)
+        for data, kind, comp in ((positions, "VEC3", None), (normals, "VEC3", None)):
+            offset = len(buffer)
+            for p in data:
+                buffer += struct.pack("<3f", *p)
+            views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(buffer) - offset, "target": 34962})
+            flat = list(zip(*data))
+            accessors.append({"bufferView": len(views) - 1, "componentType": 5126, "count": len(data), "type": kind,
+                              "min": [min(c) for c in flat], "max": [max(c) for c in flat]})
         offset = len(buffer)
-        for p in data:
-            buffer += struct.pack("<3f", *p)
-        views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(buffer) - offset, "target": 34962})
-        flat = list(zip(*data))
-        accessors.append({"bufferView": len(views) - 1, "componentType": 5126, "count": len(data), "type": kind,
-                          "min": [min(c) for c in flat], "max": [max(c) for c in flat]})
-    offset = len(buffer)
-    for i in indices:
-        buffer += struct.pack("<H", i)
-    while len(buffer) % 4:
-        buffer += b"\0"
-    views.append({"buffer": 0, "byteOffset": offset, "byteLength": 2 * len(indices), "target": 34963})
-    accessors.append({"bufferView": len(views) - 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"})
-    meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": first, "NORMAL": first + 1},
-                                                 "indices": first + 2}]})
-rig = {
-    "asset": {"version": "2.0", "generator": "ChainTube samples/generate_samples.py"},
-    "scene": 0,
-    "scenes": [{"name": "test-rig", "nodes": [0]}],
-    "nodes": [
-        {"name": "test-rig", "children": [1, 2, 3, 4]},
-        {"name": "floor_plate", "mesh": 0, "translation": [0.0, 0.005, 0.0]},
-        {"name": "bracket_left", "mesh": 1, "translation": [-0.3, 0.11, 0.0]},
-        {"name": "bracket_right", "mesh": 1, "translation": [0.3, 0.11, 0.0]},
-        {"name": "valve", "mesh": 2, "translation": [0.0, 0.04, 0.15],
-         "rotation": [0.0, 0.3826834323650898, 0.0, 0.9238795325112867], "children": [5]},
-        {"name": "valve_inlet", "translation": [0.04, 0.0, 0.0]},
-    ],
-    "meshes": meshes, "accessors": accessors, "bufferViews": views,
-    "buffers": [{"byteLength": len(buffer),
-                 "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(buffer)).decode()}],
-}
+        for i in indices:
+            buffer += struct.pack("<H", i)
+        while len(buffer) % 4:
+            buffer += b"\0"
+        views.append({"buffer": 0, "byteOffset": offset, "byteLength": 2 * len(indices), "target": 34963})
+        accessors.append({"bufferView": len(views) - 1, "componentType": 5123, "count": len(indices), "type": "SCALAR"})
+        meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": first, "NORMAL": first + 1},
+                                                     "indices": first + 2}]})
+    return {
+        "asset": {"version": "2.0", "generator": "ChainTube samples/generate_samples.py"},
+        "scene": 0,
+        "scenes": [{"name": scene_name, "nodes": [0]}],
+        "nodes": nodes,
+        "meshes": meshes, "accessors": accessors, "bufferViews": views,
+        "buffers": [{"byteLength": len(buffer),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(buffer)).decode()}],
+    }
+
+
+rig = box_scene("test-rig", {"floor_plate": (0.8, 0.01, 0.5), "bracket": (0.04, 0.2, 0.06),
+                             "valve_body": (0.08, 0.06, 0.06)}, [
+    {"name": "test-rig", "children": [1, 2, 3, 4]},
+    {"name": "floor_plate", "mesh": 0, "translation": [0.0, 0.005, 0.0]},
+    {"name": "bracket_left", "mesh": 1, "translation": [-0.3, 0.11, 0.0]},
+    {"name": "bracket_right", "mesh": 1, "translation": [0.3, 0.11, 0.0]},
+    {"name": "valve", "mesh": 2, "translation": [0.0, 0.04, 0.15],
+     "rotation": [0.0, 0.3826834323650898, 0.0, 0.9238795325112867], "children": [5]},
+    {"name": "valve_inlet", "translation": [0.04, 0.0, 0.0]},
+])
 (HERE / "scenes").mkdir(exist_ok=True)
 (HERE / "scenes" / "test-rig.gltf").write_text(json.dumps(rig, indent=1) + "\n")
 
@@ -244,4 +250,37 @@ write("test-rig.ctproj", project("Test rig: two brackets and a valve", RIG_SCENE
          [attachment("rig", "/test-rig/bracket_right", 0, 0),
           attachment("rig", "/test-rig/valve", 20, 20)], segments=20, roughness=0.3),
 ], "test-rig.glb"))
+
+# --- motion-rig: a lever on a hinge and a carriage on a slider (project format 1.4 "motions") ----
+motion_rig = box_scene("motion-rig", {"base_plate": (0.8, 0.01, 0.4), "pillar": (0.04, 0.2, 0.04),
+                                      "lever_arm": (0.24, 0.03, 0.03), "carriage": (0.08, 0.04, 0.06)}, [
+    {"name": "motion-rig", "children": [1, 2, 3, 4]},
+    {"name": "base_plate", "mesh": 0, "translation": [0.0, 0.005, 0.0]},
+    {"name": "pillar", "mesh": 1, "translation": [-0.3, 0.11, 0.0]},
+    {"name": "lever", "mesh": 2, "translation": [0.22, 0.2, 0.0]},    # turns about z at x = 0.1
+    {"name": "carriage", "mesh": 3, "translation": [0.0, 0.03, 0.15]},  # slides along x
+])
+(HERE / "scenes" / "motion-rig.gltf").write_text(json.dumps(motion_rig, indent=1) + "\n")
+MOTION_SCENE = [{"id": "rig", "path": "scenes/motion-rig.gltf",
+                 "import": {"chordalTolerance": 0.0001, "angularTolerance": 0.5}}]
+motion_project = project("Motion rig: a lever on a hinge, a carriage on a slider", MOTION_SCENE, [
+    hose("lever-feed", "pillar to lever tip",
+         arc_route([-0.3, 0.21, 0.0], [0.3, 0.215, 0.0], 0.12, MIN_BEND_RADIUS["rubber hose"], 17),
+         "rubber hose", 0.02, [0.1, 0.1, 0.1, 1.0],
+         [attachment("rig", "/motion-rig/pillar", 0, 0), attachment("rig", "/motion-rig/lever", 16, 16)],
+         segments=16),
+    hose("carriage-feed", "pillar to carriage",
+         arc_route([-0.3, 0.06, 0.02], [0.0, 0.05, 0.15], 0.1, MIN_BEND_RADIUS["cable bundle"], 17),
+         "cable bundle", 0.016, [0.8, 0.3, 0.1, 1.0],
+         [attachment("rig", "/motion-rig/pillar", 0, 0), attachment("rig", "/motion-rig/carriage", 16, 16)],
+         segments=16),
+], "motion-rig.glb")
+motion_project["colliders"] = [{"scene": "rig", "node": "/motion-rig/base_plate"}]
+motion_project["motions"] = [
+    {"id": "lever", "scene": "rig", "node": "/motion-rig/lever", "kind": "hinge",
+     "axis": [0.0, 0.0, 1.0], "point": [0.1, 0.2, 0.0], "min": -0.5, "max": 0.8},
+    {"id": "carriage", "scene": "rig", "node": "/motion-rig/carriage", "kind": "slider",
+     "axis": [1.0, 0.0, 0.0], "min": -0.05, "max": 0.05},
+]
+write("motion-rig.ctproj", motion_project)
 print("wrote samples; now run ctproj-canonicalise on samples/*.ctproj")

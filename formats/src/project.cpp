@@ -60,6 +60,18 @@ bool HoseDefinition::operator==(const HoseDefinition& o) const
            torsion.twistLimit == o.torsion.twistLimit;
 }
 
+bool PartMotion::operator==(const PartMotion& o) const
+{
+    return id == o.id && scene == o.scene && node == o.node && kind == o.kind && axis == o.axis &&
+           (kind != Kind::Hinge || point == o.point) && minimum == o.minimum &&
+           maximum == o.maximum;
+}
+
+const char* toString(PartMotion::Kind kind)
+{
+    return kind == PartMotion::Kind::Hinge ? "hinge" : "slider";
+}
+
 Project Project::withStandardPresets(std::string name)
 {
     Project project;
@@ -97,7 +109,7 @@ bool Project::operator==(const Project& o) const
 {
     return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
            hoses == o.hoses && poses == o.poses && colliders == o.colliders &&
-           exportSettings == o.exportSettings;
+           motions == o.motions && exportSettings == o.exportSettings;
 }
 
 std::filesystem::path resolveScenePath(const SceneReference& scene,

@@ -181,6 +181,8 @@ private:
         if (bound == HUGE_VAL) return "inf";
         if (bound == -HUGE_VAL) return "-inf";
         if (bound == std::numbers::pi) return "pi";
+        if (bound == 2.0 * std::numbers::pi) return "2pi";
+        if (bound == -2.0 * std::numbers::pi) return "-2pi";
         if (bound == std::floor(bound) && std::abs(bound) < 1e15)
             return std::to_string(static_cast<long long>(bound));
         return json(bound).dump();
@@ -343,6 +345,68 @@ void migrateFrom0_9(json& document, const fs::path& file)
     }
 }
 
+/// One entry of "motions" (1.4). `ids` and `moving` collect what earlier entries used.
+PartMotion readMotion(const Cursor& entry, const Project& project, std::set<std::string>& ids,
+                      std::set<std::pair<std::string, std::string>>& moving)
+{
+    if (!entry.raw().is_object()) entry.object({});
+    PartMotion motion;
+    const std::string kind = entry.key("kind").string();
+    if (kind == "hinge") {
+        entry.object({"id", "scene", "node", "kind", "axis", "point", "min", "max"});
+        motion.kind = PartMotion::Kind::Hinge;
+    } else if (kind == "slider") {
+        entry.object({"id", "scene", "node", "kind", "axis", "min", "max"});
+        motion.kind = PartMotion::Kind::Slider;
+    } else {
+        entry.key("kind").fail("expected \"hinge\" (a rotation about an axis through a point) or "
+                               "\"slider\" (a translation along an axis), got \"" +
+                               kind + "\"");
+    }
+    motion.id = entry.key("id").string();
+    if (!ids.insert(motion.id).second)
+        entry.key("id").fail("expected a unique motion id, \"" + motion.id + "\" is used twice");
+    motion.scene = entry.key("scene").string();
+    if (!project.findScene(motion.scene))
+        entry.key("scene").fail("expected the id of a scene of this project, got \"" +
+                                motion.scene + "\"");
+    motion.node = entry.key("node").string();
+    if (motion.node.front() != '/')
+        entry.key("node").fail("expected a node path starting with '/', got \"" + motion.node +
+                               "\"");
+    if (!moving.insert({motion.scene, motion.node}).second)
+        entry.key("node").fail("expected one motion per node, \"" + motion.node + "\" of scene \"" +
+                               motion.scene + "\" has two");
+    motion.axis = readVec3(entry.key("axis"));
+    if (!(motion.axis.norm() > 1e-9))
+        entry.key("axis").fail("expected a non-zero direction (world, length > 1e-9, need not be "
+                               "unit), got length " +
+                               json(motion.axis.norm()).dump());
+    const bool hinge = motion.kind == PartMotion::Kind::Hinge;
+    if (hinge) motion.point = readVec3(entry.key("point"));
+    // A hinge turns at most one full turn either way; a slider's range is any finite distance.
+    const double limit = hinge ? 2.0 * std::numbers::pi : HUGE_VAL;
+    const std::string unit = hinge ? "radians" : "metres";
+    motion.minimum = entry.key("min").number(-limit, hinge, HUGE_VAL, false);
+    motion.maximum = entry.key("max").number(-HUGE_VAL, false, limit, hinge);
+    if (!(motion.minimum < motion.maximum))
+        entry.key("max").fail("expected max > min (" + unit + "), got min " +
+                              json(motion.minimum).dump() + " and max " +
+                              json(motion.maximum).dump());
+    // Value 0 is the part's pose in the project: the sweep starts there.
+    if (motion.minimum > 0.0)
+        entry.key("min").fail("expected min <= 0 (" + unit +
+                              "; value 0 is the part's pose in the project and lies in the "
+                              "range), got " +
+                              json(motion.minimum).dump());
+    if (motion.maximum < 0.0)
+        entry.key("max").fail("expected max >= 0 (" + unit +
+                              "; value 0 is the part's pose in the project and lies in the "
+                              "range), got " +
+                              json(motion.maximum).dump());
+    return motion;
+}
+
 void checkPath(const Cursor& cursor, const std::string& written, const fs::path& projectDirectory,
                const NamedRoots& roots)
 {
@@ -370,7 +434,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     const bool migrateLengths = fileMinor < 3;
     const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
     root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "poses",
-                 "colliders", "export"});
+                 "colliders", "motions", "export"});
 
     Project project;
     project.name = root.key("name").string(true);
@@ -600,6 +664,14 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         }
     }
 
+    // --- motions (1.4) -------------------------------------------------------------------------
+    if (const auto motions = root.optionalKey("motions")) {
+        std::set<std::string> ids;
+        std::set<std::pair<std::string, std::string>> moving;
+        for (size_t i = 0, n = motions->arraySize(); i < n; ++i)
+            project.motions.push_back(readMotion((*motions)[i], project, ids, moving));
+    }
+
     // --- export -------------------------------------------------------------------------------
     const Cursor exportSettings = root.key("export");
     exportSettings.object({"format", "path", "includeScene"});
@@ -685,7 +757,8 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
     }
     // 1.0 → 1.1 added only the optional "poses", 1.1 → 1.2 the optional per-hose "gravity" and
     // "torsion" (off when absent) and "colliders" (none): nothing to rewrite; 1.2 → 1.3 the
-    // hose's "length", which readProject() sets from the route.
+    // hose's "length", which readProject() sets from the route; 1.3 → 1.4 the optional
+    // "motions" (none).
     if (major == 1 && minor < kProjectFormatMinor) out.migrated = true;
     return readProject(document, file, options, out);
 }

@@ -214,6 +214,21 @@ std::string serialiseProject(const Project& project)
         colliders.push_back(ordered{{"scene", collider.scene}, {"node", collider.node}});
     document["colliders"] = colliders;
 
+    ordered motions = ordered::array();
+    for (const PartMotion& motion : project.motions) {
+        ordered entry = ordered::object();
+        entry["id"] = motion.id;
+        entry["scene"] = motion.scene;
+        entry["node"] = motion.node;
+        entry["kind"] = toString(motion.kind);
+        entry["axis"] = vec3(motion.axis);
+        if (motion.kind == PartMotion::Kind::Hinge) entry["point"] = vec3(motion.point);
+        entry["min"] = motion.minimum;
+        entry["max"] = motion.maximum;
+        motions.push_back(entry);
+    }
+    document["motions"] = motions;
+
     ordered exportSettings = ordered::object();
     exportSettings["format"] = project.exportSettings.format;
     exportSettings["path"] = project.exportSettings.path;

@@ -52,7 +52,8 @@ TEST(HoseLength, AFileBefore1_3GetsTheLengthOfTheHoseAlongItsRoute)
     // The committed sample is that migration, written in the current version.
     EXPECT_EQ(migrated, rig);
     const json saved = json::parse(serialiseProject(migrated));
-    EXPECT_EQ(saved["version"], "1.3");
+    EXPECT_EQ(saved["version"],
+              std::to_string(kProjectFormatMajor) + "." + std::to_string(kProjectFormatMinor));
     EXPECT_EQ(saved["hoses"][1]["length"].get<double>(), *migrated.hoses[1].length);
 }
 

@@ -316,6 +316,20 @@ Project randomProject(std::mt19937& random)
         }
         project.hoses.push_back(hose);
     }
+    const int motionCount = project.scenes.empty() ? 0 : small(random);
+    for (int m = 0; m < motionCount; ++m) {
+        PartMotion motion;
+        motion.id = "motion " + std::to_string(m);
+        motion.scene = project.scenes[size_t(m) % project.scenes.size()].id;
+        motion.node = "/root/moving/" + std::to_string(m);
+        motion.kind = unit(random) < 0.5 ? PartMotion::Kind::Hinge : PartMotion::Kind::Slider;
+        motion.axis = Vec3(coordinate(random), coordinate(random), 1e-3 + unit(random));
+        if (motion.kind == PartMotion::Kind::Hinge)
+            motion.point = Vec3(coordinate(random), coordinate(random), coordinate(random));
+        motion.minimum = -unit(random) * 6.0;
+        motion.maximum = unit(random) * 6.0 + 1e-9;
+        project.motions.push_back(motion);
+    }
     project.exportSettings = {unit(random) < 0.5 ? "glb" : "gltf",
                               unit(random) < 0.5 ? "" : "out/x.glb", unit(random) < 0.5};
     return project;
@@ -357,6 +371,10 @@ TEST(ProjectRoundTrip, EqualityNoticesEveryKindOfChange)
     EXPECT_NE(changed, base);
     changed = base;
     changed.scenes[0].import.placement = Vec3(0.0, 0.0, 1e-9);
+    EXPECT_NE(changed, base);
+    changed = base;
+    changed.motions.push_back({"m", "rig", "/rig/bracket", PartMotion::Kind::Slider, Vec3::UnitX(),
+                               Vec3::Zero(), 0.0, 0.1});
     EXPECT_NE(changed, base);
 }
 

@@ -31,10 +31,10 @@ std::vector<fs::path> sampleFiles()
 
 TEST(Samples, TheDocumentedSamplesExist)
 {
-    for (const char* name :
-         {"single-hose.ctproj", "engine.ctproj", "engine-50-hoses.ctproj", "test-rig.ctproj"})
+    for (const char* name : {"single-hose.ctproj", "engine.ctproj", "engine-50-hoses.ctproj",
+                             "test-rig.ctproj", "motion-rig.ctproj"})
         EXPECT_TRUE(fs::exists(samplesFolder() / name)) << name;
-    EXPECT_GE(sampleFiles().size(), 4u);
+    EXPECT_GE(sampleFiles().size(), 5u);
 }
 
 TEST(Samples, EverySampleIsCanonicalAndRoundTripsExactly)
@@ -75,6 +75,13 @@ TEST(Samples, ContentsMatchWhatTheyPromise)
     EXPECT_TRUE(
         fs::exists(resolveScenePath(rig.scenes[0], samplesFolder() / "test-rig.ctproj", {})))
         << "the test rig's scene is committed with the sample";
+
+    const Project motionRig = loadProject(samplesFolder() / "motion-rig.ctproj");
+    ASSERT_EQ(motionRig.motions.size(), 2u);
+    EXPECT_EQ(motionRig.motions[0].kind, PartMotion::Kind::Hinge);
+    EXPECT_EQ(motionRig.motions[1].kind, PartMotion::Kind::Slider);
+    EXPECT_TRUE(fs::exists(
+        resolveScenePath(motionRig.scenes[0], samplesFolder() / "motion-rig.ctproj", {})));
 }
 
 TEST(Samples, EngineSceneNeedsTheNamedRootToResolve)

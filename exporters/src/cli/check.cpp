@@ -4,44 +4,170 @@
 
 #include <CLI/CLI.hpp>
 #include <chaintube/export/clearance.h>
+#include <chaintube/export/sweep.h>
+#include <cmath>
 #include <iomanip>
+#include <sstream>
 
 namespace chaintube::cli {
+
+namespace {
+
+CLI::Validator distanceValidator()
+{
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            double value = -1.0;
+            try {
+                size_t used = 0;
+                value = std::stod(text, &used);
+                if (used != text.size()) value = -1.0;
+            } catch (const std::exception&) {
+            }
+            if (value >= 0.0 && value < 1e300) return {};
+            return "expected a distance >= 0 in metres (e.g. 0.005), got '" + text + "'";
+        },
+        "METRES");
+}
+
+/// "step 12 (out, t 0.6: lever 0.48 rad, carriage 0.072 m)".
+std::string describeStep(const exporting::SweepReport& report, int step)
+{
+    if (step < 0 || step >= static_cast<int>(report.steps.size())) return "no step";
+    const exporting::SweepStep& at = report.steps[static_cast<size_t>(step)];
+    std::ostringstream text;
+    text << std::setprecision(4) << "step " << step << " (" << exporting::toString(at.phase);
+    if (at.t) text << ", t " << *at.t;
+    text << ":";
+    for (size_t m = 0; m < report.motions.size(); ++m)
+        text << (m ? ", " : " ") << report.motions[m].id << " " << at.values[m]
+             << (report.motions[m].kind == formats::PartMotion::Kind::Hinge ? " rad" : " m");
+    text << ")";
+    return text.str();
+}
+
+void printSweep(const exporting::SweepReport& report, const std::string& project, std::ostream& out)
+{
+    out << std::setprecision(4);
+    out << "sweep of " << project << ": " << report.motions.size() << " motion(s), "
+        << report.stepsEachWay << " steps each way, lead-in " << report.leadInSteps << ", "
+        << report.steps.size() << " steps (t 0 -> 1 -> 0)\n";
+    for (const formats::PartMotion& motion : report.motions)
+        out << "  " << motion.id << ": " << formats::toString(motion.kind) << " of " << motion.scene
+            << ":" << motion.node << ", " << motion.minimum << " ... " << motion.maximum
+            << (motion.kind == formats::PartMotion::Kind::Hinge ? " rad\n" : " m\n");
+    int violating = 0;
+    for (const exporting::HoseSweep& hose : report.hoses) {
+        violating += hose.violates();
+        out << "hose " << hose.hoseId << (hose.driven ? " (on a moving part)" : "") << ": "
+            << (hose.violates() ? "VIOLATION" : "ok") << "\n";
+        out << "  stretch: worst " << 100.0 * hose.worstStretch << " % (band "
+            << 100.0 * hose.stretchBand << " %) at " << describeStep(report, hose.worstStretchStep)
+            << ", segment " << hose.worstStretchSegment << "\n";
+        if (hose.overstretched())
+            out << "    beyond the band on " << hose.overstretchedSteps << " step(s), first at "
+                << describeStep(report, hose.firstOverstretchedStep) << "\n";
+        out << "  bend radius: ";
+        if (std::isfinite(hose.smallestBendRadius))
+            out << "smallest " << hose.smallestBendRadius << " m";
+        else
+            out << "straight at every step";
+        if (hose.minBendRadius > 0.0) out << " (minimum " << hose.minBendRadius << " m)";
+        if (std::isfinite(hose.smallestBendRadius))
+            out << " at " << describeStep(report, hose.smallestBendRadiusStep) << ", joint "
+                << hose.smallestBendRadiusJoint;
+        out << "\n";
+        if (hose.bendViolated())
+            out << "    beyond the bend limit on " << hose.bendViolationSteps
+                << " step(s), first at " << describeStep(report, hose.firstBendViolationStep)
+                << "\n";
+        if (hose.beyondReach())
+            out << "  reach: an attachment beyond the hose's reach on " << hose.unmetSteps
+                << " step(s), first at " << describeStep(report, hose.firstUnmetStep)
+                << "; worst gap " << hose.worstAttachmentGap << " m at "
+                << describeStep(report, hose.worstAttachmentGapStep) << "\n";
+        if (hose.objects.empty())
+            out << "  clearance: no object within " << report.reportDistance << " m\n";
+        for (const exporting::ObjectSweep& object : hose.objects) {
+            out << "  clearance: " << object.sceneId << ":" << object.objectPath << " "
+                << object.minDistance << " m" << (object.collides() ? " (collision)" : "") << " at "
+                << describeStep(report, object.step) << ", axis point " << object.axisPoint << "\n";
+            if (object.stepsBelowThreshold > 0)
+                out << "    below " << report.clearanceThreshold << " m on "
+                    << object.stepsBelowThreshold << " step(s), steps "
+                    << object.firstStepBelowThreshold << " ... " << object.lastStepBelowThreshold
+                    << "\n";
+        }
+        if (hose.updates.empty()) {
+            out << "  updates: all Ok\n";
+        } else {
+            out << "  updates not Ok: " << hose.updates.size() << "\n";
+            constexpr size_t kListed = 10;
+            for (size_t u = 0; u < hose.updates.size() && u < kListed; ++u) {
+                const exporting::SweepUpdate& update = hose.updates[u];
+                out << "    " << toString(update.status) << " at "
+                    << describeStep(report, update.step);
+                if (update.attachmentGap > 0.0)
+                    out << ", attachment gap " << update.attachmentGap << " m";
+                if (update.angleViolation > 0.0)
+                    out << ", bend beyond its limit by " << update.angleViolation << " rad";
+                out << "\n";
+            }
+            if (hose.updates.size() > kListed)
+                out << "    ... and " << hose.updates.size() - kListed << " more\n";
+        }
+    }
+    out << project << ": " << report.hoses.size() << " hose(s) swept over " << report.steps.size()
+        << " steps, " << violating << " with violations (clearance threshold "
+        << report.clearanceThreshold << " m)\n";
+}
+
+} // namespace
 
 void addCheckCommand(CLI::App& app, CheckCommand& command)
 {
     CLI::App* check = app.add_subcommand(
         "check", "Check a project's hoses against its scene objects: every hose that comes closer "
                  "to an object (a scene node with meshes) than --clearance is listed with the "
-                 "object's path, the distance, the nearest axis point and the world position");
-    check->footer("Example:\n  chaintube check samples/engine.ctproj --clearance 0.005 --root "
-                  "scenes=../shared/scenes\n"
-                  "Exit codes: 0 no violation, 1 the check could not run (unreadable or invalid "
-                  "project, scene import failed), 2 bad command line, 3 violations found.");
+                 "object's path, the distance, the nearest axis point and the world position. "
+                 "With --sweep, every moving part of the project (its \"motions\": hinges and "
+                 "sliders) is driven through its range and back, the hoses follow as at run "
+                 "time, and each hose's worst stretch, smallest bend radius, clearance to each "
+                 "object and updates that were not Ok are reported with the motion values where "
+                 "they occur");
+    check->footer(
+        "Examples:\n  chaintube check samples/engine.ctproj --clearance 0.005 --root "
+        "scenes=../shared/scenes\n"
+        "  chaintube check samples/motion-rig.ctproj --sweep --steps 40 --clearance 0.005\n"
+        "  chaintube check samples/motion-rig.ctproj --sweep --json -q > sweep.json\n"
+        "Sweep: all motions are driven by one parameter t, each at min + t (max - min); t goes "
+        "0 -> 1 -> 0 in --steps steps each way, after a lead-in from the project's pose "
+        "(every motion at 0) to t = 0. Without --clearance a sweep reports collisions only "
+        "(distance < 0).\n"
+        "Exit codes: 0 no violation, 1 the check could not run (unreadable or invalid "
+        "project, scene import failed), 2 bad command line, 3 violations found (clearance; "
+        "with --sweep also stretch beyond the band, a bend beyond the limit, an attachment "
+        "beyond reach, a collision), 4 --sweep on a project without motions (nothing swept).");
     check->add_option("project", command.project, "Project file (*.ctproj)")->required();
     check
         ->add_option("--clearance", command.clearance,
                      "Minimum distance in metres between a hose's surface and any scene object "
-                     "(e.g. 0.005)")
-        ->required()
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                double value = -1.0;
-                try {
-                    size_t used = 0;
-                    value = std::stod(text, &used);
-                    if (used != text.size()) value = -1.0;
-                } catch (const std::exception&) {
-                }
-                if (value >= 0.0 && value < 1e300) return {};
-                return "expected a distance >= 0 in metres (e.g. 0.005), got '" + text + "'";
-            },
-            "METRES"));
+                     "(e.g. 0.005); required without --sweep")
+        ->check(distanceValidator());
     check->add_flag("--include-attached", command.includeAttached,
                     "Also check each hose against the nodes it is attached to (skipped by default: "
                     "a hose end sits in its fitting by design)");
     check->add_option("--root", command.roots,
                       "Named root for project paths \"NAME:path\", as NAME=DIR (repeatable)");
+    CLI::Option* sweep = check->add_flag(
+        "--sweep", command.sweep,
+        "Drive the project's motions through their ranges and back and check the hoses at "
+        "every step");
+    check->add_option("--steps", command.steps, "Sweep: steps each way, 1 ... 100000 (default 20)")
+        ->check(CLI::Range(1, 100000))
+        ->needs(sweep);
+    check->add_flag("--json", command.json, "Sweep: the report as JSON on stdout")->needs(sweep);
+    check->add_flag("-q,--quiet", command.quiet, "Sweep: no progress on stderr")->needs(sweep);
 }
 
 int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
@@ -55,6 +181,37 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
             return kExitUsage;
         }
         roots[root.substr(0, equals)] = root.substr(equals + 1);
+    }
+    if (command.sweep) {
+        exporting::SweepOptions options;
+        options.steps = command.steps;
+        options.clearanceThreshold = std::max(0.0, command.clearance);
+        options.includeAttachedNodes = command.includeAttached;
+        int lastTenth = -1;
+        if (!command.quiet)
+            options.progress = [&](double fraction) {
+                const int tenth = static_cast<int>(fraction * 10.0);
+                if (tenth != lastTenth) err << "  sweep " << 10 * tenth << " %\n";
+                lastTenth = tenth;
+                return true;
+            };
+        const exporting::SweepReport report =
+            exporting::sweepProject(command.project, roots, options);
+        if (report.steps.empty()) {
+            err << command.project
+                << ": the project has no motions (\"motions\": hinges and sliders, project "
+                   "format 1.4): nothing to sweep\n";
+            return kExitNoMotions;
+        }
+        if (command.json)
+            out << exporting::sweepReportJson(report, command.project);
+        else
+            printSweep(report, command.project, out);
+        return report.violations() ? kExitViolations : kExitOk;
+    }
+    if (command.clearance < 0.0) {
+        err << "chaintube check: --clearance is required (or give --sweep)\n";
+        return kExitUsage;
     }
     exporting::ClearanceOptions options;
     options.threshold = command.clearance;

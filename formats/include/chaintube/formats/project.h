@@ -1,9 +1,9 @@
 // ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
 //
-// The file is JSON, schema in formats/schema/project.schema.json, version "1.3" (the format, its
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.4" (the format, its
 // versions and migrations: formats/README.md, "The project file"):
 //
-//   { "format": "chaintube-project", "version": "1.3", "name": "…",
+//   { "format": "chaintube-project", "version": "1.4", "name": "…",
 //     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
 //                            "chordalTolerance", "angularTolerance", "placement"? } } ],
 //     "materialPresets": [ { "name", "description", "expansionCoefficient",
@@ -19,6 +19,8 @@
 //                            "torsion": { "enabled", "twistLimit" } } ],       (1.2)
 //     "poses":           [ { "scene", "node", "matrix": [16 numbers] } ],      (1.1)
 //     "colliders":       [ { "scene", "node" } ],                               (1.2)
+//     "motions":         [ { "id", "scene", "node", "kind": "hinge"|"slider", "axis": [x,y,z],
+//                            "point": [x,y,z] (hinge only), "min", "max" } ],     (1.4)
 //     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
 //
 // Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated). Files before
@@ -26,7 +28,8 @@
 // "gravity" / "torsion" is written only when it differs from the default (off, direction
 // [0, -1, 0], twist limit 0.1 rad), and read as that default when absent. Files before 1.3 have
 // no hose "length": each hose gets the length of the hose laid along its route
-// (routeRestLength()), so that it keeps that length when its route is edited later.
+// (routeRestLength()), so that it keeps that length when its route is edited later. Files before
+// 1.4 have no "motions" (read as none).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -51,9 +54,9 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 3; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+constexpr int kProjectFormatMinor = 4; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
                                        ///< "gravity" and "torsion", "colliders" (ColliderNode);
-                                       ///< 1.3 the hose's "length"
+                                       ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -214,6 +217,39 @@ struct ColliderNode
     bool operator==(const ColliderNode& o) const { return scene == o.scene && node == o.node; }
 };
 
+/// A part that moves through a range (format 1.4): a hinge turns a scene node about an axis
+/// through a point, a slider moves it along an axis. The node carries its children, and the
+/// hoses attached to them follow (formats/motion.h, exporting::sweepMotions). Value 0 is the
+/// node's pose in the project (the file pose with project.poses applied); the axis and point
+/// are world coordinates at that pose and travel with a moving ancestor (a hinge on a slider's
+/// carriage moves with the carriage).
+struct PartMotion
+{
+    enum class Kind {
+        Hinge, ///< rotation by the value (radians, right-handed about `axis`) through `point`
+        Slider ///< translation by the value (metres) along `axis`
+    };
+    std::string id;    ///< unique within the project; reports name the motion by it
+    std::string scene; ///< SceneReference::id
+    std::string node;  ///< SceneNode::path; at most one motion per (scene, node)
+    Kind kind = Kind::Hinge;
+    /// World direction, as written: finite, length > 1e-9, need not be unit (it is normalised
+    /// where used).
+    Vec3 axis = Vec3::UnitY();
+    /// Hinge: a world point on the axis (metres, finite). Not written, read or compared for a
+    /// slider.
+    Vec3 point = Vec3::Zero();
+    /// The range: radians in [−2π, 2π] for a hinge, metres (finite) for a slider;
+    /// minimum ≤ 0 ≤ maximum (the project's pose lies in the range) and minimum < maximum.
+    double minimum = 0.0;
+    double maximum = 0.0;
+    bool operator==(const PartMotion& o) const;
+    bool operator!=(const PartMotion& o) const { return !(*this == o); }
+};
+
+/// "hinge" or "slider", as written in the file.
+const char* toString(PartMotion::Kind kind);
+
 struct ExportSettings
 {
     std::string format = "glb"; ///< "glb" or "gltf"
@@ -236,6 +272,8 @@ struct Project
     std::vector<NodePose> poses;
     /// Collider nodes, at most one entry per (scene, node), in the order written.
     std::vector<ColliderNode> colliders;
+    /// Moving parts (1.4), at most one per (scene, node), in the order written.
+    std::vector<PartMotion> motions;
     ExportSettings exportSettings;
 
     /// An empty project with standardMaterialPresets().
@@ -264,7 +302,8 @@ struct ProjectLoadReport
     bool migrated = false;   ///< an older layout was converted to the current one
                              ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none;
                              ///< before 1.2: gravity/torsion off, no colliders;
-                             ///< before 1.3: each hose's length set to routeRestLength())
+                             ///< before 1.3: each hose's length set to routeRestLength();
+                             ///< before 1.4: no "motions", read as none)
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };
@@ -272,9 +311,10 @@ struct ProjectLoadReport
 /// Reads and validates a project file. Every problem throws ProjectFormatError naming the file,
 /// the JSON pointer and what was expected: malformed JSON (with line/column), wrong types,
 /// NaN/Inf or out-of-range numbers, unknown keys, duplicate ids, unknown presets or scene ids,
-/// overlapping attachment ranges, paths that escape the project folder (see paths.h), and a
-/// major version newer than kProjectFormatMajor. Version 0.9 files are migrated. Throws
-/// FileError if the file cannot be read.
+/// overlapping attachment ranges, motions with an unknown kind, a zero axis or an empty range,
+/// paths that escape the project folder (see paths.h), and a major version newer than
+/// kProjectFormatMajor. Version 0.9 files are migrated. Throws FileError if the file cannot be
+/// read.
 Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions& options = {},
                     ProjectLoadReport* report = nullptr);
 
