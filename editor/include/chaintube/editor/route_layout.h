@@ -1,7 +1,7 @@
 // ChainTube editor — laying out a new hose by clicks: where a clicked route point goes and the
 // size a new hose starts with. Plain functions over the core library's types (no Qt), so they
 // are tested without a window; the viewport and the main window call them. The rules and
-// their figures are in editor/README.md ("New hoses").
+// their figures are in editor/README.md ("Laying out a new hose").
 #pragma once
 
 #include "chaintube/editor/camera.h"
