@@ -138,11 +138,13 @@ bool ScenePicker::pick(const Ray& ray, ScenePickHit* hit) const
         hit->point = ray.origin + local.t * ray.direction;
         // Normals transform with the inverse transpose.
         Vec3 normal = instance.meshFromWorld.block<3, 3>(0, 0).transpose() * local.normal;
-        if (normal.norm() > 0)
+        hit->surfaceNormal = normal.allFinite() && normal.norm() > 0;
+        if (hit->surfaceNormal) {
             normal.normalize();
-        else
-            normal = Vec3::UnitY();
-        if (normal.dot(ray.direction) > 0) normal = -normal;
+            if (normal.dot(ray.direction) > 0) normal = -normal;
+        } else {
+            normal = -ray.direction;
+        }
         hit->normal = normal;
     }
     return found;

@@ -1,6 +1,7 @@
 #include "main_window.h"
 
 #include "chaintube/editor/commands.h"
+#include "chaintube/editor/route_layout.h"
 #include "chaintube/formats/atomic_file.h"
 #include "chaintube/formats/scene_import.h"
 #include "chaintube/route.h"
@@ -16,6 +17,7 @@
 #include <QCloseEvent>
 #include <QDir>
 #include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -208,6 +210,13 @@ void MainWindow::createDocks()
     problemsDock->setObjectName("problemsDock");
     problemsDock->setWidget(m_problems);
     addDockWidget(Qt::BottomDockWidgetArea, problemsDock);
+    // Route points clicked on a surface keep the clearance the Problems panel checks.
+    const auto followClearance = [this](double millimetres) {
+        m_viewport->setRouteClearance(millimetres / 1000.0);
+    };
+    followClearance(m_problems->clearanceThreshold()->value());
+    connect(m_problems->clearanceThreshold(), qOverload<double>(&QDoubleSpinBox::valueChanged),
+            this, followClearance);
 
     m_history = new QUndoView(m_document->undoStack());
     m_history->setObjectName("history");
@@ -817,19 +826,25 @@ void MainWindow::rebuildRecentMenu()
     m_recentMenu->setEnabled(!files.isEmpty());
 }
 
-void MainWindow::onRouteFinished(const std::vector<Vec3>& route)
+void MainWindow::onRouteFinished(const std::vector<Vec3>& route, double outerDiameter)
 {
     formats::HoseDefinition definition;
     definition.id = m_document->unusedHoseId();
     definition.name = "Hose " + definition.id.substr(definition.id.find('-') + 1);
     definition.route = route;
+    definition.outerDiameter = outerDiameter;
+    const double routeLength = polylineLength(route);
+    definition.segmentCount = newHoseSegmentCount(routeLength, outerDiameter);
+    // The project's first preset if its bend radius suits the diameter, else own values with
+    // a bend radius that does (route_layout.h).
     const auto& presets = m_document->project().materialPresets;
-    if (!presets.empty())
+    const NewHoseMaterial material =
+        newHoseMaterial(presets.empty() ? Material() : presets.front().material, outerDiameter,
+                        routeLength / definition.segmentCount);
+    if (material.presetKept && !presets.empty())
         definition.material = formats::PresetName{presets.front().name};
     else
-        definition.material = Material();
-    // About 3 cm per segment, at least the paper's 12.
-    definition.segmentCount = std::clamp(int(std::lround(polylineLength(route) / 0.03)), 12, 400);
+        definition.material = material.material;
     definition.colour = kHoseColours[size_t(m_document->hoseCount()) % std::size(kHoseColours)];
     try {
         // As long as the route, from now on its own (route edits never change it).

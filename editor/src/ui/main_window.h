@@ -93,7 +93,7 @@ private:
     void updateTitle();
     void addRecentFile(const QString& path);
     void rebuildRecentMenu();
-    void onRouteFinished(const std::vector<Vec3>& route);
+    void onRouteFinished(const std::vector<Vec3>& route, double outerDiameter);
     void deleteSelection();
     void insertRoutePoint();
     void removeAutosave();

@@ -1,6 +1,7 @@
 #include "viewport.h"
 
 #include "chaintube/editor/commands.h"
+#include "chaintube/editor/route_layout.h"
 
 #include <Eigen/Geometry>
 #include <QMouseEvent>
@@ -17,9 +18,6 @@
 namespace chaintube::editor {
 
 namespace {
-/// Hoses laid out by clicks sit on the surface: route points are lifted by this much (the
-/// default hose radius) along the surface normal.
-constexpr double kRouteLift = 0.01;
 constexpr double kHandlePixels = 9.0;
 constexpr double kMoveSnapMetres = 0.01;                       ///< Ctrl while moving a part
 constexpr double kRotateSnapRadians = std::numbers::pi / 12.0; ///< Ctrl while rotating a part: 15°
@@ -63,13 +61,23 @@ void Viewport::setMode(Mode mode)
     setCursor(mode == Mode::LayRoute    ? Qt::CrossCursor
               : mode == Mode::FixToPart ? Qt::PointingHandCursor
                                         : Qt::ArrowCursor);
-    if (mode == Mode::LayRoute)
-        emit statusMessage(tr("New hose: click route points on the scene; Enter or "
-                              "double-click finishes, Esc cancels"));
-    else if (mode == Mode::Select)
+    if (mode == Mode::LayRoute) {
+        // The new hose's size is fixed when its layout starts: every clicked point goes out
+        // from its surface by the same radius plus clearance.
+        m_picker.update(m_document);
+        m_newHoseDiameter = defaultHoseDiameter(m_picker.bounds());
+        emit statusMessage(tr("New hose (%1 mm): click route points on the scene; Enter or "
+                              "double-click finishes, Esc cancels")
+                               .arg(m_newHoseDiameter * 1000.0, 0, 'g', 3));
+    } else if (mode == Mode::Select)
         emit statusMessage(QString());
     emit modeChanged();
     update();
+}
+
+double Viewport::routeSurfaceDistance() const
+{
+    return routePointDistance(m_newHoseDiameter, m_routeClearance);
 }
 
 void Viewport::finishRoute()
@@ -77,7 +85,7 @@ void Viewport::finishRoute()
     std::vector<Vec3> route = m_pendingRoute;
     setMode(Mode::Select);
     if (route.size() >= 2)
-        emit routeFinished(route);
+        emit routeFinished(route, m_newHoseDiameter);
     else
         emit statusMessage(tr("A hose needs at least two route points"));
 }
@@ -401,12 +409,19 @@ void Viewport::mousePressEvent(QMouseEvent* event)
     if (m_mode == Mode::LayRoute) {
         ScenePickHit hit;
         if (pickScene(position, &hit)) {
-            m_pendingRoute.push_back(hit.point + kRouteLift * hit.normal);
-            emit statusMessage(
-                tr("Route point %1 on %2")
-                    .arg(m_pendingRoute.size())
-                    .arg(QString::fromStdString(
-                        m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name)));
+            // Out of the part: the hose's surface keeps the clearance from the clicked surface.
+            const SurfaceOffset placed =
+                offsetFromSurface(hit.point, hit.surfaceNormal ? hit.normal : Vec3::Zero(),
+                                  rayAt(position).direction, routeSurfaceDistance());
+            m_pendingRoute.push_back(placed.position);
+            emit statusMessage(tr("Route point %1 on %2, %3 mm out%4")
+                                   .arg(m_pendingRoute.size())
+                                   .arg(QString::fromStdString(
+                                       m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name))
+                                   .arg(routeSurfaceDistance() * 1000.0, 0, 'f', 1)
+                                   .arg(placed.alongSurfaceNormal
+                                            ? QString()
+                                            : tr(" towards the camera (no surface normal there)")));
         } else {
             emit statusMessage(tr("Click on a scene surface to place a route point"));
         }

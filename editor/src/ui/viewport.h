@@ -10,6 +10,7 @@
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -31,9 +32,20 @@ public:
     Camera& camera() { return m_camera; }
     Mode mode() const { return m_mode; }
     void setMode(Mode mode);
-    /// Route points clicked so far in LayRoute mode (world metres).
+    /// Outer diameter (metres) of the hose being laid out: defaultHoseDiameter() of the scene's
+    /// world bounds when LayRoute mode began.
+    double newHoseDiameter() const { return m_newHoseDiameter; }
+    /// Clearance (metres ≥ 0) a clicked route point keeps: it goes out from the clicked surface
+    /// by the new hose's outer radius plus this (offsetFromSurface). The main window keeps it
+    /// equal to the Problems panel's clearance threshold.
+    void setRouteClearance(double metres) { m_routeClearance = std::max(0.0, metres); }
+    double routeClearance() const { return m_routeClearance; }
+    /// How far a clicked route point goes out from its surface: radius plus clearance
+    /// (routePointDistance).
+    double routeSurfaceDistance() const;
+    /// Route points clicked so far in LayRoute mode (world metres), already out of the surface.
     const std::vector<Vec3>& pendingRoute() const { return m_pendingRoute; }
-    /// Ends LayRoute mode; with ≥ 2 points emits routeFinished(points).
+    /// Ends LayRoute mode; with ≥ 2 points emits routeFinished(points, newHoseDiameter()).
     void finishRoute();
     void cancelRoute();
     /// Fixing in one gesture: with hose points selected, the next click on a part fixes them
@@ -65,7 +77,9 @@ public:
     QImage renderToImage();
 
 signals:
-    void routeFinished(const std::vector<chaintube::Vec3>& route);
+    /// A route laid out by clicks (≥ 2 points) for a new hose of outer diameter
+    /// `outerDiameter` metres.
+    void routeFinished(const std::vector<chaintube::Vec3>& route, double outerDiameter);
     void statusMessage(const QString& message);
     void modeChanged();
 
@@ -106,6 +120,8 @@ private:
     RenderOptions m_options;
     Mode m_mode = Mode::Select;
     std::vector<Vec3> m_pendingRoute;
+    double m_newHoseDiameter = 0.02;
+    double m_routeClearance = 0.005;
     bool m_initialised = false;
     bool m_framedOnce = false;
 

@@ -51,9 +51,12 @@ struct ScenePickHit
 {
     std::string sceneId;
     int node = -1;
-    Vec3 point = Vec3::Zero();   ///< world metres
-    Vec3 normal = Vec3::UnitY(); ///< world, unit, facing the ray origin
-    double distance = 0.0;       ///< along the ray (metres)
+    Vec3 point = Vec3::Zero(); ///< world metres
+    /// World, unit, facing the ray origin. surfaceNormal false: the mesh normal brought into the
+    /// world came out zero or not finite, and this is the reverse of the ray's direction.
+    Vec3 normal = Vec3::UnitY();
+    bool surfaceNormal = true;
+    double distance = 0.0; ///< along the ray (metres)
 };
 
 /// Picks against every mesh instance of a document's scenes, with its pose.

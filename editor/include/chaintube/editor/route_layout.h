@@ -1,0 +1,96 @@
+// ChainTube editor — laying out a new hose by clicks: where a clicked route point goes and the
+// size a new hose starts with. Plain functions over the core library's types (no Qt), so they
+// are tested without a window; the viewport and the main window call them. The rules and
+// their figures are in editor/README.md ("Laying out a new hose").
+#pragma once
+
+#include "chaintube/editor/camera.h"
+#include "chaintube/material.h"
+
+namespace chaintube::editor {
+
+/// A route point placed off a clicked surface.
+struct SurfaceOffset
+{
+    Vec3 position = Vec3::Zero();    ///< the route point (world metres)
+    Vec3 direction = Vec3::UnitY();  ///< unit direction it went out along from the surface
+    bool alongSurfaceNormal = false; ///< false: no usable normal, it went towards the camera
+};
+
+/// Where a route point clicked on a surface goes: `distance` metres (≥ 0; a new hose's outer
+/// radius plus the clearance) out from the surface point `surfacePoint` along the surface
+/// normal, on the side the click came from. `normal` is the surface normal at the hit (any
+/// length, either orientation); `viewDirection` the direction of the picking ray (camera to
+/// surface, any length). Decided cases:
+///  * a normal facing away from the camera (a back face hit, or a mesh wound inside out) is
+///    flipped, so the point always goes out on the side that was clicked;
+///  * a zero or non-finite normal (a degenerate triangle, a node scaled to nothing) is
+///    replaced by −viewDirection: the point goes back towards the camera along the ray;
+///  * a zero or non-finite viewDirection keeps the normal's own orientation; with no normal
+///    either, the point goes up (+Y, the project's up axis).
+/// A negative or non-finite distance counts as 0 (the point stays on the surface).
+SurfaceOffset offsetFromSurface(const Vec3& surfacePoint, const Vec3& normal,
+                                const Vec3& viewDirection, double distance);
+
+/// Added to the distance a clicked route point goes out (metres): a hose laid along a flat face
+/// then keeps at least the clearance after rounding, and a check at exactly that threshold
+/// does not list it.
+inline constexpr double kRouteClearanceMargin = 1e-6;
+
+/// How far (metres) a route point clicked on a surface goes out from it for a hose of outer
+/// diameter `outerDiameter` that keeps `clearance` from the surface (both metres; a negative
+/// or non-finite clearance counts as 0): outerDiameter / 2 + clearance + kRouteClearanceMargin.
+double routePointDistance(double outerDiameter, double clearance);
+
+/// Outer diameter (metres) a new hose starts with when nothing tells the size of the scene,
+/// and the size the standard material presets are written for.
+inline constexpr double kFallbackHoseDiameter = 0.02;
+/// Smallest and largest default outer diameter (metres).
+inline constexpr double kMinDefaultHoseDiameter = 0.002;
+inline constexpr double kMaxDefaultHoseDiameter = 0.05;
+/// The default diameter is this fraction of the scene's bounding-box diagonal before rounding.
+inline constexpr double kHoseDiameterPerSceneDiagonal = 1.0 / 50.0;
+/// Minimum bend radius of a new hose as a multiple of its outer diameter (the "PVC hose"
+/// preset's 100 mm for 20 mm; hose datasheets give 4 to 6 for thermoplastic hoses).
+inline constexpr double kBendRadiusPerDiameter = 5.0;
+/// A preset's bend radius counts as suited to a diameter D when it lies in
+/// [kMinPresetBendRadiusPerDiameter·D, kMaxPresetBendRadiusPerDiameter·D]: the four standard
+/// presets (4 to 8.25 × 20 mm) all suit a 20 mm hose.
+inline constexpr double kMinPresetBendRadiusPerDiameter = 4.0;
+inline constexpr double kMaxPresetBendRadiusPerDiameter = 10.0;
+/// Longest axis segment of a new hose (metres) and its number of segments.
+inline constexpr double kMaxNewSegmentLength = 0.03;
+inline constexpr int kMinNewSegmentCount = 12;
+inline constexpr int kMaxNewSegmentCount = 400;
+
+/// Default outer diameter (metres) of a new hose in a scene whose world bounds are
+/// `sceneBounds`: the diagonal × kHoseDiameterPerSceneDiagonal, rounded to the nearest common
+/// hose size (2, 3, 4, 5, 6, 8, 10, 12, 16, 20, 25, 32, 40, 50 mm; nearest by ratio) — so
+/// within [kMinDefaultHoseDiameter, kMaxDefaultHoseDiameter]. An empty box, a box of zero size
+/// or one with non-finite corners gives kFallbackHoseDiameter.
+double defaultHoseDiameter(const Box& sceneBounds);
+
+/// Default minimum bend radius (metres, to the centreline) of a hose of outer diameter
+/// `outerDiameter` metres: kBendRadiusPerDiameter × outerDiameter.
+double defaultMinBendRadius(double outerDiameter);
+
+/// Number of axis segments of a new hose along a route `routeLength` metres long: segments of
+/// at most kMaxNewSegmentLength and at most half the default bend radius (so a bend is drawn
+/// with several joints), between kMinNewSegmentCount and kMaxNewSegmentCount.
+int newHoseSegmentCount(double routeLength, double outerDiameter);
+
+/// The material a new hose of outer diameter `outerDiameter` starts with, given the preset it
+/// would take (the project's first preset, or a default Material when there is none).
+struct NewHoseMaterial
+{
+    Material material;
+    /// True: `preset` is used as it is (the hose refers to the preset by name); its bend radius
+    /// suits the diameter. False: own values — the preset's expansion with the default minimum
+    /// bend radius for the diameter.
+    bool presetKept = false;
+};
+/// `segmentLength` (metres > 0) turns a deflection-angle limit into a bend radius
+/// (bendRadiusOfTurn) to judge it; a limit of radius 0 ("no limit") does not suit any diameter.
+NewHoseMaterial newHoseMaterial(const Material& preset, double outerDiameter, double segmentLength);
+
+} // namespace chaintube::editor
