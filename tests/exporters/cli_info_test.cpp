@@ -79,6 +79,28 @@ TEST(InfoCli, ExportedRigListsTheSameFlagsAndNamesTheColliderNodes)
     }
 }
 
+TEST(InfoCli, ExportedRigListsItsMovingPartsWithTheirNodesAndRanges)
+{
+    TemporaryFolder folder;
+    const fs::path glb = folder.path() / "motion-rig.glb";
+    const CliRun exported =
+        runCli("export \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "motion-rig.ctproj").string() +
+               "\" -o \"" + glb.string() + "\" -q");
+    ASSERT_EQ(exported.exitCode, 0) << exported.output;
+    const CliRun run = runCli("info \"" + glb.string() + "\"");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find("hose rig 1.3 "), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("\nmotions: 2 — lever (hinge of node "), std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find(" 'lever', -0.5 … 0.8 rad), carriage (slider of node "),
+              std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find(" 'carriage', -0.05 … 0.05 m)\n"), std::string::npos) << run.output;
+    const CliRun older = runCli(
+        "info \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() + "\"");
+    ASSERT_EQ(older.exitCode, 0) << older.output;
+}
+
 TEST(InfoCli, HelpNamesGravityTorsionAndColliders)
 {
     const CliRun run = runCli("info --help");

@@ -1,7 +1,9 @@
 // The runtime descriptor: exact round trip, and malformed documents rejected with a pointer.
 #include "export_test_support.h"
 
+#include <algorithm>
 #include <chaintube/export/rig_descriptor.h>
+#include <chaintube/export/runtime.h>
 
 namespace chaintube::exporting::testing {
 namespace {
@@ -202,6 +204,82 @@ TEST(RigDescriptor, GravityTorsionAndCollidersRoundTripAndReachTheRebuiltHose)
     EXPECT_FALSE(old.hoses[0].gravity.enabled);
     EXPECT_FALSE(old.hoses[1].torsion.enabled);
     EXPECT_TRUE(old.colliders.empty());
+}
+
+TEST(RigDescriptor, MotionsReachTheDescriptorWithTheirGltfNodesAndRoundTrip)
+{
+    // samples/motion-rig.ctproj: a lever on a hinge and a carriage on a slider.
+    TemporaryFolder folder;
+    const ExportReport report =
+        exportProjectFile(samplesDir() / "motion-rig.ctproj", folder / "out.glb", roots());
+    const rig::HoseRigDescriptor& descriptor = report.descriptor;
+    ASSERT_EQ(descriptor.motions.size(), 2u);
+    const rig::HoseRuntime runtime = rig::HoseRuntime::load(folder / "out.glb");
+    ASSERT_EQ(runtime.descriptor().motions.size(), 2u);
+    const rig::RigMotion& lever = runtime.descriptor().motions[0];
+    EXPECT_EQ(lever.id, "lever");
+    EXPECT_EQ(lever.kind, rig::RigMotion::Kind::Hinge);
+    EXPECT_EQ(runtime.node(lever.node).name, "lever");
+    EXPECT_EQ(lever.axis, Vec3(0.0, 0.0, 1.0));
+    EXPECT_EQ(lever.point, Vec3(0.1, 0.2, 0.0));
+    EXPECT_EQ(lever.minimum, -0.5);
+    EXPECT_EQ(lever.maximum, 0.8);
+    const rig::RigMotion& carriage = runtime.descriptor().motions[1];
+    EXPECT_EQ(carriage.id, "carriage");
+    EXPECT_EQ(carriage.kind, rig::RigMotion::Kind::Slider);
+    EXPECT_EQ(runtime.node(carriage.node).name, "carriage");
+    EXPECT_EQ(carriage.axis, Vec3(1.0, 0.0, 0.0));
+    EXPECT_EQ(carriage.minimum, -0.05);
+    EXPECT_EQ(carriage.maximum, 0.05);
+    EXPECT_NE(lever.node, carriage.node);
+
+    const std::string text = rig::serialiseDescriptor(descriptor);
+    const rig::HoseRigDescriptor parsed = rig::parseDescriptor(text, "x");
+    EXPECT_EQ(rig::serialiseDescriptor(parsed), text);
+    EXPECT_EQ(parsed.version, "1.3");
+
+    // Bad values name the member.
+    const Json good = Json::parse(text);
+    ASSERT_FALSE(good["motions"][1].contains("point")); // a slider has none
+    Json bad = good;
+    bad["motions"][0]["kind"] = "crank";
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/0/kind");
+    bad = good;
+    bad["motions"][0]["axis"] = Json::array({0, 0, 2});
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/0/axis");
+    bad = good;
+    bad["motions"][0].erase("point");
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/0/point");
+    bad = good;
+    bad["motions"][1]["point"] = Json::array({0, 0, 0});
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/1/point");
+    bad = good;
+    bad["motions"][0]["min"] = 0.1; // the exported pose (0) must lie in the range
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/0/min");
+    bad = good;
+    bad["motions"][0]["max"] = 7.0; // beyond a full turn
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/0/max");
+    bad = good;
+    bad["motions"][1]["min"] = 0.0;
+    bad["motions"][1]["max"] = 0.0; // an empty range
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/1/max");
+    bad = good;
+    bad["motions"][1]["id"] = "lever";
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/1/id");
+    bad = good;
+    bad["motions"][0]["node"] = -2;
+    EXPECT_EQ(pointerOfError(bad.dump()), "/motions/0/node");
+    // A motion's node must exist in the glTF.
+    const std::vector<std::string> problems =
+        rig::checkAgainstGltf(parsed, std::max(lever.node, carriage.node), 100);
+    ASSERT_FALSE(problems.empty());
+    EXPECT_NE(problems.back().find("/motions/"), std::string::npos) << problems.back();
+
+    // A 1.2 document has no motions.
+    bad = good;
+    bad["version"] = "1.2";
+    bad.erase("motions");
+    EXPECT_TRUE(rig::parseDescriptor(bad.dump(), "old").motions.empty());
 }
 
 TEST(RigDescriptor, NodeIndicesOutsideTheGltfAreReported)

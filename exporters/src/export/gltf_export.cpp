@@ -91,6 +91,17 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                                   "' has no mesh with triangles to collide with");
     }
 
+    for (size_t m = 0; m < options.motions.size(); ++m) {
+        const NodeRef& ref = options.motions[m].node;
+        if (ref.scene < 0 || ref.scene >= static_cast<int>(scenes.size()) ||
+            !scenes[static_cast<size_t>(ref.scene)] || ref.node < 0 ||
+            ref.node >= static_cast<int>(scenes[static_cast<size_t>(ref.scene)]->nodes.size()))
+            throw InvalidArgument("motions[" + std::to_string(m) + "] '" +
+                                  options.motions[m].motion.id + "': scene " +
+                                  std::to_string(ref.scene) + " node " + std::to_string(ref.node) +
+                                  " does not exist");
+    }
+
     ExportReport report;
     tinygltf::Model model;
     model.asset.version = "2.0";
@@ -135,6 +146,9 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         for (const ExportHose& hose : hoses)
             for (const NodeRef& ref : hose.attachedNodes)
                 if (ref.scene == static_cast<int>(s)) keep[static_cast<size_t>(ref.node)] = 1;
+        for (const ExportOptions::Motion& motion : options.motions)
+            if (motion.node.scene == static_cast<int>(s))
+                keep[static_cast<size_t>(motion.node.node)] = 1;
         for (size_t i = scene.nodes.size(); i-- > 0;) {
             const formats::SceneNode& source = scene.nodes[i];
             if (source.parent < 0) keep[i] = 1;
@@ -202,6 +216,11 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
     descriptor.colliders.erase(
         std::unique(descriptor.colliders.begin(), descriptor.colliders.end()),
         descriptor.colliders.end());
+    for (const ExportOptions::Motion& motion : options.motions) {
+        descriptor.motions.push_back(motion.motion);
+        descriptor.motions.back().node = gltfNodeOf[static_cast<size_t>(motion.node.scene)]
+                                                   [static_cast<size_t>(motion.node.node)];
+    }
     model.scenes.push_back(gltfScene);
     model.defaultScene = 0;
     model.buffers[0].data = buffer.bytes();

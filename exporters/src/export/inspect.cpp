@@ -360,6 +360,17 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
                 out << " '" << runtime->node(node).name << "'";
             out << (k + 1 == descriptor.colliders.size() ? "\n" : "");
         }
+        out << "motions: " << descriptor.motions.size() << (descriptor.motions.empty() ? "\n" : "");
+        for (size_t k = 0; k < descriptor.motions.size(); ++k) {
+            const rig::RigMotion& motion = descriptor.motions[k];
+            const bool hinge = motion.kind == rig::RigMotion::Kind::Hinge;
+            out << (k == 0 ? " — " : ", ") << motion.id << " (" << rig::motionKindName(motion.kind)
+                << " of node " << motion.node;
+            if (runtime && motion.node >= 0 && motion.node < runtime->nodeCount())
+                out << " '" << runtime->node(motion.node).name << "'";
+            out << ", " << motion.minimum << " … " << motion.maximum << (hinge ? " rad)" : " m)")
+                << (k + 1 == descriptor.motions.size() ? "\n" : "");
+        }
         for (const rig::RigHose& d : descriptor.hoses) {
             std::vector<std::string> attachedTo;
             for (const rig::RigAttachment& a : d.attachments) {

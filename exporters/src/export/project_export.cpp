@@ -34,6 +34,7 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
     std::vector<const formats::ImportedScene*> scenes;
     std::vector<ExportHose> hoses;
     std::vector<NodeRef> colliders = options.colliders;
+    std::vector<ExportOptions::Motion> motions = options.motions;
     try {
         imported = formats::importProjectScenes(project, projectFile, roots, importProgress);
         std::map<std::string, int> sceneIndex;
@@ -75,6 +76,26 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
                                       collider.scene + "' has no node '" + collider.node + "'");
             colliders.push_back({s->second, node});
         }
+        for (size_t m = 0; m < project.motions.size(); ++m) {
+            const formats::PartMotion& source = project.motions[m];
+            const auto s = sceneIndex.find(source.scene);
+            const int node = s == sceneIndex.end()
+                                 ? -1
+                                 : scenes[static_cast<size_t>(s->second)]->findNode(source.node);
+            if (node < 0)
+                throw InvalidArgument("/motions/" + std::to_string(m) + "/node: scene '" +
+                                      source.scene + "' has no node '" + source.node + "'");
+            rig::RigMotion motion;
+            motion.id = source.id;
+            motion.kind = source.kind == formats::PartMotion::Kind::Hinge
+                              ? rig::RigMotion::Kind::Hinge
+                              : rig::RigMotion::Kind::Slider;
+            motion.axis = source.axis.normalized();
+            if (motion.kind == rig::RigMotion::Kind::Hinge) motion.point = source.point;
+            motion.minimum = source.minimum;
+            motion.maximum = source.maximum;
+            motions.push_back({{s->second, node}, motion});
+        }
         // Moved parts (project.poses): the hoses were built at the file pose and followed the
         // parts (buildHose); the scene is written with the posed node transforms.
         imported = formats::posedScenes(project, std::move(imported));
@@ -89,6 +110,7 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
     }
     ExportOptions exportOptions = options;
     exportOptions.colliders = colliders;
+    exportOptions.motions = motions;
     exportOptions.includeSceneMeshes =
         options.includeSceneMeshes && project.exportSettings.includeScene;
     if (options.progress)

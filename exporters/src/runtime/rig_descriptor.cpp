@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -196,6 +197,43 @@ Profile::Shape shapeOf(const std::string& name, const Reader& reader, const std:
                              name + "\"");
 }
 
+RigMotion readMotion(const Json& value, const std::string& at, const Reader& r)
+{
+    constexpr double kTwoPi = 6.283185307179586;
+    r.object(value, at);
+    RigMotion motion;
+    motion.id = r.string(r.member(value, at, "id"), at + "/id");
+    if (motion.id.empty()) r.fail(at + "/id", "expected a non-empty id");
+    motion.node = r.integer(r.member(value, at, "node"), at + "/node", 0);
+    const std::string kind = r.string(r.member(value, at, "kind"), at + "/kind");
+    if (kind == motionKindName(RigMotion::Kind::Hinge))
+        motion.kind = RigMotion::Kind::Hinge;
+    else if (kind == motionKindName(RigMotion::Kind::Slider))
+        motion.kind = RigMotion::Kind::Slider;
+    else
+        r.fail(at + "/kind", "expected \"hinge\" or \"slider\", got \"" + kind + "\"");
+    const Vec3 axis = r.vector3(r.member(value, at, "axis"), at + "/axis");
+    if (!(std::abs(axis.norm() - 1.0) <= 1e-6))
+        r.fail(at + "/axis", "expected a unit vector (glTF world)");
+    motion.axis = axis.normalized();
+    const bool hinge = motion.kind == RigMotion::Kind::Hinge;
+    if (hinge) motion.point = r.vector3(r.member(value, at, "point"), at + "/point");
+    const double bound = hinge ? kTwoPi : std::numeric_limits<double>::max();
+    const char* unit = hinge ? "radians in [-2π, 0]" : "metres <= 0";
+    motion.minimum = r.number(r.member(value, at, "min"), at + "/min");
+    motion.maximum = r.number(r.member(value, at, "max"), at + "/max");
+    if (!(motion.minimum <= 0.0 && motion.minimum >= -bound))
+        r.fail(at + "/min", std::string("expected ") + unit + " (value 0 is the exported pose)");
+    if (!(motion.maximum >= 0.0 && motion.maximum <= bound && motion.maximum > motion.minimum))
+        r.fail(at + "/max", std::string("expected ") +
+                                (hinge ? "radians in [0, 2π]" : "metres >= 0") + " and above min");
+    if (hinge)
+        r.onlyKeys(value, at, {"id", "node", "kind", "axis", "point", "min", "max"});
+    else
+        r.onlyKeys(value, at, {"id", "node", "kind", "axis", "min", "max"});
+    return motion;
+}
+
 RigHose readHose(const Json& value, const std::string& at, const Reader& r)
 {
     r.object(value, at);
@@ -366,6 +404,11 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
 
 } // namespace
 
+const char* motionKindName(RigMotion::Kind kind)
+{
+    return kind == RigMotion::Kind::Hinge ? "hinge" : "slider";
+}
+
 const char* shapeName(Profile::Shape shape)
 {
     switch (shape) {
@@ -483,6 +526,18 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor)
     }
     document["hoses"] = hoses;
     document["colliders"] = list(descriptor.colliders);
+    Json motions = Json::array();
+    for (const RigMotion& motion : descriptor.motions) {
+        Json m{{"id", motion.id},
+               {"node", motion.node},
+               {"kind", motionKindName(motion.kind)},
+               {"axis", vec3(motion.axis)},
+               {"min", motion.minimum},
+               {"max", motion.maximum}};
+        if (motion.kind == RigMotion::Kind::Hinge) m["point"] = vec3(motion.point);
+        motions.push_back(m);
+    }
+    document["motions"] = motions;
     return document.dump(2) + "\n";
 }
 
@@ -516,6 +571,17 @@ HoseRigDescriptor parseDescriptor(std::string_view text, const std::string& sour
         for (size_t i = 1; i < descriptor.colliders.size(); ++i)
             if (descriptor.colliders[i] <= descriptor.colliders[i - 1])
                 r.fail("/colliders/" + std::to_string(i), "expected ascending node indices");
+    }
+    if (document.contains("motions")) {
+        const Json& motions = r.array(document["motions"], "/motions");
+        std::set<std::string> motionIds;
+        for (size_t i = 0; i < motions.size(); ++i)
+            descriptor.motions.push_back(
+                readMotion(motions[i], "/motions/" + std::to_string(i), r));
+        for (size_t i = 0; i < descriptor.motions.size(); ++i)
+            if (!motionIds.insert(descriptor.motions[i].id).second)
+                r.fail("/motions/" + std::to_string(i) + "/id",
+                       "duplicate motion id \"" + descriptor.motions[i].id + "\"");
     }
     const Json& hoses = r.array(r.member(document, "", "hoses"), "/hoses");
     std::set<std::string> ids;
@@ -608,6 +674,8 @@ std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, i
     }
     for (size_t c = 0; c < descriptor.colliders.size(); ++c)
         node(descriptor.colliders[c], "/colliders/" + std::to_string(c), false);
+    for (size_t m = 0; m < descriptor.motions.size(); ++m)
+        node(descriptor.motions[m].node, "/motions/" + std::to_string(m) + "/node", false);
     return problems;
 }
 

@@ -86,6 +86,15 @@ struct ExportOptions
     /// and their meshes are exported even when includeSceneMeshes is off, since a runtime
     /// builds its colliders from them. Each must have a mesh with triangles (InvalidArgument).
     std::vector<NodeRef> colliders;
+    /// Moving parts (descriptor "motions"): each motion's node is exported (even without a
+    /// mesh) and the descriptor names its glTF node; `motion.node` is ignored (InvalidArgument
+    /// when the scene node does not exist).
+    struct Motion
+    {
+        NodeRef node;
+        rig::RigMotion motion;
+    };
+    std::vector<Motion> motions;
     /// Also write <name>.hoses.json beside the glTF.
     bool writeSidecarDescriptor = true;
     /// Called with the fraction done (0 … 1, non-decreasing) from the calling thread. Return

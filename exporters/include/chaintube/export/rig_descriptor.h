@@ -1,7 +1,7 @@
 // ChainTube runtime — the hose-rig descriptor: everything a runtime needs to run the hoses of an
 // exported glTF without the project file.
 //
-// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.2"). It is
+// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.3"). It is
 // embedded in the glTF as the root extension CHAINTUBE_hose_rig (listed in extensionsUsed only,
 // never in extensionsRequired, so viewers that do not know it still load the file) and written
 // beside the glTF as <name>.hoses.json. Node and skin indices refer to that glTF.
@@ -29,7 +29,8 @@ constexpr const char* kExtensionName = "CHAINTUBE_hose_rig";
 constexpr const char* kDescriptorFormat = "chaintube-hose-rig";
 /// Newest descriptor version this code reads, and the one it writes.
 constexpr int kDescriptorMajor = 1;
-constexpr int kDescriptorMinor = 2; ///< 1.1 added "static"; 1.2 "gravity", "torsion", "colliders"
+/// 1.1 added "static"; 1.2 "gravity", "torsion", "colliders"; 1.3 "motions"
+constexpr int kDescriptorMinor = 3;
 
 /// A glTF node transform: parent ← node = T · R · S.
 struct NodeTransform
@@ -118,9 +119,30 @@ struct RigHose
     Material material() const;
 };
 
+/// A moving part (1.3, from the project's motions): a glTF node that a hinge turns about an axis
+/// through a point, or a slider moves along an axis, within a range. The runtime does not move
+/// it: a scenario drives the node (HoseRuntime::setNodeTransform) and the hoses follow; the
+/// descriptor says how far the part was designed to go. Value 0 is the exported pose: at value
+/// v a point of the part at world p goes to R(axis, v)(p − point) + point (hinge, right-handed)
+/// or p + v axis (slider).
+struct RigMotion
+{
+    enum class Kind { Hinge, Slider };
+    std::string id; ///< unique in the descriptor
+    int node = -1;  ///< the glTF node the motion moves (with everything under it)
+    Kind kind = Kind::Hinge;
+    Vec3 axis = Vec3::UnitY(); ///< glTF world, unit length
+    Vec3 point = Vec3::Zero(); ///< hinge: a glTF world point on the axis; slider: unused (0)
+    double minimum = 0.0;      ///< radians (hinge, ≥ −2π) or metres (slider); ≤ 0
+    double maximum = 0.0;      ///< radians (hinge, ≤ 2π) or metres (slider); ≥ 0, > minimum
+};
+
+/// "hinge" or "slider", as written in the descriptor.
+const char* motionKindName(RigMotion::Kind kind);
+
 struct HoseRigDescriptor
 {
-    std::string version = "1.2";
+    std::string version = "1.3";
     std::string generator;
     std::vector<RigHose> hoses;
     /// glTF nodes flagged as colliders (1.2), ascending, each with a mesh: a runtime builds a
@@ -129,6 +151,8 @@ struct HoseRigDescriptor
     /// that are one of its attachment nodes or an ancestor of one in the glTF node hierarchy
     /// (its ends sit in those; formats/collider_exemption.h).
     std::vector<int> colliders;
+    /// Moving parts (1.3), in project order; absent in older files (none).
+    std::vector<RigMotion> motions;
 };
 
 /// The descriptor is malformed. what() is "<source>: <JSON pointer>: <what was expected>".
@@ -173,7 +197,7 @@ bool restLengthsMatch(const RigHose& hose);
 /// is exported so, and comes back so.
 bool withinStretchBand(const RigHose& hose);
 
-/// Problems a descriptor has in the context of its glTF: joint/mesh/attachment/collider node
+/// Problems a descriptor has in the context of its glTF: joint/mesh/attachment/collider/motion node
 /// indices outside [0, nodeCount), joints used twice. Empty when consistent. Messages carry a
 /// pointer.
 std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, int nodeCount,
