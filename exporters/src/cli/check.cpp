@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <chaintube/export/clearance.h>
+#include <chaintube/export/fit_length.h>
 #include <chaintube/export/sweep.h>
 #include <cmath>
 #include <iomanip>
@@ -122,6 +123,52 @@ void printSweep(const exporting::SweepReport& report, const std::string& project
         << report.clearanceThreshold << " m)\n";
 }
 
+void printFit(const exporting::LengthFitReport& report, const std::string& project,
+              std::ostream& out)
+{
+    out << std::setprecision(4);
+    out << "length fit of " << project << ": ";
+    if (report.motions.empty()) {
+        out << "no motions, the project's pose only";
+    } else {
+        out << "over " << report.motions.size() << " motion(s) (";
+        for (size_t m = 0; m < report.motions.size(); ++m)
+            out << (m ? ", " : "") << report.motions[m].id;
+        out << "), " << report.sweptSteps << " steps a sweep";
+    }
+    out << ", tolerance " << report.tolerance << " m, clearance threshold "
+        << report.clearanceThreshold << " m\n";
+    int invalid = 0;
+    for (const exporting::LengthFit& fit : report.hoses) {
+        out << "hose " << fit.hoseId << " (length " << fit.currentLength << " m): ";
+        if (!fit.valid) {
+            ++invalid;
+            out << "NO VALID LENGTH: " << fit.reason << "\n";
+        } else {
+            out << fit.shortest << " ... " << fit.longest << " m"
+                << (fit.longestAtSearchLimit ? " (valid up to the search limit)" : "")
+                << (fit.currentValid ? ", the current length is in the range"
+                                     : ", the current length is OUTSIDE the range")
+                << "\n";
+            out << "  shorter: " << exporting::toString(fit.shortestLimit) << " (taut bound "
+                << fit.tautBound << " m)";
+            if (fit.longestAtSearchLimit)
+                out << "; longer: no limit up to the search limit\n";
+            else
+                out << "; longer: " << exporting::toString(fit.longestLimit)
+                    << (fit.limitingObject.empty()
+                            ? std::string()
+                            : " (" + fit.limitingObject + " at " +
+                                  std::to_string(fit.limitingDistance) + " m)")
+                    << "\n";
+        }
+        out << "  " << fit.sweeps << " sweep(s)" << (fit.converged ? "" : ", budget ran out")
+            << "\n";
+    }
+    out << project << ": " << report.hoses.size() << " hose(s) fitted, " << invalid
+        << " without a valid length\n";
+}
+
 } // namespace
 
 void addCheckCommand(CLI::App& app, CheckCommand& command)
@@ -140,14 +187,22 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
         "scenes=../shared/scenes\n"
         "  chaintube check samples/motion-rig.ctproj --sweep --steps 40 --clearance 0.005\n"
         "  chaintube check samples/motion-rig.ctproj --sweep --json -q > sweep.json\n"
+        "  chaintube check samples/motion-rig.ctproj --fit-length --hose lever-feed\n"
         "Sweep: all motions are driven by one parameter t, each at min + t (max - min); t goes "
         "0 -> 1 -> 0 in --steps steps each way, after a lead-in from the project's pose "
         "(every motion at 0) to t = 0. Without --clearance a sweep reports collisions only "
         "(distance < 0).\n"
+        "Fit length: for each hose with both ends fixed (or --hose), the shortest length that "
+        "is never pulled taut between its held points, never stretched beyond its band, never "
+        "beyond reach and never bent beyond its limit over the sweep, and the longest that "
+        "also keeps --clearance (0: no collision), searched up to twice the shortest; each "
+        "end to --tolerance. Without motions, the project's pose alone.\n"
         "Exit codes: 0 no violation, 1 the check could not run (unreadable or invalid "
         "project, scene import failed), 2 bad command line, 3 violations found (clearance; "
         "with --sweep also stretch beyond the band, a bend beyond the limit, an attachment "
-        "beyond reach, a collision), 4 --sweep on a project without motions (nothing swept).");
+        "beyond reach, a collision), 4 --sweep on a project without motions (nothing swept) or "
+        "--fit-length without a hose between fixed ends, 5 --fit-length: a hose has no valid "
+        "length.");
     check->add_option("project", command.project, "Project file (*.ctproj)")->required();
     check
         ->add_option("--clearance", command.clearance,
@@ -163,11 +218,28 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
         "--sweep", command.sweep,
         "Drive the project's motions through their ranges and back and check the hoses at "
         "every step");
-    check->add_option("--steps", command.steps, "Sweep: steps each way, 1 ... 100000 (default 20)")
-        ->check(CLI::Range(1, 100000))
-        ->needs(sweep);
-    check->add_flag("--json", command.json, "Sweep: the report as JSON on stdout")->needs(sweep);
-    check->add_flag("-q,--quiet", command.quiet, "Sweep: no progress on stderr")->needs(sweep);
+    CLI::Option* fit = check->add_flag(
+        "--fit-length", command.fitLength,
+        "Find the range of lengths for which each hose between fixed ends stays valid over the "
+        "motions (the project's pose without motions)");
+    fit->excludes(sweep);
+    check
+        ->add_option("--hose", command.hoses,
+                     "Fit length: the hose to fit, by id (repeatable; default every hose with "
+                     "both ends fixed)")
+        ->needs(fit);
+    check
+        ->add_option("--tolerance", command.tolerance,
+                     "Fit length: each end of the range to within this many metres (default "
+                     "0.001)")
+        ->check(CLI::PositiveNumber)
+        ->needs(fit);
+    check
+        ->add_option("--steps", command.steps,
+                     "Sweep and fit length: steps each way, 1 ... 100000 (default 20)")
+        ->check(CLI::Range(1, 100000));
+    check->add_flag("--json", command.json, "Sweep and fit length: the report as JSON on stdout");
+    check->add_flag("-q,--quiet", command.quiet, "Sweep and fit length: no progress on stderr");
 }
 
 int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
@@ -182,9 +254,47 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
         }
         roots[root.substr(0, equals)] = root.substr(equals + 1);
     }
+    if (!command.sweep && !command.fitLength) {
+        const char* needsSweep = command.json    ? "--json"
+                                 : command.quiet ? "--quiet"
+                                 : command.steps ? "--steps"
+                                                 : nullptr;
+        if (needsSweep) {
+            err << "chaintube check: " << needsSweep << " requires --sweep or --fit-length\n";
+            return kExitUsage;
+        }
+    }
+    const int steps = command.steps > 0 ? command.steps : 20;
+    if (command.fitLength) {
+        exporting::LengthFitOptions options;
+        options.steps = steps;
+        options.clearanceThreshold = std::max(0.0, command.clearance);
+        options.includeAttachedNodes = command.includeAttached;
+        options.tolerance = command.tolerance;
+        int lastTenth = -1;
+        if (!command.quiet)
+            options.progress = [&](double fraction) {
+                const int tenth = static_cast<int>(fraction * 10.0);
+                if (tenth != lastTenth) err << "  fit length " << 10 * tenth << " %\n";
+                lastTenth = tenth;
+                return true;
+            };
+        const exporting::LengthFitReport report =
+            exporting::fitProjectLengths(command.project, roots, command.hoses, options);
+        if (report.hoses.empty()) {
+            err << command.project
+                << ": no hose has both ends held by attachments: nothing to fit\n";
+            return kExitNoMotions;
+        }
+        if (command.json)
+            out << exporting::lengthFitJson(report, command.project);
+        else
+            printFit(report, command.project, out);
+        return report.allValid() ? kExitOk : kExitNoValidLength;
+    }
     if (command.sweep) {
         exporting::SweepOptions options;
-        options.steps = command.steps;
+        options.steps = steps;
         options.clearanceThreshold = std::max(0.0, command.clearance);
         options.includeAttachedNodes = command.includeAttached;
         int lastTenth = -1;
@@ -210,7 +320,7 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
         return report.violations() ? kExitViolations : kExitOk;
     }
     if (command.clearance < 0.0) {
-        err << "chaintube check: --clearance is required (or give --sweep)\n";
+        err << "chaintube check: --clearance is required (or give --sweep or --fit-length)\n";
         return kExitUsage;
     }
     exporting::ClearanceOptions options;

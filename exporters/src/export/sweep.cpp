@@ -225,8 +225,9 @@ SweepReport sweepMotions(const formats::Project& project, const formats::Importe
     report.stepsEachWay = options.steps;
     report.clearanceThreshold = options.clearanceThreshold;
     report.reportDistance = std::max(options.reportDistance, options.clearanceThreshold);
-    if (project.motions.empty()) return report;
-    report.steps = sweepSchedule(project.motions, options.steps);
+    if (project.motions.empty() && !options.measurePoseWithoutMotions) return report;
+    report.steps = project.motions.empty() ? std::vector<SweepStep>(1)
+                                           : sweepSchedule(project.motions, options.steps);
     for (const SweepStep& step : report.steps)
         report.leadInSteps += step.phase == SweepStep::Phase::LeadIn;
 
@@ -434,7 +435,8 @@ SweepReport sweepProject(const std::filesystem::path& projectFile, const formats
     formats::ProjectLoadOptions load;
     load.roots = roots;
     const formats::Project project = formats::loadProject(projectFile, load);
-    if (project.motions.empty()) return sweepMotions(project, {}, options);
+    if (project.motions.empty() && !options.measurePoseWithoutMotions)
+        return sweepMotions(project, {}, options);
     const formats::ImportedScenes scenes =
         formats::importProjectScenes(project, projectFile, roots);
     return sweepMotions(project, scenes, options);

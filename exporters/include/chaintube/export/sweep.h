@@ -69,6 +69,10 @@ struct SweepOptions
     /// Called after each step's updates with its index and the hoses (project order): for
     /// plots over the motion and for tests.
     std::function<void(int step, const std::vector<Hose>& hoses)> onStep;
+    /// A project without motions: measure its pose as the one step of the report (step 0,
+    /// Phase::ProjectPose) instead of returning a report with no steps. Length fitting
+    /// (fit_length.h) fits such a project over its pose alone.
+    bool measurePoseWithoutMotions = false;
 };
 
 /// Where one hose comes closest to one scene object over the sweep.
@@ -193,7 +197,8 @@ struct SweepReport
 /// gravity hoses take at most gravityStepsPerStep Hose::step() calls, and every hose is
 /// measured: measure(), and clearance() to each object whose bounds come within the report
 /// distance (a pair is measured again only when the hose or the object moved). `scenes` at
-/// their file pose. A project without motions gives a report with no steps and no hoses.
+/// their file pose. A project without motions gives a report with no steps and no hoses, or
+/// with SweepOptions::measurePoseWithoutMotions one step: the project's pose.
 /// Throws InvalidArgument for options out of range or a motion naming an unknown node, and
 /// formats::Cancelled when progress returns false.
 SweepReport sweepMotions(const formats::Project& project, const formats::ImportedScenes& scenes,
