@@ -108,6 +108,16 @@ QUndoCommand* makeSetHoseLength(Document& document, const std::string& hoseId, d
                                  tr("Change length of %1").arg(hoseLabel(*definition)));
 }
 
+QUndoCommand* makeFitHoseLength(Document& document, const std::string& hoseId, double length)
+{
+    const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
+    if (!definition) throw InvalidArgument("no hose '" + hoseId + "' to fit");
+    formats::HoseDefinition changed =
+        formats::withLength(document.project(), *definition, document.scenes(), length);
+    return makeSetHoseDefinition(document, hoseId, std::move(changed), MergeId::None,
+                                 tr("Fit length of %1").arg(hoseLabel(*definition)));
+}
+
 QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
                          const std::string& sceneId, int node)
 {

@@ -6,6 +6,7 @@
 #include "chaintube/formats/scene_import.h"
 #include "chaintube/route.h"
 #include "export_dialog.h"
+#include "fit_length_dialog.h"
 #include "import_dialog.h"
 #include "import_runner.h"
 #include "problems_panel.h"
@@ -324,6 +325,12 @@ void MainWindow::createActions()
             m_document->undoStack()->push(makeDetach(*m_document, definition->id, i));
         m_document->undoStack()->endMacro();
     }));
+
+    hose->addAction(make(tr("Fit &Length…"), "actionFitLength", QKeySequence(tr("Ctrl+L")), [this] {
+        fitHoseLengthInteractively(*m_document, m_document->selection().hoseId, this, showError);
+    }));
+    action("actionFitLength")
+        ->setStatusTip(tr("The range of lengths valid over the motions, and one chosen in it"));
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
     view->addAction(make(tr("&Frame Selection"), "actionFrameSelection", QKeySequence(tr("F")),

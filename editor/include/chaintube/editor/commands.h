@@ -163,6 +163,10 @@ QUndoCommand* makeSetRoute(Document& document, const std::string& hoseId, std::v
 /// InvalidArgument (an unknown hose, a length ≤ 0, no room for the attachments).
 QUndoCommand* makeSetHoseLength(Document& document, const std::string& hoseId, double length);
 
+/// Sets a hose's length chosen from its fitted range ("Fit length…"): as makeSetHoseLength, but
+/// never merged with another edit, so the fit is one undo step of its own.
+QUndoCommand* makeFitHoseLength(Document& document, const std::string& hoseId, double length);
+
 /// Fixes axis points [first, last] of a hose to a scene node at their current place.
 /// Throws InvalidArgument if the range is outside the hose or overlaps an attachment.
 QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
