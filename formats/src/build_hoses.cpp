@@ -185,6 +185,34 @@ void attachAtFilePose(Hose& hose, const HoseDefinition& definition, const Import
     }
 }
 
+/// The clips of buildHose(), after the attachments and the settle, at the file pose: each where
+/// the hose is at its place (Hose::addClip). Errors name the hose and the clip.
+void clipAtFilePose(Hose& hose, const HoseDefinition& definition, const ImportedScenes& scenes)
+{
+    for (size_t c = 0; c < definition.clips.size(); ++c) {
+        const HoseClip& clip = definition.clips[c];
+        const std::string label = "hose '" + definition.id + "': clip " + std::to_string(c);
+        const auto scene = scenes.find(clip.scene);
+        if (scene == scenes.end())
+            throw InvalidArgument(label + ": scene '" + clip.scene + "' is not imported");
+        const int node = scene->second.findNode(clip.node);
+        if (node < 0)
+            throw InvalidArgument(label + ": scene '" + clip.scene + "' has no node '" + clip.node +
+                                  "'");
+        Frame offset = clip.offset;
+        offset.rotation.normalize();
+        ClipOptions options;
+        options.hold = clip.hold;
+        if (clip.slideMin) options.slideMin = *clip.slideMin;
+        if (clip.slideMax) options.slideMax = *clip.slideMax;
+        try {
+            (void)hose.addClip(clip.place, scene->second.worldFrame(node) * offset, options);
+        } catch (const InvalidArgument& e) {
+            throw InvalidArgument(label + ": " + e.what());
+        }
+    }
+}
+
 /// Step 3 of buildHose() (and withLength()): settle() with the route's two ends held where
 /// they are (a hose that gets longer bows between them instead of reaching past the end);
 /// when it cannot reach, the last point is let go unless an attachment holds it.
@@ -362,27 +390,39 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
         const UpdateResult settled = settleBetweenRouteEnds(hose);
         if (lastUpdate) *lastUpdate = settled;
     }
-    // Pose overrides: the attachments go to the posed frames in one update (the editor's
-    // Document does the same when it rebuilds a hose).
+    clipAtFilePose(hose, definition, scenes);
+    // Pose overrides: the attachments and clips go to the posed frames in one update (the
+    // editor's Document does the same when it rebuilds a hose). hose.attachments() holds the
+    // attachments, then the clips, in the definition's order.
+    struct Held
+    {
+        const std::string* scene;
+        const std::string* node;
+        Frame offset;
+    };
+    std::vector<Held> held;
+    for (const HoseAttachment& attachment : definition.attachments)
+        held.push_back({&attachment.scene, &attachment.node, attachment.offset});
+    for (const HoseClip& clip : definition.clips)
+        held.push_back({&clip.scene, &clip.node, clip.offset});
     bool posed = false;
-    for (const HoseAttachment& attachment : definition.attachments) {
-        const ImportedScene& scene = scenes.at(attachment.scene);
-        for (const auto& [posedNode, pose] : posesOfScene(project, scenes, attachment.scene))
-            for (int n = scene.findNode(attachment.node); n >= 0 && !posed;
+    for (const Held& h : held) {
+        const ImportedScene& scene = scenes.at(*h.scene);
+        for (const auto& [posedNode, pose] : posesOfScene(project, scenes, *h.scene))
+            for (int n = scene.findNode(*h.node); n >= 0 && !posed;
                  n = scene.nodes[static_cast<size_t>(n)].parent)
                 posed = n == posedNode;
     }
     if (posed) {
         std::vector<int> ids;
         std::vector<Frame> frames;
-        for (size_t a = 0; a < definition.attachments.size(); ++a) {
-            const HoseAttachment& attachment = definition.attachments[a];
-            Frame offset = attachment.offset;
+        for (size_t a = 0; a < held.size(); ++a) {
+            Frame offset = held[a].offset;
             offset.rotation.normalize();
-            const int node = scenes.at(attachment.scene).findNode(attachment.node);
+            const int node = scenes.at(*held[a].scene).findNode(*held[a].node);
             ids.push_back(hose.attachments()[a].id);
-            frames.push_back(
-                rigidPart(posedWorldTransform(project, scenes, attachment.scene, node)) * offset);
+            frames.push_back(rigidPart(posedWorldTransform(project, scenes, *held[a].scene, node)) *
+                             offset);
         }
         const UpdateResult moved = hose.moveAttachments(ids, frames);
         // Without a caller that asks, the hose itself keeps what the move could not do:
@@ -441,7 +481,10 @@ bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId,
     return std::any_of(hose.attachments.begin(), hose.attachments.end(),
                        [&](const HoseAttachment& a) {
                            return a.scene == sceneId && attachmentExemptsPath(a.node, nodePath);
-                       });
+                       }) ||
+           std::any_of(hose.clips.begin(), hose.clips.end(), [&](const HoseClip& c) {
+               return c.scene == sceneId && attachmentExemptsPath(c.node, nodePath);
+           });
 }
 
 int settleUnderGravity(Hose& hose, const HoseDefinition& definition, const Project& project,

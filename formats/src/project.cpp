@@ -48,6 +48,13 @@ bool HoseAttachment::operator==(const HoseAttachment& o) const
            lastPoint == o.lastPoint;
 }
 
+bool HoseClip::operator==(const HoseClip& o) const
+{
+    return scene == o.scene && node == o.node && offset.translation == o.offset.translation &&
+           offset.rotation.coeffs() == o.offset.rotation.coeffs() && place == o.place &&
+           hold == o.hold && slideMin == o.slideMin && slideMax == o.slideMax;
+}
+
 bool HoseDefinition::operator==(const HoseDefinition& o) const
 {
     const bool sameResolution =
@@ -55,9 +62,9 @@ bool HoseDefinition::operator==(const HoseDefinition& o) const
     return id == o.id && name == o.name && route == o.route && length == o.length &&
            material == o.material && profile == o.profile && outerDiameter == o.outerDiameter &&
            sameResolution && colour == o.colour && roughness == o.roughness &&
-           attachments == o.attachments && gravity.enabled == o.gravity.enabled &&
-           gravity.direction == o.gravity.direction && torsion.enabled == o.torsion.enabled &&
-           torsion.twistLimit == o.torsion.twistLimit;
+           attachments == o.attachments && clips == o.clips &&
+           gravity.enabled == o.gravity.enabled && gravity.direction == o.gravity.direction &&
+           torsion.enabled == o.torsion.enabled && torsion.twistLimit == o.torsion.twistLimit;
 }
 
 bool PartMotion::operator==(const PartMotion& o) const

@@ -496,7 +496,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         const Cursor entry = hoses[i];
         entry.object({"id", "name", "route", "length", "material", "profile", "outerDiameter",
                       "segmentCount", "segmentLength", "colour", "roughness", "attachments",
-                      "gravity", "torsion"});
+                      "clips", "gravity", "torsion"});
         HoseDefinition hose;
         hose.id = entry.key("id").string();
         if (!hoseIds.insert(hose.id).second)
@@ -580,6 +580,36 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
                                 std::to_string(other.firstPoint) + ", " +
                                 std::to_string(other.lastPoint) + "]");
             hose.attachments.push_back(std::move(attachment));
+        }
+        if (const auto clips = entry.optionalKey("clips")) { // 1.5
+            for (size_t c = 0, count = clips->arraySize(); c < count; ++c) {
+                const Cursor item = (*clips)[c];
+                item.object({"scene", "node", "offset", "place", "hold", "slideMin", "slideMax"});
+                HoseClip clip;
+                clip.scene = item.key("scene").string();
+                if (!project.findScene(clip.scene))
+                    item.key("scene").fail("expected the id of a scene of this project, got \"" +
+                                           clip.scene + "\"");
+                clip.node = item.key("node").string();
+                if (clip.node.front() != '/')
+                    item.key("node").fail("expected a node path starting with '/', got \"" +
+                                          clip.node + "\"");
+                clip.offset = readFrame(item.key("offset"));
+                clip.place = item.key("place").number(0, true, HUGE_VAL, false);
+                const std::string hold = item.key("hold").string();
+                if (hold == toString(Hold::Sliding))
+                    clip.hold = Hold::Sliding;
+                else if (hold == toString(Hold::SlidingTurning))
+                    clip.hold = Hold::SlidingTurning;
+                else
+                    item.key("hold").fail("expected \"sliding\" or \"sliding-turning\", got \"" +
+                                          hold + "\"");
+                if (const auto min = item.optionalKey("slideMin"))
+                    clip.slideMin = min->number(0, true, clip.place, true);
+                if (const auto max = item.optionalKey("slideMax"))
+                    clip.slideMax = max->number(clip.place, true, HUGE_VAL, false);
+                hose.clips.push_back(std::move(clip));
+            }
         }
         if (const auto gravity = entry.optionalKey("gravity")) { // 1.2
             gravity->object({"enabled", "direction"});

@@ -184,6 +184,24 @@ std::string serialiseProject(const Project& project)
             attachments.push_back(item);
         }
         entry["attachments"] = attachments;
+        if (!hose.clips.empty()) { // 1.5
+            ordered clips = ordered::array();
+            for (const HoseClip& clip : hose.clips) {
+                ordered item = ordered::object();
+                item["scene"] = clip.scene;
+                item["node"] = clip.node;
+                const Quat& q = clip.offset.rotation;
+                item["offset"] =
+                    ordered{{"translation", vec3(clip.offset.translation)},
+                            {"rotation", ordered::array({q.x(), q.y(), q.z(), q.w()})}};
+                item["place"] = clip.place;
+                item["hold"] = toString(clip.hold);
+                if (clip.slideMin) item["slideMin"] = *clip.slideMin;
+                if (clip.slideMax) item["slideMax"] = *clip.slideMax;
+                clips.push_back(item);
+            }
+            entry["clips"] = clips;
+        }
         // Written only when they differ from the defaults (off, straight down, 0.1 rad): most
         // hoses use neither, and the canonical file stays as short as before 1.2.
         const Gravity noGravity;

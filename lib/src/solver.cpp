@@ -759,6 +759,23 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     const UpdateResult before = wasInvalid ? measureViolation() : UpdateResult{};
     Status status = Status::Ok;
     int moved = 0;
+    // Clips: the hose first slides through them where a side needs length to reach the target
+    // (slideClips), the spans made valid again around the clips' new places; the grab then
+    // goes on from there. A slide that leaves no valid shape is undone.
+    std::vector<Vec3> beforeSlide;
+    const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
+                                   [](const Attachment& a) { return a.isClip(); });
+    if (clips && !wasInvalid) {
+        const std::vector<Attachment> attachmentsBefore = m_attachments;
+        const std::vector<unsigned char> fixedBefore = m_fixed;
+        beforeSlide = m_local;
+        if (!slideClips(index, &localTarget).empty() &&
+            !closeSpans(index, beforeSlide, result.iterations)) {
+            m_attachments = attachmentsBefore;
+            m_fixed = fixedBefore;
+            m_local = beforeSlide;
+        }
+    }
     m_scratch = m_local;
     const Vec3 start = m_local[k];
     if (m_attachments.empty()) {
@@ -823,8 +840,9 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             m_local = m_scratch;
             status = Status::Clamped;
         }
+        const std::vector<Vec3>& unmoved = beforeSlide.empty() ? m_scratch : beforeSlide;
         for (size_t i = 0; i < m_local.size(); ++i)
-            moved += m_local[i] != m_scratch[i];
+            moved += m_local[i] != unmoved[i];
     }
     if (wasInvalid) {
         // A grab never makes a hose that already violated its constraints worse.
@@ -875,15 +893,37 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     m_scratch = m_local;
     for (size_t i = 0; i < targets.size(); ++i)
         targets[i]->frame = frames[i];
+    // Clips: the hose first slides through them where a side needs length to reach its
+    // attachments' new places (slideClips); the clips that slid are placed with the moved ones.
+    // Undone when no valid shape is found.
+    const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
+                                   [](const Attachment& a) { return a.isClip(); });
+    const std::vector<Attachment> attachmentsBefore =
+        clips ? m_attachments : std::vector<Attachment>();
+    const std::vector<unsigned char> fixedBefore = clips ? m_fixed : std::vector<unsigned char>();
+    for (const int id : slideClips(-1, nullptr)) {
+        auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
+                               [&](const Attachment& a) { return a.id == id; });
+        if (std::find(targets.begin(), targets.end(), &*it) == targets.end())
+            targets.push_back(&*it);
+    }
+    // Clips first: the moved attachments' reach is measured from where the clips now hold.
+    std::stable_partition(targets.begin(), targets.end(),
+                          [](const Attachment* a) { return a->isClip(); });
+    // m_scratch with the slid clips' points moved.
+    std::vector<Vec3> slidCopy;
+    if (clips) slidCopy = m_local;
+    const std::vector<Vec3>& slid = clips ? slidCopy : m_scratch;
+    m_local = m_scratch;
     // Where each moved attachment's points go: at its frame, or, when that is beyond the
     // hose's reach from its neighbouring fixed points, moved straight towards where the
     // hose reaches (a gap, Hose::attachmentGap).
     auto place = [&](double fraction) {
-        m_local = m_scratch;
+        m_local = slid;
         const double margin = 1.0 - kReachMargin;
         for (const Attachment* a : targets) {
             const size_t first = static_cast<size_t>(a->first), last = static_cast<size_t>(a->last);
-            const Vec3 oldFirst = m_scratch[first], oldLast = m_scratch[last];
+            const Vec3 oldFirst = slid[first], oldLast = slid[last];
             Vec3 firstAt = a->frame.apply(a->localPoints.front()) - m_origin;
             const Vec3 lastOffset = a->frame.apply(a->localPoints.back()) - m_origin - firstAt;
             firstAt = oldFirst + fraction * (firstAt - oldFirst);
@@ -922,7 +962,15 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         solved = spans.solveBowingOrKinking(result.iterations);
         if (solved) break;
     }
-    if (!solved) m_local = m_scratch; // nothing valid found: the hose stays (its attachments unmet)
+    if (!solved) {
+        // Nothing valid found: the hose stays (its attachments unmet), its clips where they were.
+        m_local = m_scratch;
+        if (clips) {
+            for (size_t i = 0; i < m_attachments.size(); ++i)
+                if (m_attachments[i].isClip()) m_attachments[i] = attachmentsBefore[i];
+            m_fixed = fixedBefore;
+        }
+    }
     Solver tails(*this);
     tails.sweepTails(lo, hi, m_scratch, wasInvalid);
     const UpdateResult violation = measureViolation();

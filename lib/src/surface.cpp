@@ -316,7 +316,11 @@ double applyTorsion(const Hose& hose, TwistSeed& seed, std::vector<RingFrame>& f
 {
     std::vector<const Hose::Attachment*> order;
     for (const Hose::Attachment& a : hose.attachments())
-        order.push_back(&a);
+        if (a.hold != Hold::SlidingTurning) order.push_back(&a); // it lets the hose turn
+    if (order.empty()) {
+        seed.rolls.clear();
+        return 0.0;
+    }
     std::sort(order.begin(), order.end(), [](auto* x, auto* y) { return x->first < y->first; });
     std::vector<TwistSeed::AttachmentRoll> rolls;
     std::vector<double> roll(order.size());

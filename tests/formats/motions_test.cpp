@@ -79,7 +79,6 @@ TEST(Motions, AHingeAndASliderRoundTripExactly)
     const json written = json::parse(testing::readText(folder / "moving.ctproj"));
     EXPECT_EQ(written["version"],
               std::to_string(kProjectFormatMajor) + "." + std::to_string(kProjectFormatMinor));
-    EXPECT_EQ(kProjectFormatMinor, 4);
     ASSERT_EQ(written["motions"].size(), 2u);
     EXPECT_EQ(written["motions"][0]["kind"], "hinge");
     EXPECT_EQ(written["motions"][0]["axis"], json::array({0.0, 2.0, 0.0}));
@@ -127,9 +126,10 @@ TEST(Motions, AFileBefore1_4LoadsUnchangedWithNoMotions)
     EXPECT_EQ(report.fileVersion, "1.3");
     EXPECT_TRUE(old.motions.empty());
     EXPECT_EQ(old, loadProject(file)) << "the 1.3 layout is the 1.4 one without motions";
-    // Written back in 1.4 with an empty motion list.
+    // Written back in the current version with an empty motion list.
     const json saved = json::parse(serialiseProject(old));
-    EXPECT_EQ(saved["version"], "1.4");
+    EXPECT_EQ(saved["version"],
+              std::to_string(kProjectFormatMajor) + "." + std::to_string(kProjectFormatMinor));
     EXPECT_EQ(saved["motions"], json::array());
 }
 

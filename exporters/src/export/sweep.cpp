@@ -298,6 +298,20 @@ SweepReport sweepMotions(const formats::Project& project, const formats::Importe
             }
             state.attachments.push_back(std::move(link));
         }
+        for (size_t c = 0; c < definition.clips.size(); ++c) { // after the attachments
+            const formats::HoseClip& clip = definition.clips[c];
+            AttachmentLink link;
+            link.id = hose.attachments()[definition.attachments.size() + c].id;
+            link.sceneId = clip.scene;
+            link.node = motions.posed().at(clip.scene).findNode(clip.node);
+            link.offset = clip.offset;
+            link.offset.rotation.normalize();
+            if (motions.carried(link.sceneId, link.node)) {
+                state.movedIds.push_back(link.id);
+                state.movedLinks.push_back(state.attachments.size());
+            }
+            state.attachments.push_back(std::move(link));
+        }
         state.exempt.resize(objects.size());
         for (size_t o = 0; o < objects.size(); ++o)
             state.exempt[o] =

@@ -7,6 +7,7 @@
 #include "chaintube/types.h"
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -87,6 +88,28 @@ struct Torsion
 {
     bool enabled = false;
     double twistLimit = 0.1; ///< radians per joint, in (0, π]
+};
+
+/// How an attachment holds the hose.
+enum class Hold {
+    Fixed,         ///< its run of points moves rigidly with its frame (Hose::attach)
+    Sliding,       ///< a clip: the axis passes through the clip's centre along the clip's axis and
+                   ///< slides through it (Hose::addClip)
+    SlidingTurning ///< a clip that also lets the hose turn about its axis: with torsion on it
+                   ///< imposes no roll
+};
+
+const char* toString(Hold hold);
+
+/// A clip's kind and end stops (Hose::addClip).
+struct ClipOptions
+{
+    Hold hold = Hold::Sliding; ///< Sliding or SlidingTurning
+    /// End stops: the clip's place along the hose (the rest arc length from point 0 to the
+    /// clip's centre, metres) stays within [slideMin, slideMax]; the defaults are the hose's
+    /// ends. slideMin ≤ the place the clip is added at ≤ slideMax.
+    double slideMin = 0.0;
+    double slideMax = std::numeric_limits<double>::infinity();
 };
 
 /// Parameters that make a hose.
@@ -235,8 +258,21 @@ public:
     UpdateResult moveAttachment(int id, const Frame& frame);
     /// Move several attachments at once (one update); ids and frames have equal size.
     UpdateResult moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames);
-    /// Remove an attachment; its points become free. Unknown id: returns false.
+    /// Remove an attachment or a clip; its points become free. Unknown id: returns false.
     bool detach(int id);
+
+    /// A clip (guide) on a scene part's `frame`, where the hose is now at rest arc length
+    /// `place` from point 0 (0 ≤ place ≤ restLengthTotal(), within the options' end stops):
+    /// the clip's centre is that point of the axis, its axis the direction of the segment
+    /// there, both kept in the frame. The hose's axis then passes through the centre along the
+    /// clip's axis and may slide through it (lib/README.md, "Clips"): the segment that holds
+    /// the centre is held on the clip's axis (like a one-segment attachment) and moves along
+    /// it as the hose slides; total length is conserved. Moving the frame (moveAttachments)
+    /// carries the clip; every grab and attachment move first slides the hose through its clips
+    /// where one side needs more length than it has and the other can give it. The segment
+    /// may not hold a point another attachment fixes. Returns the id (shared with attach()).
+    /// Throws InvalidArgument.
+    int addClip(double place, const Frame& frame, const ClipOptions& options = ClipOptions());
 
     struct Attachment
     {
@@ -245,6 +281,13 @@ public:
         int last = 0;
         Frame frame;
         std::vector<Vec3> localPoints; ///< positions of first…last in the frame
+        Hold hold = Hold::Fixed;
+        // Clips (hold ≠ Fixed): first … last is the segment holding the centre (last = first+1).
+        Vec3 clipCentre = Vec3::Zero();        ///< in the frame
+        Vec3 clipAxis = Vec3::UnitX();         ///< in the frame, unit, pointing towards `last`
+        double slide = 0.0;                    ///< the centre's rest arc length from point 0
+        double slideMin = 0.0, slideMax = 0.0; ///< end stops
+        bool isClip() const { return hold != Hold::Fixed; }
     };
     const std::vector<Attachment>& attachments() const { return m_attachments; }
     bool isFixed(int index) const;
@@ -332,6 +375,15 @@ private:
     int pinnedSide(int index) const;
     bool blendSide(int from, int side, const Vec3& displacement);
     bool blendTowardsPins(int index, const Vec3& displacement);
+
+    /// Clips: slide the hose through each clip whose one side needs more length to reach its
+    /// pinned points (the held point at `heldTarget` when given) and whose other side can
+    /// spare it (lib/README.md, "Clips"). Re-places the clips that slid (their segment, its
+    /// fixed flags and positions on the clip's axis) and returns their ids.
+    std::vector<int> slideClips(int held, const Vec3* heldTarget);
+    /// Puts clip `a` at slide position `s` (its segment, fixed flags, local points, and its
+    /// two points at the frame).
+    void placeClip(Attachment& a, double s);
 
     /// settle(), with `held` (≥ 0) pinned like a fixed point.
     UpdateResult settleFrom(int held);

@@ -1,9 +1,9 @@
 // ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
 //
-// The file is JSON, schema in formats/schema/project.schema.json, version "1.4" (the format, its
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.5" (the format, its
 // versions and migrations: formats/README.md, "The project file"):
 //
-//   { "format": "chaintube-project", "version": "1.4", "name": "…",
+//   { "format": "chaintube-project", "version": "1.5", "name": "…",
 //     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
 //                            "chordalTolerance", "angularTolerance", "placement"? } } ],
 //     "materialPresets": [ { "name", "description", "expansionCoefficient",
@@ -15,6 +15,8 @@
 //                            "roughness", "attachments": [ { "scene", "node",
 //                            "offset": { "translation": [x,y,z], "rotation": [x,y,z,w] },
 //                            "points": [first, last] } ],
+//                            "clips": [ { "scene", "node", "offset": {…}, "place",        (1.5)
+//                            "hold": "sliding"|"sliding-turning", "slideMin"?, "slideMax"? } ],
 //                            "gravity": { "enabled", "direction": [x,y,z] },   (1.2)
 //                            "torsion": { "enabled", "twistLimit" } } ],       (1.2)
 //     "poses":           [ { "scene", "node", "matrix": [16 numbers] } ],      (1.1)
@@ -29,7 +31,8 @@
 // [0, -1, 0], twist limit 0.1 rad), and read as that default when absent. Files before 1.3 have
 // no hose "length": each hose gets the length of the hose laid along its route
 // (routeRestLength()), so that it keeps that length when its route is edited later. Files before
-// 1.4 have no "motions" (read as none).
+// 1.4 have no "motions" (read as none). Files before 1.5 have no hose "clips" (read as none; a
+// hose without clips is written without the key).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -54,9 +57,10 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 4; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+constexpr int kProjectFormatMinor = 5; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
                                        ///< "gravity" and "torsion", "colliders" (ColliderNode);
-                                       ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion)
+                                       ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion);
+                                       ///< 1.5 the hose's "clips" (HoseClip)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -148,6 +152,23 @@ struct HoseAttachment
     bool operator==(const HoseAttachment& o) const;
 };
 
+/// A clip (guide) on a scene node that the hose passes through and slides through
+/// (Hose::addClip). Its frame is the node's (rigid) world frame times `offset`, as for an
+/// attachment; where the hose is at the rest arc length `place` from its first point when it
+/// is built gives the clip's centre and axis.
+struct HoseClip
+{
+    std::string scene; ///< SceneReference::id
+    std::string node;  ///< SceneNode::path
+    Frame offset;
+    double place = 0.0; ///< metres from the hose's first point, 0 ≤ place ≤ the hose's length
+    Hold hold = Hold::Sliding; ///< Sliding or SlidingTurning
+    /// End stops along the hose (metres from its first point); absent: the hose's ends.
+    std::optional<double> slideMin;
+    std::optional<double> slideMax;
+    bool operator==(const HoseClip& o) const;
+};
+
 /// Colour, linear RGBA in [0, 1].
 struct Rgba
 {
@@ -181,6 +202,7 @@ struct HoseDefinition
     Rgba colour;
     double roughness = 0.5; ///< [0, 1], PBR
     std::vector<HoseAttachment> attachments;
+    std::vector<HoseClip> clips; ///< (1.5) built after the attachments, in this order
     /// Gravity sag while the hose runs (HoseSpec::gravity): on/off and the world direction
     /// (need not be unit; finite, non-zero). Off unless the file says otherwise.
     Gravity gravity;

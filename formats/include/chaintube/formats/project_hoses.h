@@ -94,7 +94,7 @@ ImportedScenes posedScenes(const Project& project, ImportedScenes scenes);
 /// triangle. Used by the clearance check and the editor's live colliders.
 std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node, const Mat4& world);
 
-/// True if one of `hose`'s attachments exempts node `nodePath` of scene `sceneId` from it
+/// True if one of `hose`'s attachments or clips exempts node `nodePath` of scene `sceneId` from it
 /// (collider_exemption.h's rule on paths): the hose neither collides with that node nor is
 /// checked for clearance against it.
 bool attachmentsExempt(const HoseDefinition& hose, const std::string& sceneId,
