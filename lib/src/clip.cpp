@@ -10,9 +10,6 @@
 namespace chaintube {
 
 namespace {
-/// A side short of length is fed until its straight-line demand is this fraction inside its
-/// reach: the span is then not solved from the singular taut state.
-constexpr double kSlideMargin = 0.01;
 /// Bisection steps of one slide decision (each O(pinned points of the two sides)).
 constexpr int kSlideBisections = 48;
 
@@ -159,7 +156,7 @@ void Hose::placeClip(Attachment& a, double s)
             a.frame.apply(a.localPoints[static_cast<size_t>(i)]) - m_origin;
 }
 
-std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget)
+std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margin)
 {
     std::vector<int> slid;
     std::vector<Attachment*> clips;
@@ -234,11 +231,11 @@ std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget)
         // within half the margin of its reach.
         auto spare = [&](double s, bool first) {
             const auto [demand, reach] = demandAndReach(s, first);
-            return std::isinf(reach) ? reach : (1.0 - kSlideMargin) * reach - demand;
+            return std::isinf(reach) ? reach : (1.0 - margin) * reach - demand;
         };
         auto isShort = [&](double s, bool first) {
             const auto [demand, reach] = demandAndReach(s, first);
-            return demand > (1.0 - 0.5 * kSlideMargin) * reach;
+            return demand > (1.0 - 0.5 * margin) * reach;
         };
         // A short side is fed until the full margin is restored, from the other side's spare
         // (never below that side's own margin). Both short, or the other side with nothing to

@@ -30,6 +30,8 @@ constexpr int kAdvanceSteps = 4;
 constexpr int kAdvanceIterations = 6;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
+/// Clips: the margins a short side is fed to, one attempt each (Hose::slideClips).
+constexpr double kClipMargins[] = {0.01, 0.05, 0.15};
 
 using detail::anyPerpendicular;
 
@@ -769,8 +771,10 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         const std::vector<Attachment> attachmentsBefore = m_attachments;
         const std::vector<unsigned char> fixedBefore = m_fixed;
         beforeSlide = m_local;
-        if (!slideClips(index, &localTarget).empty() &&
-            !closeSpans(index, beforeSlide, result.iterations)) {
+        for (const double margin : kClipMargins) {
+            if (slideClips(index, &localTarget, margin).empty() ||
+                closeSpans(index, beforeSlide, result.iterations))
+                break;
             m_attachments = attachmentsBefore;
             m_fixed = fixedBefore;
             m_local = beforeSlide;
@@ -895,85 +899,102 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         targets[i]->frame = frames[i];
     // Clips: the hose first slides through them where a side needs length to reach its
     // attachments' new places (slideClips); the clips that slid are placed with the moved ones.
+    // A slide whose shape leaves a bend beyond its limit (a side whose ends' directions need
+    // more than its straight-line demand) is tried again with wider margins (kClipMargins).
     // Undone when no valid shape is found.
     const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
                                    [](const Attachment& a) { return a.isClip(); });
     const std::vector<Attachment> attachmentsBefore =
         clips ? m_attachments : std::vector<Attachment>();
     const std::vector<unsigned char> fixedBefore = clips ? m_fixed : std::vector<unsigned char>();
-    for (const int id : slideClips(-1, nullptr)) {
-        auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
-                               [&](const Attachment& a) { return a.id == id; });
-        if (std::find(targets.begin(), targets.end(), &*it) == targets.end())
-            targets.push_back(&*it);
-    }
-    // Clips first: the moved attachments' reach is measured from where the clips now hold.
-    std::stable_partition(targets.begin(), targets.end(),
-                          [](const Attachment* a) { return a->isClip(); });
-    // m_scratch with the slid clips' points moved.
-    std::vector<Vec3> slidCopy;
-    if (clips) slidCopy = m_local;
-    const std::vector<Vec3>& slid = clips ? slidCopy : m_scratch;
-    m_local = m_scratch;
-    // Where each moved attachment's points go: at its frame, or, when that is beyond the
-    // hose's reach from its neighbouring fixed points, moved straight towards where the
-    // hose reaches (a gap, Hose::attachmentGap).
-    auto place = [&](double fraction) {
-        m_local = slid;
-        const double margin = 1.0 - kReachMargin;
-        for (const Attachment* a : targets) {
-            const size_t first = static_cast<size_t>(a->first), last = static_cast<size_t>(a->last);
-            const Vec3 oldFirst = slid[first], oldLast = slid[last];
-            Vec3 firstAt = a->frame.apply(a->localPoints.front()) - m_origin;
-            const Vec3 lastOffset = a->frame.apply(a->localPoints.back()) - m_origin - firstAt;
-            firstAt = oldFirst + fraction * (firstAt - oldFirst);
-            const int left = nearestFixed(*this, a->first, -1),
-                      right = nearestFixed(*this, a->last, +1);
-            if (left >= 0 && right >= 0)
-                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)],
-                                            margin * reachBetween(*this, left, a->first),
-                                            m_local[static_cast<size_t>(right)] - lastOffset,
-                                            margin * reachBetween(*this, a->last, right));
-            else if (left >= 0)
-                firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)],
-                                            margin * reachBetween(*this, left, a->first),
-                                            Vec3::Zero(), -1.0);
-            else if (right >= 0)
-                firstAt = closestInTwoBalls(
-                    firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
-                    margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
-            const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
-            for (int j = a->first; j <= a->last; ++j)
-                m_local[static_cast<size_t>(j)] =
-                    a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) - m_origin +
-                    shift;
-            // Warm start towards the other fixed points (see blendSide).
-            blendSide(a->first, -1, m_local[first] - oldFirst);
-            blendSide(a->last, +1, m_local[last] - oldLast);
-        }
+    const std::vector<Attachment*> moved = targets;
+    const auto restoreClips = [&] {
+        for (size_t i = 0; i < m_attachments.size(); ++i)
+            if (m_attachments[i].isClip()) m_attachments[i] = attachmentsBefore[i];
+        m_fixed = fixedBefore;
     };
     const bool wasInvalid = m_dirtyViolation;
-    const auto [lo, hi] = pinnedRange(m_attachments, -1);
-    PinnedSpans spans(*this, lo, hi, -1);
-    bool solved = false;
-    for (const double fraction : {1.0, 0.5}) {
-        place(fraction);
-        // Where the ends leave no shape within the bend limits the bends give way (a kink).
-        solved = spans.solveBowingOrKinking(result.iterations);
-        if (solved) break;
-    }
-    if (!solved) {
-        // Nothing valid found: the hose stays (its attachments unmet), its clips where they were.
-        m_local = m_scratch;
-        if (clips) {
-            for (size_t i = 0; i < m_attachments.size(); ++i)
-                if (m_attachments[i].isClip()) m_attachments[i] = attachmentsBefore[i];
-            m_fixed = fixedBefore;
+    std::vector<Vec3> slidCopy;
+    UpdateResult violation;
+    const int attempts = clips ? static_cast<int>(std::size(kClipMargins)) : 1;
+    for (int attempt = 0; attempt < attempts; ++attempt) {
+        if (attempt > 0) {
+            restoreClips();
+            targets = moved;
         }
+        m_local = m_scratch;
+        if (clips)
+            for (const int id : slideClips(-1, nullptr, kClipMargins[attempt])) {
+                auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
+                                       [&](const Attachment& a) { return a.id == id; });
+                if (std::find(targets.begin(), targets.end(), &*it) == targets.end())
+                    targets.push_back(&*it);
+            }
+        // Clips first: the moved attachments' reach is measured from where the clips now hold.
+        std::stable_partition(targets.begin(), targets.end(),
+                              [](const Attachment* a) { return a->isClip(); });
+        // m_scratch with the slid clips' points moved.
+        if (clips) slidCopy = m_local;
+        const std::vector<Vec3>& slid = clips ? slidCopy : m_scratch;
+        m_local = m_scratch;
+        // Where each moved attachment's points go: at its frame, or, when that is beyond the
+        // hose's reach from its neighbouring fixed points, moved straight towards where the
+        // hose reaches (a gap, Hose::attachmentGap).
+        auto place = [&](double fraction) {
+            m_local = slid;
+            const double margin = 1.0 - kReachMargin;
+            for (const Attachment* a : targets) {
+                const size_t first = static_cast<size_t>(a->first),
+                             last = static_cast<size_t>(a->last);
+                const Vec3 oldFirst = slid[first], oldLast = slid[last];
+                Vec3 firstAt = a->frame.apply(a->localPoints.front()) - m_origin;
+                const Vec3 lastOffset = a->frame.apply(a->localPoints.back()) - m_origin - firstAt;
+                firstAt = oldFirst + fraction * (firstAt - oldFirst);
+                const int left = nearestFixed(*this, a->first, -1),
+                          right = nearestFixed(*this, a->last, +1);
+                if (left >= 0 && right >= 0)
+                    firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)],
+                                                margin * reachBetween(*this, left, a->first),
+                                                m_local[static_cast<size_t>(right)] - lastOffset,
+                                                margin * reachBetween(*this, a->last, right));
+                else if (left >= 0)
+                    firstAt = closestInTwoBalls(firstAt, m_local[static_cast<size_t>(left)],
+                                                margin * reachBetween(*this, left, a->first),
+                                                Vec3::Zero(), -1.0);
+                else if (right >= 0)
+                    firstAt = closestInTwoBalls(
+                        firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
+                        margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
+                const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
+                for (int j = a->first; j <= a->last; ++j)
+                    m_local[static_cast<size_t>(j)] =
+                        a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) -
+                        m_origin + shift;
+                // Warm start towards the other fixed points (see blendSide).
+                blendSide(a->first, -1, m_local[first] - oldFirst);
+                blendSide(a->last, +1, m_local[last] - oldLast);
+            }
+        };
+        const auto [lo, hi] = pinnedRange(m_attachments, -1);
+        PinnedSpans spans(*this, lo, hi, -1);
+        bool solved = false;
+        for (const double fraction : {1.0, 0.5}) {
+            place(fraction);
+            // Where the ends leave no shape within the bend limits the bends give way (a kink).
+            solved = spans.solveBowingOrKinking(result.iterations);
+            if (solved) break;
+        }
+        if (!solved) {
+            // Nothing valid found: the hose stays (its attachments unmet), its clips where they
+            // were.
+            m_local = m_scratch;
+            if (clips) restoreClips();
+        }
+        Solver tails(*this);
+        tails.sweepTails(lo, hi, m_scratch, wasInvalid);
+        violation = measureViolation();
+        if (violation.status == Status::Ok) break;
     }
-    Solver tails(*this);
-    tails.sweepTails(lo, hi, m_scratch, wasInvalid);
-    const UpdateResult violation = measureViolation();
     result.lengthViolation = violation.lengthViolation;
     result.angleViolation = violation.angleViolation;
     double gap = 0.0;

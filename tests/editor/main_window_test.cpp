@@ -1805,6 +1805,83 @@ TEST_F(MainWindowTest, FixingAHoseEndTakesOneGesture)
     EXPECT_EQ(document.hoseDefinition(id)->attachments.size(), 1u);
 }
 
+// A clip in one gesture: click a hose point, Ctrl+K (named in the tooltip), click the part.
+// One undo step; a ring shows the clip; the hose has not moved. Dragging the part with its
+// gizmo carries the clip and the hose slides through it: every segment stays in its band, the
+// rest length as the author set it, the hose through the clip's centre. Ctrl+Z twice restores
+// the hose exactly.
+TEST_F(MainWindowTest, AClipAddedWithOneGestureCarriesTheHoseWhenItsPartMoves)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("clip-gesture")));
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    const std::string id = "left-feed";
+    selectHose(id);
+    settle();
+    const std::vector<Vec3> before = document.hose(id)->points();
+    const double restLength = document.hose(id)->restLengthTotal();
+    QTest::mouseClick(&viewport, Qt::LeftButton, {}, viewport.toWidget(before[8]));
+    ASSERT_EQ(document.selection().hoseId, id);
+    ASSERT_EQ(document.selection().rangeFirst, 8);
+    EXPECT_TRUE(m_window->action("actionAddClip")->toolTip().contains("Ctrl+K"));
+    QTest::keyClick(&viewport, Qt::Key_K, Qt::ControlModifier);
+    ASSERT_EQ(viewport.mode(), Viewport::Mode::FixToPart);
+    std::vector<std::pair<QPoint, ScenePickHit>> floor = topHits("/test-rig/floor_plate");
+    ASSERT_FALSE(floor.empty());
+    QTest::mouseClick(&viewport, Qt::LeftButton, {}, floor.front().first);
+    settle();
+    EXPECT_EQ(viewport.mode(), Viewport::Mode::Select);
+    ASSERT_EQ(document.hoseDefinition(id)->clips.size(), 1u);
+    EXPECT_EQ(document.hoseDefinition(id)->clips[0].node, "/test-rig/floor_plate");
+    EXPECT_EQ(document.undoStack()->count(), 1);
+    EXPECT_EQ(historyTexts(*m_window).back().toStdString(),
+              "Clip point 8 of left bracket to valve to floor_plate");
+    const Hose* hose = document.hose(id);
+    ASSERT_EQ(hose->attachments().size(), 3u);
+    const Hose::Attachment* clip = &hose->attachments()[2];
+    EXPECT_TRUE(clip->isClip());
+    for (int i = 0; i < hose->pointCount(); ++i)
+        EXPECT_NEAR((hose->point(i) - before[static_cast<size_t>(i)]).norm(), 0.0, 1e-9)
+            << "adding a clip moves no point";
+    screenshot("editor-clip-added.png");
+
+    // The floor plate (selected with the clip) dragged along +X with its gizmo's arrow.
+    const int plate = document.scene("rig")->findNode("/test-rig/floor_plate");
+    ASSERT_EQ(document.selection().node, plate);
+    const Vec3 plateBefore = document.nodeWorldFrame("rig", plate).translation;
+    const Vec3 centre = document.partCentre("rig", plate);
+    const QPoint a = viewport.toWidget(centre);
+    const QPoint b =
+        viewport.toWidget(centre + Renderer::gizmoLength(viewport.camera()) * Vec3::UnitX());
+    const QPointF direction = QPointF(b - a) / std::hypot(b.x() - a.x(), b.y() - a.y());
+    const QPoint grip = a + (b - a) * 0.8;
+    const double slideBefore = clip->slide;
+    drag(&viewport, grip, grip + (direction * 20).toPoint());
+    const Vec3 shift = document.nodeWorldFrame("rig", plate).translation - plateBefore;
+    EXPECT_GT(shift.x(), 0.01) << "the gizmo moved the plate along +X";
+    EXPECT_EQ(document.undoStack()->count(), 2);
+    hose = document.hose(id);
+    clip = &hose->attachments()[2];
+    EXPECT_LE(test_support::worstBandExcess(*hose), 1e-9) << "every segment in its band";
+    EXPECT_LE(hose->measureViolation().angleViolation, 1e-9);
+    EXPECT_DOUBLE_EQ(hose->restLengthTotal(), restLength) << "the length the author set";
+    EXPECT_NEAR(hose->attachmentGap(clip->id), 0.0, 1e-9);
+    const Vec3 held = clip->frame.apply(clip->clipCentre);
+    EXPECT_NEAR((held - (before[8] + shift)).norm(), 0.0, 1e-9) << "the clip went with the plate";
+    const Vec3 p = hose->point(clip->first), d = (hose->point(clip->last) - p).normalized();
+    EXPECT_LE(((held - p) - (held - p).dot(d) * d).norm(), 1e-9) << "the hose through it";
+    EXPECT_NE(clip->slide, slideBefore) << "the hose slid through the clip";
+    std::cout << "[ clip ] plate moved " << shift.x() * 1000.0 << " mm along X; the hose slid "
+              << (clip->slide - slideBefore) * 1000.0 << " mm through the clip\n";
+    screenshot("editor-clip-slid.png");
+
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    QTest::keyClick(&viewport, Qt::Key_Z, Qt::ControlModifier);
+    settle();
+    EXPECT_TRUE(document.hoseDefinition(id)->clips.empty());
+    EXPECT_EQ(document.hose(id)->points(), before) << "undo restores the hose exactly";
+}
+
 // The History panel says what each step did and to which object.
 TEST_F(MainWindowTest, HistoryEntriesNameWhatAndWhich)
 {

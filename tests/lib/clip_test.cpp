@@ -309,8 +309,9 @@ TEST(Clip, ARandomWalkOfTheClipAndAnEndKeepsEveryConstraintAndIsDeterministic)
     const Walk fixed = randomWalk(2000, true);
     EXPECT_GT(fixed.notOk, 500);
     EXPECT_LE(first.notOk, 20);
-    // The attachment move's budget (lib/README.md): 2 × (2 × 12 per span + 4 + 8), two spans.
-    EXPECT_LE(first.maxIterations, 2 * (2 * 12 * 2 + 4 + 8));
+    // The attachment move's budget with clips (lib/README.md): three attempts of
+    // 2 × (2 × 12 per span + 4 + 8), two spans.
+    EXPECT_LE(first.maxIterations, 3 * 2 * (2 * 12 * 2 + 4 + 8));
     std::cout << "through the clip: " << first.slides << " slides, " << first.notOk
               << " updates not Ok of 2000, at most " << first.maxIterations
               << " Newton steps an update; fixed there: " << fixed.notOk << " not Ok, at most "

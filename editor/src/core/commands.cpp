@@ -154,6 +154,52 @@ QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int firs
             .arg(points, hoseLabel(*definition), nodeLabel(document, {sceneId, node})));
 }
 
+QUndoCommand* makeAddClip(Document& document, const std::string& hoseId, int point,
+                          const std::string& sceneId, int node, Hold hold)
+{
+    const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);
+    const Hose* hose = document.hose(hoseId);
+    const formats::ImportedScene* scene = document.scene(sceneId);
+    if (!definition || !hose) throw InvalidArgument("no hose '" + hoseId + "' to clip");
+    if (!scene || node < 0 || node >= static_cast<int>(scene->nodes.size()))
+        throw InvalidArgument("no scene node to put the clip on");
+    if (point < 1 || point > hose->pointCount() - 2)
+        throw InvalidArgument("a clip goes on an inner point (1 … " +
+                              std::to_string(hose->pointCount() - 2) + "), not point " +
+                              std::to_string(point));
+    const auto fixed = [&](int i) {
+        return std::any_of(definition->attachments.begin(), definition->attachments.end(),
+                           [&](const formats::HoseAttachment& a) {
+                               return i >= a.firstPoint && i <= a.lastPoint;
+                           });
+    };
+    if (fixed(point) || (fixed(point - 1) && fixed(point + 1)))
+        throw InvalidArgument("point " + std::to_string(point) +
+                              " is fixed by an attachment: a clip needs a free segment");
+    // Where the hose is built (formats::buildHose), every segment has the same rest length.
+    double place = 0.0;
+    for (int s = 0; s < point; ++s)
+        place += hose->restLength(s);
+    for (const formats::HoseClip& other : definition->clips)
+        if (std::abs(other.place - place) < 2.0 * hose->restLength(point))
+            throw InvalidArgument("point " + std::to_string(point) +
+                                  " is within two segments of "
+                                  "the clip on " +
+                                  other.node);
+    formats::HoseClip clip;
+    clip.scene = sceneId;
+    clip.node = scene->nodes[static_cast<size_t>(node)].path;
+    clip.place = place;
+    clip.hold = hold;
+    std::vector<formats::HoseClip> clips = definition->clips;
+    clips.push_back(clip);
+    return makeChangeHoseField(
+        document, hoseId, &formats::HoseDefinition::clips, std::move(clips), MergeId::None,
+        tr("Clip point %1 of %2 to %3")
+            .arg(point)
+            .arg(hoseLabel(*definition), nodeLabel(document, {sceneId, node})));
+}
+
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index)
 {
     const formats::HoseDefinition* definition = document.hoseDefinition(hoseId);

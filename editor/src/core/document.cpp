@@ -727,6 +727,11 @@ void Document::poseChanged(const NodeKey& node)
                         [&](const formats::HoseAttachment& attachment) {
                             return attachment.scene == node.first &&
                                    carried(movedScene->findNode(attachment.node));
+                        }) ||
+            std::any_of(definition.clips.begin(), definition.clips.end(),
+                        [&](const formats::HoseClip& clip) {
+                            return clip.scene == node.first &&
+                                   carried(movedScene->findNode(clip.node));
                         });
         if (!attachedHere) continue;
         auto live = m_live.find(definition.id);
@@ -859,16 +864,20 @@ void Document::rebuildAllHoses()
 
 bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) const
 {
-    for (const formats::HoseAttachment& attachment : definition.attachments) {
-        const formats::ImportedScene* imported = scene(attachment.scene);
-        if (!imported) continue;
-        for (int n = imported->findNode(attachment.node); n >= 0;
+    const auto posed = [&](const std::string& sceneId, const std::string& path) {
+        const formats::ImportedScene* imported = scene(sceneId);
+        if (!imported) return false;
+        for (int n = imported->findNode(path); n >= 0;
              n = imported->nodes[static_cast<size_t>(n)].parent) {
-            const auto it = m_pose.find({attachment.scene, n});
+            const auto it = m_pose.find({sceneId, n});
             if (it != m_pose.end() && it->second) return true;
         }
-    }
-    return false;
+        return false;
+    };
+    return std::any_of(definition.attachments.begin(), definition.attachments.end(),
+                       [&](const formats::HoseAttachment& a) { return posed(a.scene, a.node); }) ||
+           std::any_of(definition.clips.begin(), definition.clips.end(),
+                       [&](const formats::HoseClip& c) { return posed(c.scene, c.node); });
 }
 
 std::vector<Frame> Document::posedAttachmentFrames(const formats::HoseDefinition& definition) const
@@ -880,6 +889,13 @@ std::vector<Frame> Document::posedAttachmentFrames(const formats::HoseDefinition
         Frame offset = attachment.offset; // as formats::buildHose does
         offset.rotation.normalize();
         frames.push_back(nodeWorldFrame(attachment.scene, node) * offset);
+    }
+    for (const formats::HoseClip& clip : definition.clips) { // after them, as buildHose adds them
+        const formats::ImportedScene* imported = scene(clip.scene);
+        const int node = imported ? imported->findNode(clip.node) : -1;
+        Frame offset = clip.offset;
+        offset.rotation.normalize();
+        frames.push_back(nodeWorldFrame(clip.scene, node) * offset);
     }
     return frames;
 }

@@ -501,6 +501,21 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
             gl.drawLines({route[static_cast<size_t>(selection.routePoint)]}, GL_POINTS,
                          QColor(255, 255, 255), 14.0f, viewProjection);
     }
+    {
+        // Clips: a ring around the hose where each holds it, across the clip's axis.
+        const QColor clipColour(235, 90, 235);
+        for (const formats::HoseDefinition& definition : document.project().hoses) {
+            const Hose* hose = document.hose(definition.id);
+            if (!hose) continue;
+            for (const Hose::Attachment& clip : hose->attachments()) {
+                if (!clip.isClip()) continue;
+                const std::vector<Vec3> ring =
+                    kinkRing(clip.frame.apply(clip.clipCentre), clip.frame.rotation * clip.clipAxis,
+                             2.2 * hose->outerRadius());
+                gl.drawLines(ring, GL_LINE_STRIP, clipColour, 3.0f, viewProjection);
+            }
+        }
+    }
     if (options.showProblems) {
         // What a hose cannot do, drawn where it happens (problem red, the Problems panel's
         // colour): the gap between an attachment the hose cannot reach and where its part

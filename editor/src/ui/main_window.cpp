@@ -316,6 +316,13 @@ void MainWindow::createActions()
         ->setStatusTip(tr("Fixes the selected hose points to the part you click next"));
     connect(m_properties, &PropertiesPanel::fixToPartRequested, action("actionFix"),
             &QAction::trigger);
+    hose->addAction(make(tr("Add &Clip…"), "actionAddClip", QKeySequence(tr("Ctrl+K")), [this] {
+        m_viewport->beginClipToPart();
+        m_viewport->setFocus();
+    }));
+    action("actionAddClip")
+        ->setStatusTip(tr("Adds a clip at the selected hose point on the part you click next: "
+                          "the hose passes through it and slides through when the part moves"));
     hose->addAction(make(tr("&Detach All"), "actionDetach", QKeySequence(tr("Ctrl+D")), [this] {
         const formats::HoseDefinition* definition =
             m_document->hoseDefinition(m_document->selection().hoseId);

@@ -95,6 +95,18 @@ std::vector<Problem> findProblems(const Document& document)
                                  .arg(QString::fromStdString(definition.attachments[a].node))
                                  .arg(built[a].first)
                                  .arg(built[a].last)});
+                // Clips come after the attachments (formats::buildHose).
+                for (size_t c = 0; c < definition.clips.size(); ++c) {
+                    const size_t a = definition.attachments.size() + c;
+                    if (a < built.size() && built[a].id == unmet.id)
+                        problems.push_back(
+                            {definition.id, built[a].first, built[a].last,
+                             QObject::tr("%1: cannot pass through the clip on %2: %3 mm off "
+                                         "(no hose left to slide through it)")
+                                 .arg(name)
+                                 .arg(QString::fromStdString(definition.clips[c].node))
+                                 .arg(unmet.gap * 1000.0, 0, 'f', 0)});
+                }
             }
             for (const auto& [first, last] : runs(metrics->bendBelowMinimum)) {
                 const Material material = hose->material();

@@ -95,8 +95,22 @@ void Viewport::cancelRoute()
     setMode(Mode::Select);
 }
 
+void Viewport::beginClipToPart()
+{
+    const Selection& selection = m_document.selection();
+    if (!m_document.hoseDefinition(selection.hoseId) || selection.rangeFirst < 0) {
+        emit statusMessage(tr("Add clip: first click the hose point the clip holds"));
+        return;
+    }
+    m_clipNext = true;
+    setMode(Mode::FixToPart);
+    emit statusMessage(
+        tr("Clip point %1: click the part the clip is on (Esc cancels)").arg(selection.rangeFirst));
+}
+
 void Viewport::beginFixToPart()
 {
+    m_clipNext = false;
     const Selection& selection = m_document.selection();
     const formats::HoseDefinition* definition = m_document.hoseDefinition(selection.hoseId);
     if (!definition || selection.rangeFirst < 0) {
@@ -125,11 +139,17 @@ void Viewport::fixSelectionToPartAt(const QPointF& position)
     Selection selection = m_document.selection();
     try {
         m_document.closeMerge();
-        m_document.undoStack()->push(makeAttach(m_document, selection.hoseId, selection.rangeFirst,
-                                                selection.rangeLast, hit.sceneId, hit.node));
+        if (m_clipNext)
+            m_document.undoStack()->push(makeAddClip(m_document, selection.hoseId,
+                                                     selection.rangeFirst, hit.sceneId, hit.node));
+        else
+            m_document.undoStack()->push(makeAttach(m_document, selection.hoseId,
+                                                    selection.rangeFirst, selection.rangeLast,
+                                                    hit.sceneId, hit.node));
         m_document.closeMerge();
     } catch (const std::exception& error) {
-        emit statusMessage(tr("Cannot fix: %1").arg(QString::fromStdString(error.what())));
+        emit statusMessage((m_clipNext ? tr("Cannot add the clip: %1") : tr("Cannot fix: %1"))
+                               .arg(QString::fromStdString(error.what())));
         setMode(Mode::Select);
         return;
     }

@@ -52,6 +52,8 @@ public:
     /// to it (one undo step; the hose stays selected) and the mode ends. Without selected
     /// hose points it only says what to select first. Esc (cancelRoute) leaves the mode.
     void beginFixToPart();
+    /// As beginFixToPart, for a clip at the selected hose point (makeAddClip).
+    void beginClipToPart();
 
     bool wireframe() const { return m_options.wireframe; }
     void setWireframe(bool on);
@@ -119,6 +121,7 @@ private:
     ScenePicker m_picker;
     RenderOptions m_options;
     Mode m_mode = Mode::Select;
+    bool m_clipNext = false; ///< FixToPart adds a clip at the selected point instead
     std::vector<Vec3> m_pendingRoute;
     double m_newHoseDiameter = 0.02;
     double m_routeClearance = 0.005;

@@ -71,6 +71,24 @@ rig::RigHose writeHose(tinygltf::Model& model, BufferWriter& buffer, tinygltf::S
     for (size_t k = 0; k < hose.attachments().size(); ++k) {
         const Hose::Attachment& attachment = hose.attachments()[k];
         const NodeRef& ref = input.attachedNodes[k];
+        if (attachment.isClip()) {
+            // A clip's points slide at run time: their joints stay with the free ones.
+            rig::RigClip clip;
+            clip.frame = attachment.frame;
+            clip.offset = attachment.frame;
+            if (ref.scene >= 0) {
+                const formats::ImportedScene& scene = *scenes[static_cast<size_t>(ref.scene)];
+                clip.node =
+                    gltfNodeOf[static_cast<size_t>(ref.scene)][static_cast<size_t>(ref.node)];
+                clip.offset = scene.worldFrame(ref.node).inverse() * attachment.frame;
+            }
+            clip.place = attachment.slide;
+            clip.hold = attachment.hold;
+            clip.slideMin = attachment.slideMin;
+            clip.slideMax = attachment.slideMax;
+            rigHose.clips.push_back(clip);
+            continue;
+        }
         rig::RigAttachment rigAttachment;
         rigAttachment.frame = attachment.frame;
         rigAttachment.firstPoint = attachment.first;

@@ -259,9 +259,14 @@ std::vector<std::string> describeHose(std::ostream& out, const std::string& id,
     if (hose.attachments().empty()) out << "  attachments: none (free hose)\n";
     for (size_t k = 0; k < hose.attachments().size(); ++k) {
         const Hose::Attachment& a = hose.attachments()[k];
-        out << "  attachment " << k << ": points " << a.first << "–" << a.last << " fixed to "
-            << (k < attachedTo.size() ? attachedTo[k] : std::string("the world")) << ", "
-            << frameText(a.frame) << "\n";
+        const std::string to = k < attachedTo.size() ? attachedTo[k] : std::string("the world");
+        if (a.isClip())
+            out << "  clip (" << toString(a.hold) << "): on " << to << ", holds the hose "
+                << a.slide << " m from its start (segment " << a.first << "), end stops "
+                << a.slideMin << " … " << a.slideMax << " m, " << frameText(a.frame) << "\n";
+        else
+            out << "  attachment " << k << ": points " << a.first << "–" << a.last << " fixed to "
+                << to << ", " << frameText(a.frame) << "\n";
     }
     const std::vector<std::string> warnings = hoseWarnings(hose, "hose '" + id + "'");
     for (const std::string& warning : warnings)
@@ -328,6 +333,8 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
             std::vector<std::string> attachedTo;
             for (const formats::HoseAttachment& a : definition.attachments)
                 attachedTo.push_back("scene '" + a.scene + "' node " + a.node);
+            for (const formats::HoseClip& c : definition.clips)
+                attachedTo.push_back("scene '" + c.scene + "' node " + c.node);
             const Hose hose = formats::buildHose(project, definition, scenes);
             warnings += static_cast<int>(describeHose(out, definition.id, definition.name, hose,
                                                       {definition.colour.r, definition.colour.g,
@@ -376,6 +383,11 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
             for (const rig::RigAttachment& a : d.attachments) {
                 std::string label = a.node < 0 ? "the world" : "node " + std::to_string(a.node);
                 if (runtime && a.node >= 0) label += " '" + runtime->node(a.node).name + "'";
+                attachedTo.push_back(label);
+            }
+            for (const rig::RigClip& c : d.clips) {
+                std::string label = c.node < 0 ? "the world" : "node " + std::to_string(c.node);
+                if (runtime && c.node >= 0) label += " '" + runtime->node(c.node).name + "'";
                 attachedTo.push_back(label);
             }
             warnings += static_cast<int>(describeHose(out, d.id, d.name, rig::rebuildHose(d),

@@ -59,6 +59,11 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
                 hose.attachedNodes.push_back(
                     {s, scenes[static_cast<size_t>(s)]->findNode(attachment.node)});
             }
+            for (const formats::HoseClip& clip : definition.clips) { // after the attachments
+                const int s = sceneIndex.at(clip.scene);
+                hose.attachedNodes.push_back(
+                    {s, scenes[static_cast<size_t>(s)]->findNode(clip.node)});
+            }
             hoses.push_back(std::move(hose));
             // Building the hoses (a gravity hose settles, up to kSettleStepBudget steps): 55–60 %.
             const double done =

@@ -342,6 +342,59 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
         }
         hose.attachments.push_back(attachment);
     }
+    if (value.contains("clips")) { // 1.4
+        // Each clip where rebuildHose() can add it (Hose::addClip's rule): its place on the
+        // hose within its end stops, on a segment of non-zero length whose points no attachment
+        // or earlier clip fixes.
+        std::vector<double> prefix(axis.size(), 0.0);
+        for (size_t s = 0; s + 1 < axis.size(); ++s)
+            prefix[s + 1] = prefix[s] + hose.restLengths[s];
+        const Json& clips = r.array(value["clips"], at + "/clips");
+        for (size_t k = 0; k < clips.size(); ++k) {
+            const std::string p = at + "/clips/" + std::to_string(k);
+            const Json& c = r.object(clips[k], p);
+            r.onlyKeys(c, p, {"node", "offset", "frame", "place", "hold", "slideMin", "slideMax"});
+            RigClip clip;
+            clip.node = r.integer(r.member(c, p, "node"), p + "/node", -1);
+            clip.offset = r.frame(r.member(c, p, "offset"), p + "/offset");
+            clip.frame = r.frame(r.member(c, p, "frame"), p + "/frame");
+            const std::string hold = r.string(r.member(c, p, "hold"), p + "/hold");
+            if (hold == toString(Hold::Sliding))
+                clip.hold = Hold::Sliding;
+            else if (hold == toString(Hold::SlidingTurning))
+                clip.hold = Hold::SlidingTurning;
+            else
+                r.fail(p + "/hold", "expected \"sliding\" or \"sliding-turning\"");
+            const double total = prefix.back();
+            clip.slideMin = r.number(r.member(c, p, "slideMin"), p + "/slideMin", 0.0, total,
+                                     "[0, the hose's rest length]");
+            if (c.contains("slideMax"))
+                clip.slideMax =
+                    r.number(c["slideMax"], p + "/slideMax", clip.slideMin, HUGE_VAL, "≥ slideMin");
+            clip.place = r.number(r.member(c, p, "place"), p + "/place", clip.slideMin,
+                                  std::min(total, clip.slideMax),
+                                  "within the end stops and the hose's rest length");
+            const int segments = static_cast<int>(axis.size()) - 1;
+            int j = std::clamp(
+                static_cast<int>(std::upper_bound(prefix.begin(), prefix.end(), clip.place) -
+                                 prefix.begin()) -
+                    1,
+                0, segments - 1);
+            auto taken = [&](int i) { return owner[static_cast<size_t>(i)] != -1; };
+            if (clip.place == prefix[static_cast<size_t>(j)] && j > 0 && (taken(j) || taken(j + 1)))
+                --j;
+            for (const int i : {j, j + 1})
+                if (taken(i))
+                    r.fail(p + "/place", "the segment holding the clip has point " +
+                                             std::to_string(i) +
+                                             " fixed by an attachment or an earlier clip");
+            if (!((hose.axis[static_cast<size_t>(j) + 1] - hose.axis[static_cast<size_t>(j)])
+                      .norm() > 0.0))
+                r.fail(p + "/place", "the segment holding the clip has zero length");
+            owner[static_cast<size_t>(j)] = owner[static_cast<size_t>(j) + 1] = -2;
+            hose.clips.push_back(clip);
+        }
+    }
     hose.grabbablePoints =
         r.integers(r.member(value, at, "grabbablePoints"), at + "/grabbablePoints", 0);
     for (size_t i = 0; i < hose.grabbablePoints.size(); ++i) {
@@ -513,6 +566,17 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor)
                      {"frame", frame(attachment.frame)},
                      {"points", Json::array({attachment.firstPoint, attachment.lastPoint})}});
         h["attachments"] = attachments;
+        if (!hose.clips.empty()) { // 1.4
+            Json clips = Json::array();
+            for (const RigClip& clip : hose.clips) {
+                Json c{{"node", clip.node},           {"offset", frame(clip.offset)},
+                       {"frame", frame(clip.frame)},  {"place", clip.place},
+                       {"hold", toString(clip.hold)}, {"slideMin", clip.slideMin}};
+                if (std::isfinite(clip.slideMax)) c["slideMax"] = clip.slideMax;
+                clips.push_back(c);
+            }
+            h["clips"] = clips;
+        }
         h["grabbablePoints"] = list(hose.grabbablePoints);
         h["material"] =
             Json{{"baseColorFactor", Json::array({hose.baseColour[0], hose.baseColour[1],
@@ -612,6 +676,11 @@ Hose rebuildHose(const RigHose& description, std::vector<int>* attachmentIds)
         const int id = hose.attach(attachment.firstPoint, attachment.lastPoint, attachment.frame);
         if (attachmentIds) attachmentIds->push_back(id);
     }
+    for (const RigClip& clip : description.clips) {
+        const int id =
+            hose.addClip(clip.place, clip.frame, {clip.hold, clip.slideMin, clip.slideMax});
+        if (attachmentIds) attachmentIds->push_back(id);
+    }
     return hose;
 }
 
@@ -671,6 +740,8 @@ std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, i
         for (size_t k = 0; k < hose.attachments.size(); ++k)
             node(hose.attachments[k].node, at + "/attachments/" + std::to_string(k) + "/node",
                  true);
+        for (size_t k = 0; k < hose.clips.size(); ++k)
+            node(hose.clips[k].node, at + "/clips/" + std::to_string(k) + "/node", true);
     }
     for (size_t c = 0; c < descriptor.colliders.size(); ++c)
         node(descriptor.colliders[c], "/colliders/" + std::to_string(c), false);

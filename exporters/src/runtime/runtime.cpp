@@ -291,7 +291,11 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                              [&](const RigAttachment& a) {
                                  return formats::attachmentExempts(
                                      a.node, runtime.m_descriptor.colliders[c], parentOf);
-                             }))
+                             }) &&
+                std::none_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
+                    return formats::attachmentExempts(a.node, runtime.m_descriptor.colliders[c],
+                                                      parentOf);
+                }))
                 used.push_back(runtime.m_colliders[c]);
         if (!used.empty()) runtime.m_hoses[h].hose.setColliders(std::move(used));
     }
@@ -375,6 +379,11 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
             if (d.attachments[k].node >= 0 && isUnder(d.attachments[k].node)) {
                 ids.push_back(m_hoses[h].attachmentIds[k]);
                 frames.push_back(nodeWorldFrame(d.attachments[k].node) * d.attachments[k].offset);
+            }
+        for (size_t k = 0; k < d.clips.size(); ++k) // ids after the attachments' (rebuildHose)
+            if (d.clips[k].node >= 0 && isUnder(d.clips[k].node)) {
+                ids.push_back(m_hoses[h].attachmentIds[d.attachments.size() + k]);
+                frames.push_back(nodeWorldFrame(d.clips[k].node) * d.clips[k].offset);
             }
         if (ids.empty()) {
             bool nearMovedCollider = false;

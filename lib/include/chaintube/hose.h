@@ -378,9 +378,10 @@ private:
 
     /// Clips: slide the hose through each clip whose one side needs more length to reach its
     /// pinned points (the held point at `heldTarget` when given) and whose other side can
-    /// spare it (lib/README.md, "Clips"). Re-places the clips that slid (their segment, its
-    /// fixed flags and positions on the clip's axis) and returns their ids.
-    std::vector<int> slideClips(int held, const Vec3* heldTarget);
+    /// spare it, the short side fed to `margin` (a fraction) inside its reach (lib/README.md,
+    /// "Clips"). Re-places the clips that slid (their segment, its fixed flags and positions
+    /// on the clip's axis) and returns their ids.
+    std::vector<int> slideClips(int held, const Vec3* heldTarget, double margin);
     /// Puts clip `a` at slide position `s` (its segment, fixed flags, local points, and its
     /// two points at the frame).
     void placeClip(Attachment& a, double s);

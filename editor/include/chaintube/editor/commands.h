@@ -172,6 +172,13 @@ QUndoCommand* makeFitHoseLength(Document& document, const std::string& hoseId, d
 QUndoCommand* makeAttach(Document& document, const std::string& hoseId, int first, int last,
                          const std::string& sceneId, int node);
 
+/// Adds a clip (formats::HoseClip) on a scene node where the hose is at axis point `point`
+/// (1 … points − 2): the hose passes through it along its axis there and slides through it when
+/// its part moves. Throws InvalidArgument if the point is an end, both segments at it are
+/// fixed by an attachment, or another clip is within a segment of it.
+QUndoCommand* makeAddClip(Document& document, const std::string& hoseId, int point,
+                          const std::string& sceneId, int node, Hold hold = Hold::Sliding);
+
 /// Removes attachment `index` (in the definition's order).
 QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int index);
 

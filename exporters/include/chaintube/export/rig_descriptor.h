@@ -1,7 +1,7 @@
 // ChainTube runtime — the hose-rig descriptor: everything a runtime needs to run the hoses of an
 // exported glTF without the project file.
 //
-// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.3"). It is
+// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.4"). It is
 // embedded in the glTF as the root extension CHAINTUBE_hose_rig (listed in extensionsUsed only,
 // never in extensionsRequired, so viewers that do not know it still load the file) and written
 // beside the glTF as <name>.hoses.json. Node and skin indices refer to that glTF.
@@ -17,6 +17,7 @@
 
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,8 +30,9 @@ constexpr const char* kExtensionName = "CHAINTUBE_hose_rig";
 constexpr const char* kDescriptorFormat = "chaintube-hose-rig";
 /// Newest descriptor version this code reads, and the one it writes.
 constexpr int kDescriptorMajor = 1;
-/// 1.1 added "static"; 1.2 "gravity", "torsion", "colliders"; 1.3 "motions"
-constexpr int kDescriptorMinor = 3;
+/// 1.1 added "static"; 1.2 "gravity", "torsion", "colliders"; 1.3 "motions"; 1.4 a hose's
+/// "clips"
+constexpr int kDescriptorMinor = 4;
 
 /// A glTF node transform: parent ← node = T · R · S.
 struct NodeTransform
@@ -73,6 +75,20 @@ struct RigAttachment
     int lastPoint = 0;
 };
 
+/// A clip the hose slides through (1.4, Hose::addClip), on a glTF node (or the world when node
+/// is −1). At export the hose passes the clip's centre `place` metres (rest arc length) from its
+/// first point; rebuildHose() adds the clip there, on the exported axis.
+struct RigClip
+{
+    int node = -1;
+    Frame offset; ///< clip frame = rigid(world(node)) · offset
+    Frame frame;  ///< the clip's world frame at export
+    double place = 0.0;
+    Hold hold = Hold::Sliding;
+    double slideMin = 0.0; ///< end stops, metres from the first point; slideMax may be +inf
+    double slideMax = std::numeric_limits<double>::infinity();
+};
+
 /// One exported hose.
 struct RigHose
 {
@@ -104,6 +120,8 @@ struct RigHose
     double outerDiameter = 0.02; ///< metres
     CrossSection crossSection;
     std::vector<RigAttachment> attachments;
+    /// Clips (1.4; absent in older files: none), after the attachments in the library's order.
+    std::vector<RigClip> clips;
     /// Axis points a runtime may grab (the free ones), ascending.
     std::vector<int> grabbablePoints;
     std::array<double, 4> baseColour{0.2, 0.2, 0.2, 1.0}; ///< linear RGBA
@@ -142,7 +160,7 @@ const char* motionKindName(RigMotion::Kind kind);
 
 struct HoseRigDescriptor
 {
-    std::string version = "1.3";
+    std::string version = "1.4";
     std::string generator;
     std::vector<RigHose> hoses;
     /// glTF nodes flagged as colliders (1.2), ascending, each with a mesh: a runtime builds a
@@ -181,7 +199,8 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor);
 /// Rebuilds the hose a descriptor entry describes, as it was at export: Hose::fromAxis(axis,
 /// restLengths) with the material, diameter and cross-section (fromAxis(axis) when restLengths
 /// does not have one entry per segment), then every attachment fixed at its exported world
-/// frame. attachmentIds (optional) receives the library's id of each attachment. A hose
+/// frame, then every clip at its place and exported frame (the reader checks that each can be).
+/// attachmentIds (optional) receives the library's id of each attachment, then of each clip. A hose
 /// exported away from its rest shape (stretched or compressed; restLengthsMatch() tells) comes
 /// back as it was, under the same strain, not relaxed at the exported shape. Throws
 /// InvalidArgument.
