@@ -89,7 +89,7 @@ TEST(InfoCli, ExportedRigListsItsMovingPartsWithTheirNodesAndRanges)
     ASSERT_EQ(exported.exitCode, 0) << exported.output;
     const CliRun run = runCli("info \"" + glb.string() + "\"");
     ASSERT_EQ(run.exitCode, 0) << run.output;
-    EXPECT_NE(run.output.find("hose rig 1.3 "), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("hose rig 1.4 "), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("\nmotions: 2 — lever (hinge of node "), std::string::npos)
         << run.output;
     EXPECT_NE(run.output.find(" 'lever', -0.5 … 0.8 rad), carriage (slider of node "),
