@@ -8,6 +8,7 @@
 #include "export_dialog.h"
 #include "import_dialog.h"
 #include "import_runner.h"
+#include "motions_panel.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
 #include "viewport.h"
@@ -217,6 +218,13 @@ void MainWindow::createDocks()
     followClearance(m_problems->clearanceThreshold()->value());
     connect(m_problems->clearanceThreshold(), qOverload<double>(&QDoubleSpinBox::valueChanged),
             this, followClearance);
+
+    m_motions = new MotionsPanel(*m_document);
+    auto* motionsDock = new QDockWidget(tr("Motions"), this);
+    motionsDock->setObjectName("motionsDock");
+    motionsDock->setWidget(m_motions);
+    addDockWidget(Qt::BottomDockWidgetArea, motionsDock);
+    splitDockWidget(problemsDock, motionsDock, Qt::Horizontal);
 
     m_history = new QUndoView(m_document->undoStack());
     m_history->setObjectName("history");
