@@ -6,16 +6,21 @@
 // output folder (CHAINTUBE_UPDATE_SCREENSHOTS=1: to editor/screenshots).
 #include "chaintube/editor/commands.h"
 #include "chaintube/editor/motion_sweep.h"
+#include "chaintube/export/sweep.h"
 #include "chaintube/formats/motion.h"
 #include "main_window.h"
+#include "motion_plot.h"
 #include "motions_panel.h"
 #include "problems_panel.h"
 #include "test_support.h"
 #include "viewport.h"
 
 #include <QApplication>
+#include <QDoubleSpinBox>
 #include <QLabel>
+#include <QListWidget>
 #include <QPushButton>
+#include <QSignalSpy>
 #include <QSlider>
 #include <QStyle>
 #include <QStyleOptionSlider>
@@ -94,6 +99,33 @@ protected:
         EXPECT_TRUE(image.save(QString::fromStdString((test::outputDir() / name).string())));
         if (std::getenv("CHAINTUBE_UPDATE_SCREENSHOTS"))
             image.save(QString(CHAINTUBE_SCREENSHOT_DIR) + "/" + name);
+    }
+
+    /// Waits for sweeps to finish until `done` holds (a sweep runs on a worker thread).
+    void waitForSweep(const std::function<bool()>& done)
+    {
+        QSignalSpy finished(&m_window->motions(), &MotionsPanel::sweepFinished);
+        for (int wait = 0; wait < 20 && !done(); ++wait)
+            finished.wait(30000);
+        settle();
+        ASSERT_TRUE(done()) << m_window->motions().sweepError().toStdString();
+    }
+    /// The Problems panel's rows as a person reads them.
+    QStringList problemTexts()
+    {
+        m_window->problems().refreshNow();
+        QStringList texts;
+        for (int row = 0; row < m_window->problems().count(); ++row)
+            texts << m_window->problems().item(row)->text();
+        return texts;
+    }
+    void clickProblem(int row)
+    {
+        QListWidget& list = m_window->problems();
+        list.scrollToItem(list.item(row));
+        QTest::mouseClick(list.viewport(), Qt::LeftButton, Qt::NoModifier,
+                          list.visualItemRect(list.item(row)).center());
+        settle();
     }
 
     std::unique_ptr<MainWindow> m_window;
@@ -195,6 +227,122 @@ TEST_F(MotionsTest, DraggingTheCarriageHandleSlidesTheCarriageAndItsHoseFollows)
     EXPECT_TRUE(document().motionPreview().empty());
     EXPECT_EQ(slider->value(), 0);
     EXPECT_EQ(document().hose("carriage-feed")->points(), before);
+}
+
+TEST_F(MotionsTest, EachHoseIsPlottedOverTheSweepTheCliRunsWithItsLimitsAndTheSliderMarked)
+{
+    // The clearance typed into the Problems panel is the sweep's threshold.
+    QDoubleSpinBox* threshold = m_window->problems().clearanceThreshold();
+    threshold->setFocus();
+    threshold->selectAll();
+    QTest::keyClicks(threshold, "40");
+    QTest::keyClick(threshold, Qt::Key_Return);
+    MotionsPanel& motions = m_window->motions();
+    waitForSweep([&] {
+        return motions.report() && motions.report()->clearanceThreshold == 0.04 &&
+               !motions.sweepRunning();
+    });
+
+    exporting::SweepOptions options;
+    options.clearanceThreshold = 0.04;
+    const exporting::SweepReport cli =
+        exporting::sweepMotions(document().project(), document().scenes(), options);
+    ASSERT_EQ(cli.steps.size(), 51u); // 1 + lead-in 10 + 2 × 20, as `chaintube check --sweep`
+    ASSERT_EQ(motions.plots().size(), 2u);
+    for (size_t h = 0; h < 2; ++h) {
+        const MotionPlotSeries& plotted = motions.plots()[h]->series();
+        EXPECT_EQ(plotted.hoseId, cli.hoses[h].hoseId);
+        // The way out: the lead-in's last step (t = 0) and the 20 steps to t = 1; the way back:
+        // 20 steps to t = 0. Each value is the CLI sweep's at that step.
+        ASSERT_EQ(plotted.out.t.size(), 21u);
+        ASSERT_EQ(plotted.back.t.size(), 20u);
+        EXPECT_EQ(plotted.out.t.front(), 0.0);
+        EXPECT_EQ(plotted.out.t.back(), 1.0);
+        EXPECT_EQ(plotted.back.t.back(), 0.0);
+        for (size_t i = 0; i < 21; ++i) {
+            EXPECT_EQ(plotted.out.bendRadius[i], cli.hoses[h].bendRadiusSeries[10 + i]);
+            EXPECT_EQ(plotted.out.clearance[i], cli.hoses[h].clearanceSeries[10 + i]);
+        }
+        for (size_t i = 0; i < 20; ++i) {
+            EXPECT_EQ(plotted.back.bendRadius[i], cli.hoses[h].bendRadiusSeries[31 + i]);
+            EXPECT_EQ(plotted.back.clearance[i], cli.hoses[h].clearanceSeries[31 + i]);
+        }
+        EXPECT_EQ(plotted.clearanceThreshold, 0.04);
+    }
+    EXPECT_EQ(motions.plots()[0]->series().minBendRadius, 0.12); // rubber hose
+    EXPECT_EQ(motions.plots()[1]->series().minBendRadius, 0.08); // cable bundle
+    // The carriage's hose end rests 32 mm above the base plate at every step.
+    for (double clearance : motions.plots()[1]->series().out.clearance)
+        EXPECT_NEAR(clearance, 0.032, 1e-6);
+
+    // The marker follows the slider: 35° of the lever's −28.6° … 45.8°.
+    EXPECT_NEAR(*motions.plots()[0]->marker(), 0.5 / 1.3, 1e-12); // value 0 on the way
+    QSlider* lever = motions.slider(0);
+    lever->setFocus();
+    for (int press = 0; press < 7; ++press)
+        QTest::keyClick(lever, Qt::Key_PageUp);
+    settle();
+    const double t = (35.0 * kPi / 180.0 + 0.5) / 1.3;
+    EXPECT_NEAR(*motions.plots()[0]->marker(), t, 1e-12);
+    EXPECT_NEAR(*motions.plots()[1]->marker(), t, 1e-12);
+
+    // Problems names the motion values where the sweep found the clearance broken.
+    EXPECT_TRUE(problemTexts().contains(
+        "pillar to carriage — sweep, lever at 0.0°, carriage at 0.0 mm: 32.0 mm from "
+        "/motion-rig/base_plate (clearance 40.0 mm), on 51 of 51 steps"))
+        << problemTexts().join('\n').toStdString();
+    EXPECT_EQ(problemTexts().filter("pillar to lever tip — sweep").size(), 0);
+    screenshot("editor-motion-plots.png");
+}
+
+TEST_F(MotionsTest, ASweepProblemNamesWhereTheBendBreaksAndAClickPreviewsThePartsThere)
+{
+    MotionsPanel& motions = m_window->motions();
+    waitForSweep([&] { return motions.report().has_value() && !motions.sweepRunning(); });
+    EXPECT_TRUE(m_window->motions().findings().empty());
+
+    // A stiffer hose to the carriage: braided steel bends no tighter than 165 mm, and the
+    // carriage hose comes down to about 102 mm over the motions.
+    formats::HoseDefinition stiffer = *document().hoseDefinition("carriage-feed");
+    stiffer.material = formats::PresetName{"braided steel hose"};
+    document().undoStack()->push(
+        makeSetHoseDefinition(document(), "carriage-feed", stiffer, MergeId::None, "Material"));
+    settle();
+    ASSERT_EQ(motions.plots().size(), 2u);
+    EXPECT_TRUE(motions.plots()[1]->stale()) << "an edit makes the plots out of date";
+    waitForSweep([&] {
+        return motions.report() && motions.report()->hoses[1].minBendRadius == 0.165 &&
+               !motions.sweepRunning();
+    });
+    EXPECT_FALSE(motions.plots()[1]->stale());
+    EXPECT_EQ(motions.plots()[1]->series().minBendRadius, 0.165);
+
+    const exporting::HoseSweep& swept = motions.report()->hoses[1];
+    ASSERT_TRUE(swept.bendViolated());
+    const std::vector<double>& where =
+        motions.report()->steps[size_t(swept.smallestBendRadiusStep)].values;
+    const std::string expected = "pillar to carriage — sweep, " +
+                                 describeMotionValues(document().project().motions, where) +
+                                 ": bend radius ";
+    const QStringList texts = problemTexts();
+    int row = -1;
+    for (int i = 0; i < texts.size(); ++i)
+        if (texts[i].toStdString().rfind(expected, 0) == 0) row = i;
+    ASSERT_GE(row, 0) << texts.join('\n').toStdString();
+    EXPECT_TRUE(texts[row].contains(" < 165.0 mm, on ")) << texts[row].toStdString();
+
+    // A click on it moves the parts to where it happens (a preview) and selects the joint.
+    clickProblem(row);
+    ASSERT_EQ(document().motionPreview().size(), 2u);
+    EXPECT_EQ(document().motionPreview(), where);
+    EXPECT_EQ(document().selection().hoseId, "carriage-feed");
+    EXPECT_EQ(document().selection().rangeFirst, swept.smallestBendRadiusJoint);
+    EXPECT_EQ(motions.slider(1)->value(),
+              motionTickOfValue(document().project().motions[1], where[1]));
+    EXPECT_EQ(motions.valueLabel(0)->text().toStdString(),
+              formatMotionValue(document().project().motions[0], where[0]));
+    expectEverySegmentInItsBand(*document().hose("carriage-feed"));
+    screenshot("editor-motion-problem.png");
 }
 
 } // namespace
