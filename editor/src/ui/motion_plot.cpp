@@ -47,7 +47,7 @@ double axisTop(const MotionPlotSeries::Line& out, const MotionPlotSeries::Line& 
     double top = limit * 1.5;
     for (const MotionPlotSeries::Line* line : {&out, &back})
         for (double value : line->*values)
-            if (std::isfinite(value)) top = std::max(top, value);
+            if (std::isfinite(value)) top = std::max(top, value * 1.15); // off the edge
     if (cap > 0.0) top = std::min(top, cap);
     return top > 0.0 ? top : 1.0;
 }
