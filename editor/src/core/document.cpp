@@ -48,6 +48,8 @@ Document::Document(formats::NamedRoots roots, QObject* parent)
     m_project = formats::Project::withStandardPresets("Untitled");
     connect(&m_undoStack, &QUndoStack::cleanChanged, this,
             [this](bool) { emitChanged(ChangeEvent::Kind::FileStateChanged); });
+    // An edit ends a motion preview: the project's pose is what edits apply to.
+    connect(&m_undoStack, &QUndoStack::indexChanged, this, [this](int) { clearMotionPreview(); });
 }
 
 Document::~Document()
@@ -61,6 +63,8 @@ Document::~Document()
 void Document::adopt(LoadedProject loaded)
 {
     m_undoStack.clear();
+    const bool previewed = !m_motionValues.empty();
+    dropMotionPreview();
     m_project = std::move(loaded.project);
     m_file = std::move(loaded.file);
     m_scenes = std::move(loaded.scenes);
@@ -78,6 +82,7 @@ void Document::adopt(LoadedProject loaded)
     m_undoStack.setClean();
     emitChanged(ChangeEvent::Kind::ProjectReplaced);
     emitChanged(ChangeEvent::Kind::FileStateChanged);
+    if (previewed) emit motionPreviewChanged();
 }
 
 void Document::reset(const std::string& projectName)
@@ -193,6 +198,10 @@ std::string Document::unusedHoseId() const
 
 formats::Mat4 Document::nodeLocalTransform(const std::string& sceneId, int node) const
 {
+    if (!m_motionLocal.empty()) {
+        const auto previewed = m_motionLocal.find({sceneId, node});
+        if (previewed != m_motionLocal.end()) return previewed->second;
+    }
     const auto it = m_pose.find({sceneId, node});
     if (it != m_pose.end() && it->second) return *it->second;
     const formats::ImportedScene* imported = scene(sceneId);
@@ -389,6 +398,14 @@ bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const Hose* live = hose(hoseId);
     if (!definition || !live) return false;
+    if (!m_motionValues.empty() && hoseAffectedByPose(*definition)) {
+        if (why)
+            *why = "This hose is fixed to a part the motion preview moves; reset the motions "
+                   "before reshaping the hose (the route is stored at the project's pose).";
+        rebuildHose(hoseId);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+        return false;
+    }
     if (hoseAffectedByPose(*definition)) {
         if (why)
             *why = "This hose is fixed to a part that is moved from its file position; reset "
@@ -776,6 +793,7 @@ void Document::poseChanged(const NodeKey& node)
 void Document::insertScene(int index, formats::SceneReference reference,
                            formats::ImportedScene importedScene)
 {
+    clearMotionPreview();
     index = std::clamp(index, 0, static_cast<int>(m_project.scenes.size()));
     m_scenes[reference.id] = std::move(importedScene);
     m_project.scenes.insert(m_project.scenes.begin() + index, std::move(reference));
@@ -787,6 +805,7 @@ void Document::insertScene(int index, formats::SceneReference reference,
 std::pair<formats::SceneReference, formats::ImportedScene>
 Document::removeScene(const std::string& id)
 {
+    clearMotionPreview();
     auto it = std::find_if(m_project.scenes.begin(), m_project.scenes.end(),
                            [&](const formats::SceneReference& s) { return s.id == id; });
     std::pair<formats::SceneReference, formats::ImportedScene> removed;
@@ -847,6 +866,7 @@ void Document::rebuildHose(const std::string& hoseId)
             if (pushed.status == Status::Infeasible) *live.hose = std::move(built);
             live.lastUpdate = pushed;
         }
+        if (!m_motionLocal.empty()) followMotionPreview(hoseId);
         wakeGravity(hoseId);
     } catch (const std::exception& error) {
         live.hose.reset();
@@ -871,6 +891,7 @@ bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) con
              n = imported->nodes[static_cast<size_t>(n)].parent) {
             const auto it = m_pose.find({sceneId, n});
             if (it != m_pose.end() && it->second) return true;
+            if (m_motionLocal.count({attachment.scene, n}) > 0) return true;
         }
         return false;
     };

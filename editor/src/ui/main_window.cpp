@@ -9,12 +9,14 @@
 #include "fit_length_dialog.h"
 #include "import_dialog.h"
 #include "import_runner.h"
+#include "motions_panel.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
 #include "viewport.h"
 
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QCloseEvent>
 #include <QDir>
 #include <QDockWidget>
@@ -218,6 +220,38 @@ void MainWindow::createDocks()
     followClearance(m_problems->clearanceThreshold()->value());
     connect(m_problems->clearanceThreshold(), qOverload<double>(&QDoubleSpinBox::valueChanged),
             this, followClearance);
+
+    m_motions = new MotionsPanel(*m_document);
+    auto* motionsDock = new QDockWidget(tr("Motions"), this);
+    motionsDock->setObjectName("motionsDock");
+    motionsDock->setWidget(m_motions);
+    addDockWidget(Qt::BottomDockWidgetArea, motionsDock);
+    splitDockWidget(problemsDock, motionsDock, Qt::Horizontal);
+    resizeDocks({problemsDock}, {300}, Qt::Vertical);
+    // The sweep checks the clearance the Problems panel checks, and lists what it finds there.
+    const auto sweepClearance = [this] {
+        m_motions->setClearanceThreshold(m_problems->clearanceEnabled()->isChecked()
+                                             ? m_problems->clearanceThreshold()->value() / 1000.0
+                                             : 0.0);
+    };
+    sweepClearance();
+    connect(m_problems->clearanceThreshold(), qOverload<double>(&QDoubleSpinBox::valueChanged),
+            this, sweepClearance);
+    connect(m_problems->clearanceEnabled(), &QCheckBox::toggled, this, sweepClearance);
+    connect(m_motions, &MotionsPanel::sweepFinished, this, [this] {
+        std::vector<Problem> problems;
+        for (const SweepFinding& finding : m_motions->findings()) {
+            Problem problem(finding.hoseId, finding.firstPoint, finding.lastPoint,
+                            QString::fromStdString(finding.text));
+            if (const formats::ImportedScene* scene = m_document->scene(finding.sceneId)) {
+                problem.sceneId = finding.sceneId;
+                problem.node = scene->findNode(finding.objectPath);
+            }
+            problem.motionValues = finding.values;
+            problems.push_back(std::move(problem));
+        }
+        m_problems->setSweepProblems(std::move(problems));
+    });
 
     m_history = new QUndoView(m_document->undoStack());
     m_history->setObjectName("history");

@@ -1,6 +1,6 @@
 // ChainTube editor — the main window: menus and shortcuts, the viewport, the scene tree,
-// properties, problems and history docks; files (new/open/save/save as, recent files, the
-// unsaved-changes prompt, autosave and crash recovery), scene import and export.
+// properties, problems, motions and history docks; files (new/open/save/save as, recent files,
+// the unsaved-changes prompt, autosave and crash recovery), scene import and export.
 #pragma once
 
 #include "chaintube/editor/document.h"
@@ -20,6 +20,7 @@ class QUndoView;
 namespace chaintube::editor {
 
 class ExportDialog;
+class MotionsPanel;
 class ProblemsPanel;
 class PropertiesPanel;
 class Viewport;
@@ -40,6 +41,7 @@ public:
     Viewport& viewport() { return *m_viewport; }
     PropertiesPanel& properties() { return *m_properties; }
     ProblemsPanel& problems() { return *m_problems; }
+    MotionsPanel& motions() { return *m_motions; }
     QTreeWidget& sceneTree() { return *m_sceneTree; }
     /// The export dialog (created on first use, shown modeless).
     ExportDialog& exportDialog();
@@ -110,6 +112,7 @@ private:
     Viewport* m_viewport = nullptr;
     PropertiesPanel* m_properties = nullptr;
     ProblemsPanel* m_problems = nullptr;
+    MotionsPanel* m_motions = nullptr;
     QTreeWidget* m_sceneTree = nullptr;
     QUndoView* m_history = nullptr;
     ExportDialog* m_exportDialog = nullptr;

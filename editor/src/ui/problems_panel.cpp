@@ -216,8 +216,16 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
             selection.sceneId = problem.sceneId;
             selection.node = problem.node;
         }
+        const std::vector<double> motionValues = problem.motionValues; // refreshes may follow
         m_document.setSelection(selection);
+        if (!motionValues.empty()) m_document.setMotionPreview(motionValues);
     });
+    refreshNow();
+}
+
+void ProblemsPanel::setSweepProblems(std::vector<Problem> problems)
+{
+    m_sweepProblems = std::move(problems);
     refreshNow();
 }
 
@@ -269,10 +277,12 @@ void ProblemsPanel::refreshNow()
         }
     }
     m_document.setClearanceMarkers(std::move(markers));
+    m_problems.insert(m_problems.end(), m_sweepProblems.begin(), m_sweepProblems.end());
     clear();
     for (const Problem& problem : m_problems) {
         auto* item = new QListWidgetItem(problem.text, this);
         item->setForeground(QColor(255, 120, 100));
+        item->setToolTip(problem.text); // a long line is cut at the panel's edge
     }
     if (m_problems.empty()) addItem(tr("No problems"));
 }

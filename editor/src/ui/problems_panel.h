@@ -32,6 +32,9 @@ struct Problem
     /// Clearance violations: the scene object (selected together with the hose on click).
     std::string sceneId;
     int node = -1;
+    /// A finding of the motion sweep: the motion values where it occurs (a click previews
+    /// the parts there, Document::setMotionPreview); empty for a finding at the current pose.
+    std::vector<double> motionValues;
 };
 
 /// All problems of a document, hose by hose (pure function; used by the panel and tests).
@@ -51,6 +54,9 @@ public:
     /// viewport (Document::clearanceMarkers). The controls sit above the list.
     QCheckBox* clearanceEnabled() const { return m_clearanceEnabled; }
     QDoubleSpinBox* clearanceThreshold() const { return m_clearanceThreshold; } ///< millimetres
+    /// Findings of the motion sweep (the Motions dock's), listed after the others until
+    /// replaced.
+    void setSweepProblems(std::vector<Problem> problems);
 
 protected:
     void resizeEvent(QResizeEvent* event) override;
@@ -58,6 +64,7 @@ protected:
 private:
     Document& m_document;
     std::vector<Problem> m_problems;
+    std::vector<Problem> m_sweepProblems;
     QTimer m_throttle;
     QWidget* m_clearanceBar = nullptr;
     QCheckBox* m_clearanceEnabled = nullptr;

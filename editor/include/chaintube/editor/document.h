@@ -34,6 +34,7 @@
 //                       concerned by changes (then it is built again).
 #pragma once
 
+#include "chaintube/formats/motion.h"
 #include "chaintube/formats/project.h"
 #include "chaintube/formats/project_hoses.h"
 #include "chaintube/hose.h"
@@ -209,6 +210,26 @@ public:
     /// Increments whenever any override changes (pickers rebuild instance transforms).
     std::uint64_t poseSerial() const { return m_poseSerial; }
 
+    // --- motion preview (not an edit) -------------------------------------------------------
+    /// Poses the moving parts of project().motions at `values` (one per motion: radians for a
+    /// hinge, metres for a slider; formats::PartMotions on top of the project's pose) and moves
+    /// the hoses fixed to them as a part drag does (moveAttachmentsFully), in steps no larger
+    /// than 1/kMotionPreviewSteps of a motion's range; colliders the parts carry move along.
+    /// A preview, like scrubbing a CAD assembly's motion: no undo step, no modified flag,
+    /// project() unchanged; nodeLocalTransform() and everything drawn follow it. Values all 0
+    /// is the project's pose: the hoses it moved are built again exactly as the project gives
+    /// them. Any edit (a command pushed, undone or redone), a new project or a scene change
+    /// ends the preview (clearMotionPreview). Values are clamped to each motion's range.
+    /// Returns false and changes nothing for a wrong count, a non-finite value or a motion the
+    /// scenes cannot resolve (`why` says which).
+    bool setMotionPreview(const std::vector<double>& values, std::string* why = nullptr);
+    /// Back to the project's pose (setMotionPreview with every value 0); emits
+    /// motionPreviewChanged(). Nothing happens when no preview is active.
+    void clearMotionPreview();
+    /// The previewed values, one per motion; empty while the parts are at the project's pose.
+    const std::vector<double>& motionPreview() const { return m_motionValues; }
+    static constexpr int kMotionPreviewSteps = 40;
+
     // --- selection (not undoable) -----------------------------------------------------------
     const Selection& selection() const { return m_selection; }
     void setSelection(const Selection& selection);
@@ -319,9 +340,25 @@ signals:
     /// A hose with gravity on started settling (it was built, dragged or a part it is fixed to
     /// moved: whoever drives stepGravity() should start), settled, or ran out of step budget.
     void gravityStateChanged();
+    /// motionPreview() changed (a scrub, a reset, or an edit that ended the preview).
+    void motionPreviewChanged();
 
 private:
     std::vector<ClearanceMarker> m_clearanceMarkers;
+    /// Motion preview (motion_preview.cpp): the values, the motions resolved against a copy
+    /// of the scenes' nodes (no meshes), and the moving nodes' previewed local transforms,
+    /// which nodeLocalTransform() gives before any override.
+    std::vector<double> m_motionValues;
+    std::unique_ptr<formats::PartMotions> m_partMotions;
+    formats::ImportedScenes m_motionNodes;
+    std::map<NodeKey, formats::Mat4> m_motionLocal;
+    std::vector<std::string> m_motionMovedHoses; ///< hoses the preview moved (rebuilt on reset)
+    /// Drops the preview state without touching the hoses (a rebuild follows).
+    void dropMotionPreview();
+    /// Poses the moving nodes at `values` (m_motionLocal) and moves what they carry.
+    void applyMotionPose(const std::vector<double>& values);
+    /// A hose just built at the project's pose: its attachments on previewed parts moved there.
+    void followMotionPreview(const std::string& hoseId);
     struct LiveHose
     {
         std::optional<Hose> hose;
