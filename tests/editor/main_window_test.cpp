@@ -1856,7 +1856,10 @@ TEST_F(MainWindowTest, AClipAddedWithOneGestureCarriesTheHoseWhenItsPartMoves)
     const QPointF direction = QPointF(b - a) / std::hypot(b.x() - a.x(), b.y() - a.y());
     const QPoint grip = a + (b - a) * 0.8;
     const double slideBefore = clip->slide;
-    drag(&viewport, grip, grip + (direction * 20).toPoint());
+    // 25 mm along the arrow (its screen length is gizmoLength metres).
+    const double pixelsPerMetre =
+        std::hypot(b.x() - a.x(), b.y() - a.y()) / Renderer::gizmoLength(viewport.camera());
+    drag(&viewport, grip, grip + (direction * (0.025 * pixelsPerMetre)).toPoint());
     const Vec3 shift = document.nodeWorldFrame("rig", plate).translation - plateBefore;
     EXPECT_GT(shift.x(), 0.01) << "the gizmo moved the plate along +X";
     EXPECT_EQ(document.undoStack()->count(), 2);

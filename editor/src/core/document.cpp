@@ -891,7 +891,7 @@ bool Document::hoseAffectedByPose(const formats::HoseDefinition& definition) con
              n = imported->nodes[static_cast<size_t>(n)].parent) {
             const auto it = m_pose.find({sceneId, n});
             if (it != m_pose.end() && it->second) return true;
-            if (m_motionLocal.count({attachment.scene, n}) > 0) return true;
+            if (m_motionLocal.count({sceneId, n}) > 0) return true;
         }
         return false;
     };

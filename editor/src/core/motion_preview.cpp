@@ -84,7 +84,10 @@ void Document::applyMotionPose(const std::vector<double>& values)
         if (std::any_of(definition.attachments.begin(), definition.attachments.end(),
                         [&](const formats::HoseAttachment& attachment) {
                             return carried(attachment.scene, attachment.node);
-                        }))
+                        }) ||
+            std::any_of(
+                definition.clips.begin(), definition.clips.end(),
+                [&](const formats::HoseClip& clip) { return carried(clip.scene, clip.node); }))
             driven.push_back(&definition);
     std::vector<std::string> moved;
     const auto noteMoved = [&](const std::string& id) {
@@ -158,13 +161,16 @@ void Document::followMotionPreview(const std::string& hoseId)
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const auto live = m_live.find(hoseId);
     if (!definition || !m_partMotions || live == m_live.end() || !live->second.hose) return;
-    const bool carried = std::any_of(
-        definition->attachments.begin(), definition->attachments.end(),
-        [&](const formats::HoseAttachment& attachment) {
-            const formats::ImportedScene* imported = scene(attachment.scene);
-            return imported &&
-                   m_partMotions->carried(attachment.scene, imported->findNode(attachment.node));
-        });
+    const auto carriedNode = [&](const std::string& sceneId, const std::string& path) {
+        const formats::ImportedScene* imported = scene(sceneId);
+        return imported && m_partMotions->carried(sceneId, imported->findNode(path));
+    };
+    const bool carried =
+        std::any_of(
+            definition->attachments.begin(), definition->attachments.end(),
+            [&](const formats::HoseAttachment& a) { return carriedNode(a.scene, a.node); }) ||
+        std::any_of(definition->clips.begin(), definition->clips.end(),
+                    [&](const formats::HoseClip& c) { return carriedNode(c.scene, c.node); });
     if (!carried) return;
     std::vector<int> ids;
     for (const Hose::Attachment& attachment : live->second.hose->attachments())
