@@ -13,7 +13,7 @@ namespace {
 /// Bisection steps of one slide decision (each O(pinned points of the two sides)).
 constexpr int kSlideBisections = 48;
 
-std::string str(double value)
+std::string clipNumber(double value)
 {
     std::ostringstream out;
     out.precision(15);
@@ -85,11 +85,11 @@ int Hose::addClip(double place, const Frame& frame, const ClipOptions& options)
     if (!std::isfinite(options.slideMin) || options.slideMin < 0.0 ||
         std::isnan(options.slideMax) || options.slideMax < options.slideMin)
         throw InvalidArgument("clip end stops: expected 0 <= slideMin <= slideMax, got " +
-                              str(options.slideMin) + " … " + str(options.slideMax));
+                              clipNumber(options.slideMin) + " … " + clipNumber(options.slideMax));
     const double lo = options.slideMin, hi = std::min(total, options.slideMax);
     if (!std::isfinite(place) || place < lo || place > hi)
-        throw InvalidArgument("clip place: expected a rest arc length in " + str(lo) + " … " +
-                              str(hi) + " m, got " + str(place));
+        throw InvalidArgument("clip place: expected a rest arc length in " + clipNumber(lo) +
+                              " … " + clipNumber(hi) + " m, got " + clipNumber(place));
     const std::vector<double> prefix = prefixSums(m_restLength);
     int j = segmentAt(prefix, place, 0, segmentCount() - 1);
     if (place == prefix[static_cast<size_t>(j)] && j > 0 &&
@@ -97,13 +97,14 @@ int Hose::addClip(double place, const Frame& frame, const ClipOptions& options)
         --j; // a place on a point: the segment before it when the one after is taken
     for (const int i : {j, j + 1})
         if (m_fixed[static_cast<size_t>(i)])
-            throw InvalidArgument("clip place " + str(place) + " m: point " + std::to_string(i) +
+            throw InvalidArgument("clip place " + clipNumber(place) + " m: point " +
+                                  std::to_string(i) +
                                   " of the segment holding it is already fixed by an attachment");
     const Vec3 a = m_local[static_cast<size_t>(j)], b = m_local[static_cast<size_t>(j + 1)];
     const double length = (b - a).norm();
     if (!(length > 0.0))
-        throw InvalidArgument("clip place " + str(place) + " m: segment " + std::to_string(j) +
-                              " has no direction (zero length)");
+        throw InvalidArgument("clip place " + clipNumber(place) + " m: segment " +
+                              std::to_string(j) + " has no direction (zero length)");
     const double f =
         (place - prefix[static_cast<size_t>(j)]) / m_restLength[static_cast<size_t>(j)];
     Attachment clip;
