@@ -691,6 +691,74 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
     screenshot("editor-route-on-step-bracket.png");
 }
 
+// Route points clicked on the bracket's flange next to its upright (where the flange's own
+// normal would leave the point nearer the upright than the hose's radius plus the clearance)
+// are moved on until every surface of the scene keeps that distance.
+TEST_F(MainWindowTest, RoutePointsClickedNextToTheBracketsUprightKeepTheClearanceFromEveryFace)
+{
+    const fs::path step = test::scenesDir() / "as1-oc-214.stp";
+    if (!fs::exists(step))
+        GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no as1-oc-214.stp: STEP bracket test skipped";
+    const QJsonObject scene{
+        {"id", "as1"},
+        {"path", "scenes:as1-oc-214.stp"},
+        {"import", QJsonObject{{"chordalTolerance", 1e-4}, {"angularTolerance", 0.5}}}};
+    ASSERT_TRUE(m_window->openFile(writeProject("route-in-bracket-corner", scene)))
+        << m_errors.join('\n').toStdString();
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    m_window->activateWindow();
+    QApplication::setActiveWindow(m_window.get());
+    QTest::keyClick(&viewport, Qt::Key_Home);
+    settle();
+    const std::string bracket = "/as1/l-bracket-assembly_1/l-bracket_1";
+    QTest::keyClick(&viewport, Qt::Key_N);
+    ASSERT_EQ(viewport.mode(), Viewport::Mode::LayRoute);
+    const double wanted = 0.5 * viewport.newHoseDiameter() +
+                          m_window->problems().clearanceThreshold()->value() / 1000.0;
+    const formats::ImportedScene& as1 = *document.scene("as1");
+    const int bracketNode = as1.findNode(bracket);
+    ASSERT_GE(bracketNode, 0);
+    const auto bracketCollider =
+        formats::nodeCollider(as1, bracketNode, document.nodeWorldTransform("as1", bracketNode));
+    ASSERT_TRUE(bracketCollider);
+    // Upward hits on the bracket whose point out along the normal is too near the bracket.
+    auto corner = topHits(bracket);
+    std::erase_if(corner, [&](const auto& hit) {
+        const Vec3 out = hit.second.point + wanted * hit.second.normal;
+        return hit.second.normal.y() < 0.9 ||
+               !(bracketCollider->closestToPoint(out).distance < wanted - 1e-4);
+    });
+    ASSERT_GE(corner.size(), 2u) << "no flange spot next to the upright was found";
+    std::sort(corner.begin(), corner.end(),
+              [](const auto& a, const auto& b) { return a.first.x() < b.first.x(); });
+    const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {corner.front(), corner.back()};
+    for (const auto& click : clicks)
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
+    ASSERT_EQ(viewport.pendingRoute().size(), 2u);
+    ScenePicker picker;
+    picker.update(document);
+    for (size_t i = 0; i < clicks.size(); ++i) {
+        const Vec3 point = viewport.pendingRoute()[i];
+        const Vec3 naive = clicks[i].second.point + wanted * clicks[i].second.normal;
+        const double before = bracketCollider->closestToPoint(naive).distance;
+        const double after = bracketCollider->closestToPoint(point).distance;
+        Vec3 nearest;
+        const bool anyNearer = picker.nearest(point, wanted - 1e-6, &nearest);
+        std::printf("corner click %zu: out along the normal %.3f mm from the bracket, placed "
+                    "%.4f mm (wanted %.4f mm)\n",
+                    i, before * 1000.0, after * 1000.0, wanted * 1000.0);
+        EXPECT_LT(before, wanted - 1e-4) << "the click is next to another face";
+        EXPECT_GE(after, wanted - 1e-6) << "click " << i;
+        EXPECT_FALSE(anyNearer) << "click " << i << ": a surface at "
+                                << (nearest - point).norm() * 1000.0 << " mm";
+    }
+    QTest::keyClick(&viewport, Qt::Key_Return);
+    settle();
+    ASSERT_EQ(document.hoseCount(), 1) << m_errors.join('\n').toStdString();
+    screenshot("editor-route-in-corner.png");
+}
+
 TEST_F(MainWindowTest, RotateGizmoTurnsAPartInSnappedStepsAndTheHosesFollow)
 {
     const QString project = copyOfTestRig("rotate");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <gtest/gtest.h>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -236,6 +237,102 @@ TEST(NewHoseMaterial, JudgesADeflectionAnglePresetAtTheNewHosesSegmentLength)
     EXPECT_FALSE(own.presetKept);
     EXPECT_EQ(own.material.bendLimit.kind, BendLimit::Kind::MinBendRadius);
     EXPECT_DOUBLE_EQ(own.material.bendLimit.value, 0.10);
+}
+
+/// Nearest point among infinite planes (point, unit normal) within maxDistance.
+NearestSurfaceQuery planes(std::vector<std::pair<Vec3, Vec3>> list, int* queries = nullptr)
+{
+    return [list, queries](const Vec3& at, double maxDistance) {
+        if (queries) ++*queries;
+        NearestSurface best;
+        double bestDistance = maxDistance;
+        for (const auto& [onPlane, normal] : list) {
+            const double signedDistance = normal.dot(at - onPlane);
+            if (std::abs(signedDistance) < bestDistance) {
+                bestDistance = std::abs(signedDistance);
+                best.found = true;
+                best.point = at - signedDistance * normal;
+            }
+        }
+        return best;
+    };
+}
+
+double nearestPlane(const std::vector<std::pair<Vec3, Vec3>>& list, const Vec3& at)
+{
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [onPlane, normal] : list)
+        best = std::min(best, std::abs(normal.dot(at - onPlane)));
+    return best;
+}
+
+TEST(KeepClearOfSurfaces, APointClickedNextToAnInnerCornerGoesOutOfItInOnePush)
+{
+    // A floor y = 0 and a wall x = 0; clicked on the floor 3 mm from the wall, 10 mm wanted.
+    const std::vector<std::pair<Vec3, Vec3>> corner = {{Vec3::Zero(), Vec3::UnitY()},
+                                                       {Vec3::Zero(), Vec3::UnitX()}};
+    const SurfaceOffset placed =
+        offsetFromSurface(Vec3(0.003, 0.0, 0.5), Vec3::UnitY(), Vec3(0, -1, 0), 0.01);
+    EXPECT_NEAR(nearestPlane(corner, placed.position), 0.003, 1e-15) << "the wall is too near";
+    const ClearedRoutePoint cleared = keepClearOfSurfaces(placed, 0.01, planes(corner));
+    EXPECT_TRUE(cleared.clear);
+    EXPECT_EQ(cleared.pushes, 1);
+    EXPECT_NEAR((cleared.position - Vec3(0.01, 0.01, 0.5)).norm(), 0.0, 1e-15);
+    EXPECT_GE(nearestPlane(corner, cleared.position), 0.01 - 1e-15);
+    EXPECT_NEAR(cleared.clearance, 0.01, 1e-15);
+}
+
+TEST(KeepClearOfSurfaces, AWedgeIsClearedWithinTheBoundedPushes)
+{
+    // A floor and a face leaning in at 60° over it (a 60° wedge), clicked near its apex.
+    const Vec3 leaning(-std::sin(std::numbers::pi / 3), std::cos(std::numbers::pi / 3), 0.0);
+    const std::vector<std::pair<Vec3, Vec3>> wedge = {{Vec3::Zero(), Vec3::UnitY()},
+                                                      {Vec3::Zero(), -leaning}};
+    int queries = 0;
+    const SurfaceOffset placed =
+        offsetFromSurface(Vec3(0.01, 0.0, 0.0), Vec3::UnitY(), Vec3(0, -1, 0), 0.01);
+    const ClearedRoutePoint cleared = keepClearOfSurfaces(placed, 0.01, planes(wedge, &queries));
+    EXPECT_TRUE(cleared.clear);
+    EXPECT_GE(nearestPlane(wedge, cleared.position), 0.01 * (1 - 1e-9));
+    EXPECT_GT(cleared.position.x(), 0.0);
+    EXPECT_LE(cleared.pushes, 2) << "both faces solved at once";
+    EXPECT_EQ(queries, cleared.pushes + 1);
+}
+
+TEST(KeepClearOfSurfaces, AGapTooNarrowForTheHoseIsReportedWithTheBestPointFound)
+{
+    // A slot 15 mm wide (x = 0 and x = 0.015) over a floor: 10 mm from both walls is impossible.
+    const std::vector<std::pair<Vec3, Vec3>> slot = {{Vec3::Zero(), Vec3::UnitY()},
+                                                     {Vec3::Zero(), Vec3::UnitX()},
+                                                     {Vec3(0.015, 0, 0), -Vec3::UnitX()}};
+    int queries = 0;
+    const SurfaceOffset placed =
+        offsetFromSurface(Vec3(0.004, 0.0, 0.0), Vec3::UnitY(), Vec3(0, -1, 0), 0.01);
+    const ClearedRoutePoint cleared = keepClearOfSurfaces(placed, 0.01, planes(slot, &queries));
+    EXPECT_FALSE(cleared.clear);
+    EXPECT_EQ(cleared.pushes, kMaxClearingPushes);
+    EXPECT_EQ(queries, kMaxClearingPushes + 1) << "the work is bounded";
+    EXPECT_NEAR(cleared.clearance, nearestPlane(slot, cleared.position), 1e-15);
+    EXPECT_GE(cleared.clearance, nearestPlane(slot, placed.position));
+    EXPECT_LT(cleared.clearance, 0.0075 + 1e-12) << "half the slot at most";
+    EXPECT_TRUE(cleared.position.allFinite());
+}
+
+TEST(KeepClearOfSurfaces, NothingNearOrNoQueryLeavesThePointWhereItIs)
+{
+    const SurfaceOffset placed =
+        offsetFromSurface(Vec3(0.0, 0.0, 0.0), Vec3::UnitY(), Vec3(0, -1, 0), 0.01);
+    const ClearedRoutePoint alone =
+        keepClearOfSurfaces(placed, 0.01, planes({{Vec3::Zero(), Vec3::UnitY()}}));
+    EXPECT_TRUE(alone.clear);
+    EXPECT_EQ(alone.pushes, 0);
+    EXPECT_EQ(alone.position, placed.position);
+    const ClearedRoutePoint none = keepClearOfSurfaces(placed, 0.01, nullptr);
+    EXPECT_TRUE(none.clear);
+    EXPECT_EQ(none.position, placed.position);
+    const ClearedRoutePoint nan = keepClearOfSurfaces(
+        placed, std::numeric_limits<double>::quiet_NaN(), planes({{Vec3::Zero(), Vec3::UnitX()}}));
+    EXPECT_EQ(nan.position, placed.position);
 }
 
 } // namespace

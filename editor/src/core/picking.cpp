@@ -67,6 +67,15 @@ MeshBvh::MeshBvh(const formats::SceneMesh& mesh)
     m_bounds.extend(bounds.max);
 }
 
+bool MeshBvh::closest(const Vec3& point, double maxDistance, Vec3* onMesh) const
+{
+    if (!m_collider) return false;
+    const MeshCollider::Closest found = m_collider->closestToPoint(point, maxDistance);
+    if (!found.found) return false;
+    *onMesh = found.onMesh;
+    return true;
+}
+
 bool MeshBvh::intersect(const Vec3& origin, const Vec3& direction, double maxT, Hit* hit) const
 {
     if (!m_collider) return false;
@@ -146,6 +155,34 @@ bool ScenePicker::pick(const Ray& ray, ScenePickHit* hit) const
             normal = -ray.direction;
         }
         hit->normal = normal;
+    }
+    return found;
+}
+
+bool ScenePicker::nearest(const Vec3& point, double maxDistance, Vec3* onSurface) const
+{
+    double best = maxDistance;
+    bool found = false;
+    for (const Instance& instance : m_instances) {
+        // Boxes farther than the best distance so far hold nothing nearer.
+        const Vec3 outside = (instance.worldBounds.min - point)
+                                 .cwiseMax(point - instance.worldBounds.max)
+                                 .cwiseMax(Vec3::Zero());
+        if (!(outside.norm() < best)) continue;
+        // The search radius in mesh coordinates: the world radius times the largest stretch
+        // of meshFromWorld (bounded by its Frobenius norm).
+        const Eigen::Matrix3d toMesh = instance.meshFromWorld.block<3, 3>(0, 0);
+        const double localRadius = std::isfinite(best) ? best * toMesh.norm() : best;
+        Vec3 local;
+        if (!instance.bvh->closest(transformPoint(instance.meshFromWorld, point), localRadius,
+                                   &local))
+            continue;
+        const Vec3 world = transformPoint(instance.worldFromMesh, local);
+        const double distance = (world - point).norm();
+        if (!(distance < best)) continue;
+        best = distance;
+        *onSurface = world;
+        found = true;
     }
     return found;
 }

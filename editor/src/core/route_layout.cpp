@@ -41,6 +41,63 @@ SurfaceOffset offsetFromSurface(const Vec3& surfacePoint, const Vec3& normal,
     return result;
 }
 
+ClearedRoutePoint keepClearOfSurfaces(const SurfaceOffset& placed, double distance,
+                                      const NearestSurfaceQuery& nearest)
+{
+    ClearedRoutePoint result;
+    result.position = placed.position;
+    if (!nearest || !std::isfinite(distance) || !(distance > 0.0) || !placed.position.allFinite()) {
+        result.clear = true;
+        result.clearance = std::isfinite(distance) ? std::max(0.0, distance) : 0.0;
+        return result;
+    }
+    Vec3 position = placed.position;
+    const Vec3 fallback = usable(placed.direction) ? placed.direction.normalized() : Vec3::UnitY();
+    double bestClearance = -1.0;
+    bool previous = false;
+    Vec3 previousPoint = Vec3::Zero(), previousDirection = Vec3::Zero();
+    for (int push = 0;; ++push) {
+        const NearestSurface near = nearest(position, distance);
+        const double clearance =
+            near.found && near.point.allFinite() ? (position - near.point).norm() : distance;
+        if (clearance > bestClearance) {
+            bestClearance = clearance;
+            result.position = position;
+            result.clearance = std::min(clearance, distance);
+        }
+        if (clearance >= distance * (1.0 - 1e-12)) { // rounding of the last push
+            result.clear = true;
+            result.clearance = clearance;
+            result.position = position;
+            return result;
+        }
+        if (push == kMaxClearingPushes) return result;
+        // Away from the nearest surface point by what is missing; from on the surface, along
+        // the direction the point first went out.
+        const Vec3 direction =
+            clearance > 1e-12 * distance ? Vec3((position - near.point) / clearance) : fallback;
+        const double missing = distance - clearance;
+        // The previous push's surface, taken as its tangent plane, is kept where it is (or
+        // brought to the distance too): both planes are solved at once, so an inner corner or
+        // a wedge does not zig-zag between its faces. Opposite faces (a slot) are pushed from
+        // one at a time.
+        const double c = previous ? direction.dot(previousDirection) : 1.0;
+        if (previous && std::abs(c) < 0.999) {
+            const double missingThere =
+                std::max(0.0, distance - previousDirection.dot(position - previousPoint));
+            const double a = (missing - c * missingThere) / (1.0 - c * c);
+            const double b = (missingThere - c * missing) / (1.0 - c * c);
+            position += a * direction + b * previousDirection;
+        } else {
+            position += missing * direction;
+        }
+        previous = true;
+        previousPoint = near.point;
+        previousDirection = direction;
+        result.pushes = push + 1;
+    }
+}
+
 double routePointDistance(double outerDiameter, double clearance)
 {
     const double kept = std::isfinite(clearance) ? std::max(0.0, clearance) : 0.0;

@@ -430,18 +430,36 @@ void Viewport::mousePressEvent(QMouseEvent* event)
         ScenePickHit hit;
         if (pickScene(position, &hit)) {
             // Out of the part: the hose's surface keeps the clearance from the clicked surface.
+            const double distance = routeSurfaceDistance();
             const SurfaceOffset placed =
                 offsetFromSurface(hit.point, hit.surfaceNormal ? hit.normal : Vec3::Zero(),
-                                  rayAt(position).direction, routeSurfaceDistance());
-            m_pendingRoute.push_back(placed.position);
-            emit statusMessage(tr("Route point %1 on %2, %3 mm out%4")
-                                   .arg(m_pendingRoute.size())
-                                   .arg(QString::fromStdString(
-                                       m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name))
-                                   .arg(routeSurfaceDistance() * 1000.0, 0, 'f', 1)
-                                   .arg(placed.alongSurfaceNormal
-                                            ? QString()
-                                            : tr(" towards the camera (no surface normal there)")));
+                                  rayAt(position).direction, distance);
+            // …and from every other surface near it (an inner corner, a groove, a neighbour).
+            const ClearedRoutePoint cleared =
+                keepClearOfSurfaces(placed, distance, [this](const Vec3& at, double within) {
+                    NearestSurface near;
+                    near.found = m_picker.nearest(at, within, &near.point);
+                    return near;
+                });
+            m_pendingRoute.push_back(cleared.position);
+            const QString part =
+                QString::fromStdString(m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name);
+            if (!cleared.clear)
+                emit statusMessage(tr("Route point %1 on %2: only %3 mm from the nearest surface "
+                                      "(%4 mm wanted; the gap is too narrow for the hose)")
+                                       .arg(m_pendingRoute.size())
+                                       .arg(part)
+                                       .arg(cleared.clearance * 1000.0, 0, 'f', 1)
+                                       .arg(distance * 1000.0, 0, 'f', 1));
+            else
+                emit statusMessage(
+                    tr("Route point %1 on %2, %3 mm out%4")
+                        .arg(m_pendingRoute.size())
+                        .arg(part)
+                        .arg(distance * 1000.0, 0, 'f', 1)
+                        .arg(placed.alongSurfaceNormal
+                                 ? QString()
+                                 : tr(" towards the camera (no surface normal there)")));
         } else {
             emit statusMessage(tr("Click on a scene surface to place a route point"));
         }

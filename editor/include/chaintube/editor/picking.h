@@ -37,6 +37,9 @@ public:
     };
     /// Closest hit with t in (1e-9, maxT); both faces count. Returns false if none.
     bool intersect(const Vec3& origin, const Vec3& direction, double maxT, Hit* hit) const;
+    /// Closest point of the mesh to `point` (mesh coordinates) nearer than maxDistance; false
+    /// if none.
+    bool closest(const Vec3& point, double maxDistance, Vec3* onMesh) const;
     /// Bounds in mesh coordinates.
     const Box& bounds() const { return m_bounds; }
     int triangleCount() const { return m_collider ? m_collider->triangleCount() : 0; }
@@ -68,6 +71,10 @@ public:
     void update(const Document& document);
     /// Closest hit along the ray, or false.
     bool pick(const Ray& ray, ScenePickHit* hit) const;
+    /// Nearest point of any mesh instance to `point` (world metres) among those nearer than
+    /// maxDistance; false if none. Each mesh is searched in its own frame: under a non-uniform
+    /// scale the point found is near, not always exactly, the nearest in the world.
+    bool nearest(const Vec3& point, double maxDistance, Vec3* onSurface) const;
     /// World bounds of everything (empty if no scene).
     Box bounds() const;
     /// World bounds of one node's meshes and its descendants' (empty if none).

@@ -7,6 +7,8 @@
 #include "chaintube/editor/camera.h"
 #include "chaintube/material.h"
 
+#include <functional>
+
 namespace chaintube::editor {
 
 /// A route point placed off a clicked surface.
@@ -31,6 +33,44 @@ struct SurfaceOffset
 /// A negative or non-finite distance counts as 0 (the point stays on the surface).
 SurfaceOffset offsetFromSurface(const Vec3& surfacePoint, const Vec3& normal,
                                 const Vec3& viewDirection, double distance);
+
+/// The nearest surface point to a position, as a scene query answers it (found false: no
+/// surface nearer than the query's distance).
+struct NearestSurface
+{
+    bool found = false;
+    Vec3 point = Vec3::Zero(); ///< on the surface (world metres)
+};
+/// Answers the nearest surface point to `position` among those nearer than `maxDistance`.
+using NearestSurfaceQuery = std::function<NearestSurface(const Vec3& position, double maxDistance)>;
+
+/// Pushes of keepClearOfSurfaces at most (each one query).
+inline constexpr int kMaxClearingPushes = 16;
+
+/// A route point moved off every surface near it.
+struct ClearedRoutePoint
+{
+    Vec3 position = Vec3::Zero();
+    /// Distance to the nearest surface there (metres; the wanted distance or more when `clear`;
+    /// `distance` itself when no surface is within it).
+    double clearance = 0.0;
+    bool clear = false; ///< every surface is at least the wanted distance away
+    int pushes = 0;     ///< pushes made (≤ kMaxClearingPushes)
+};
+
+/// A route point placed by offsetFromSurface keeps `distance` from the clicked surface, but a
+/// point clicked near an inner corner or in a groove can still be nearer another face of the
+/// same part or a neighbouring part. This moves it on until no surface `nearest` knows is nearer
+/// than `distance`: each push moves it away from the nearest surface point by what is missing
+/// (along the surface point's direction; a point on the surface itself goes along
+/// `placed.direction`), at most kMaxClearingPushes pushes. From the second push on, the
+/// previous push's surface (as its tangent plane) is solved with the new one, so the point
+/// moves along it rather than back towards it: an inner corner or a wedge of two faces is
+/// cleared in one or two pushes. A gap narrower than 2 × `distance`
+/// cannot be cleared: the point with the largest clearance found is returned, `clear` false.
+/// A null query, or a negative or non-finite distance, leaves the point where it is.
+ClearedRoutePoint keepClearOfSurfaces(const SurfaceOffset& placed, double distance,
+                                      const NearestSurfaceQuery& nearest);
 
 /// Added to the distance a clicked route point goes out (metres): a hose laid along a flat face
 /// then keeps at least the clearance after rounding, and a check at exactly that threshold
