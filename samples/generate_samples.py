@@ -53,6 +53,18 @@ def attachment(scene, node, first, last, offset=IDENTITY):
     return {"scene": scene, "node": node, "offset": offset, "points": [first, last]}
 
 
+def clip(scene, node, place, offset=IDENTITY, hold="sliding"):
+    """A clip (project format 1.5) on `node`, where the hose is `place` metres (rest arc length)
+    from its first point."""
+    return {"scene": scene, "node": node, "offset": offset, "place": place, "hold": hold}
+
+
+def clip_hose(hose_id, name, route, material, diameter, colour, attachments, clips, **options):
+    h = hose(hose_id, name, route, material, diameter, colour, attachments, **options)
+    h["clips"] = list(clips)
+    return h
+
+
 def write(name, document):
     (HERE / name).write_text(json.dumps(document, indent=2) + "\n")
 
@@ -274,6 +286,17 @@ motion_project = project("Motion rig: a lever on a hinge, a carriage on a slider
          "cable bundle", 0.016, [0.8, 0.3, 0.1, 1.0],
          [attachment("rig", "/motion-rig/pillar", 0, 0), attachment("rig", "/motion-rig/carriage", 16, 16)],
          segments=16),
+    # A cable clamped on the base plate, straight along the slider's axis through a sliding clip
+    # on the carriage's front face and a guide (a clip) on the base plate, its end free beyond
+    # the guide: as the carriage slides, the side it moves away from is pulled taut and the
+    # cable slides through the carriage's clip, fed from the other side.
+    clip_hose("carriage-cable", "base plate through the carriage clip",
+              [[x / 40, 0.03, 0.19] for x in range(-12, 13)], "cable bundle", 0.012,
+              [0.15, 0.35, 0.8, 1.0], [attachment("rig", "/motion-rig/base_plate", 0, 1)],
+              [clip("rig", "/motion-rig/carriage", 0.3,
+                    {"translation": [0.0, 0.0, 0.04], "rotation": [0.0, 0.0, 0.0, 1.0]}),
+               clip("rig", "/motion-rig/base_plate", 0.55)],
+              segments=24),
 ], "motion-rig.glb")
 motion_project["colliders"] = [{"scene": "rig", "node": "/motion-rig/base_plate"}]
 motion_project["motions"] = [

@@ -8,6 +8,12 @@
 //       null handle, short buffer, index out of range, NaN target, point not grabbable, wrong
 //       ABI major, unreadable file, malformed GLB bytes: each refused with its status and a
 //       message, nothing changed
+//   mono CapiTest.exe clip <motion-rig.glb>
+//       the checks of capi_clip_test.c through the Rig wrapper: the carriage slides out to
+//       +50 mm, back to -50 mm and home, 5 mm a frame; after every update the cable
+//       carriage-cable is OK, passes through every clip's centre along its axis (1e-9 m), keeps
+//       every segment in its band and its rest lengths, and has slid through the carriage's
+//       clip at least 40 mm each way; the clip functions' refusals
 //
 // Exit 0: all agree; 1: a failure (each printed); 77: the export is absent (skipped).
 using System;
@@ -281,7 +287,7 @@ static class CapiTest
         uint nextMajor = (Native.AbiVersion >> 16) + 1 << 16;
         Same(Native.chaintube_runtime_abi_version(), Native.AbiVersion, "abi", "the library's ABI version");
         Refused(Native.chaintube_rig_load_file(nextMajor, Native.Utf8(export), out rig), Status.AbiMismatch,
-                "wrong ABI major", "ABI 2.0", "ABI 1.0");
+                "wrong ABI major", "ABI 2.0", "ABI 1.1");
         Refused(Native.chaintube_rig_load_file(Native.AbiVersion, Native.Utf8("/nonexistent/rig.glb"), out rig),
                 Status.UnreadableFile, "unreadable file", "/nonexistent/rig.glb", "cannot be read");
         byte[] glb = File.ReadAllBytes(export);
@@ -355,12 +361,148 @@ static class CapiTest
         return failures == 0 ? 0 : 1;
     }
 
+    static void Expect(bool condition, string where, string what)
+    {
+        ++compared;
+        if (!condition) Fail(where, what);
+    }
+
+    static double Distance(double[] a, int i, double[] b, int j)
+    {
+        double dx = a[i] - b[j], dy = a[i + 1] - b[j + 1], dz = a[i + 2] - b[j + 2];
+        return Math.Sqrt(dx * dx + dy * dy + dz * dz);
+    }
+
+    // The cable after an update (see capi_clip_test.c); returns the carriage clip.
+    static ClipInfo CheckCable(Rig rig, int hose, int carriageClip, double[] rest, double band,
+                               double restLength, string when)
+    {
+        const double tolerance = 1e-9;
+        HoseResult result = rig.Result(hose);
+        Expect(result.status == HoseStatus.Ok, when, "status " + result.status);
+        Expect(result.lengthViolation <= tolerance && result.angleViolation <= tolerance, when,
+               "violations " + result.lengthViolation + " (length), " + result.angleViolation + " rad");
+        HoseInfo info = rig.Info(hose);
+        Expect(info.restLength == restLength, when, "rest length " + info.restLength.ToString("R"));
+        double bandNow;
+        double[] restNow = rig.RestLengths(hose, out bandNow);
+        Expect(bandNow == band && restNow.SequenceEqual(rest), when, "rest lengths or band changed");
+        var world = new double[7 * info.jointCount];
+        rig.JointPosesF64(hose, null, world);
+        var prefix = new double[rest.Length + 1];
+        for (int s = 0; s < rest.Length; ++s) {
+            prefix[s + 1] = prefix[s] + rest[s];
+            double stretch = Distance(world, 7 * (s + 1), world, 7 * s) / rest[s] - 1.0;
+            Expect(Math.Abs(stretch) <= band + tolerance, when,
+                   "segment " + s + " stretched " + (100 * stretch).ToString("G3") + " % (band " + 100 * band + " %)");
+        }
+        var carriage = new ClipInfo();
+        for (int k = 0; k < rig.ClipCount(hose); ++k) {
+            ClipInfo clip = rig.Clip(hose, k);
+            int j = clip.segment;
+            if (!(j >= 0 && j + 1 <= rest.Length)) {
+                Fail(when, "clip " + k + " segment " + j);
+                continue;
+            }
+            double[] centre = { clip.centreX, clip.centreY, clip.centreZ };
+            double[] axis = { clip.axisX, clip.axisY, clip.axisZ };
+            Expect(Math.Abs(Math.Sqrt(axis.Sum(x => x * x)) - 1.0) <= tolerance, when, "clip " + k + " axis not unit");
+            Expect(clip.gap <= tolerance, when, "clip " + k + " gap " + clip.gap);
+            Expect(clip.slideMin <= clip.slide && clip.slide <= clip.slideMax, when, "clip " + k + " slide beyond its stops");
+            Expect(prefix[j] <= clip.slide + tolerance && clip.slide <= prefix[j + 1] + tolerance, when,
+                   "clip " + k + " slide " + clip.slide.ToString("R") + " not on its segment " + j);
+            // Through the centre along the axis: each held point at its rest distance from it.
+            double along = clip.slide - prefix[j];
+            for (int a = 0; a < 3; ++a) {
+                double first = centre[a] - along * axis[a], second = centre[a] + (rest[j] - along) * axis[a];
+                Expect(Math.Abs(world[7 * j + a] - first) <= tolerance &&
+                       Math.Abs(world[7 * (j + 1) + a] - second) <= tolerance, when,
+                       "clip " + k + ": point " + j + " or " + (j + 1) + " off the clip's axis");
+            }
+            // The arc from point 0 to the centre is the slide within the band.
+            double arc = along;
+            for (int s = 0; s < j; ++s) arc += Distance(world, 7 * (s + 1), world, 7 * s);
+            Expect(Math.Abs(arc / clip.slide - 1.0) <= band + tolerance, when,
+                   "clip " + k + ": arc " + arc.ToString("R") + " m for a slide of " + clip.slide.ToString("R") + " m");
+            if (k == carriageClip) carriage = clip;
+        }
+        return carriage;
+    }
+
+    static int RunClip(string export)
+    {
+        using (Rig rig = Rig.LoadMemory(Path.GetFileName(export), File.ReadAllBytes(export))) {
+            int hose = rig.FindHose("carriage-cable"), other = rig.FindHose("carriage-feed");
+            int carriage = rig.FindNode("carriage"), plate = rig.FindNode("base_plate");
+            HoseInfo info = rig.Info(hose);
+            double band;
+            double[] rest = rig.RestLengths(hose, out band);
+            Same(rig.ClipCount(hose), 2, "as loaded", "clips of carriage-cable");
+            Same(rig.ClipCount(other), 0, "as loaded", "clips of carriage-feed");
+            Same(rest.Length, info.pointCount - 1, "as loaded", "rest lengths");
+            Expect(band == 0.02, "as loaded", "band " + band + ", expected the cable bundle's 0.02");
+            Expect(Math.Abs(rest.Sum() - info.restLength) <= 1e-9, "as loaded", "rest lengths sum to rest_length");
+            ClipInfo first = rig.Clip(hose, 0), second = rig.Clip(hose, 1);
+            Same(first.node, carriage, "as loaded", "clip 0's node");
+            Same(second.node, plate, "as loaded", "clip 1's node");
+            Same(first.turning, 0, "as loaded", "clip 0 sliding");
+            ClipInfo home = CheckCable(rig, hose, 0, rest, band, info.restLength, "as loaded");
+            Near(home.slide, 0.3, "as loaded", "the carriage clip's exported place");
+            double[] trs = rig.NodeTransform(carriage);
+            double x0 = trs[0], slideMin = home.slide, slideMax = home.slide;
+            int frames = 0;
+            // Out to +50 mm, back to -50 mm, home: 5 mm a frame.
+            for (int step = 1; step <= 40; ++step) {
+                int millimetres = step <= 10 ? 5 * step : step <= 30 ? 100 - 5 * step : 5 * step - 200;
+                string when = "frame " + step + ", carriage at " + millimetres + " mm";
+                trs[0] = x0 + 0.001 * millimetres;
+                rig.SetNodeTransform(carriage, trs);
+                rig.Update();
+                ++frames;
+                ClipInfo clip = CheckCable(rig, hose, 0, rest, band, info.restLength, when);
+                // The clip goes with the carriage (the sample's parents are identity transforms).
+                Near(clip.centreX, home.centreX + 0.001 * millimetres, when, "the clip's centre x");
+                Near(clip.centreY, home.centreY, when, "the clip's centre y");
+                Near(clip.centreZ, home.centreZ, when, "the clip's centre z");
+                slideMin = Math.Min(slideMin, clip.slide);
+                slideMax = Math.Max(slideMax, clip.slide);
+                if (millimetres == 50)
+                    Expect(clip.slide - home.slide >= 0.04, when, "slid " + (clip.slide - home.slide) + " m, expected 0.04+");
+                if (millimetres == -50)
+                    Expect(home.slide - clip.slide >= 0.04, when, "slid back " + (home.slide - clip.slide) + " m, expected 0.04+");
+            }
+            Same(frames, 40, "frames", "frames run");
+
+            ClipInfo unused;
+            double bandOnly;
+            Refused(Native.chaintube_rig_clip_info(rig.Handle, hose, 2, out unused), Status.OutOfRange,
+                    "clip out of range", "clip 2 is out of range", "carriage-cable");
+            Refused(Native.chaintube_rig_clip_info(rig.Handle, other, 0, out unused), Status.OutOfRange,
+                    "a hose without clips", "has 0 clips");
+            Refused(Native.chaintube_rig_rest_lengths(rig.Handle, hose, new double[3], 3, out bandOnly),
+                    Status.BufferTooSmall, "short buffer", "rest_lengths has room for 3");
+            try {
+                rig.Clip(hose, -1);
+                Fail("wrapper", "clip -1 accepted");
+            } catch (ChainTubeException error) {
+                Same((int)error.Status, (int)Status.OutOfRange, "wrapper", "exception status");
+            }
+            Console.WriteLine("CapiTest clip: " + export + ": carriage-cable through 2 clips over " + frames +
+                              " frames of the carriage (+-50 mm): the carriage clip's slide " +
+                              slideMin.ToString("F4", CultureInfo.InvariantCulture) + " ... " +
+                              slideMax.ToString("F4", CultureInfo.InvariantCulture) + " m, " + compared +
+                              " checks, " + failures + " failures");
+        }
+        return failures == 0 ? 0 : 1;
+    }
+
     static int Main(string[] args)
     {
         try {
             if (args.Length == 3 && args[0] == "replay") return RunReplay(args[1], args[2]);
             if (args.Length == 2 && args[0] == "errors") return RunErrors(args[1]);
-            Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb>");
+            if (args.Length == 2 && args[0] == "clip") return RunClip(args[1]);
+            Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | clip <motion-rig.glb>");
             return 2;
         } catch (Exception error) {
             Console.Error.WriteLine("FAIL: " + error);

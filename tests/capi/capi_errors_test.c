@@ -140,12 +140,12 @@ static void loading(const char* rig_file, const char* split_gltf, const char* sc
 
     /* A caller built against another major version, or a newer minor, is refused. */
     EXPECT_ERROR(chaintube_rig_load_file(next_major, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
-                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.0");
+                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.1");
     EXPECT_ERROR(
         chaintube_rig_load_memory(next_major, "rig.glb", bytes, size, NULL, 0, NULL, 0, &rig),
         CHAINTUBE_ERROR_ABI_MISMATCH, "chaintube_rig_load_memory", "ABI 2.0");
     EXPECT_ERROR(chaintube_rig_load_file(newer_minor, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
-                 "ABI 1.1", "minor");
+                 "ABI 1.2", "minor");
     CHECK(rig == untouched, "a refused load wrote the rig");
 
     /* Null pointers. */

@@ -248,8 +248,8 @@ TEST_F(MotionsTest, EachHoseIsPlottedOverTheSweepTheCliRunsWithItsLimitsAndTheSl
     const exporting::SweepReport cli =
         exporting::sweepMotions(document().project(), document().scenes(), options);
     ASSERT_EQ(cli.steps.size(), 51u); // 1 + lead-in 10 + 2 × 20, as `chaintube check --sweep`
-    ASSERT_EQ(motions.plots().size(), 2u);
-    for (size_t h = 0; h < 2; ++h) {
+    ASSERT_EQ(motions.plots().size(), 3u);
+    for (size_t h = 0; h < 3; ++h) {
         const MotionPlotSeries& plotted = motions.plots()[h]->series();
         EXPECT_EQ(plotted.hoseId, cli.hoses[h].hoseId);
         // The way out: the lead-in's last step (t = 0) and the 20 steps to t = 1; the way back:
@@ -271,6 +271,8 @@ TEST_F(MotionsTest, EachHoseIsPlottedOverTheSweepTheCliRunsWithItsLimitsAndTheSl
     }
     EXPECT_EQ(motions.plots()[0]->series().minBendRadius, 0.12); // rubber hose
     EXPECT_EQ(motions.plots()[1]->series().minBendRadius, 0.08); // cable bundle
+    EXPECT_EQ(motions.plots()[2]->series().hoseId, "carriage-cable");
+    EXPECT_EQ(motions.plots()[2]->series().minBendRadius, 0.08);
     // The carriage's hose end rests 32 mm above the base plate at every step.
     for (double clearance : motions.plots()[1]->series().out.clearance)
         EXPECT_NEAR(clearance, 0.032, 1e-6);
@@ -308,7 +310,7 @@ TEST_F(MotionsTest, ASweepProblemNamesWhereTheBendBreaksAndAClickPreviewsThePart
     document().undoStack()->push(
         makeSetHoseDefinition(document(), "carriage-feed", stiffer, MergeId::None, "Material"));
     settle();
-    ASSERT_EQ(motions.plots().size(), 2u);
+    ASSERT_EQ(motions.plots().size(), 3u);
     EXPECT_TRUE(motions.plots()[1]->stale()) << "an edit makes the plots out of date";
     waitForSweep([&] {
         return motions.report() && motions.report()->hoses[1].minBendRadius == 0.165 &&

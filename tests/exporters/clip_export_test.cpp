@@ -78,6 +78,47 @@ TEST(ClipExport, AClipTravelsFromTheProjectThroughTheDescriptorToTheRuntime)
     EXPECT_NEAR(moved.currentLength(), hose.currentLength(), 1e-6 * hose.currentLength());
 }
 
+TEST(ClipExport, AClipDoesNotFixTheHoseToItsNodeSoAHoseFixedToOneNodeKeepsItsJointsThere)
+{
+    // samples/motion-rig.ctproj: carriage-cable is clamped on the base plate (points 0 and 1)
+    // and runs through a clip on the carriage and a guide (a clip) on the base plate. Fixed to
+    // one node, it hangs all its joints under its own joints node below the base plate (one
+    // armature in Blender); the clips' points are free joints that slide at run time, and the
+    // hose is not static.
+    TemporaryFolder folder;
+    const ExportReport report =
+        exportProjectFile(samplesDir() / "motion-rig.ctproj", folder / "out.glb", roots());
+    const GltfDocument exported = readGltf(folder / "out.glb");
+    const rig::HoseRuntime runtime = rig::HoseRuntime::load(folder / "out.glb");
+    const int h = runtime.findHose("carriage-cable");
+    ASSERT_GE(h, 0);
+    const rig::RigHose& cable = report.descriptor.hoses[static_cast<size_t>(h)];
+    EXPECT_FALSE(cable.isStatic);
+    ASSERT_EQ(cable.attachments.size(), 1u);
+    ASSERT_EQ(cable.clips.size(), 2u);
+    EXPECT_EQ(runtime.node(cable.attachments[0].node).name, "base_plate");
+    EXPECT_EQ(runtime.node(cable.clips[0].node).name, "carriage");
+    EXPECT_EQ(runtime.node(cable.clips[1].node).name, "base_plate");
+    EXPECT_EQ(runtime.node(cable.rigNode).parent, cable.attachments[0].node);
+    ASSERT_EQ(cable.jointNodes.size(), 25u);
+    for (const int joint : cable.jointNodes)
+        EXPECT_EQ(runtime.node(joint).parent, cable.rigNode) << "joint node " << joint;
+    // Each clip holds the segment at its place (0.3 m and 0.55 m, points 12's and 22's within
+    // rounding): its two points, like the clamp's, are not grabbable at export.
+    std::vector<int> held = {0, 1};
+    for (size_t k = 1; k < 3; ++k) {
+        const Hose::Attachment& clip = runtime.hose(h).attachments().at(k);
+        ASSERT_TRUE(clip.isClip());
+        EXPECT_NEAR(clip.slide, cable.clips[k - 1].place, 1e-12);
+        held.insert(held.end(), {clip.first, clip.last});
+    }
+    for (const int point : held)
+        EXPECT_EQ(std::count(cable.grabbablePoints.begin(), cable.grabbablePoints.end(), point), 0)
+            << point;
+    EXPECT_EQ(cable.grabbablePoints.size(), 19u); // 25 points, 6 held
+    EXPECT_EQ(exported.json["nodes"][static_cast<size_t>(cable.meshNode)].contains("skin"), true);
+}
+
 TEST(ClipExport, ADescriptorClipTheLibraryCouldNotAddIsRefusedNamingTheField)
 {
     TemporaryFolder folder;

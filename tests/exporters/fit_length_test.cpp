@@ -263,8 +263,11 @@ TEST(FitLengthCli, TheMotionRigSampleExitCodesAndJson)
     EXPECT_NE(text.output.find("over 2 motion(s) (lever, carriage), 51 steps a sweep"),
               std::string::npos)
         << text.output;
+    // Of its three hoses, carriage-cable (through two clips, its far end free) is not between
+    // fixed ends: the other two are fitted.
     EXPECT_NE(text.output.find("2 hose(s) fitted, 0 without a valid length"), std::string::npos)
         << text.output;
+    EXPECT_EQ(text.output.find("hose carriage-cable"), std::string::npos) << text.output;
 
     const CliRun json = runCli("check " + sample + " --fit-length --hose lever-feed --json -q");
     EXPECT_EQ(json.exitCode, 0) << json.output;
@@ -316,7 +319,7 @@ TEST(FitLengthCli, NothingToFitBadHosesAndUsageErrorsHaveTheirExitCodes)
     const CliRun unknown = runCli("check " + sample + " --fit-length --hose nope -q");
     EXPECT_EQ(unknown.exitCode, 1);
     EXPECT_NE(unknown.output.find("no hose 'nope' in the project (hoses: lever-feed, "
-                                  "carriage-feed)"),
+                                  "carriage-feed, carriage-cable)"),
               std::string::npos)
         << unknown.output;
     const CliRun both = runCli("check " + sample + " --fit-length --sweep");

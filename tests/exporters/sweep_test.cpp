@@ -358,21 +358,33 @@ TEST(SweepCli, ExitCodesAndTheJsonReport)
 
 TEST(SweepCli, TheMotionRigSamplePassesAndBreaksAFourCentimetreClearance)
 {
-    // The lever turns from −0.5 to 0.8 rad and the carriage slides from −0.05 to 0.05 m: both
-    // hoses follow within their limits; the carriage's hose end stays 32 mm above the base
-    // plate, so a 40 mm clearance is broken at every step.
+    // The lever turns from −0.5 to 0.8 rad and the carriage slides from −0.05 to 0.05 m: the
+    // three hoses follow within their limits (the cable through the carriage's clip slides
+    // through it); the carriage's hose end stays 32 mm above the base plate, so a 40 mm
+    // clearance is broken at every step.
     const std::string sample = "\"" + (samplesDir() / "motion-rig.ctproj").string() + "\"";
     const CliRun passes = runCli("check " + sample + " --sweep -q");
     EXPECT_EQ(passes.exitCode, 0) << passes.output;
     EXPECT_NE(passes.output.find("hose lever-feed (on a moving part): ok"), std::string::npos)
         << passes.output;
-    EXPECT_NE(passes.output.find("2 hose(s) swept over 51 steps, 0 with violations"),
+    EXPECT_NE(passes.output.find("hose carriage-cable (on a moving part): ok"), std::string::npos)
+        << passes.output;
+    EXPECT_NE(passes.output.find("3 hose(s) swept over 51 steps, 0 with violations"),
               std::string::npos)
         << passes.output;
     const CliRun breaks = runCli("check " + sample + " --sweep --clearance 0.04 --json -q");
     EXPECT_EQ(breaks.exitCode, 3) << breaks.output;
     const Json report = Json::parse(breaks.output);
-    ASSERT_EQ(report["hoses"].size(), 2u);
+    ASSERT_EQ(report["hoses"].size(), 3u);
+    // The clipped cable: driven by the carriage through its clip alone, every update Ok; the
+    // base plate (its clamp's and guide's node) and the carriage (its clip's) are exempt from
+    // clearance.
+    const Json& cable = report["hoses"][2];
+    EXPECT_EQ(cable["id"], "carriage-cable");
+    EXPECT_EQ(cable["driven"], true);
+    EXPECT_EQ(cable["violates"], false);
+    EXPECT_TRUE(cable["updates"].empty());
+    EXPECT_TRUE(cable["objects"].empty());
     EXPECT_EQ(report["hoses"][0]["id"], "lever-feed");
     EXPECT_EQ(report["hoses"][0]["violates"], false);
     EXPECT_TRUE(report["hoses"][0]["updates"].empty());

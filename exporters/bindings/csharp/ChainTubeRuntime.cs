@@ -73,6 +73,22 @@ namespace ChainTube
         public int contacts;
     }
 
+    /// <summary>A clip of a hose (chaintube_clip_info): the hose passes through its centre along
+    /// its axis and slides through it. The C struct's arrays centre[3] and axis[3] are the
+    /// three doubles each.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct ClipInfo
+    {
+        public double centreX, centreY, centreZ; // world metres, where the clip's node puts it now
+        public double axisX, axisY, axisZ;       // world, unit, towards the hose's last point
+        public double slide;                     // metres of rest length from point 0 to the centre
+        public double slideMin, slideMax;        // end stops of slide, metres
+        public double gap;                       // metres off where the clip holds its points: 0 while met
+        public int node;                         // glTF node carrying the clip, -1: the world
+        public int segment;                      // held segment: points segment and segment + 1
+        public int turning;                      // 1: sliding-turning
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct Bytes
     {
@@ -86,7 +102,7 @@ namespace ChainTube
         const string Library = "chaintube_runtime_c";
 
         /// <summary>CHAINTUBE_RUNTIME_ABI_VERSION of the header this binding was written for.</summary>
-        public const uint AbiVersion = (1u << 16) | 0u;
+        public const uint AbiVersion = (1u << 16) | 1u;
 
         [DllImport(Library)] public static extern uint chaintube_runtime_abi_version();
         [DllImport(Library)] public static extern IntPtr chaintube_status_name(Status status);
@@ -111,6 +127,12 @@ namespace ChainTube
         public static extern Status chaintube_rig_grabbable_points(IntPtr rig, int hose, [Out] int[] points, int capacity);
         [DllImport(Library)]
         public static extern Status chaintube_rig_joint_nodes(IntPtr rig, int hose, [Out] int[] nodes, int capacity);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_rest_lengths(IntPtr rig, int hose, [Out] double[] restLengths,
+            int capacity, out double expansionCoefficient);
+        [DllImport(Library)] public static extern Status chaintube_rig_clip_count(IntPtr rig, int hose, out int count);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_clip_info(IntPtr rig, int hose, int clip, out ClipInfo info);
         [DllImport(Library)] public static extern Status chaintube_rig_node_info(IntPtr rig, int node, out NodeInfo info);
         [DllImport(Library)]
         public static extern Status chaintube_rig_node_transform(IntPtr rig, int node, [Out] double[] trs);
@@ -203,6 +225,27 @@ namespace ChainTube
             return points;
         }
 
+        /// <summary>Rest length of each segment (metres; segment i joins points i and i + 1) and the
+        /// stretch band e: each segment stays within rest (1 - e) ... rest (1 + e).</summary>
+        public double[] RestLengths(int hose, out double expansionCoefficient)
+        {
+            var lengths = new double[Info(hose).pointCount - 1];
+            Check(Native.chaintube_rig_rest_lengths(Handle, hose, lengths, lengths.Length, out expansionCoefficient));
+            return lengths;
+        }
+
+        public int ClipCount(int hose) { int n; Check(Native.chaintube_rig_clip_count(Handle, hose, out n)); return n; }
+        /// <summary>Clip `clip` as the hose holds it now (moves and grabs slide the hose at once).</summary>
+        public ClipInfo Clip(int hose, int clip) { ClipInfo c; Check(Native.chaintube_rig_clip_info(Handle, hose, clip, out c)); return c; }
+
+        /// <summary>A node's current local transform: translation, rotation x y z w, scale (10 numbers).</summary>
+        public double[] NodeTransform(int node)
+        {
+            var trs = new double[10];
+            Check(Native.chaintube_rig_node_transform(Handle, node, trs));
+            return trs;
+        }
+
         /// <summary>trs: translation x, y, z; rotation x, y, z, w; scale x, y, z (glTF frame).</summary>
         public void SetNodeTransform(int node, double[] trs) { Check(Native.chaintube_rig_set_node_transform(Handle, node, trs)); }
 
@@ -221,6 +264,13 @@ namespace ChainTube
         public void JointPoses(int hose, float[] local, float[] world)
         {
             Check(Native.chaintube_rig_joint_poses(Handle, hose, local, local == null ? 0 : local.Length,
+                world, world == null ? 0 : world.Length));
+        }
+
+        /// <summary>JointPoses in double precision.</summary>
+        public void JointPosesF64(int hose, double[] local, double[] world)
+        {
+            Check(Native.chaintube_rig_joint_poses_f64(Handle, hose, local, local == null ? 0 : local.Length,
                 world, world == null ? 0 : world.Length));
         }
 

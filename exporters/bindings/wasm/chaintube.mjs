@@ -15,7 +15,7 @@
 import createChainTubeRuntime from './chaintube_runtime.mjs';
 
 /** CHAINTUBE_RUNTIME_ABI_VERSION of the header this API was written against (major << 16 | minor). */
-export const ABI_VERSION = (1 << 16) | 0;
+export const ABI_VERSION = (1 << 16) | 1;
 
 /** chaintube_status: what a call returned. */
 export const Status = Object.freeze({
@@ -139,6 +139,7 @@ class Native {
     for (const [name, member, type] of fields) {
       const address = pointer + offsets[member];
       if (type === 'f64') result[name] = this.f64[address >> 3];
+      else if (type === 'f64x3') result[name] = Array.from(this.f64.subarray(address >> 3, (address >> 3) + 3));
       else if (type === 'string') result[name] = this.string(this.m.HEAPU32[address >> 2]);
       else if (type === 'bool') result[name] = this.i32[address >> 2] !== 0;
       else result[name] = this.i32[address >> 2];
@@ -165,6 +166,12 @@ const HOSE_RESULT_FIELDS = [
   ['lengthViolation', 'length_violation', 'f64'], ['angleViolation', 'angle_violation', 'f64'],
   ['grabError', 'grab_error', 'f64'], ['penetration', 'penetration', 'f64'],
   ['movedPoints', 'moved_points', 'i32'], ['contacts', 'contacts', 'i32'],
+];
+
+const CLIP_INFO_FIELDS = [
+  ['centre', 'centre', 'f64x3'], ['axis', 'axis', 'f64x3'], ['slide', 'slide', 'f64'],
+  ['slideMin', 'slide_min', 'f64'], ['slideMax', 'slide_max', 'f64'], ['gap', 'gap', 'f64'],
+  ['node', 'node', 'i32'], ['segment', 'segment', 'i32'], ['turning', 'turning', 'bool'],
 ];
 
 /** The runtime: version, status names, the last error and loading rigs. */
@@ -322,6 +329,42 @@ export class Rig {
     } finally {
       n.free(pointer);
     }
+  }
+
+  /** A hose's rest lengths and stretch band (chaintube_rig_rest_lengths): { restLengths (a
+   * Float64Array of its own, metres, segment i between points i and i + 1), expansionCoefficient
+   * (e: each segment stays within rest (1 - e) ... rest (1 + e)) }. */
+  restLengths(hose) {
+    const n = this.#native, rig = this.#rig();
+    const count = this.hoseInfo(hose).pointCount - 1;
+    const pointer = n.allocate(new Uint8Array(8 * count));
+    try {
+      n.check(n.m._chaintube_rig_rest_lengths(rig, hose, pointer, count, n.output));
+      return {
+        restLengths: n.f64.slice(pointer >> 3, (pointer >> 3) + count),
+        expansionCoefficient: n.f64[n.output >> 3],
+      };
+    } finally {
+      n.free(pointer);
+    }
+  }
+
+  /** Number of clips of a hose (chaintube_rig_clip_count). */
+  clipCount(hose) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_clip_count(this.#rig(), n.int32('hose', hose), n.output));
+    return n.outputInt32();
+  }
+
+  /** Clip `clip` of a hose as the hose holds it now (chaintube_rig_clip_info): { centre [x, y, z]
+   * (world metres), axis [x, y, z] (world, unit), slide (metres of rest length from point 0 to
+   * the centre), slideMin, slideMax (its end stops), gap (metres, 0 while met), node (-1: the
+   * world), segment (points segment and segment + 1 are held), turning }. */
+  clipInfo(hose, clip) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_clip_info(this.#rig(), n.int32('hose', hose), n.int32('clip', clip),
+      n.output));
+    return n.readStruct('clip_info', n.output, CLIP_INFO_FIELDS);
   }
 
   /** A node's { name, parent } (parent -1 at the scene root). */

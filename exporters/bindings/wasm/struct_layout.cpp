@@ -45,17 +45,26 @@ std::string makeLayout()
         CHAINTUBE_FIELD(chaintube_hose_result, penetration) +
         CHAINTUBE_FIELD(chaintube_hose_result, moved_points) +
         CHAINTUBE_FIELD(chaintube_hose_result, contacts) + "}";
+    const std::string clipInfo =
+        "\"clip_info\":{\"sizeof\":" + std::to_string(sizeof(chaintube_clip_info)) +
+        CHAINTUBE_FIELD(chaintube_clip_info, centre) + CHAINTUBE_FIELD(chaintube_clip_info, axis) +
+        CHAINTUBE_FIELD(chaintube_clip_info, slide) +
+        CHAINTUBE_FIELD(chaintube_clip_info, slide_min) +
+        CHAINTUBE_FIELD(chaintube_clip_info, slide_max) +
+        CHAINTUBE_FIELD(chaintube_clip_info, gap) + CHAINTUBE_FIELD(chaintube_clip_info, node) +
+        CHAINTUBE_FIELD(chaintube_clip_info, segment) +
+        CHAINTUBE_FIELD(chaintube_clip_info, turning) + "}";
     const std::string bytes = "\"bytes\":{\"sizeof\":" + std::to_string(sizeof(chaintube_bytes)) +
                               CHAINTUBE_FIELD(chaintube_bytes, data) +
                               CHAINTUBE_FIELD(chaintube_bytes, size) + "}";
 #undef CHAINTUBE_FIELD
-    return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + bytes + "}";
+    return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + clipInfo + "," + bytes + "}";
 }
 
 } // namespace
 
 /// The layout as JSON text, e.g. {"hose_info":{"sizeof":64,"id":0,…},"node_info":{…},
-/// "hose_result":{…},"bytes":{…}}: a static string.
+/// "hose_result":{…},"clip_info":{…},"bytes":{…}}: a static string.
 extern "C" const char* chaintube_wasm_struct_layout(void)
 {
     static const std::string layout = makeLayout();

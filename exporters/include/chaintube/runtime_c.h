@@ -45,7 +45,7 @@
  * functions. A library of another major version, or of an older minor version than the
  * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add. */
 #define CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR 1
-#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 0
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 1
 #define CHAINTUBE_RUNTIME_ABI_VERSION                                                              \
     ((uint32_t)((CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | CHAINTUBE_RUNTIME_ABI_VERSION_MINOR))
 
@@ -59,7 +59,7 @@ typedef enum chaintube_status {
     CHAINTUBE_ERROR_OUT_OF_RANGE = 2,     /* a hose, node, point or warning index */
     CHAINTUBE_ERROR_BUFFER_TOO_SMALL = 3, /* a capacity below what the call writes */
     CHAINTUBE_ERROR_NOT_FOUND = 4,        /* chaintube_rig_find_*: no such name */
-    CHAINTUBE_ERROR_NOT_GRABBABLE = 5,    /* a point fixed by an attachment, or a static hose */
+    CHAINTUBE_ERROR_NOT_GRABBABLE = 5,    /* a fixed point, one a clip holds, a static hose */
     CHAINTUBE_ERROR_ABI_MISMATCH = 6,     /* the caller was built against another ABI version */
     CHAINTUBE_ERROR_UNREADABLE_FILE = 7, /* the glTF, a buffer or the sidecar: missing, no access */
     CHAINTUBE_ERROR_MALFORMED = 8,       /* glTF, GLB or descriptor malformed or inconsistent */
@@ -124,6 +124,24 @@ typedef struct chaintube_hose_result
     int32_t moved_points;    /* axis points that moved */
     int32_t contacts;        /* axis points touching a collider */
 } chaintube_hose_result;
+
+/* One clip of a hose (chaintube_rig_clip_info): a guide on a scene object that the hose passes
+ * through along the clip's axis and slides through when the object moves or a hand pulls; no
+ * rest length changes (exporters/README.md, "Clips"). The segment through the clip is held on
+ * the axis, its two points at their rest distances from the centre: neither can be grabbed
+ * while held. Since ABI 1.1. */
+typedef struct chaintube_clip_info
+{
+    double centre[3]; /* world metres: the clip's centre, where its node puts it now */
+    double axis[3];   /* world, unit: the clip's axis, pointing towards the hose's last point */
+    double slide;     /* metres of rest length from point 0 to the centre */
+    double slide_min; /* end stops of slide, metres (slide_max <= the hose's rest_length) */
+    double slide_max;
+    double gap;      /* metres the held points are from where the clip holds them: 0 while met */
+    int32_t node;    /* glTF node carrying the clip, -1: fixed in the world */
+    int32_t segment; /* the segment through the clip: points segment and segment + 1 */
+    int32_t turning; /* 1: sliding-turning (the hose may also turn about the clip's axis) */
+} chaintube_clip_info;
 
 /* The library's ABI version (CHAINTUBE_RUNTIME_ABI_VERSION of its build). */
 CHAINTUBE_API uint32_t chaintube_runtime_abi_version(void);
@@ -194,6 +212,23 @@ CHAINTUBE_API chaintube_status chaintube_rig_grabbable_points(const chaintube_ri
 CHAINTUBE_API chaintube_status chaintube_rig_joint_nodes(const chaintube_rig* rig, int32_t hose,
                                                          int32_t* nodes, int32_t capacity);
 
+/* A hose's rest lengths and stretch band. rest_lengths: point_count - 1 doubles (metres;
+ * segment i joins points i and i + 1), capacity >= point_count - 1; *expansion_coefficient:
+ * the band e, each segment's length stays within rest (1 - e) ... rest (1 + e) after every
+ * update that is not INFEASIBLE. Either may be NULL, not both. Rest lengths never change at
+ * run time. Since ABI 1.1. */
+CHAINTUBE_API chaintube_status chaintube_rig_rest_lengths(const chaintube_rig* rig, int32_t hose,
+                                                          double* rest_lengths, int32_t capacity,
+                                                          double* expansion_coefficient);
+
+/* Number of clips of a hose (0 for most), and clip `clip` in [0, count) as the hose holds it
+ * now: node moves and grabs slide the hose through its clips at once (the joint poses show
+ * it after the next chaintube_rig_update). Clips are in the descriptor's order. Since ABI 1.1. */
+CHAINTUBE_API chaintube_status chaintube_rig_clip_count(const chaintube_rig* rig, int32_t hose,
+                                                        int32_t* count);
+CHAINTUBE_API chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose,
+                                                       int32_t clip, chaintube_clip_info* info);
+
 /* A node's name and parent. */
 CHAINTUBE_API chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,
                                                        chaintube_node_info* info);
@@ -213,7 +248,7 @@ CHAINTUBE_API chaintube_status chaintube_rig_set_node_transform(chaintube_rig* r
 /* Moves axis point `point` of a hose to target[3] (world metres); the hose follows, the point
  * is held there until chaintube_rig_release or a grab of another point. An unreachable target
  * is not an error: the point goes as far as the hose allows (status CLAMPED, grab_error).
- * The point must be one of chaintube_rig_grabbable_points (else
+ * The point must be one of chaintube_rig_grabbable_points and not held by a clip now (else
  * CHAINTUBE_ERROR_NOT_GRABBABLE). result (may be NULL) receives this grab's outcome. */
 CHAINTUBE_API chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t point,
                                                   const double target[3],

@@ -482,6 +482,76 @@ chaintube_status chaintube_rig_joint_nodes(const chaintube_rig* rig, int32_t hos
     });
 }
 
+chaintube_status chaintube_rig_rest_lengths(const chaintube_rig* rig, int32_t hose,
+                                            double* rest_lengths, int32_t capacity,
+                                            double* expansion_coefficient)
+{
+    constexpr const char* function = "chaintube_rig_rest_lengths";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!rest_lengths && !expansion_coefficient)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "rest_lengths and expansion_coefficient are both NULL: expected at least "
+                        "one output to write");
+        const chaintube::Hose& running = rig->runtime.hose(hose);
+        const size_t segments = static_cast<size_t>(running.segmentCount());
+        if (rest_lengths)
+            if (const chaintube_status status = checkCapacity(
+                    function, "rest_lengths", capacity, segments,
+                    hoseName(rig, hose) + " with " + std::to_string(segments) + " segments"))
+                return status;
+        if (rest_lengths)
+            for (size_t s = 0; s < segments; ++s)
+                rest_lengths[s] = running.restLength(static_cast<int>(s));
+        if (expansion_coefficient) *expansion_coefficient = running.material().expansionCoefficient;
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_clip_count(const chaintube_rig* rig, int32_t hose, int32_t* count)
+{
+    constexpr const char* function = "chaintube_rig_clip_count";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!count) return nullArgument(function, "count");
+        *count = static_cast<int32_t>(rig->runtime.description(hose).clips.size());
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose, int32_t clip,
+                                         chaintube_clip_info* info)
+{
+    constexpr const char* function = "chaintube_rig_clip_info";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        const std::vector<chaintube::rig::RigClip>& clips = rig->runtime.description(hose).clips;
+        if (clip < 0 || static_cast<size_t>(clip) >= clips.size())
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "clip " + std::to_string(clip) +
+                            " is out of range: " + hoseName(rig, hose) + " has " +
+                            std::to_string(clips.size()) + " clips (chaintube_rig_clip_count)");
+        if (!info) return nullArgument(function, "info");
+        const chaintube::Hose::Attachment& held = rig->runtime.clip(hose, clip);
+        const chaintube::Vec3 centre = held.frame.apply(held.clipCentre);
+        const chaintube::Vec3 axis = (held.frame.rotation * held.clipAxis).normalized();
+        chaintube_clip_info out{};
+        for (int k = 0; k < 3; ++k) {
+            out.centre[k] = centre(k);
+            out.axis[k] = axis(k);
+        }
+        out.slide = held.slide;
+        out.slide_min = held.slideMin;
+        out.slide_max = held.slideMax;
+        out.gap = rig->runtime.hose(hose).attachmentGap(held.id);
+        out.node = clips[static_cast<size_t>(clip)].node;
+        out.segment = held.first;
+        out.turning = held.hold == chaintube::Hold::SlidingTurning ? 1 : 0;
+        *info = out;
+        return CHAINTUBE_OK;
+    });
+}
+
 chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,
                                          chaintube_node_info* info)
 {
@@ -573,6 +643,11 @@ chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t po
                             " is not grabbable: expected one of its " +
                             std::to_string(grabbable.size()) +
                             " free points (chaintube_rig_grabbable_points)");
+        if (rig->runtime.hose(hose).isFixed(point)) // a clip slid onto it
+            return fail(CHAINTUBE_ERROR_NOT_GRABBABLE, function,
+                        "point " + std::to_string(point) + " of " + hoseName(rig, hose) +
+                            " is held by a clip now (chaintube_rig_clip_info): expected a point "
+                            "no clip holds");
         const UpdateResult outcome =
             rig->runtime.grab(hose, point, chaintube::Vec3(target[0], target[1], target[2]));
         if (outcome.status == Status::InvalidInput)

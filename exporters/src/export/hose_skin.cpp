@@ -44,20 +44,28 @@ rig::RigHose writeHose(tinygltf::Model& model, BufferWriter& buffer, tinygltf::S
     rigHose.gravity = hose.spec().gravity;
     rigHose.torsion = hose.spec().torsion;
 
-    // The distinct bodies the hose is fixed to (a scene node, or the world).
+    // The distinct bodies the hose is fixed to (a scene node, or the world). A clip does not
+    // fix the hose (it slides through it): its node is not one of them.
     std::set<std::pair<int, int>> fixedTo;
-    for (const NodeRef& ref : input.attachedNodes)
+    bool hasClips = false;
+    for (size_t k = 0; k < input.attachedNodes.size(); ++k) {
+        const NodeRef& ref = input.attachedNodes[k];
+        if (hose.attachments()[k].isClip()) {
+            hasClips = true;
+            continue;
+        }
         fixedTo.insert(ref.scene >= 0 ? std::make_pair(ref.scene, ref.node)
                                       : std::make_pair(-1, -1));
-    // Static: every point fixed, all to one body. Such a hose never deforms at run time:
-    // at most its one node moves it rigidly, which a plain mesh under that node does in
+    }
+    // Static: every point fixed, all to one body, no clip. Such a hose never deforms at run
+    // time: at most its one node moves it rigidly, which a plain mesh under that node does in
     // every viewer.
-    const bool isStatic = options.plainMeshesForStaticHoses && fixedTo.size() == 1 &&
-                          hose.attachments().size() > 0 && [&] {
-                              for (int i = 0; i < hose.pointCount(); ++i)
-                                  if (!hose.isFixed(i)) return false;
-                              return true;
-                          }();
+    const bool isStatic =
+        options.plainMeshesForStaticHoses && fixedTo.size() == 1 && !hasClips && [&] {
+            for (int i = 0; i < hose.pointCount(); ++i)
+                if (!hose.isFixed(i)) return false;
+            return true;
+        }();
     // Fixed to one scene node only: all joints hang under the hose's rig node below that
     // node, so the skin's joints have a common root of their own (Blender: one armature
     // per hose) and moving the node still carries the fixed segment.
@@ -120,12 +128,15 @@ rig::RigHose writeHose(tinygltf::Model& model, BufferWriter& buffer, tinygltf::S
 
     // The free joints hang under a "<name> joints" node placed under the deepest common
     // ancestor of the attachment nodes (moving the machine moves the whole hose in a plain
-    // viewer), or under the root for a free hose or attachments in different scenes.
+    // viewer), or under the root for a free hose or attachments in different scenes. Clips'
+    // nodes do not count: their points are free joints.
     int rigParent = 0;
     formats::Mat4 rigWorld = formats::Mat4::Identity();
     if (!isStatic) {
         int commonScene = -2, common = -1;
-        for (const NodeRef& ref : input.attachedNodes) {
+        for (size_t k = 0; k < input.attachedNodes.size(); ++k) {
+            const NodeRef& ref = input.attachedNodes[k];
+            if (hose.attachments()[k].isClip()) continue;
             if (!options.jointsUnderAttachedNodes || ref.scene < 0 ||
                 (commonScene != -2 && ref.scene != commonScene)) {
                 commonScene = -1;

@@ -10,6 +10,8 @@
 #include <cstring>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
 
 namespace chaintube::rig {
 
@@ -305,6 +307,21 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         if (running.hose.spec().gravity.enabled) running.hose.markSettled();
     runtime.refresh(); // surfaces and poses as exported
     return runtime;
+}
+
+const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
+{
+    const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
+    const RigHose& d = m_descriptor.hoses.at(static_cast<size_t>(hose));
+    if (clip < 0 || static_cast<size_t>(clip) >= d.clips.size())
+        throw std::out_of_range("hose " + std::to_string(hose) + ": clip " + std::to_string(clip) +
+                                " is out of range");
+    // Ids after the attachments' (rebuildHose); a clip is never detached at run time.
+    const int id = running.attachmentIds.at(d.attachments.size() + static_cast<size_t>(clip));
+    for (const Hose::Attachment& attachment : running.hose.attachments())
+        if (attachment.id == id) return attachment;
+    throw std::logic_error("hose " + std::to_string(hose) + ": clip " + std::to_string(clip) +
+                           " (id " + std::to_string(id) + ") is not on the hose");
 }
 
 int HoseRuntime::findHose(std::string_view id) const

@@ -134,6 +134,12 @@ public:
         return m_hoses.at(static_cast<size_t>(hose)).surface;
     }
     const HoseRigDescriptor& descriptor() const { return m_descriptor; }
+    /// Clip `clip` of a hose (descriptor order: description(hose).clips) as the hose holds it
+    /// now, after the last setNodeTransform or grab: the segment first … last through it, its
+    /// slide (rest arc length from point 0 to the centre, metres) and frame (world centre
+    /// frame.apply(clipCentre), world axis frame.rotation · clipAxis). Throws std::out_of_range
+    /// for an index out of range.
+    const Hose::Attachment& clip(int hose, int clip) const;
 
     int nodeCount() const { return static_cast<int>(m_nodes.size()); }
     const RigNode& node(int index) const { return m_nodes.at(static_cast<size_t>(index)); }
