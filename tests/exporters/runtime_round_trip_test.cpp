@@ -29,6 +29,8 @@ struct LibraryReference
     std::vector<HoseSurface> surfaces;
     /// Per hose, per attachment: scene id and node index.
     std::vector<std::vector<std::pair<std::string, int>>> attachedNodes;
+    /// Per hose, per clip: scene id and node index.
+    std::vector<std::vector<std::pair<std::string, int>>> clippedNodes;
     /// The project's colliders (scene id, node index) and the library's MeshColliders.
     std::vector<std::pair<std::string, int>> colliderNodes;
     std::vector<std::shared_ptr<MeshCollider>> colliders;
@@ -98,10 +100,11 @@ void attachColliders(LibraryReference& reference, const GltfDocument& exported,
             const formats::ImportedScene& scene = reference.scenes.at(colliderScene);
             const auto parentOf = [&](int n) { return scene.nodes[static_cast<size_t>(n)].parent; };
             bool exempt = false;
-            for (const auto& [attachedScene, attachedNode] : reference.attachedNodes[h])
-                exempt =
-                    exempt || (attachedScene == colliderScene &&
-                               formats::attachmentExempts(attachedNode, colliderNode, parentOf));
+            for (const auto* held : {&reference.attachedNodes[h], &reference.clippedNodes[h]})
+                for (const auto& [heldScene, heldNode] : *held)
+                    exempt =
+                        exempt || (heldScene == colliderScene &&
+                                   formats::attachmentExempts(heldNode, colliderNode, parentOf));
             if (!exempt) used.push_back(reference.colliders[c]);
         }
         if (!used.empty()) reference.hoses[h].setColliders(std::move(used));
@@ -124,6 +127,10 @@ LibraryReference buildReference(const fs::path& projectFile)
         for (const formats::HoseAttachment& a : definition.attachments)
             reference.attachedNodes.back().emplace_back(
                 a.scene, reference.scenes.at(a.scene).findNode(a.node));
+        reference.clippedNodes.emplace_back();
+        for (const formats::HoseClip& c : definition.clips)
+            reference.clippedNodes.back().emplace_back(
+                c.scene, reference.scenes.at(c.scene).findNode(c.node));
     }
     return reference;
 }
@@ -280,16 +287,20 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
         int sceneNode;
     };
     std::vector<Moved> movable;
-    for (int h = 0; h < runtime.hoseCount(); ++h)
-        for (size_t k = 0; k < runtime.description(h).attachments.size(); ++k) {
-            const int node = runtime.description(h).attachments[k].node;
-            bool known = false;
-            for (const Moved& m : movable)
-                known = known || m.gltfNode == node;
-            if (!known && node >= 0)
-                movable.push_back({node, reference.attachedNodes[static_cast<size_t>(h)][k].first,
-                                   reference.attachedNodes[static_cast<size_t>(h)][k].second});
-        }
+    auto addMovable = [&](int node, const std::pair<std::string, int>& sceneNode) {
+        bool known = false;
+        for (const Moved& m : movable)
+            known = known || m.gltfNode == node;
+        if (!known && node >= 0) movable.push_back({node, sceneNode.first, sceneNode.second});
+    };
+    for (int h = 0; h < runtime.hoseCount(); ++h) {
+        const size_t hose = static_cast<size_t>(h);
+        for (size_t k = 0; k < runtime.description(h).attachments.size(); ++k)
+            addMovable(runtime.description(h).attachments[k].node,
+                       reference.attachedNodes[hose][k]);
+        for (size_t k = 0; k < runtime.description(h).clips.size(); ++k)
+            addMovable(runtime.description(h).clips[k].node, reference.clippedNodes[hose][k]);
+    }
 
     // Hoses whose library update was ever Clamped or Infeasible (see Reference).
     std::vector<char> clamped(reference.hoses.size(), 0);
@@ -344,6 +355,21 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                     } else {
                         frames.push_back(reference.scenes.at(sceneId).worldFrame(node) * offset);
                     }
+                }
+                // Clips follow their nodes as attachments do (their ids after the attachments').
+                const rig::RigHose& described = runtime.description(static_cast<int>(h));
+                for (size_t k = 0; k < definition.clips.size(); ++k) {
+                    const auto& [sceneId, node] = reference.clippedNodes[h][k];
+                    bool under = false;
+                    for (int n = node; n >= 0;
+                         n = reference.scenes.at(sceneId).nodes[static_cast<size_t>(n)].parent)
+                        under = under || (sceneId == moved.scene && n == moved.sceneNode);
+                    if (!under) continue;
+                    ids.push_back(
+                        reference.hoses[h].attachments()[definition.attachments.size() + k].id);
+                    frames.push_back((sameFrames ? runtime.nodeWorldFrame(described.clips[k].node)
+                                                 : reference.scenes.at(sceneId).worldFrame(node)) *
+                                     described.clips[k].offset);
                 }
                 std::optional<UpdateResult> viaLibrary;
                 if (ids.size() == 1) {
@@ -424,8 +450,8 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
 
 INSTANTIATE_TEST_SUITE_P(
     EverySample, RuntimeRoundTrip,
-    ::testing::Combine(::testing::Values("single-hose", "test-rig", "rig-options", "engine",
-                                         "engine-50-hoses"),
+    ::testing::Combine(::testing::Values("single-hose", "test-rig", "rig-options", "motion-rig",
+                                         "engine", "engine-50-hoses"),
                        ::testing::Values(Reference::IndependentFrames, Reference::SameFrames)),
     [](const auto& parameter) {
         std::string name = std::get<0>(parameter.param);
