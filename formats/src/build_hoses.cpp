@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 namespace chaintube::formats {
 
@@ -256,6 +258,236 @@ posesOfScene(const Project& project, const ImportedScenes& scenes, const std::st
     return found;
 }
 
+/// Steps 1 to 3 of buildHose() and its clips, at the file pose (no pose overrides).
+Hose buildAtFilePose(const Project& project, const HoseDefinition& definition,
+                     const ImportedScenes& scenes, UpdateResult* lastUpdate)
+{
+    Hose hose = layOut(project, definition);
+    attachAtFilePose(hose, definition, scenes);
+    if (definition.length && !holdsConstraints(hose)) {
+        const UpdateResult settled = settleBetweenRouteEnds(hose);
+        if (lastUpdate) *lastUpdate = settled;
+    }
+    clipAtFilePose(hose, definition, scenes);
+    return hose;
+}
+
+/// Where a clip holds the hose, in world metres: its centre and its unit axis.
+struct ClipHold
+{
+    Vec3 centre = Vec3::Zero();
+    Vec3 axis = Vec3::UnitX();
+};
+
+/// The clips of `hose` (built by buildAtFilePose: the attachments first, then the clips in the
+/// definition's order) as world centres and axes.
+std::vector<ClipHold> clipHolds(const Hose& hose, size_t attachmentCount)
+{
+    std::vector<ClipHold> holds;
+    for (size_t a = attachmentCount; a < hose.attachments().size(); ++a) {
+        const Hose::Attachment& clip = hose.attachments()[a];
+        holds.push_back({clip.frame.apply(clip.clipCentre), clip.frame.rotation * clip.clipAxis});
+    }
+    return holds;
+}
+
+/// withLength()'s relative margins, one attempt each: a piece of hose between two held points
+/// within half of one of its straight line is short, and a short piece is given its straight
+/// line plus it (as the library's clips feed a short side, lib/README.md "Clips").
+constexpr double kClipPieceMargins[] = {0.01, 0.05, 0.15};
+/// Rounds of fitClipPlaces' redistribution after the first (each piece's straight line depends
+/// on where the clips' held segments are).
+constexpr int kClipPlaceRounds = 4;
+
+/// withLength()'s clip places on `laid` (the hose at its new length, attachments fixed, no
+/// clips yet), `holds` where the clips are. Each clip's place and end stops are scaled by
+/// `scale` (new length / old). Then, for each run of clips between two consecutive fixed
+/// points, the pieces of hose between consecutive held points (the fixed points, the clips'
+/// centres) are measured against their straight lines (through the ends of the segments the
+/// clips hold along their axes, as the library measures a clip's side; a free end demands
+/// nothing). When a piece is short (within half of `pieceMargin` of its straight line) the
+/// hose slides through the clips: every piece below its straight line plus the margin (less,
+/// the same fraction for every piece, when the run has not that much to spare; below 0 when it
+/// is shorter than its straight lines and cannot pass through the clips) is given that, the
+/// rest taken from the other pieces in proportion to what they have beyond it. The places then
+/// stay within their end stops and off the fixed points.
+void fitClipPlaces(const Hose& laid, HoseDefinition& changed, const std::vector<ClipHold>& holds,
+                   double scale, double pieceMargin)
+{
+    const int n = laid.segmentCount();
+    const double total = laid.restLengthTotal();
+    const double segment = total / n; // withLength's rest lengths are equal
+    std::vector<double> place, low, high;
+    for (HoseClip& clip : changed.clips) {
+        if (clip.slideMin) clip.slideMin = *clip.slideMin * scale;
+        if (clip.slideMax) clip.slideMax = std::min(total, *clip.slideMax * scale);
+        low.push_back(clip.slideMin.value_or(0.0));
+        high.push_back(clip.slideMax.value_or(total));
+        place.push_back(std::clamp(clip.place * scale, low.back(), high.back()));
+    }
+    std::vector<size_t> order(changed.clips.size());
+    for (size_t c = 0; c < order.size(); ++c)
+        order[c] = c;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return place[a] < place[b]; });
+    // The ends of the segment a clip at place s holds: along its axis about its centre.
+    const auto heldEnd = [&](size_t c, double s, bool far) {
+        const double f = s / segment - std::min(std::floor(s / segment), n - 1.0);
+        return Vec3(holds[c].centre + ((far ? 1.0 - f : -f) * segment) * holds[c].axis);
+    };
+    for (size_t begin = 0; begin < order.size();) {
+        // The run: the clips between the fixed points `before` and `after` (−1, n + 1: none).
+        int before = std::min(n, static_cast<int>(std::floor(place[order[begin]] / segment)));
+        while (before >= 0 && !laid.isFixed(before))
+            --before;
+        int after = before + 1;
+        while (after <= n && !laid.isFixed(after))
+            ++after;
+        size_t end = begin;
+        while (end < order.size() && place[order[end]] <= after * segment)
+            ++end;
+        const double start = before >= 0 ? before * segment : 0.0;
+        const double finish = after <= n ? after * segment : total;
+        // Piece k runs from held point k − 1 to held point k of the run (k = 0: from `before`;
+        // k = clips: to `after`); its rest length with the scaled places.
+        const size_t clips = end - begin;
+        std::vector<double> scaled(clips + 1);
+        for (size_t k = 0; k <= clips; ++k)
+            scaled[k] = (k == clips ? finish : place[order[begin + k]]) -
+                        (k == 0 ? start : place[order[begin + k - 1]]);
+        std::vector<double> at(clips); // the places of this round
+        for (size_t k = 0; k < clips; ++k)
+            at[k] = place[order[begin + k]];
+        // Each round measures the straight lines with the clips' segments where `at` puts them
+        // and redistributes the scaled pieces by them; the places whose own pieces have the
+        // most to spare (relative to their straight lines) are kept: a clip's segment changes
+        // when its place crosses a point, and with it the straight lines.
+        std::vector<double> best = at;
+        double bestSpare = -std::numeric_limits<double>::infinity();
+        for (int round = 0; round <= kClipPlaceRounds; ++round) {
+            std::vector<double> demand(clips + 1, 0.0);
+            double demanded = 0.0, spareOfAt = std::numeric_limits<double>::infinity();
+            for (size_t k = 0; k <= clips; ++k) {
+                if ((k == 0 && before < 0) || (k == clips && after > n)) continue; // a free end
+                const size_t from = k == 0 ? 0 : order[begin + k - 1];
+                const size_t to = k == clips ? 0 : order[begin + k];
+                // From a clip's centre along its axis to the end of its segment, then straight.
+                const Vec3 a = k == 0 ? laid.point(before) : heldEnd(from, at[k - 1], true);
+                const Vec3 b = k == clips ? laid.point(after) : heldEnd(to, at[k], false);
+                demand[k] = (b - a).norm() + (k == 0 ? 0.0 : (a - holds[from].centre).norm()) +
+                            (k == clips ? 0.0 : (holds[to].centre - b).norm());
+                demanded += demand[k];
+                const double piece = (k == clips ? finish : at[k]) - (k == 0 ? start : at[k - 1]);
+                spareOfAt = std::min(spareOfAt, piece / std::max(demand[k], 1e-12 * total) - 1.0);
+            }
+            if (spareOfAt > bestSpare) best = at, bestSpare = spareOfAt;
+            bool isShort = false;
+            for (size_t k = 0; k <= clips; ++k)
+                isShort = isShort || scaled[k] < demand[k] * (1.0 + 0.5 * pieceMargin);
+            if (!isShort || round == kClipPlaceRounds) break;
+            const double margin = std::min(pieceMargin, (finish - start) / demanded - 1.0);
+            double raised = 0.0, spare = 0.0;
+            for (size_t k = 0; k <= clips; ++k) {
+                const double target = demand[k] * (1.0 + margin);
+                (scaled[k] < target ? raised : spare) += std::abs(scaled[k] - target);
+            }
+            std::vector<double> next(clips);
+            double along = start;
+            for (size_t k = 0; k < clips; ++k) {
+                const double target = demand[k] * (1.0 + margin);
+                along +=
+                    scaled[k] < target
+                        ? target
+                        : scaled[k] - (spare > 0.0 ? raised * (scaled[k] - target) / spare : 0.0);
+                next[k] = along;
+            }
+            if (next == at) break;
+            at = next;
+        }
+        at = best;
+        // Within the end stops, and the segment holding each clip off the fixed points and off
+        // the previous clip's segment (a hair inside, so that rounding picks the same segment).
+        const double inset = 1e-9 * segment;
+        double least = (before + 1) * segment + inset;
+        for (size_t k = 0; k < clips; ++k) {
+            const size_t c = order[begin + k];
+            const double most = std::min(high[c], (after - 1) * segment - inset);
+            place[c] = std::clamp(std::max(at[k], least), low[c], std::max(low[c], most));
+            least = (std::floor(place[c] / segment) + 2.0) * segment + inset;
+        }
+        begin = end;
+    }
+    for (size_t c = 0; c < changed.clips.size(); ++c)
+        changed.clips[c].place = place[c];
+}
+
+/// `points` with each run of free points between two pinned points of `pinned` laid straight
+/// between them, evenly.
+std::vector<Vec3> straightBetweenPins(const std::vector<Vec3>& points, const Hose& pinned)
+{
+    std::vector<Vec3> straight = points;
+    int last = -1;
+    for (int i = 0; i < pinned.pointCount(); ++i) {
+        if (!pinned.isFixed(i)) continue;
+        const Vec3 from = last >= 0 ? points[static_cast<size_t>(last)] : Vec3::Zero();
+        for (int k = last + 1; last >= 0 && k < i; ++k)
+            straight[static_cast<size_t>(k)] = from + (static_cast<double>(k - last) / (i - last)) *
+                                                          (points[static_cast<size_t>(i)] - from);
+        last = i;
+    }
+    return straight;
+}
+
+/// withLength() for a hose with clips: `changed` has its new length and attachments, `points`
+/// the shape to lay it from (one per axis point), `rest` the new rest lengths, `scale` new
+/// length / old. For each margin of kClipPieceMargins (the library's, lib/README.md "Clips")
+/// the clip places are fitted (fitClipPlaces), the segment holding each clip laid through the
+/// clip's centre along its axis, and the hose settled inextensibly with its attachments and
+/// clips held, from where it lies and, failing that, from each piece laid straight between its
+/// held points (near taut the settle's budget may not reach a valid shape from farther off; a
+/// straight piece longer than its chord is bowed first). The first shape that buildHose takes
+/// as it is (valid with the hose's own material, `actual`) is the result; if none is, the
+/// first margin's.
+HoseDefinition layThroughClips(const Project& project, const HoseDefinition& hose,
+                               const HoseDefinition& changed, const ImportedScenes& scenes,
+                               const std::vector<Vec3>& points, const std::vector<double>& rest,
+                               const HoseSpec& inextensible, const HoseSpec& actual, double scale)
+{
+    // The clips stay where they are (their parts do not move).
+    const std::vector<ClipHold> holds =
+        clipHolds(buildAtFilePose(project, hose, scenes, nullptr), hose.attachments.size());
+    const double segment = rest.front();
+    std::optional<HoseDefinition> fallback;
+    for (const double margin : kClipPieceMargins) {
+        HoseDefinition attempt = changed;
+        Hose laid = Hose::fromAxis(points, rest, inextensible);
+        attachAtFilePose(laid, attempt, scenes);
+        fitClipPlaces(laid, attempt, holds, scale, margin);
+        clipAtFilePose(laid, attempt, scenes); // which segment holds each clip
+        std::vector<Vec3> through = points;
+        for (size_t c = 0; c < attempt.clips.size(); ++c) {
+            const Hose::Attachment& clip = laid.attachments()[attempt.attachments.size() + c];
+            const double f =
+                std::clamp((attempt.clips[c].place - clip.first * segment) / segment, 0.0, 1.0);
+            through[static_cast<size_t>(clip.first)] =
+                holds[c].centre - (f * segment) * holds[c].axis;
+            through[static_cast<size_t>(clip.last)] =
+                holds[c].centre + ((1.0 - f) * segment) * holds[c].axis;
+        }
+        for (const bool straight : {false, true}) {
+            Hose settled = Hose::fromAxis(straight ? straightBetweenPins(through, laid) : through,
+                                          rest, inextensible);
+            attachAtFilePose(settled, attempt, scenes);
+            clipAtFilePose(settled, attempt, scenes); // held like attachments while it settles
+            // Its status shows in the hose built from the result (measure(), attachmentGap).
+            static_cast<void>(settleBetweenRouteEnds(settled));
+            attempt.route = settled.points();
+            if (holdsConstraints(Hose::fromAxis(attempt.route, rest, actual))) return attempt;
+            if (!fallback) fallback = attempt;
+        }
+    }
+    return *fallback;
+}
+
 } // namespace
 
 std::shared_ptr<MeshCollider> nodeCollider(const ImportedScene& scene, int node, const Mat4& world)
@@ -384,13 +616,7 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
                const ImportedScenes& scenes, UpdateResult* lastUpdate)
 {
     if (lastUpdate) *lastUpdate = UpdateResult();
-    Hose hose = layOut(project, definition);
-    attachAtFilePose(hose, definition, scenes);
-    if (definition.length && !holdsConstraints(hose)) {
-        const UpdateResult settled = settleBetweenRouteEnds(hose);
-        if (lastUpdate) *lastUpdate = settled;
-    }
-    clipAtFilePose(hose, definition, scenes);
+    Hose hose = buildAtFilePose(project, definition, scenes, lastUpdate);
     // Pose overrides: the attachments and clips go to the posed frames in one update (the
     // editor's Document does the same when it rebuilds a hose). hose.attachments() holds the
     // attachments, then the clips, in the definition's order.
@@ -465,9 +691,14 @@ HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
     HoseSpec inextensible = hoseSpecOf(project, hose);
     inextensible.segmentCount = segments;
     inextensible.material.expansionCoefficient = 0.0;
-    Hose laid = Hose::fromAxis(
-        points, std::vector<double>(static_cast<size_t>(segments), length / segments),
-        inextensible);
+    const std::vector<double> rest(static_cast<size_t>(segments), length / segments);
+    if (!hose.clips.empty()) {
+        HoseSpec actual = hoseSpecOf(project, hose);
+        actual.segmentCount = segments;
+        return layThroughClips(project, hose, changed, scenes, points, rest, inextensible, actual,
+                               length / current.restLengthTotal());
+    }
+    Hose laid = Hose::fromAxis(points, rest, inextensible);
     attachAtFilePose(laid, changed, scenes);
     // Its status shows in the hose built from the result (measure(), Hose::attachmentGap).
     static_cast<void>(settleBetweenRouteEnds(laid));

@@ -225,6 +225,282 @@ TEST(FitLength, AGravityHoseSaggingTowardsAFloorIsLongestAtTheCatenaryThatKeepsT
         << "catenary " << catenaryLength << " m, fitted " << fit.longest << " m";
 }
 
+/// An axis of equal segments from A = 0 to B = (span, 0, 0) in the z = 0 plane through a clip
+/// centred on `centre`: 2m segments from A to the clip's segment with slack (m at μ + δ, m at
+/// μ − δ, μ the direction from A to the clip's segment), the clip's segment along x centred on
+/// `centre`, then `straight` segments in a straight line to B. `segment` receives the length
+/// of each.
+std::vector<Vec3> routeThroughAClip(const Vec3& centre, double span, int m, int straight,
+                                    double& segment)
+{
+    const Vec3 end(span, 0.0, 0.0);
+    double l = span / (2 * m + 1 + straight);
+    for (int i = 0; i < 200; ++i)
+        l = (end - (centre + 0.5 * l * Vec3::UnitX())).norm() / straight;
+    segment = l;
+    const Vec3 entry = centre - 0.5 * l * Vec3::UnitX();
+    const double mu = std::atan2(entry.y(), entry.x());
+    const double delta = std::acos(entry.norm() / (2.0 * m * l));
+    std::vector<Vec3> points{Vec3::Zero()};
+    for (int k = 0; k < 2 * m; ++k) {
+        const double a = k < m ? mu + delta : mu - delta;
+        points.push_back(points.back() + l * Vec3(std::cos(a), std::sin(a), 0.0));
+    }
+    points.push_back(points.back() + l * Vec3::UnitX());
+    const Vec3 down = (end - points.back()).normalized();
+    for (int k = 0; k < straight; ++k)
+        points.push_back(points.back() + l * down);
+    return points;
+}
+
+/// A project of one hose along routeThroughAClip (its axis as it is: 5 % stretch, 1 rad
+/// deflection limit), its end points fixed to the boxes "base" and "lever" and a sliding clip
+/// on the box "guide" at the middle of the clip's segment. `segment` receives the segment
+/// length.
+formats::Project clipProject(const fs::path& folder, const Vec3& centre, int m, int straight,
+                             std::map<std::string, std::string>& nodes, double& segment)
+{
+    const std::vector<Box> boxes{
+        {"base", {-0.06, -0.03, -0.03}, {-0.02, 0.03, 0.03}},
+        {"lever", {1.32, -0.03, -0.03}, {1.36, 0.03, 0.03}},
+        {"guide", centre - Vec3(0.01, 0.03, 0.03), centre + Vec3(0.01, 0.03, 0.03)}};
+    formats::Project project = spanProject(folder, boxes, Vec3::Zero(), Vec3(1.3, 0.0, 0.0), nodes);
+    formats::HoseDefinition& hose = project.hoses[0];
+    hose.route = routeThroughAClip(centre, 1.3, m, straight, segment);
+    const int segments = static_cast<int>(hose.route.size()) - 1;
+    hose.segmentCount = segments;
+    hose.length = segments * segment;
+    hose.material = Material{0.05, BendLimit::deflectionAngle(1.0)};
+    hose.attachments[1].firstPoint = hose.attachments[1].lastPoint = segments;
+    formats::HoseClip clip;
+    clip.scene = "boxes";
+    clip.node = nodes.at("guide");
+    clip.place = (2 * m + 0.5) * segment;
+    hose.clips.push_back(clip);
+    return project;
+}
+
+/// The clip's centre (world) as the hose of `definition` is built, and how far the hose's axis
+/// passes from it.
+struct ClipAsBuilt
+{
+    Vec3 centre = Vec3::Zero();
+    double offAxis = 0.0;
+};
+
+ClipAsBuilt clipAsBuilt(const formats::Project& project, const formats::HoseDefinition& definition,
+                        const formats::ImportedScenes& scenes)
+{
+    const Hose hose = formats::buildHose(project, definition, scenes);
+    const Hose::Attachment& clip = hose.attachments().back();
+    EXPECT_TRUE(clip.isClip());
+    ClipAsBuilt built;
+    built.centre = clip.frame.apply(clip.clipCentre);
+    const Vec3 a = hose.point(clip.first), d = (hose.point(clip.last) - a).normalized();
+    const Vec3 r = built.centre - a;
+    built.offAxis = (r - r.dot(d) * d).norm();
+    return built;
+}
+
+TEST(FitLength, AStraightSpanThroughASlidingClipOnItsLineIsShortestAtTheSpan)
+{
+    // Ends 1.3 m apart, the clip's centre on the line between them at x = 0.5 with its axis
+    // along it; the hose has its slack before the clip. The shortest length is the span: the
+    // hose slides through the clip until both sides are straight.
+    TemporaryFolder folder;
+    std::map<std::string, std::string> nodes;
+    double segment = 0.0;
+    const formats::Project project =
+        clipProject(folder.path(), Vec3(0.5, 0.0, 0.0), 4, 12, nodes, segment);
+    const formats::ImportedScenes scenes =
+        formats::importProjectScenes(project, folder / "p.ctproj", {});
+    ASSERT_LE(clipAsBuilt(project, project.hoses[0], scenes).offAxis, 1e-12);
+    LengthFitOptions options;
+    const LengthFit fit = fitHoseLength(project, scenes, 0, options);
+    ASSERT_TRUE(fit.valid) << fit.reason;
+    RecordProperty("shortest", std::to_string(fit.shortest));
+    EXPECT_NEAR(fit.tautBound, 1.3, 1e-9);
+    EXPECT_GE(fit.shortest, 1.3 - 1e-9);
+    EXPECT_LE(fit.shortest, 1.3 + options.tolerance);
+    EXPECT_TRUE(fit.currentValid);
+    EXPECT_TRUE(fit.converged);
+}
+
+TEST(FitLength, ASpanThroughAClipOffItsLineIsShortestAtTheTwoStraightDistances)
+{
+    // Ends A, B 1.3 m apart; the clip's centre C = (0.9, 0.1, 0) off their line, its axis along
+    // x; the hose has its slack between A and the clip, and runs straight from the clip to B.
+    // However the hose slides through the clip, it needs |C − A| + |B − C|: the taut bound.
+    // Scaled with the length alone, the clip's place would leave the straight side short long
+    // before that (it starts with 71 % of the length on A's side, where the taut hose has 69 %):
+    // the hose slides through the clip instead. A chain through the clip's segment needs a
+    // little more than the two distances (its segment lies along x, not along the two lines:
+    // up to 1 mm here).
+    TemporaryFolder folder;
+    std::map<std::string, std::string> nodes;
+    double segment = 0.0;
+    const Vec3 centre(0.9, 0.1, 0.0);
+    const formats::Project project = clipProject(folder.path(), centre, 15, 12, nodes, segment);
+    const formats::ImportedScenes scenes =
+        formats::importProjectScenes(project, folder / "p.ctproj", {});
+    const formats::HoseDefinition& hose = project.hoses[0];
+    const ClipAsBuilt built = clipAsBuilt(project, hose, scenes);
+    ASSERT_LE((built.centre - centre).norm(), 1e-12);
+    const Vec3 a = Vec3::Zero(), b(1.3, 0.0, 0.0);
+    const double straightLines = (centre - a).norm() + (b - centre).norm();
+    ASSERT_GT(hose.clips[0].place / *hose.length, (centre - a).norm() / straightLines + 0.015);
+    // The chain through the clip's segment (f: where the centre is along it, as the clip's
+    // place puts it), bends aside, at the segment length of the taut hose: at most this much
+    // longer than the two distances.
+    const double l = straightLines / hose.segmentCount;
+    double excess = 0.0;
+    for (int k = 0; k <= 1000; ++k) {
+        const double f = k / 1000.0;
+        excess = std::max(excess, (centre - f * l * Vec3::UnitX() - a).norm() + l +
+                                      (b - centre - (1.0 - f) * l * Vec3::UnitX()).norm() -
+                                      straightLines);
+    }
+    ASSERT_LT(excess, 0.002);
+
+    LengthFitOptions options;
+    options.tolerance = 0.0005;
+    const LengthFit fit = fitHoseLength(project, scenes, 0, options);
+    ASSERT_TRUE(fit.valid) << fit.reason;
+    RecordProperty("shortest", std::to_string(fit.shortest));
+    RecordProperty("straightLines", std::to_string(straightLines));
+    RecordProperty("chainExcess", std::to_string(excess));
+    EXPECT_NEAR(fit.tautBound, straightLines, 1e-9);
+    EXPECT_GE(fit.shortest, straightLines - 1e-9);
+    EXPECT_LE(fit.shortest, straightLines + excess + options.tolerance)
+        << "two distances " << straightLines << " m, chain up to " << excess << " m longer";
+    EXPECT_TRUE(fit.currentValid);
+
+    // At the shortest length the hose still passes through the clip where it is, each side at
+    // least its straight distance long; the clip slid towards A.
+    const formats::HoseDefinition shortest =
+        formats::withLength(project, hose, scenes, fit.shortest);
+    const ClipAsBuilt there = clipAsBuilt(project, shortest, scenes);
+    EXPECT_LE((there.centre - centre).norm(), 1e-9);
+    EXPECT_LE(there.offAxis, 1e-9);
+    const double place = shortest.clips[0].place;
+    EXPECT_GE(place, (centre - a).norm() - 1e-9);
+    EXPECT_GE(fit.shortest - place, (b - centre).norm() - 1e-9);
+    EXPECT_LT(place / fit.shortest, hose.clips[0].place / *hose.length - 0.01);
+    // A longer hose keeps the clip at its fraction of the length (nothing is short).
+    const formats::HoseDefinition longer =
+        formats::withLength(project, hose, scenes, 1.2 * *hose.length);
+    EXPECT_NEAR(longer.clips[0].place, 1.2 * hose.clips[0].place, 1e-12);
+    const ClipAsBuilt longerClip = clipAsBuilt(project, longer, scenes);
+    EXPECT_LE((longerClip.centre - centre).norm(), 1e-9);
+    EXPECT_LE(longerClip.offAxis, 1e-9);
+}
+
+TEST(FitLength, AClipOnASliderIsCarriedByTheSweep)
+{
+    // The clip of AStraightSpanThroughASlidingClipOnItsLine… (centre C = (0.5, 0, 0), axis x)
+    // on a slider that lifts it 0.1 m along y: the path from A through the clip to B is
+    // longest at the top, |C + 0.1 y − A| + |B − C − 0.1 y| = 1.3161 m, the taut bound. While
+    // the clip rises the library slides the hose through it only while both sides keep 1 % of
+    // their length (lib/README.md, "Clips"), so the shortest valid length is up to about 1 %
+    // longer.
+    TemporaryFolder folder;
+    std::map<std::string, std::string> nodes;
+    double segment = 0.0;
+    formats::Project project =
+        clipProject(folder.path(), Vec3(0.5, 0.0, 0.0), 4, 12, nodes, segment);
+    formats::PartMotion lift;
+    lift.id = "lift";
+    lift.scene = "boxes";
+    lift.node = nodes.at("guide");
+    lift.kind = formats::PartMotion::Kind::Slider;
+    lift.axis = Vec3::UnitY();
+    lift.minimum = 0.0;
+    lift.maximum = 0.1;
+    project.motions = {lift};
+    const formats::ImportedScenes scenes =
+        formats::importProjectScenes(project, folder / "p.ctproj", {});
+    const Vec3 top(0.5, 0.1, 0.0);
+    const double path = top.norm() + (Vec3(1.3, 0.0, 0.0) - top).norm();
+    LengthFitOptions options;
+    options.steps = 10;
+    const LengthFit fit = fitHoseLength(project, scenes, 0, options);
+    ASSERT_TRUE(fit.valid) << fit.reason;
+    RecordProperty("shortest", std::to_string(fit.shortest));
+    RecordProperty("path", std::to_string(path));
+    EXPECT_NEAR(fit.tautBound, path, 1e-9);
+    EXPECT_GE(fit.shortest, path - 1e-9);
+    EXPECT_LE(fit.shortest, path / 0.99 + options.tolerance);
+
+    // The sweep agrees: at the shortest length the hose follows the clip to the top, through
+    // its centre at every step; 1 cm shorter it has to stretch its band at the top (a chain
+    // through the clip's centre is at least the path long).
+    struct Swept
+    {
+        HoseSweep hose;
+        double offAxis = 0.0, highest = -1.0;
+        double pulled = -1.0; ///< largest current length − rest length (metres)
+    };
+    const auto sweepAt = [&](double length) {
+        formats::Project single = project;
+        single.hoses = {formats::withLength(project, project.hoses[0], scenes, length)};
+        SweepOptions sweep;
+        sweep.steps = options.steps;
+        Swept swept;
+        sweep.onStep = [&](int, const std::vector<Hose>& hoses) {
+            const Hose& hose = hoses.front();
+            const Hose::Attachment& clip = hose.attachments().back();
+            const Vec3 centre = clip.frame.apply(clip.clipCentre);
+            const Vec3 a = hose.point(clip.first), d = (hose.point(clip.last) - a).normalized();
+            const Vec3 r = centre - a;
+            swept.offAxis = std::max(swept.offAxis, (r - r.dot(d) * d).norm());
+            swept.highest = std::max(swept.highest, centre.y());
+            swept.pulled = std::max(swept.pulled, hose.currentLength() - hose.restLengthTotal());
+        };
+        swept.hose = sweepMotions(single, scenes, sweep).hoses.at(0);
+        return swept;
+    };
+    const Swept atShortest = sweepAt(fit.shortest);
+    EXPECT_FALSE(atShortest.hose.violates());
+    EXPECT_NEAR(atShortest.highest, 0.1, 1e-12) << "the clip went up with the slider";
+    EXPECT_LE(atShortest.offAxis, 1e-9);
+    const Swept shorter = sweepAt(path - 0.01);
+    EXPECT_NEAR(shorter.highest, 0.1, 1e-12);
+    EXPECT_GE(shorter.pulled, 0.01 - 1e-9);
+}
+
+TEST(FitLengthCli, AHoseThroughAClipOffItsLineInJson)
+{
+    // The project of ASpanThroughAClipOffItsLine… saved and fitted by the CLI.
+    TemporaryFolder folder;
+    std::map<std::string, std::string> nodes;
+    double segment = 0.0;
+    const Vec3 centre(0.9, 0.1, 0.0);
+    const formats::Project project = clipProject(folder.path(), centre, 15, 12, nodes, segment);
+    formats::saveProject(project, folder / "clip.ctproj");
+    const double straightLines = centre.norm() + (Vec3(1.3, 0.0, 0.0) - centre).norm();
+    const CliRun run = runCli("check \"" + (folder / "clip.ctproj").string() +
+                              "\" --fit-length --tolerance 0.0005 --json -q");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    const Json report = Json::parse(run.output);
+    EXPECT_EQ(report["allValid"], true);
+    EXPECT_EQ(report["motions"], Json::array());
+    EXPECT_EQ(report["sweptSteps"], 1);
+    ASSERT_EQ(report["hoses"].size(), 1u);
+    const Json& hose = report["hoses"][0];
+    EXPECT_EQ(hose["id"], "probe");
+    EXPECT_EQ(hose["valid"], true);
+    EXPECT_NEAR(hose["length"].get<double>(), *project.hoses[0].length, 1e-12);
+    EXPECT_NEAR(hose["tautBound"].get<double>(), straightLines, 1e-9);
+    // Between the two straight distances and the chain through the clip's segment (1 mm more).
+    EXPECT_GE(hose["shortest"].get<double>(), straightLines - 1e-9);
+    EXPECT_LE(hose["shortest"].get<double>(), straightLines + 0.001 + 0.0005);
+    EXPECT_GT(hose["longest"].get<double>(), hose["length"].get<double>());
+    EXPECT_EQ(hose["currentValid"], true);
+    EXPECT_EQ(hose["converged"], true);
+    EXPECT_EQ(hose["shortestLimit"], "taut");
+    EXPECT_TRUE(hose["reason"].is_null());
+}
+
 TEST(FitLength, BadInputIsNamed)
 {
     TemporaryFolder folder;

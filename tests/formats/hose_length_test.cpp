@@ -252,5 +252,59 @@ TEST(HoseLength, WithSegmentLengthTheCountFollowsAndAnEndAttachmentStaysAtTheEnd
     EXPECT_THROW(withLength(rig, hose, scenes, 0.0), InvalidArgument);
 }
 
+TEST(HoseLength, ClipsStayWhereTheyAreAndTheirPlacesAndEndStopsScaleWithTheLength)
+{
+    Project rig = sample("test-rig");
+    const ImportedScenes scenes =
+        importProjectScenes(rig, test_support::sampleProject("test-rig"), {});
+    HoseDefinition& hose = rig.hoses[0];
+    const double length = *hose.length;
+    HoseClip clip;
+    clip.scene = "rig";
+    clip.node = "/test-rig/floor_plate";
+    clip.place = 0.5 * length;
+    clip.hold = Hold::SlidingTurning;
+    clip.slideMin = 0.3 * length;
+    clip.slideMax = 0.7 * length;
+    hose.clips.push_back(clip);
+    const auto clipOf = [](const Hose& built) -> const Hose::Attachment& {
+        return built.attachments().back();
+    };
+    const Hose before = buildHose(rig, hose, scenes);
+    const Vec3 centre = clipOf(before).frame.apply(clipOf(before).clipCentre);
+    const Vec3 axis = clipOf(before).frame.rotation * clipOf(before).clipAxis;
+    for (const double factor : {1.05, 0.99}) {
+        SCOPED_TRACE(factor);
+        const HoseDefinition changed = withLength(rig, hose, scenes, factor * length);
+        ASSERT_EQ(changed.clips.size(), 1u);
+        // Longer, the clip stays at half the length; 1 % shorter, a side comes within 0.5 % of
+        // its straight line (from the end of the segment the clip holds) and the hose slides
+        // through the clip to give it more.
+        if (factor > 1.0) {
+            EXPECT_NEAR(changed.clips[0].place, factor * 0.5 * length, 1e-12);
+        } else {
+            EXPECT_GT(std::abs(changed.clips[0].place - factor * 0.5 * length), 1e-4);
+        }
+        EXPECT_NEAR(*changed.clips[0].slideMin, factor * 0.3 * length, 1e-12);
+        EXPECT_NEAR(*changed.clips[0].slideMax, factor * 0.7 * length, 1e-12);
+        EXPECT_EQ(changed.clips[0].hold, Hold::SlidingTurning);
+        const Hose after = buildHose(rig, changed, scenes);
+        const Hose::Attachment& held = clipOf(after);
+        EXPECT_NEAR((held.frame.apply(held.clipCentre) - centre).norm(), 0.0, 1e-9);
+        EXPECT_NEAR((held.frame.rotation * held.clipAxis - axis).norm(), 0.0, 1e-9);
+        // The hose runs through the centre along the axis.
+        const Vec3 a = after.point(held.first), d = (after.point(held.last) - a).normalized();
+        EXPECT_NEAR(((centre - a) - (centre - a).dot(d) * d).norm(), 0.0, 1e-9);
+        EXPECT_NEAR(d.dot(axis), 1.0, 1e-9);
+        EXPECT_NEAR(after.restLengthTotal(), factor * length, 1e-12);
+        EXPECT_LE(worstBandExcess(after), 1e-9);
+        EXPECT_FALSE(measure(after).hasProblems());
+        for (int i = 0; i < after.pointCount(); ++i)
+            if (before.isFixed(i) && i != clipOf(before).first && i != clipOf(before).last) {
+                EXPECT_NEAR((after.point(i) - before.point(i)).norm(), 0.0, 1e-9) << i;
+            }
+    }
+}
+
 } // namespace
 } // namespace chaintube::formats

@@ -4,6 +4,7 @@
 // the budget the README states. Work is counted (UpdateResult::iterations), never timed.
 #include "test_util.h"
 
+#include <algorithm>
 #include <random>
 
 using namespace chaintube;
@@ -16,53 +17,111 @@ namespace {
 /// with the point soft.
 constexpr int kGrabBudget = 12 + 4 * (6 + 6) + 12;
 
+/// The same with a clip between one fixed end and the grabbed point (lib/README.md, "Clips" and
+/// "Budgets a call"): two spans (end to clip, clip to end through the grabbed point). At most
+/// three slide attempts, each closing both spans (32 Newton steps a span), then the grab: 12 a
+/// span to bow, 4 × (6 + 6) to advance the grabbed point's span and 12 to solve the other, 12 a
+/// span for the fallback with the point soft.
+constexpr int kClipGrabBudget = 3 * (2 * 32) + (2 * 12 + 4 * (6 + 6) + 12 + 2 * 12);
+
 struct WalkFigures
 {
     int frames = 0;
     int clamped = 0;
     int maxIterations = 0;
+    int slides = 0;     ///< frames in which the hose slid through the clip
+    int slidesBack = 0; ///< of them, towards point 0
 };
+
+/// Distance from the clip's centre to the line of the segment holding it (metres).
+double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
+{
+    const Vec3 centre = clip.frame.apply(clip.clipCentre);
+    const Vec3 a = hose.point(clip.first), d = (hose.point(clip.last) - a).normalized();
+    const Vec3 r = centre - a;
+    return (r - r.dot(d) * d).norm();
+}
 
 /// A hose of `points` points, 1 m long, bend radius 0.1 m, inextensible, its end segments fixed
 /// 0.8 m apart, laid as an arc; its middle grabbed `frames` times on a 2 cm random walk inside a
-/// box that reaches beyond the middle's reach (seeded: the same walk on every platform).
-WalkFigures walkTheMiddle(int points, int frames)
+/// box that reaches beyond the middle's reach (seeded: the same walk on every platform). With
+/// `clip` it is laid as an S instead (as the real-time benchmark's cases: two arcs, the first
+/// bulging towards −z, the second towards +z) and a sliding clip that never moves holds it at
+/// the middle of the segment at a quarter of its length (the first arc's middle, with 5 % more
+/// hose than the straight line from the near end): pulled away from the clip, the middle draws
+/// hose through it.
+WalkFigures walkTheMiddle(int points, int frames, bool clip = false)
 {
     HoseSpec spec;
     spec.segmentLength = 1.0 / (points - 1);
     spec.material.expansionCoefficient = 0.0;
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-    // An arc of length 1 m through (0, 0, 0) and (0.8, 0, 0) bulging towards −z.
+    // An arc of length 1 m through (0, 0, 0) and (0.8, 0, 0) bulging towards −z, or two of
+    // 0.5 m through (0, 0, 0), (0.4, 0, 0) and (0.8, 0, 0).
     std::vector<Vec3> axis;
-    // Half the angle it subtends solves sin(h) / h = 0.8 (chord 0.8 = 2 R sin h, length 1 = 2 R h).
+    // Half the angle each subtends solves sin(h) / h = 0.8 (chord 0.8 = 2 R sin h, length
+    // 1 = 2 R h; or chord 0.4, length 0.5).
     double half = 1.0;
     for (int i = 0; i < 50; ++i)
         half -= (std::sin(half) - 0.8 * half) / (std::cos(half) - 0.8);
-    const double radius = 0.5 / half;
+    const double radius = (clip ? 0.25 : 0.5) / half;
     for (int i = 0; i < points; ++i) {
-        const double a = -half + 2.0 * half * i / (points - 1);
-        axis.emplace_back(0.4 + radius * std::sin(a), 0.0,
-                          -radius * (std::cos(a) - std::cos(half)));
+        const double s = static_cast<double>(i) / (points - 1); // arc length (m)
+        if (!clip) {
+            const double a = -half + 2.0 * half * s;
+            axis.emplace_back(0.4 + radius * std::sin(a), 0.0,
+                              -radius * (std::cos(a) - std::cos(half)));
+        } else {
+            const bool second = s > 0.5;
+            const double a = -half + 4.0 * half * (second ? s - 0.5 : s);
+            axis.emplace_back((second ? 0.6 : 0.2) + radius * std::sin(a), 0.0,
+                              (second ? 1.0 : -1.0) * radius * (std::cos(a) - std::cos(half)));
+        }
     }
     Hose hose = Hose::fromAxis(axis, spec);
     const int n = hose.pointCount(), middle = n / 2;
     hose.attach(0, 1, Frame::identity());
     hose.attach(n - 2, n - 1, Frame::identity());
+    int clipId = -1;
+    if (clip) {
+        const int segment = (n - 1) / 4;
+        double place = 0.5 * hose.restLength(segment);
+        for (int k = 0; k < segment; ++k)
+            place += hose.restLength(k);
+        clipId = hose.addClip(place, Frame::identity());
+    }
+    const auto clipNow = [&]() -> const Hose::Attachment& {
+        return *std::find_if(hose.attachments().begin(), hose.attachments().end(),
+                             [&](const Hose::Attachment& a) { return a.id == clipId; });
+    };
+    double slide = clip ? clipNow().slide : 0.0;
+    const int budget = clip ? kClipGrabBudget : kGrabBudget;
     EXPECT_TRUE(hose.measureViolation().ok()) << "the starting arc holds every constraint";
 
     std::mt19937_64 random(20240901);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const Vec3 low(0.34, 0.0, -0.18), high(0.46, 0.18, 0.18); // about half of it beyond reach
     Vec3 target = hose.point(middle);
+    // With the clip, every other frame grabs the point at an eighth (between the near end and
+    // the clip) on its own walk, in a box of ±6 cm about where it starts and 12 cm above:
+    // pulled away, it draws hose back through the clip from the middle's side.
+    const int eighth = (n - 1) / 8;
+    const Vec3 start = hose.point(eighth);
+    const Vec3 eighthLow = start - Vec3(0.06, 0.0, 0.06),
+               eighthHigh = start + Vec3(0.06, 0.12, 0.06);
+    Vec3 eighthTarget = start;
     WalkFigures figures;
     for (int frame = 0; frame < frames; ++frame) {
+        const bool atEighth = clip && frame % 2 == 1;
+        Vec3& goal = atEighth ? eighthTarget : target;
         Vec3 step(unit(random), unit(random), unit(random));
-        target += 0.02 * step.normalized();
-        target = target.cwiseMax(low).cwiseMin(high);
-        const UpdateResult r = hose.grab(middle, target);
+        goal += 0.02 * step.normalized();
+        goal = atEighth ? goal.cwiseMax(eighthLow).cwiseMin(eighthHigh)
+                        : goal.cwiseMax(low).cwiseMin(high);
+        const UpdateResult r = hose.grab(atEighth ? eighth : middle, goal);
         EXPECT_TRUE(r.status == Status::Ok || r.status == Status::Clamped)
             << "frame " << frame << ": status " << static_cast<int>(r.status);
-        EXPECT_LE(r.iterations, kGrabBudget) << "frame " << frame;
+        EXPECT_LE(r.iterations, budget) << "frame " << frame;
         const UpdateResult measured = hose.measureViolation();
         EXPECT_LE(measured.lengthViolation, 1e-9) << "frame " << frame;
         EXPECT_LE(measured.angleViolation, 1e-9) << "frame " << frame;
@@ -70,6 +129,13 @@ WalkFigures walkTheMiddle(int points, int frames)
         for (int i = 0; i < n; ++i)
             finite = finite && hose.point(i).allFinite();
         EXPECT_TRUE(finite) << "frame " << frame;
+        if (clip) {
+            EXPECT_LE(clipOffAxis(hose, clipNow()), 1e-9) << "frame " << frame;
+            EXPECT_LE(hose.attachmentGap(clipId), 1e-9) << "frame " << frame;
+            figures.slides += clipNow().slide != slide;
+            figures.slidesBack += clipNow().slide < slide;
+            slide = clipNow().slide;
+        }
         if (::testing::Test::HasFailure()) break; // one frame's report is enough
         figures.clamped += r.status == Status::Clamped;
         figures.maxIterations = std::max(figures.maxIterations, r.iterations);
@@ -91,6 +157,22 @@ void expectTheWalkWithinBudget(int points, int frames, int clampedAtLeast)
                 points, f.frames, f.clamped, f.maxIterations, kGrabBudget);
 }
 
+/// The walk with the clip: every frame checked, the hose through the clip's centre after every
+/// frame; the walks make the hose slide through the clip both ways (more than `slidesAtLeast`
+/// frames each way) and go beyond reach (more than `clampedAtLeast` grabs Clamped).
+void expectTheClipWalkWithinBudget(int points, int frames, int clampedAtLeast, int slidesAtLeast)
+{
+    const WalkFigures f = walkTheMiddle(points, frames, true);
+    EXPECT_EQ(f.frames, frames);
+    EXPECT_GT(f.clamped, clampedAtLeast);
+    EXPECT_GT(f.slidesBack, slidesAtLeast);
+    EXPECT_GT(f.slides - f.slidesBack, slidesAtLeast);
+    std::printf("%d points with a clip: %d frames, %d clamped, %d slid (%d back), at most %d "
+                "Newton steps a grab (budget %d)\n",
+                points, f.frames, f.clamped, f.slides, f.slidesBack, f.maxIterations,
+                kClipGrabBudget);
+}
+
 } // namespace
 
 TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabBudget25Points)
@@ -101,4 +183,14 @@ TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabB
 TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabBudget100Points)
 {
     expectTheWalkWithinBudget(100, 4000, 200);
+}
+
+TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGrabBudget25Points)
+{
+    expectTheClipWalkWithinBudget(25, 10000, 5000, 50);
+}
+
+TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGrabBudget100Points)
+{
+    expectTheClipWalkWithinBudget(100, 2000, 1000, 2);
 }

@@ -139,3 +139,49 @@ TEST(Torsion, BendingTheAttachmentAlongWithTheHoseAddsNoTwist)
     EXPECT_NEAR(seed.rolls[0].roll, 0.0, 1e-6)
         << "a swing about an axis across the hose is not a roll";
 }
+
+TEST(Torsion, ASlidingClipHoldsTheRollASlidingTurningClipLetsItThrough)
+{
+    // Both ends fixed, a clip in the middle (segment 10, points 10 and 11), the far end rolled by
+    // 1.2 rad. A sliding clip holds the hose's roll (its frame does not turn: roll 0), so the
+    // twist is spread between the clip and the far end; a sliding-turning clip sets no roll, so
+    // it is spread from the near end to the far end through the clip.
+    const double angle = 1.2;
+    for (const Hold hold : {Hold::Sliding, Hold::SlidingTurning}) {
+        SCOPED_TRACE(toString(hold));
+        Hose hose = straightHose(true);
+        hose.attach(0, 1, Frame::identity());
+        const int end = hose.attach(kSegments - 1, kSegments, Frame::identity());
+        const int clip = hose.addClip(0.525, Frame::identity(), {hold});
+        ASSERT_EQ(hose.attachments().back().id, clip);
+        ASSERT_EQ(hose.attachments().back().first, 10);
+        HoseSurface surface(hose);
+        const std::vector<RingFrame> before = surface.frames();
+        const UpdateResult moved = hose.moveAttachment(end, rollAboutX(angle));
+        ASSERT_EQ(moved.status, Status::Ok);
+        ASSERT_LE(hose.attachmentGap(clip), 1e-12) << "a roll about the axis slides nothing";
+        surface.update(hose);
+        const std::vector<double> rolls = rollsBetween(before, surface.frames());
+        const bool holds = hold == Hold::Sliding;
+        const int from = holds ? 11 : 1; // the last ring whose roll is held at 0
+        const int joints = (kSegments - 1) - from;
+        for (int i = 0; i <= kSegments; ++i) {
+            const double expected = i <= from            ? 0.0
+                                    : i >= kSegments - 1 ? angle
+                                                         : angle * (i - from) / joints;
+            EXPECT_NEAR(rolls[static_cast<size_t>(i)], expected, 1e-9) << "ring " << i;
+        }
+        // The clip's own rings: held at 0, or rolled by their share of the twist (0.6 and
+        // 0.67 rad), far from 0 either way.
+        if (holds) {
+            EXPECT_NEAR(rolls[10], 0.0, 1e-9);
+            EXPECT_NEAR(rolls[11], 0.0, 1e-9);
+        } else {
+            EXPECT_GT(rolls[10], 0.5);
+            EXPECT_GT(rolls[11], 0.5);
+        }
+        EXPECT_NEAR(surface.maxTwistPerJoint(), angle / joints, 1e-12);
+        EXPECT_EQ(surface.twistSeed().rolls.size(), holds ? 3u : 2u)
+            << "a sliding-turning clip has no roll of its own";
+    }
+}

@@ -15,6 +15,9 @@ namespace {
 
 /// A taut span counts from this relative excess on (the solver holds lengths to 1e-9).
 constexpr double kTautTolerance = 1e-9;
+/// A trial hose whose clip centre is farther than this (relative to its length) from where the
+/// clip is passes beside the clip (formats::withLength could not lay it through).
+constexpr double kClipMissTolerance = 1e-6;
 
 void validate(const LengthFitOptions& options)
 {
@@ -39,6 +42,7 @@ struct Trial
     LengthLimit tooShort = LengthLimit::None; ///< the first short-side limit broken
     LengthLimit tooLong = LengthLimit::None;  ///< Clearance or None
     double tautBound = 0.0;                   ///< as LengthFit::tautBound
+    bool missesAClip = false;                 ///< the hose is not laid through every clip
     std::string object;                       ///< the nearest object below the threshold
     double objectDistance = 0.0;
     bool valid() const { return tooShort == LengthLimit::None && tooLong == LengthLimit::None; }
@@ -57,6 +61,14 @@ public:
     {
         m_single = project;
         m_single.hoses.clear();
+        // Where each clip holds the hose, in the clip's frame (its part carries it): a trial
+        // length must pass there.
+        if (!m_definition.clips.empty()) {
+            const Hose reference = formats::buildHose(project, m_definition, scenes);
+            const size_t attachments = m_definition.attachments.size();
+            for (size_t c = 0; c < m_definition.clips.size(); ++c)
+                m_clipCentres.push_back(reference.attachments()[attachments + c].clipCentre);
+        }
         const double currentLength = formats::hoseLength(project, m_definition);
         m_expectedSweeps =
             4.0 + 2.0 * std::ceil(std::log2(std::max(
@@ -81,8 +93,9 @@ public:
         const double done = m_sweeps;
         sweep.progress = [&](double fraction) { return report(done + fraction); };
         double tautExcess = 0.0;
-        sweep.onStep = [&](int, const std::vector<Hose>& hoses) {
+        sweep.onStep = [&](int step, const std::vector<Hose>& hoses) {
             measureTaut(hoses.front(), tautExcess, trial.tautBound);
+            if (step == 0) trial.missesAClip = missesAClip(hoses.front(), length);
         };
         const SweepReport swept = sweepMotions(m_single, m_scenes, sweep);
         ++m_sweeps;
@@ -93,7 +106,7 @@ public:
             trial.tooShort = LengthLimit::Stretch;
         else if (hose.beyondReach())
             trial.tooShort = LengthLimit::Reach;
-        else if (hose.bendViolated())
+        else if (hose.bendViolated() || trial.missesAClip)
             trial.tooShort = LengthLimit::Bend;
         for (const ObjectSweep& object : hose.objects) // nearest first
             if (object.stepsBelowThreshold > 0 || object.collides()) {
@@ -112,30 +125,84 @@ public:
     }
 
 private:
-    /// For every pair of consecutive attachments (axis order): the chord between the last held
-    /// point of one and the first of the next where their frames put them, against the rest
-    /// length between those points.
+    /// The taut measure (the excess is the largest relative excess, the bound the largest taut
+    /// bound, over the steps):
+    ///  * for every pair of consecutive held runs, attachments and clips, in axis order: the
+    ///    chord between the last held point of one and the first of the next where their frames
+    ///    put them, against the rest length between those points (the excess);
+    ///  * for every pair of consecutive attachments: the path from one to the next through the
+    ///    centres of the clips between them, against the rest length between the attachments
+    ///    (the excess, and the bound: however the hose slides through the clips, it needs that
+    ///    path's share of the length).
     void measureTaut(const Hose& hose, double& excess, double& bound) const
     {
-        std::vector<const Hose::Attachment*> held;
-        for (const Hose::Attachment& attachment : hose.attachments())
-            held.push_back(&attachment);
+        struct Held
+        {
+            const Hose::Attachment* run;
+            Vec3 centre; ///< a clip's centre (world)
+        };
+        std::vector<Held> held;
+        const size_t attachments = m_definition.attachments.size();
+        for (size_t a = 0; a < hose.attachments().size(); ++a) {
+            const Hose::Attachment& run = hose.attachments()[a];
+            const bool clip =
+                run.isClip() && a >= attachments && a - attachments < m_clipCentres.size();
+            held.push_back(
+                {&run, clip ? run.frame.apply(m_clipCentres[a - attachments]) : Vec3::Zero()});
+        }
         std::sort(held.begin(), held.end(),
-                  [](const auto* a, const auto* b) { return a->first < b->first; });
+                  [](const Held& a, const Held& b) { return a.run->first < b.run->first; });
         const double total = hose.restLengthTotal();
+        const auto restBetween = [&](int from, int to) {
+            double rest = 0.0;
+            for (int s = from; s < to; ++s)
+                rest += hose.restLength(s);
+            return rest;
+        };
         for (size_t a = 0; a + 1 < held.size(); ++a) {
-            const Hose::Attachment& from = *held[a];
-            const Hose::Attachment& to = *held[a + 1];
+            const Hose::Attachment& from = *held[a].run;
+            const Hose::Attachment& to = *held[a + 1].run;
             if (to.first <= from.last) continue;
             const Vec3 start = from.frame.apply(from.localPoints.back());
             const Vec3 end = to.frame.apply(to.localPoints.front());
-            double rest = 0.0;
-            for (int s = from.last; s < to.first; ++s)
-                rest += hose.restLength(s);
-            const double chord = (end - start).norm();
-            excess = std::max(excess, chord / rest - 1.0);
-            bound = std::max(bound, chord / rest * total / (1.0 + m_options.stretchAllowance));
+            excess =
+                std::max(excess, (end - start).norm() / restBetween(from.last, to.first) - 1.0);
         }
+        for (size_t a = 0; a < held.size(); ++a) {
+            if (held[a].run->isClip()) continue;
+            size_t b = a + 1;
+            while (b < held.size() && held[b].run->isClip())
+                ++b;
+            if (b == held.size()) break;
+            const Hose::Attachment& from = *held[a].run;
+            const Hose::Attachment& to = *held[b].run;
+            if (to.first <= from.last) continue;
+            Vec3 at = from.frame.apply(from.localPoints.back());
+            double path = 0.0;
+            for (size_t c = a + 1; c < b; ++c) {
+                path += (held[c].centre - at).norm();
+                at = held[c].centre;
+            }
+            path += (to.frame.apply(to.localPoints.front()) - at).norm();
+            const double rest = restBetween(from.last, to.first);
+            excess = std::max(excess, path / rest - 1.0);
+            bound = std::max(bound, path / rest * total / (1.0 + m_options.stretchAllowance));
+        }
+    }
+
+    /// Whether a clip of the trial hose holds it elsewhere than the clip is (its centre in the
+    /// clip's frame moved): the length could not be laid through the clip.
+    bool missesAClip(const Hose& hose, double length) const
+    {
+        const size_t attachments = m_definition.attachments.size();
+        for (size_t c = 0; c < m_clipCentres.size(); ++c) {
+            const size_t a = attachments + c;
+            if (a >= hose.attachments().size() ||
+                (hose.attachments()[a].clipCentre - m_clipCentres[c]).norm() >
+                    kClipMissTolerance * length)
+                return true;
+        }
+        return false;
     }
 
     const formats::Project& m_project;
@@ -143,7 +210,8 @@ private:
     const formats::HoseDefinition& m_definition;
     const LengthFitOptions& m_options;
     std::function<bool(double)> m_progress;
-    formats::Project m_single; ///< the project with the trial hose alone
+    formats::Project m_single;       ///< the project with the trial hose alone
+    std::vector<Vec3> m_clipCentres; ///< each clip's centre in its frame, as the hose is built
     int m_sweeps = 0;
     double m_expectedSweeps = 1.0;
 };
@@ -168,7 +236,7 @@ std::string describe(LengthLimit limit)
     case LengthLimit::Reach:
         return "cannot reach an attachment";
     case LengthLimit::Bend:
-        return "bends a joint beyond its limit";
+        return "bends a joint beyond its limit (or cannot be laid through a clip within it)";
     case LengthLimit::Clearance:
         return "comes nearer to an object than the clearance";
     }

@@ -185,6 +185,8 @@ const std::vector<HoseCase>& hoseCases()
          false, true},
         {"ends-fixed-gravity-floor", "gravity and the floor: a hose lying on a floor", true, true,
          true},
+        {"ends-fixed-clip", "ends fixed, a sliding clip at a quarter, middle point on the walk",
+         true, false, false, true},
     };
     return cases;
 }
@@ -220,6 +222,13 @@ Hose CaseSetup::makeHose() const
     if (hoseCase.endsFixed) {
         hose.attach(0, 1, Frame::identity());
         hose.attach(n - 2, n - 1, Frame::identity());
+    }
+    if (hoseCase.clip) {
+        const int segment = (n - 1) / 4; // the segment at a quarter of the hose
+        double place = 0.5 * hose.restLength(segment);
+        for (int s = 0; s < segment; ++s)
+            place += hose.restLength(s);
+        static_cast<void>(hose.addClip(place, Frame::identity()));
     }
     if (hoseCase.floor) hose.setColliders({floorCollider(floorY)});
     const UpdateResult start = hose.measureViolation();

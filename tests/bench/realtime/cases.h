@@ -128,6 +128,9 @@ struct HoseCase
     bool endsFixed = false;
     bool gravity = false;
     bool floor = false;
+    /// A sliding clip that never moves (identity frame) at the middle of the segment at a
+    /// quarter of the hose (Hose::addClip); the XPBD rod has no sliding clip and is not run.
+    bool clip = false;
 };
 const std::vector<HoseCase>& hoseCases();
 
@@ -160,8 +163,8 @@ struct CaseSetup
     Box box;                ///< where the walk goes
     double floorY = 0.0;    ///< height of the floor's surface (with hoseCase.floor)
 
-    /// The ChainTube hose of the case: the axis, the end attachments, the floor collider.
-    /// Throws chaintube::Error when its starting state violates a constraint.
+    /// The ChainTube hose of the case: the axis, the end attachments, the clip, the floor
+    /// collider. Throws chaintube::Error when its starting state violates a constraint.
     Hose makeHose() const;
     RandomWalk walk() const;
 };

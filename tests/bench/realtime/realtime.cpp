@@ -49,7 +49,7 @@ const char* const kUsage =
     "  --points LIST  axis points of the hose cases (default 25,100,400; --quick: 25,100)\n"
     "  --sweeps LIST  XPBD sweeps per frame (default 4,16,64); none: no XPBD rows\n"
     "  --case ID      only this case (repeatable): free-drag, ends-fixed, ends-fixed-gravity,\n"
-    "                 ends-fixed-floor, ends-fixed-gravity-floor, engine-50\n"
+    "                 ends-fixed-floor, ends-fixed-gravity-floor, ends-fixed-clip, engine-50\n"
     "  --cpu N        pin the process to CPU N (sched_setaffinity; or run under taskset -c N)\n"
     "  --commit TEXT  the commit to name in the header (default: git rev-parse in the source "
     "tree)\n"
@@ -289,6 +289,7 @@ int main(int argc, char** argv)
             if (!wanted(options, hoseCase.id)) continue;
             for (int points : options.points) {
                 add(runChainTube(hoseCase, points, options.frames, options.warmup));
+                if (hoseCase.clip) continue; // the XPBD rod has no sliding clip
                 for (int sweeps : options.sweeps)
                     add(runXpbd(hoseCase, points, sweeps, options.frames, options.warmup));
             }

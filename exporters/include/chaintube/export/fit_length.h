@@ -45,7 +45,7 @@ enum class LengthLimit {
     Taut,      ///< pulled longer than its rest length between two held points
     Stretch,   ///< a segment beyond the stretch band
     Reach,     ///< an attachment beyond the hose's reach
-    Bend,      ///< a joint beyond its bend limit
+    Bend,      ///< a joint beyond its bend limit (or the hose cannot be laid through a clip)
     Clearance, ///< an object nearer than the clearance threshold (or a collision)
 };
 
@@ -73,8 +73,9 @@ struct LengthFit
     /// path, its distance at the first length beyond the range (metres).
     std::string limitingObject;
     double limitingDistance = 0.0;
-    /// The largest chord between two held points over the sweep divided by the share of the
-    /// length between them: below this the hose is taut somewhere (metres).
+    /// The largest path between two consecutive attachments over the sweep (their chord, or
+    /// through the centres of the clips between them) divided by the share of the length
+    /// between them: below this the hose is taut somewhere (metres).
     double tautBound = 0.0;
     bool currentValid = false; ///< the current length lies in the range
     bool converged = true;     ///< false: the sweep budget ran out before the tolerance
@@ -104,11 +105,14 @@ bool betweenFixedEnds(const formats::Project& project, const formats::HoseDefini
 
 /// Fits the length of hose `hoseIndex` of the project (`scenes` at their file pose). A length
 /// is applied as formats::withLength applies it (the hose re-laid where it lies with that rest
-/// length, its attachments kept) and the project's motions are swept with that hose alone
-/// (sweepMotions; without motions its pose is measured once). A length is valid when over every
-/// step the hose is never pulled longer than its rest length (× 1 + stretchAllowance) between
-/// two held points, no segment leaves its band, no attachment is beyond reach, no joint bends
-/// beyond its limit, and no object comes nearer than the clearance threshold. The shortest
+/// length, its attachments kept, laid through its clips where they are, their places scaled or
+/// slid) and the project's motions are swept with that hose alone (sweepMotions, which carries
+/// the clips with their parts; without motions its pose is measured once). A length is valid
+/// when over every step the hose is never pulled longer than its rest length
+/// (× 1 + stretchAllowance) between two held points (attachments and clips) nor between two
+/// attachments along the path through the clips between them, no segment leaves its band, no
+/// attachment or clip is beyond reach, no joint bends beyond its limit, the hose passes through
+/// every clip, and no object comes nearer than the clearance threshold. The shortest
 /// valid length is searched upward from the taut bound, the longest from the shortest up to
 /// searchLimitFactor × shortest, each by bisection to the tolerance; validity is assumed to
 /// change once across each end (too short below, too long above). Throws InvalidArgument for

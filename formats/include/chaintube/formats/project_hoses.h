@@ -71,8 +71,18 @@ Hose buildHose(const Project& project, const HoseDefinition& hose, const Importe
 /// attachment holds it (then it stays taut and short: see Hose::attachmentGap). The route of
 /// the result is that axis (buildHose takes it as it is), its length `length`. With
 /// segmentLength resolution the number of segments follows the length: attachments that end
-/// at the last point move with it. Throws InvalidArgument as buildHose, or for a length that
-/// leaves no room for the attachments.
+/// at the last point move with it. Clips stay where they are (centre and axis in the world, as
+/// buildHose puts them): each clip's place and end stops scale with the length (the clip stays
+/// at the same fraction of the hose, as attachments keep their points), except that where a
+/// piece of hose between two consecutive held points (a fixed point, a clip's centre) comes
+/// within 0.5 % of its straight line (from the end of the segment a clip holds along its axis)
+/// the hose slides through its clips: every piece gets its straight line and 1 % (less when
+/// there is not that much: the same fraction for every piece), the rest taken from the pieces
+/// with more in proportion, within the end stops. The hose is laid through every clip's centre
+/// along its axis and settled with the clips held; a shape that is then not valid is tried
+/// again with each piece laid straight between its held points, and again with margins of 5 %
+/// and 15 % (as the library's clips retry, lib/README.md "Clips"). Throws InvalidArgument as
+/// buildHose, or for a length that leaves no room for the attachments.
 HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
                           const ImportedScenes& scenes, double length);
 
