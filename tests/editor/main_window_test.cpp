@@ -63,6 +63,8 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A main window on screen with prompts answered by the test.
+QString writeProject(const std::string& folderName, const QJsonObject& scene);
+
 class MainWindowTest : public ::testing::Test
 {
 protected:
@@ -133,6 +135,27 @@ protected:
                     hits.push_back({QPoint(x, y), hit});
             }
         return hits;
+    }
+    /// Opens the STEP bracket assembly (as1-oc-214.stp of the scenes folder) as the one scene of
+    /// a new project in `folderName`, frames it (Home) and starts a new hose (N). Skips the test
+    /// where the scene is absent: check IsSkipped() and HasFatalFailure() after the call.
+    void openStepBracketToLayARoute(const std::string& folderName)
+    {
+        if (!fs::exists(test::scenesDir() / "as1-oc-214.stp"))
+            GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no as1-oc-214.stp: STEP bracket test skipped";
+        const QJsonObject scene{
+            {"id", "as1"},
+            {"path", "scenes:as1-oc-214.stp"},
+            {"import", QJsonObject{{"chordalTolerance", 1e-4}, {"angularTolerance", 0.5}}}};
+        ASSERT_TRUE(m_window->openFile(writeProject(folderName, scene)))
+            << m_errors.join('\n').toStdString();
+        // The import's progress dialog had the focus: the window takes the keys again.
+        m_window->activateWindow();
+        QApplication::setActiveWindow(m_window.get());
+        QTest::keyClick(&m_window->viewport(), Qt::Key_Home);
+        settle();
+        QTest::keyClick(&m_window->viewport(), Qt::Key_N);
+        ASSERT_EQ(m_window->viewport().mode(), Viewport::Mode::LayRoute);
     }
     void clickTreeItem(const QString& text)
     {
@@ -615,25 +638,11 @@ TEST_F(MainWindowTest, ARouteClickedOnASurfaceKeepsTheNewHoseOutOfThePartAtEvery
 
 TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
 {
-    const fs::path step = test::scenesDir() / "as1-oc-214.stp";
-    if (!fs::exists(step))
-        GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no as1-oc-214.stp: STEP bracket test skipped";
-    const QJsonObject scene{
-        {"id", "as1"},
-        {"path", "scenes:as1-oc-214.stp"},
-        {"import", QJsonObject{{"chordalTolerance", 1e-4}, {"angularTolerance", 0.5}}}};
-    ASSERT_TRUE(m_window->openFile(writeProject("route-on-step-bracket", scene)))
-        << m_errors.join('\n').toStdString();
+    openStepBracketToLayARoute("route-on-step-bracket");
+    if (IsSkipped() || HasFatalFailure()) return;
     Document& document = m_window->document();
     Viewport& viewport = m_window->viewport();
-    // The import's progress dialog had the focus: the window takes the keys again.
-    m_window->activateWindow();
-    QApplication::setActiveWindow(m_window.get());
-    QTest::keyClick(&viewport, Qt::Key_Home);
-    settle();
     const std::string bracket = "/as1/l-bracket-assembly_1/l-bracket_1";
-    QTest::keyClick(&viewport, Qt::Key_N);
-    ASSERT_EQ(viewport.mode(), Viewport::Mode::LayRoute);
     const double diameter = viewport.newHoseDiameter();
     const double radius = 0.5 * diameter;
     const double clearanceMetres = m_window->problems().clearanceThreshold()->value() / 1000.0;
@@ -696,24 +705,11 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
 // are moved on until every surface of the scene keeps that distance.
 TEST_F(MainWindowTest, RoutePointsClickedNextToTheBracketsUprightKeepTheClearanceFromEveryFace)
 {
-    const fs::path step = test::scenesDir() / "as1-oc-214.stp";
-    if (!fs::exists(step))
-        GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no as1-oc-214.stp: STEP bracket test skipped";
-    const QJsonObject scene{
-        {"id", "as1"},
-        {"path", "scenes:as1-oc-214.stp"},
-        {"import", QJsonObject{{"chordalTolerance", 1e-4}, {"angularTolerance", 0.5}}}};
-    ASSERT_TRUE(m_window->openFile(writeProject("route-in-bracket-corner", scene)))
-        << m_errors.join('\n').toStdString();
+    openStepBracketToLayARoute("route-in-bracket-corner");
+    if (IsSkipped() || HasFatalFailure()) return;
     Document& document = m_window->document();
     Viewport& viewport = m_window->viewport();
-    m_window->activateWindow();
-    QApplication::setActiveWindow(m_window.get());
-    QTest::keyClick(&viewport, Qt::Key_Home);
-    settle();
     const std::string bracket = "/as1/l-bracket-assembly_1/l-bracket_1";
-    QTest::keyClick(&viewport, Qt::Key_N);
-    ASSERT_EQ(viewport.mode(), Viewport::Mode::LayRoute);
     const double wanted = 0.5 * viewport.newHoseDiameter() +
                           m_window->problems().clearanceThreshold()->value() / 1000.0;
     const formats::ImportedScene& as1 = *document.scene("as1");

@@ -320,15 +320,18 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
 
             formats::ImportedScene& scene = reference.scenes.at(moved.scene);
             scene.nodes[static_cast<size_t>(moved.sceneNode)].localTransform = matrixOf(local);
+            // Whether a scene node is the moved one or below it.
+            auto underMoved = [&](const std::string& sceneId, int node) {
+                for (int n = node; n >= 0;
+                     n = reference.scenes.at(sceneId).nodes[static_cast<size_t>(n)].parent)
+                    if (sceneId == moved.scene && n == moved.sceneNode) return true;
+                return false;
+            };
             // Colliders on the moved node or below it follow it.
             std::vector<const MeshCollider*> movedColliders;
             for (size_t c = 0; c < reference.colliders.size(); ++c) {
                 const auto& [colliderScene, colliderNode] = reference.colliderNodes[c];
-                bool under = false;
-                for (int n = colliderNode; n >= 0;
-                     n = reference.scenes.at(colliderScene).nodes[static_cast<size_t>(n)].parent)
-                    under = under || (colliderScene == moved.scene && n == moved.sceneNode);
-                if (!under) continue;
+                if (!underMoved(colliderScene, colliderNode)) continue;
                 reference.colliders[c]->setFrame(
                     sameFrames ? runtime.nodeWorldFrame(runtime.descriptor().colliders[c])
                                : reference.scenes.at(colliderScene).worldFrame(colliderNode));
@@ -340,11 +343,7 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                 const formats::HoseDefinition& definition = reference.project.hoses[h];
                 for (size_t k = 0; k < definition.attachments.size(); ++k) {
                     const auto& [sceneId, node] = reference.attachedNodes[h][k];
-                    bool under = false;
-                    for (int n = node; n >= 0;
-                         n = reference.scenes.at(sceneId).nodes[static_cast<size_t>(n)].parent)
-                        under = under || (sceneId == moved.scene && n == moved.sceneNode);
-                    if (!under) continue;
+                    if (!underMoved(sceneId, node)) continue;
                     Frame offset = definition.attachments[k].offset;
                     offset.rotation.normalize();
                     ids.push_back(reference.hoses[h].attachments()[k].id);
@@ -360,11 +359,7 @@ TEST_P(RuntimeRoundTrip, RuntimeReproducesTheLibraryAxisAndSurfaceAfterMovesAndG
                 const rig::RigHose& described = runtime.description(static_cast<int>(h));
                 for (size_t k = 0; k < definition.clips.size(); ++k) {
                     const auto& [sceneId, node] = reference.clippedNodes[h][k];
-                    bool under = false;
-                    for (int n = node; n >= 0;
-                         n = reference.scenes.at(sceneId).nodes[static_cast<size_t>(n)].parent)
-                        under = under || (sceneId == moved.scene && n == moved.sceneNode);
-                    if (!under) continue;
+                    if (!underMoved(sceneId, node)) continue;
                     ids.push_back(
                         reference.hoses[h].attachments()[definition.attachments.size() + k].id);
                     frames.push_back((sameFrames ? runtime.nodeWorldFrame(described.clips[k].node)
