@@ -187,7 +187,7 @@ TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabB
 
 TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGrabBudget25Points)
 {
-    expectTheClipWalkWithinBudget(25, 10000, 5000, 50);
+    expectTheClipWalkWithinBudget(25, 4000, 2000, 20);
 }
 
 TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGrabBudget100Points)
