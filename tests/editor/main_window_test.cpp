@@ -65,6 +65,9 @@ namespace fs = std::filesystem;
 /// A main window on screen with prompts answered by the test.
 QString writeProject(const std::string& folderName, const QJsonObject& scene);
 
+/// The L-bracket the route tests on the STEP assembly click on.
+const std::string kStepBracket = "/as1/l-bracket-assembly_1/l-bracket_1";
+
 class MainWindowTest : public ::testing::Test
 {
 protected:
@@ -137,9 +140,11 @@ protected:
         return hits;
     }
     /// Opens the STEP bracket assembly (as1-oc-214.stp of the scenes folder) as the one scene of
-    /// a new project in `folderName`, frames it (Home) and starts a new hose (N). Skips the test
-    /// where the scene is absent: check IsSkipped() and HasFatalFailure() after the call.
-    void openStepBracketToLayARoute(const std::string& folderName)
+    /// a new project in `folderName`, frames it (Home) and starts a new hose (N); `bracket`
+    /// receives the collider of kStepBracket at its pose. Skips the test where the scene is
+    /// absent: check IsSkipped() and HasFatalFailure() after the call.
+    void openStepBracketToLayARoute(const std::string& folderName,
+                                    std::shared_ptr<MeshCollider>* bracket)
     {
         if (!fs::exists(test::scenesDir() / "as1-oc-214.stp"))
             GTEST_SKIP() << "CHAINTUBE_SCENES_DIR has no as1-oc-214.stp: STEP bracket test skipped";
@@ -156,6 +161,12 @@ protected:
         settle();
         QTest::keyClick(&m_window->viewport(), Qt::Key_N);
         ASSERT_EQ(m_window->viewport().mode(), Viewport::Mode::LayRoute);
+        const Document& document = m_window->document();
+        const formats::ImportedScene& as1 = *document.scene("as1");
+        const int node = as1.findNode(kStepBracket);
+        ASSERT_GE(node, 0);
+        *bracket = formats::nodeCollider(as1, node, document.nodeWorldTransform("as1", node));
+        ASSERT_TRUE(*bracket);
     }
     void clickTreeItem(const QString& text)
     {
@@ -638,11 +649,12 @@ TEST_F(MainWindowTest, ARouteClickedOnASurfaceKeepsTheNewHoseOutOfThePartAtEvery
 
 TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
 {
-    openStepBracketToLayARoute("route-on-step-bracket");
+    std::shared_ptr<MeshCollider> bracketCollider;
+    openStepBracketToLayARoute("route-on-step-bracket", &bracketCollider);
     if (IsSkipped() || HasFatalFailure()) return;
     Document& document = m_window->document();
     Viewport& viewport = m_window->viewport();
-    const std::string bracket = "/as1/l-bracket-assembly_1/l-bracket_1";
+    const std::string& bracket = kStepBracket;
     const double diameter = viewport.newHoseDiameter();
     const double radius = 0.5 * diameter;
     const double clearanceMetres = m_window->problems().clearanceThreshold()->value() / 1000.0;
@@ -650,12 +662,6 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
     // The bracket's flange lying on the plate: the upward faces at the most common height,
     // where the rest of the bracket (its upright, the edges of its holes) is farther from the
     // spot than the hose's radius plus the clearance, as an author clicks along a flange.
-    const formats::ImportedScene& as1 = *document.scene("as1");
-    const int bracketNode = as1.findNode(bracket);
-    ASSERT_GE(bracketNode, 0);
-    const auto bracketCollider =
-        formats::nodeCollider(as1, bracketNode, document.nodeWorldTransform("as1", bracketNode));
-    ASSERT_TRUE(bracketCollider);
     auto flange = topHits(bracket);
     ASSERT_FALSE(flange.empty());
     std::map<long, int> heights;
@@ -705,19 +711,14 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
 // are moved on until every surface of the scene keeps that distance.
 TEST_F(MainWindowTest, RoutePointsClickedNextToTheBracketsUprightKeepTheClearanceFromEveryFace)
 {
-    openStepBracketToLayARoute("route-in-bracket-corner");
+    std::shared_ptr<MeshCollider> bracketCollider;
+    openStepBracketToLayARoute("route-in-bracket-corner", &bracketCollider);
     if (IsSkipped() || HasFatalFailure()) return;
     Document& document = m_window->document();
     Viewport& viewport = m_window->viewport();
-    const std::string bracket = "/as1/l-bracket-assembly_1/l-bracket_1";
+    const std::string& bracket = kStepBracket;
     const double wanted = 0.5 * viewport.newHoseDiameter() +
                           m_window->problems().clearanceThreshold()->value() / 1000.0;
-    const formats::ImportedScene& as1 = *document.scene("as1");
-    const int bracketNode = as1.findNode(bracket);
-    ASSERT_GE(bracketNode, 0);
-    const auto bracketCollider =
-        formats::nodeCollider(as1, bracketNode, document.nodeWorldTransform("as1", bracketNode));
-    ASSERT_TRUE(bracketCollider);
     // Upward hits on the bracket whose point out along the normal is too near the bracket.
     auto corner = topHits(bracket);
     std::erase_if(corner, [&](const auto& hit) {
