@@ -2,7 +2,8 @@
 // its hoses with the runtime's WebAssembly build, loaded from the same bytes. Each frame: the
 // parts moved with the gizmo go to the runtime (setNodeTransform), a hose point held by the
 // mouse or a VR controller is grabbed, the runtime updates, and its joint poses are written
-// into the skinned hoses' bones. Guide: exporters/README.md, "The web viewer".
+// into the skinned hoses' bones and each clip's ring is placed where the runtime holds it.
+// Guide: exporters/README.md, "The web viewer".
 //
 // URL parameters: file=URL opens an export at start; runtime=URL is where chaintube.mjs is
 // served (default: the WebAssembly build in build-wasm/chaintube/, seen from this folder);
@@ -63,6 +64,15 @@ camera.position.set(0.6, 0.5, 0.9);
 const rigRoot = new THREE.Group();
 scene.add(rigRoot);
 
+// The clips (guides a hose slides through) are not in the glTF: each is drawn as a ring around
+// the hose, magenta as in the editor, red while the hose is off it (its gap above kClipMet).
+const clipRings = new THREE.Group();
+clipRings.name = 'clip rings';
+rigRoot.add(clipRings);
+const kClipMet = 1e-6; // metres
+const clipMetColour = new THREE.Color(0xd23cd2);
+const clipOffColour = new THREE.Color(0xe03030);
+
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
   camera.updateProjectionMatrix();
@@ -96,7 +106,9 @@ const runtimePromise = import(runtimeUrl).then((api) => {
 });
 
 // The open rig: { name, rig, gltf, nodes (Object3D by glTF node index), hoses, parts (the
-// nodes hoses are fixed to), movedParts, hoseOfMesh, frames }.
+// nodes hoses are fixed to), movedParts, hoseOfMesh, frames }. A hose: { index, info,
+// grabbable (Set), bones, clips (a ring Mesh per clip), clipHeld (Set of the points its clips
+// hold now), row, shown, shownText }.
 let current = null;
 let selectedPart = -1; // glTF node under the gizmo
 let drag = null; // { hose, point, target [x, y, z] rig metres, plane | controller + offset }
@@ -182,6 +194,11 @@ function show(name, rig, gltf) {
     rigRoot.remove(current.gltf.scene);
     current.rig.destroy();
   }
+  for (const ring of clipRings.children) {
+    ring.geometry.dispose();
+    ring.material.dispose();
+  }
+  clipRings.clear();
   gizmo.detach();
   selectedPart = -1;
   drag = null;
@@ -198,7 +215,16 @@ function show(name, rig, gltf) {
     const jointNodes = rig.jointNodes(h);
     const grabbable = new Set(rig.grabbablePoints(h));
     const bones = Array.from(jointNodes, (node) => nodes[node]);
-    const hose = { index: h, info, grabbable, bones, row: null, shown: null, shownText: '' };
+    const hose = { index: h, info, grabbable, bones, clips: [], clipHeld: new Set(), row: null, shown: null, shownText: '' };
+    for (let c = 0, clips = rig.clipCount(h); c < clips; ++c) {
+      // A ring 1.6 hose radii wide (TorusGeometry turns about its z axis), drawn over the hose.
+      const r = info.outerRadius;
+      const ring = new THREE.Mesh(new THREE.TorusGeometry(1.6 * r, 0.3 * r, 12, 48),
+        new THREE.MeshStandardMaterial({ color: clipMetColour, roughness: 0.5 }));
+      ring.name = `${info.id} clip ${c}`;
+      clipRings.add(ring);
+      hose.clips.push(ring);
+    }
     hoses.push(hose);
     nodes[info.meshNode]?.traverse((object) => {
       if (!object.isMesh) return;
@@ -222,6 +248,7 @@ function show(name, rig, gltf) {
   }
   rigRoot.add(gltf.scene);
   current = { name, rig, gltf, nodes, hoses, parts, movedParts: new Set(), hoseOfMesh, frames: 0 };
+  for (const hose of hoses) placeClipRings(rig, hose);
   buildPanel();
   frameView(gltf.scene);
   fileLabel.textContent = name;
@@ -324,6 +351,7 @@ function pick(caster) {
   const p = rigRoot.worldToLocal(hit.point.clone());
   let best = -1, bestDistance = Infinity;
   for (const point of hose.grabbable) {
+    if (hose.clipHeld.has(point)) continue; // a clip slid onto it: the runtime refuses its grab
     const d = Math.hypot(world[7 * point] - p.x, world[7 * point + 1] - p.y, world[7 * point + 2] - p.z);
     if (d < bestDistance) { bestDistance = d; best = point; }
   }
@@ -468,6 +496,22 @@ function frame() {
   renderer.render(scene, camera);
 }
 
+/** Each clip's ring where the runtime holds the clip now (it follows its node and, turning, the
+ * hose); the points the clips hold are not picked for a grab. */
+function placeClipRings(rig, hose) {
+  hose.clipHeld.clear();
+  const z = new THREE.Vector3(0, 0, 1);
+  hose.clips.forEach((ring, c) => {
+    const clip = rig.clipInfo(hose.index, c);
+    ring.position.fromArray(clip.centre);
+    ring.quaternion.setFromUnitVectors(z, new THREE.Vector3().fromArray(clip.axis));
+    ring.material.color.copy(clip.gap > kClipMet ? clipOffColour : clipMetColour);
+    ring.userData.gap = clip.gap;
+    ring.userData.segment = clip.segment;
+    hose.clipHeld.add(clip.segment).add(clip.segment + 1);
+  });
+}
+
 function step(view) {
   const rig = view.rig;
   for (const node of view.movedParts) rig.setNodeTransform(node, trsOf(view.nodes[node]));
@@ -489,6 +533,7 @@ function step(view) {
         bone.scale.fromArray(local, 10 * j + 7);
       });
     }
+    placeClipRings(rig, hose);
     const result = rig.hoseResult(hose.index);
     if (touched(result) || hose.shown === null) hose.shown = result;
     renderRow(hose);
@@ -587,6 +632,21 @@ window.chaintubeViewer = {
   },
   /** The hoses' descriptor ids, in rig order. */
   hoseIds() { return current.hoses.map((hose) => hose.info.id); },
+  /** The clip rings as drawn, in the rig's frame: [{ hose (id), clip, centre [x, y, z], axis
+   * [x, y, z] (the ring's normal), gap (metres), segment (points segment and segment + 1 are
+   * held), colour (hex) }]. */
+  clipRings() {
+    rigRoot.updateMatrixWorld(true);
+    const inverse = rigRoot.matrixWorld.clone().invert();
+    return current.hoses.flatMap((hose) => hose.clips.map((ring, clip) => ({
+      hose: hose.info.id, clip,
+      centre: ring.getWorldPosition(new THREE.Vector3()).applyMatrix4(inverse).toArray(),
+      axis: new THREE.Vector3(0, 0, 1).applyQuaternion(ring.quaternion).toArray(),
+      gap: ring.userData.gap, segment: ring.userData.segment, colour: ring.material.color.getHex(),
+    })));
+  },
+  /** The runtime's clip count of every hose, summed. */
+  clipCount() { return current.hoses.reduce((sum, hose) => sum + current.rig.clipCount(hose.index), 0); },
   /** The axis points of hose `id` a hand may grab. */
   grabbablePoints(id) { return [...current.hoses[current.rig.findHose(id)].grabbable]; },
   /** The nodes hoses are fixed to, most hoses first: [{ name, node, trs (its local transform),

@@ -1,12 +1,16 @@
 // The web viewer (exporters/viewer) in Debian's chromium, headless, driven by puppeteer-core.
 //
 //   node viewer_test.mjs rig --repo DIR --wasm DIR --reference EXE --export FILE.glb --out DIR
+//                        [--part NAME] [--clips N]
 //       opens the export (?file=…&record=1), checks the panel lists every hose, drags a hose
 //       point with the mouse (a press on the hose, a move, screenshots before and while held,
-//       the release), clicks the part that most hoses are fixed to and drags its gizmo's X arrow;
-//       then replays the viewer's recorded runtime inputs natively (EXE replay: the C ABI) and
-//       checks that every bone's world position equals the native joint's to 1e-5 m, that the
-//       grabbed point followed the mouse and that the joints fixed to the part moved with it.
+//       the release), clicks the part NAME (default: the part most hoses are fixed to) and drags
+//       its gizmo's X arrow; then replays the viewer's recorded runtime inputs natively (EXE
+//       replay: the C ABI) and checks that every bone's world position equals the native
+//       joint's to 1e-5 m, that the grabbed point followed the mouse and that the joints fixed
+//       to the part moved with it. With --clips N: the rig has N clips, each drawn as a ring
+//       around the hose (its centre on the held segment's line to 1e-5 m, its normal along the
+//       segment), before and after the part move; a ring on the moved part moved with it.
 //   node viewer_test.mjs bad-file --repo DIR --wasm DIR --out DIR
 //       opens a file that is not a GLB, a glTF without a hose rig and a missing file: the page
 //       shows a message naming the file and the reason (not a blank canvas).
@@ -42,6 +46,25 @@ function check(condition, what) {
   if (!condition) ++failures;
 }
 
+// The clip rings as drawn against the hoses' bones: every ring centred on the line of the
+// segment its clip holds (metres) and its normal along that segment (sine of the angle).
+function ringsOnHoses(rings, snapshot) {
+  let offLine = 0, offAxis = 0;
+  for (const ring of rings) {
+    const joints = snapshot.hoses.find((h) => h.id === ring.hose).joints;
+    const a = joints[ring.segment], b = joints[ring.segment + 1];
+    const d = b.map((x, k) => x - a[k]);
+    const length = Math.hypot(...d);
+    const u = d.map((x) => x / length);
+    const r = ring.centre.map((x, k) => x - a[k]);
+    const along = r.reduce((sum, x, k) => sum + x * u[k], 0);
+    offLine = Math.max(offLine, Math.hypot(...r.map((x, k) => x - along * u[k])));
+    const n = ring.axis;
+    offAxis = Math.max(offAxis, Math.hypot(n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2],
+      n[0] * u[1] - n[1] * u[0]));
+  }
+  return { offLine, offAxis };
+}
 const dataDir = mode === 'rig' ? dirname(resolve(options.export)) : resolve(options.out);
 const server = await serve({ '/': repo, '/wasm/': resolve(options.wasm), '/data/': dataDir });
 const browser = await launchChromium();
@@ -100,6 +123,16 @@ try {
     const vrButton = await page.$eval('#VRButton', (button) => button.textContent).catch(() => null);
     check(vrButton !== null, `three.js's VR button is on the page ("${vrButton}": no headset here)`);
     await page.screenshot({ path: join(options.out, `${stem}-before-drag.png`) });
+    const clips = Number(options.clips ?? 0);
+    const ringsBefore = await viewer(() => window.chaintubeViewer.clipRings());
+    if (clips > 0) {
+      check(await viewer(() => window.chaintubeViewer.clipCount()) === clips && ringsBefore.length === clips,
+        `the rig has ${clips} clips, each drawn as a ring (${ringsBefore.length} rings)`);
+      const on = ringsOnHoses(ringsBefore, first);
+      check(on.offLine <= TOLERANCE && on.offAxis <= 1e-4 && ringsBefore.every((r) => r.gap <= 1e-6),
+        `every ring around its hose: centre ${on.offLine.toExponential(2)} m off the held segment's line, ` +
+        `normal ${on.offAxis.toExponential(2)} off its direction, every clip met`);
+    }
 
     // The drag: the first hose whose middle free point the mouse hits on the screen.
     const target = await viewer(() => {
@@ -140,8 +173,9 @@ try {
     console.log(`while held the panel said: ${JSON.stringify(held.find((r) => r.id === target.hose))}`);
 
     // The part move: click the part most hoses are fixed to, drag its gizmo's X arrow.
-    const part = await viewer(() => window.chaintubeViewer.parts()[0] ?? null);
-    if (!part) throw new Error('no part has hoses fixed to it');
+    const part = await viewer((name) => window.chaintubeViewer.parts().find((p) => name === undefined || p.name === name) ?? null,
+      options.part);
+    if (!part) throw new Error(options.part ? `no part named ${options.part} has hoses fixed to it` : 'no part has hoses fixed to it');
     const onPart = await viewer((p) => window.chaintubeViewer.screenOnPart(p), part.name);
     if (!onPart) throw new Error(`part ${part.name} is nowhere visible`);
     await page.mouse.click(onPart.x, onPart.y);
@@ -176,6 +210,20 @@ try {
     }
     check(partShift > 0.005 && fixedShift > 0.5 * partShift,
       `the fixed segments follow the part (part ${(100 * partShift).toFixed(1)} cm, joints up to ${(100 * fixedShift).toFixed(1)} cm)`);
+    if (clips > 0) {
+      // The rings of clips on the moved part moved as far as its origin did (a move, no turn);
+      // every ring still around its hose.
+      const ringsAfter = await viewer(() => window.chaintubeViewer.clipRings());
+      const carried = ringsAfter.filter((ring, r) => partShift > 0.005 && Math.abs(Math.hypot(...ring.centre.map((x, k) =>
+        x - ringsBefore[r].centre[k])) - partShift) <= 1e-6);
+      check(carried.length > 0, `${carried.length} ring(s) moved with part "${part.name}" by ` +
+        `${(100 * partShift).toFixed(1)} cm (to 1e-6 m)`);
+      const on = ringsOnHoses(ringsAfter, after);
+      check(on.offLine <= TOLERANCE && on.offAxis <= 1e-4,
+        `after the move every ring is around its hose: centre ${on.offLine.toExponential(2)} m off the held ` +
+        `segment's line, normal ${on.offAxis.toExponential(2)} off its direction`);
+      console.log(`the rings after the move: ${JSON.stringify(ringsAfter.map((r) => ({ hose: r.hose, clip: r.clip, segment: r.segment, gap: r.gap })))}`);
+    }
 
     // The same inputs natively: every bone where the native runtime puts its joint.
     const inputsFile = join(options.out, `${stem}-inputs.json`);
