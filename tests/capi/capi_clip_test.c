@@ -15,8 +15,9 @@
  * and that the cable slid through the carriage's clip: at least 40 mm each way (the side the
  * carriage moves away from may stretch by the band, 2 % of about 0.33 m, no more). It also
  * checks the refusals: clip index out of range, NULL outputs, a short rest-length buffer, a
- * hose without clips, and a grab of a point the clip has slid onto (listed as grabbable at
- * export: CHAINTUBE_ERROR_NOT_GRABBABLE, nothing changed).
+ * hose without clips, and a grab of a point the clip has slid onto (a grabbable point, held
+ * now: CHAINTUBE_ERROR_NOT_GRABBABLE, nothing changed). A point the carriage's clip held as
+ * loaded and has let go of is grabbed (where it is: status OK, nothing moves) and released.
  *
  *   capi_clip_test <motion-rig.glb>
  *
@@ -217,6 +218,41 @@ static int check_held_points_refuse_grabs(chaintube_rig* rig, const cable* c)
     return tried;
 }
 
+/* The points the carriage's clip held as loaded (home_segment, home_segment + 1) that it no
+ * longer holds can be grabbed: each is grabbed where it is (status OK, no point moves more
+ * than 1e-9 m) and released. Returns how many were grabbed. */
+static int check_released_points_grab(chaintube_rig* rig, const cable* c, int32_t home_segment)
+{
+    chaintube_clip_info clip;
+    double before[7 * MAX_POINTS], after[7 * MAX_POINTS];
+    int grabbed = 0;
+    if (!ok(chaintube_rig_clip_info(rig, c->hose, c->carriage_clip, &clip), "clip info")) return 0;
+    for (int32_t point = home_segment; point <= home_segment + 1; ++point) {
+        chaintube_hose_result result;
+        double moved = 0.0;
+        if (point == clip.segment || point == clip.segment + 1) continue;
+        if (!ok(chaintube_rig_joint_poses_f64(rig, c->hose, NULL, 0, before, 7 * MAX_POINTS),
+                "joint poses") ||
+            !ok(chaintube_rig_grab(rig, c->hose, point, &before[7 * point], &result),
+                "chaintube_rig_grab of a point the clip let go of") ||
+            !ok(chaintube_rig_update(rig, NULL), "chaintube_rig_update") ||
+            !ok(chaintube_rig_joint_poses_f64(rig, c->hose, NULL, 0, after, 7 * MAX_POINTS),
+                "joint poses"))
+            continue;
+        CHECK(result.status == CHAINTUBE_HOSE_OK, "the grab of point %d: status %d", (int)point,
+              (int)result.status);
+        for (int32_t k = 0; k < c->points; ++k) {
+            const double d = distance(&before[7 * k], &after[7 * k]);
+            if (d > moved) moved = d;
+        }
+        CHECK(moved <= TOLERANCE, "the grab of point %d where it is moved a point %.3g m",
+              (int)point, moved);
+        ok(chaintube_rig_release(rig, c->hose), "chaintube_rig_release");
+        ++grabbed;
+    }
+    return grabbed;
+}
+
 int main(int argc, char** argv)
 {
     chaintube_rig* rig = NULL;
@@ -225,6 +261,7 @@ int main(int argc, char** argv)
     double trs[10], home[10], centre[3], home_centre[3];
     double slide_home, slide_max = -1.0, slide_min = 1e9;
     int frames = 0;
+    int32_t home_segment = -1;
     if (argc != 2) {
         fprintf(stderr, "usage: capi_clip_test <motion-rig.glb>\n");
         return 2;
@@ -261,7 +298,7 @@ int main(int argc, char** argv)
             CHECK(clip.slide_min == 0.0 && fabs(clip.slide_max - c.rest_length) <= TOLERANCE,
                   "clip %d end stops %g ... %g: expected the hose's ends", (int)k, clip.slide_min,
                   clip.slide_max);
-            if (clip.node == carriage) c.carriage_clip = k;
+            if (clip.node == carriage) c.carriage_clip = k, home_segment = clip.segment;
             if (k == 0) CHECK(clip.node == carriage, "clip 0 on node %d", (int)clip.node);
             if (k == 1) CHECK(clip.node == plate, "clip 1 on node %d", (int)clip.node);
         }
@@ -302,7 +339,9 @@ int main(int argc, char** argv)
             CHECK(slide - slide_home >= 0.04, "%s: slid %.4g m through the clip, expected 0.04+",
                   when, slide - slide_home);
             CHECK(check_held_points_refuse_grabs(rig, &c) > 0,
-                  "%s: the clip holds no point the export listed as grabbable", when);
+                  "%s: the clip holds no grabbable point", when);
+            CHECK(check_released_points_grab(rig, &c, home_segment) > 0,
+                  "%s: the clip still holds both points it held as loaded", when);
         }
         if (millimetres == -50)
             CHECK(slide_home - slide >= 0.04,

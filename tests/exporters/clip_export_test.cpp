@@ -89,7 +89,7 @@ TEST(ClipExport, AClipDoesNotFixTheHoseToItsNodeSoAHoseFixedToOneNodeKeepsItsJoi
     const ExportReport report =
         exportProjectFile(samplesDir() / "motion-rig.ctproj", folder / "out.glb", roots());
     const GltfDocument exported = readGltf(folder / "out.glb");
-    const rig::HoseRuntime runtime = rig::HoseRuntime::load(folder / "out.glb");
+    rig::HoseRuntime runtime = rig::HoseRuntime::load(folder / "out.glb");
     const int h = runtime.findHose("carriage-cable");
     ASSERT_GE(h, 0);
     const rig::RigHose& cable = report.descriptor.hoses[static_cast<size_t>(h)];
@@ -104,18 +104,25 @@ TEST(ClipExport, AClipDoesNotFixTheHoseToItsNodeSoAHoseFixedToOneNodeKeepsItsJoi
     for (const int joint : cable.jointNodes)
         EXPECT_EQ(runtime.node(joint).parent, cable.rigNode) << "joint node " << joint;
     // Each clip holds the segment at its place (0.3 m and 0.55 m, points 12's and 22's within
-    // rounding): its two points, like the clamp's, are not grabbable at export.
-    std::vector<int> held = {0, 1};
+    // rounding). Its two points are grabbable points (the clip slides: which points it holds
+    // changes, and the runtime refuses a grab only while it holds one); the clamp's two are not.
+    std::vector<int> clipHeld;
     for (size_t k = 1; k < 3; ++k) {
         const Hose::Attachment& clip = runtime.hose(h).attachments().at(k);
         ASSERT_TRUE(clip.isClip());
         EXPECT_NEAR(clip.slide, cable.clips[k - 1].place, 1e-12);
-        held.insert(held.end(), {clip.first, clip.last});
+        clipHeld.insert(clipHeld.end(), {clip.first, clip.last});
     }
-    for (const int point : held)
-        EXPECT_EQ(std::count(cable.grabbablePoints.begin(), cable.grabbablePoints.end(), point), 0)
-            << point;
-    EXPECT_EQ(cable.grabbablePoints.size(), 19u); // 25 points, 6 held
+    const auto listed = [&](int point) {
+        return std::count(cable.grabbablePoints.begin(), cable.grabbablePoints.end(), point);
+    };
+    for (const int point : clipHeld) {
+        EXPECT_EQ(listed(point), 1) << point;
+        EXPECT_EQ(runtime.grab(h, point, runtime.hose(h).point(point)).status, Status::InvalidInput)
+            << "point " << point << " is held by a clip now";
+    }
+    EXPECT_EQ(listed(0) + listed(1), 0);          // the clamp's
+    EXPECT_EQ(cable.grabbablePoints.size(), 23u); // 25 points, 2 clamped
     EXPECT_EQ(exported.json["nodes"][static_cast<size_t>(cable.meshNode)].contains("skin"), true);
 }
 

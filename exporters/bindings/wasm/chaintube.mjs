@@ -308,7 +308,8 @@ export class Rig {
     return n.readStruct('hose_info', n.output, HOSE_INFO_FIELDS);
   }
 
-  /** The axis points grab() accepts, ascending (an Int32Array of its own). */
+  /** The axis points grab() accepts, ascending (an Int32Array of its own): every point no
+   * attachment fixes; a point a clip holds now (clipInfo's segment) is refused while it does. */
   grabbablePoints(hose) {
     const info = this.hoseInfo(hose);
     return this.#int32s('_chaintube_rig_grabbable_points', hose, info.grabbableCount);

@@ -201,8 +201,10 @@ CHAINTUBE_API chaintube_status chaintube_rig_find_node(const chaintube_rig* rig,
 CHAINTUBE_API chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig, int32_t hose,
                                                        chaintube_hose_info* info);
 
-/* The axis points chaintube_rig_grab accepts for a hose, ascending: writes grabbable_count
- * integers; capacity >= grabbable_count (points may be NULL when it is 0). */
+/* The axis points chaintube_rig_grab accepts for a hose, ascending: every point no attachment
+ * fixes (a point a clip holds is among them, refused only while the clip holds it: see
+ * chaintube_rig_clip_info). Writes grabbable_count integers; capacity >= grabbable_count
+ * (points may be NULL when it is 0). */
 CHAINTUBE_API chaintube_status chaintube_rig_grabbable_points(const chaintube_rig* rig,
                                                               int32_t hose, int32_t* points,
                                                               int32_t capacity);

@@ -3,6 +3,7 @@
 #include "chaintube/surface.h"
 #include "gltf_model.h"
 
+#include <algorithm>
 #include <set>
 #include <span>
 #include <utility>
@@ -117,8 +118,15 @@ rig::RigHose writeHose(tinygltf::Model& model, BufferWriter& buffer, tinygltf::S
         }
         rigHose.attachments.push_back(rigAttachment);
     }
+    // Grabbable: every point no attachment fixes. The points a clip holds are among them, as the
+    // clip slides they change, and the runtime refuses a grab only while a clip holds the point.
+    std::vector<unsigned char> attached(static_cast<size_t>(hose.pointCount()), 0);
+    for (const Hose::Attachment& attachment : hose.attachments())
+        if (!attachment.isClip())
+            std::fill(attached.begin() + attachment.first, attached.begin() + attachment.last + 1,
+                      1);
     for (int i = 0; i < hose.pointCount(); ++i)
-        if (!hose.isFixed(i)) rigHose.grabbablePoints.push_back(i);
+        if (!attached[static_cast<size_t>(i)]) rigHose.grabbablePoints.push_back(i);
 
     // Bind pose: the surface as the library computes it now.
     const HoseSurface surface(hose);

@@ -159,7 +159,7 @@ public:
 
     /// Moves free axis point `point` of hose `hose` to `target` (world metres); the hose
     /// follows (Hose::grab). Out-of-range indices give Status::InvalidInput; so does a point
-    /// that is not in grabbablePoints.
+    /// that is not in grabbablePoints or that a clip holds now.
     UpdateResult grab(int hose, int point, const Vec3& target);
 
     /// Lets go of the hose's held point (Hose::releaseGrab): with gravity it falls again on the
