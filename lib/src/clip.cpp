@@ -157,7 +157,8 @@ void Hose::placeClip(Attachment& a, double s)
             a.frame.apply(a.localPoints[static_cast<size_t>(i)]) - m_origin;
 }
 
-std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margin)
+std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margin,
+                                  const std::vector<Attachment>* previous)
 {
     std::vector<int> slid;
     std::vector<Attachment*> clips;
@@ -181,6 +182,14 @@ std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margi
         return a->frame.apply(a->localPoints[static_cast<size_t>(i - a->first)]) - m_origin;
     };
     for (Attachment* clip : clips) {
+        // A clip moved along its own axis slides along the hose, which stays where it is (no
+        // friction): its slide starts from where the centre's move along the axis takes it.
+        double shift = 0.0;
+        if (previous)
+            for (const Attachment& was : *previous)
+                if (was.id == clip->id)
+                    shift = (clip->frame.apply(clip->clipCentre) - was.frame.apply(was.clipCentre))
+                                .dot((was.frame.rotation * was.clipAxis).normalized());
         auto pinnedOther = [&](int i) {
             return i == held ||
                    (m_fixed[static_cast<size_t>(i)] && (i < clip->first || i > clip->last));
@@ -241,7 +250,7 @@ std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margi
         // A short side is fed until the full margin is restored, from the other side's spare
         // (never below that side's own margin). Both short, or the other side with nothing to
         // spare: the clip holds like a fixed one and the update decides as usual.
-        const double s0 = std::clamp(clip->slide, sLo, sHi);
+        const double s0 = std::clamp(clip->slide + (std::isfinite(shift) ? shift : 0.0), sLo, sHi);
         double s = s0;
         const bool short1 = isShort(s0, true), short2 = isShort(s0, false);
         if (short1 && !short2 && spare(s0, false) > 0.0) {

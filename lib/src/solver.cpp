@@ -32,6 +32,11 @@ constexpr int kAdvanceIterations = 6;
 constexpr double kReachMargin = 1e-6;
 /// Clips: the margins a short side is fed to, one attempt each (Hose::slideClips).
 constexpr double kClipMargins[] = {0.01, 0.05, 0.15};
+/// Hose::moveAttachments: a move that finds no shape is made again in two halves when an
+/// attachment moves by more than this many (first) segment lengths, at most this many times
+/// halved (at most 2 + 4 + … more updates).
+constexpr double kHalvedMove = 2.0;
+constexpr int kMoveHalvings = 2;
 
 using detail::anyPerpendicular;
 
@@ -881,6 +886,58 @@ UpdateResult Hose::grab(int index, const Vec3& target)
 
 UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames)
 {
+    return moveAttachmentsInSteps(ids, frames, kMoveHalvings);
+}
+
+UpdateResult Hose::moveAttachmentsInSteps(const std::vector<int>& ids,
+                                          const std::vector<Frame>& frames, int halvings)
+{
+    // Where each attachment is before the move (an unknown id: the single update refuses it).
+    std::vector<Frame> from;
+    double longest = 0.0;
+    for (size_t i = 0; i < ids.size() && i < frames.size(); ++i)
+        for (const Attachment& a : m_attachments)
+            if (a.id == ids[i]) {
+                from.push_back(a.frame);
+                const Vec3 local = a.isClip() ? a.clipCentre : a.localPoints.front();
+                longest = std::max(longest, (frames[i].apply(local) - a.frame.apply(local)).norm());
+            }
+    const bool wasValid = !m_dirtyViolation;
+    UpdateResult result = moveAttachmentsOnce(ids, frames);
+    // No shape found (the hose stayed where it was) for a long move of a valid hose: the move
+    // again as two halves from where the hose is, kept only when both find a shape.
+    if (halvings == 0 || result.status != Status::Infeasible || result.movedPoints != 0 ||
+        !wasValid || from.size() != ids.size() || !(longest > kHalvedMove * m_restLength.front()))
+        return result;
+    const Hose unmet = *this;
+    for (size_t i = 0; i < ids.size(); ++i) // back where they were: the hose has not moved
+        for (Attachment& a : m_attachments)
+            if (a.id == ids[i]) a.frame = from[i];
+    std::vector<Frame> halfway(frames.size());
+    for (size_t i = 0; i < frames.size(); ++i) {
+        halfway[i].rotation = from[i].rotation.slerp(0.5, frames[i].rotation);
+        halfway[i].translation = 0.5 * (from[i].translation + frames[i].translation);
+    }
+    const UpdateResult first = moveAttachmentsInSteps(ids, halfway, halvings - 1);
+    if (first.status == Status::Ok) {
+        UpdateResult second = moveAttachmentsInSteps(ids, frames, halvings - 1);
+        if (second.status == Status::Ok) {
+            second.iterations += first.iterations + result.iterations;
+            second.movedPoints = 0;
+            for (size_t i = 0; i < m_local.size(); ++i)
+                second.movedPoints += m_local[i] != unmet.m_local[i];
+            return second;
+        }
+    }
+    const int iterations = result.iterations;
+    *this = unmet;
+    result.iterations = iterations + first.iterations;
+    return result;
+}
+
+UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
+                                       const std::vector<Frame>& frames)
+{
     UpdateResult result;
     std::vector<Attachment*> targets;
     bool valid = ids.size() == frames.size();
@@ -895,15 +952,17 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         return result;
     }
     m_scratch = m_local;
-    for (size_t i = 0; i < targets.size(); ++i)
-        targets[i]->frame = frames[i];
     // Clips: the hose first slides through them where a side needs length to reach its
-    // attachments' new places (slideClips); the clips that slid are placed with the moved ones.
+    // attachments' new places (slideClips; a clip moved along its axis from where the hose
+    // stays); the clips that slid are placed with the moved ones.
     // A slide whose shape leaves a bend beyond its limit (a side whose ends' directions need
     // more than its straight-line demand) is tried again with wider margins (kClipMargins).
     // Undone when no valid shape is found.
     const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
                                    [](const Attachment& a) { return a.isClip(); });
+    const std::vector<Attachment> framesBefore = clips ? m_attachments : std::vector<Attachment>();
+    for (size_t i = 0; i < targets.size(); ++i)
+        targets[i]->frame = frames[i];
     const std::vector<Attachment> attachmentsBefore =
         clips ? m_attachments : std::vector<Attachment>();
     const std::vector<unsigned char> fixedBefore = clips ? m_fixed : std::vector<unsigned char>();
@@ -916,7 +975,19 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
     const bool wasInvalid = m_dirtyViolation;
     std::vector<Vec3> slidCopy;
     UpdateResult violation;
-    const int attempts = clips ? static_cast<int>(std::size(kClipMargins)) : 1;
+    // A clip moved along its axis: when no shape is found from its slide as it was, the margins
+    // again from where that move takes the slide (the hose staying where it is).
+    const int margins = static_cast<int>(std::size(kClipMargins));
+    const bool clipMoved = std::any_of(moved.begin(), moved.end(), [&](const Attachment* a) {
+        if (!a->isClip()) return false;
+        for (const Attachment& was : framesBefore)
+            if (was.id == a->id)
+                return std::abs((a->frame.apply(a->clipCentre) - was.frame.apply(was.clipCentre))
+                                    .dot(was.frame.rotation * was.clipAxis)) >
+                       1e-12 * m_restLength.front();
+        return false;
+    });
+    const int attempts = clips ? (clipMoved ? 2 : 1) * margins : 1;
     for (int attempt = 0; attempt < attempts; ++attempt) {
         if (attempt > 0) {
             restoreClips();
@@ -924,7 +995,8 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         }
         m_local = m_scratch;
         if (clips)
-            for (const int id : slideClips(-1, nullptr, kClipMargins[attempt])) {
+            for (const int id : slideClips(-1, nullptr, kClipMargins[attempt % margins],
+                                           attempt >= margins ? &framesBefore : nullptr)) {
                 auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
                                        [&](const Attachment& a) { return a.id == id; });
                 if (std::find(targets.begin(), targets.end(), &*it) == targets.end())
@@ -993,7 +1065,10 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
         Solver tails(*this);
         tails.sweepTails(lo, hi, m_scratch, wasInvalid);
         violation = measureViolation();
-        if (violation.status == Status::Ok) break;
+        if (violation.status == Status::Ok) {
+            if (solved || !clipMoved || attempt >= margins) break;
+            attempt = margins - 1; // not solved from the slide as it was: from the moved one
+        }
     }
     result.lengthViolation = violation.lengthViolation;
     result.angleViolation = violation.angleViolation;

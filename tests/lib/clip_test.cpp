@@ -238,6 +238,64 @@ TEST(Clip, AFreeEndGrabbedAndPulledSlidesTheHoseThroughTheClip)
     EXPECT_NEAR(hose.currentLength(), length, 1e-9);
 }
 
+/// The clip moved 8 cm along its own axis in one update, between two fixed ends: it slides
+/// along the hose, which stays where it is (the side ahead of it left exactly taut is given
+/// back the 1 % margin from the other side's slack).
+TEST(Clip, AClipMovedFarAlongItsAxisSlidesAlongTheHoseWhichStays)
+{
+    int a = -1;
+    Hose hose = bumpHose(a);
+    const int n = hose.pointCount() - 1;
+    const int b = hose.attach(n - 1, n, Frame::identity());
+    const int clip = hose.addClip(placeAtX(hose, 0.6), Frame::identity());
+    const double length = hose.currentLength();
+    const double slide0 = attachment(hose, clip).slide;
+    const UpdateResult r = hose.moveAttachment(clip, translated(Vec3(0.08, 0, 0)));
+    EXPECT_EQ(r.status, Status::Ok);
+    EXPECT_LE(violation(hose).length, 1e-9);
+    EXPECT_LE(violation(hose).angle, 1e-9);
+    EXPECT_LE(hose.attachmentGap(a), 1e-9);
+    EXPECT_LE(hose.attachmentGap(b), 1e-9);
+    EXPECT_LE(hose.attachmentGap(clip), 1e-9);
+    EXPECT_NEAR(hose.currentLength(), length, 1e-9);
+    EXPECT_LE(through(hose, clip).distance, 1e-12);
+    // The 0.32 m to the far end keep 1 % more than their straight line.
+    const double slid = attachment(hose, clip).slide - slide0;
+    EXPECT_LE(slid, 0.08);
+    EXPECT_GE(slid, 0.08 - 0.011 * 0.32);
+}
+
+/// The clip moved 8 cm across the hose in one update: from its slide as it was no shape is
+/// found, so the move is made in two halves, as a drag would make it: the hose ends exactly
+/// where two 4 cm moves leave it, every constraint held.
+TEST(Clip, AClipMovedFarAcrossTheHoseInOneUpdateIsFollowedAsADrag)
+{
+    for (const Vec3& direction : {Vec3(0, 1, 0), Vec3(0, 0, 1)}) {
+        int a = -1;
+        Hose jump = bumpHose(a);
+        const int n = jump.pointCount() - 1;
+        const int b = jump.attach(n - 1, n, Frame::identity());
+        const int clip = jump.addClip(placeAtX(jump, 0.6), Frame::identity());
+        Hose halves = jump;
+        const double length = jump.currentLength();
+        const UpdateResult r = jump.moveAttachment(clip, translated(0.08 * direction));
+        EXPECT_EQ(r.status, Status::Ok);
+        EXPECT_GT(r.movedPoints, 0);
+        EXPECT_LE(violation(jump).length, 1e-9);
+        EXPECT_LE(violation(jump).angle, 1e-9);
+        EXPECT_LE(jump.attachmentGap(a), 1e-9);
+        EXPECT_LE(jump.attachmentGap(b), 1e-9);
+        EXPECT_LE(jump.attachmentGap(clip), 1e-9);
+        EXPECT_NEAR(jump.currentLength(), length, 1e-9);
+        EXPECT_LE(through(jump, clip).distance, 1e-12);
+        for (const double d : {0.04, 0.08})
+            ASSERT_EQ(halves.moveAttachment(clip, translated(d * direction)).status, Status::Ok);
+        for (int i = 0; i <= n; ++i)
+            EXPECT_EQ(jump.point(i), halves.point(i)) << "point " << i;
+        EXPECT_EQ(attachment(jump, clip).slide, attachment(halves, clip).slide);
+    }
+}
+
 /// A long random walk of the clip's part (±4 cm) and of the far end (±10 cm), 5 mm a frame
 /// on each axis, moved together, of a hose with slack on both sides of the clip: every
 /// constraint after every update, the clip met and on the hose, the length conserved.

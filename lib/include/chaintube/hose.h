@@ -253,7 +253,9 @@ public:
     /// Move an attachment's frame; its points move rigidly and the rest of the hose follows in
     /// the same update. A frame beyond the hose's reach from the neighbouring fixed points
     /// leaves the attachment short of it (Status::Infeasible, attachmentGap()); moved back
-    /// within reach it is met again. An unknown id or a non-finite frame gives
+    /// within reach it is met again. A move of more than two segment lengths that finds no
+    /// shape is made again in two halves (each split the same way, at most twice): a long jump
+    /// of a part is followed as a drag would be. An unknown id or a non-finite frame gives
     /// Status::InvalidInput and changes nothing.
     UpdateResult moveAttachment(int id, const Frame& frame);
     /// Move several attachments at once (one update); ids and frames have equal size.
@@ -374,14 +376,21 @@ private:
     /// −1: fixed points only before `index`; +1: only after it; 0: on both sides or none.
     int pinnedSide(int index) const;
     bool blendSide(int from, int side, const Vec3& displacement);
+    /// moveAttachments: one update, and the halvings of a long move that found no shape.
+    UpdateResult moveAttachmentsOnce(const std::vector<int>& ids, const std::vector<Frame>& frames);
+    UpdateResult moveAttachmentsInSteps(const std::vector<int>& ids,
+                                        const std::vector<Frame>& frames, int halvings);
     bool blendTowardsPins(int index, const Vec3& displacement);
 
     /// Clips: slide the hose through each clip whose one side needs more length to reach its
     /// pinned points (the held point at `heldTarget` when given) and whose other side can
     /// spare it, the short side fed to `margin` (a fraction) inside its reach (lib/README.md,
-    /// "Clips"). Re-places the clips that slid (their segment, its fixed flags and positions
+    /// "Clips"). `previous`: the attachments before an attachment move (the same order), or
+    /// null; a clip that moved along its axis starts from the slide at which the hose stays
+    /// where it is. Re-places the clips that slid (their segment, its fixed flags and positions
     /// on the clip's axis) and returns their ids.
-    std::vector<int> slideClips(int held, const Vec3* heldTarget, double margin);
+    std::vector<int> slideClips(int held, const Vec3* heldTarget, double margin,
+                                const std::vector<Attachment>* previous = nullptr);
     /// Puts clip `a` at slide position `s` (its segment, fixed flags, local points, and its
     /// two points at the frame).
     void placeClip(Attachment& a, double s);
