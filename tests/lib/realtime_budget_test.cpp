@@ -1,7 +1,8 @@
-// Bounded work a frame (lib/README.md, "Grab with attachments"): a hose fixed at both ends whose
-// middle is grabbed every frame on a long random walk in and beyond its reach keeps every
-// constraint after every frame, never leaves a NaN, and never does more Newton steps a grab than
-// the budget the README states. Work is counted (UpdateResult::iterations), never timed.
+// Bounded work a frame (lib/README.md, "Grab with attachments", "Budgets a call"): a hose fixed
+// at both ends whose middle is grabbed every frame on a long random walk in and beyond its reach
+// (with a clip, or with a gravity step after each grab) keeps every constraint after every
+// frame, never leaves a NaN, and never does more Newton steps a grab or a step than the budget
+// the README states. Work is counted (UpdateResult::iterations), never timed.
 #include "test_util.h"
 
 #include <algorithm>
@@ -24,13 +25,20 @@ constexpr int kGrabBudget = 12 + 4 * (6 + 6) + 12;
 /// span for the fallback with the point soft.
 constexpr int kClipGrabBudget = 3 * (2 * 32) + (2 * 12 + 4 * (6 + 6) + 12 + 2 * 12);
 
+/// Newton steps of one gravity step (Hose::step, lib/README.md "Budgets a call") of a hose
+/// whose held point splits it into two spans: four attempts of 8 projection steps and the
+/// closing of both spans (32 a span).
+constexpr int kStepBudget = 4 * (8 + 2 * 32);
+
 struct WalkFigures
 {
     int frames = 0;
     int clamped = 0;
     int maxIterations = 0;
-    int slides = 0;     ///< frames in which the hose slid through the clip
-    int slidesBack = 0; ///< of them, towards point 0
+    int slides = 0;            ///< frames in which the hose slid through the clip
+    int slidesBack = 0;        ///< of them, towards point 0
+    int maxStepIterations = 0; ///< with gravity: the most Newton steps of a step
+    double lowest = 0.0;       ///< with gravity: the lowest y a point reached (m)
 };
 
 /// Distance from the clip's centre to the line of the segment holding it (metres).
@@ -49,10 +57,13 @@ double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
 /// bulging towards −z, the second towards +z) and a sliding clip that never moves holds it at
 /// the middle of the segment at a quarter of its length (the first arc's middle, with 5 % more
 /// hose than the straight line from the near end): pulled away from the clip, the middle draws
-/// hose through it.
-WalkFigures walkTheMiddle(int points, int frames, bool clip = false)
+/// hose through it. With `gravity`, Hose::step() (gravity −y) follows every grab, as the runtime's
+/// update does, and is checked as the grab is.
+WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravity = false)
 {
     HoseSpec spec;
+    spec.gravity.enabled = gravity;
+    spec.gravity.direction = Vec3(0.0, -1.0, 0.0);
     spec.segmentLength = 1.0 / (points - 1);
     spec.material.expansionCoefficient = 0.0;
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
@@ -129,6 +140,19 @@ WalkFigures walkTheMiddle(int points, int frames, bool clip = false)
         for (int i = 0; i < n; ++i)
             finite = finite && hose.point(i).allFinite();
         EXPECT_TRUE(finite) << "frame " << frame;
+        if (gravity) {
+            const UpdateResult stepped = hose.step();
+            EXPECT_EQ(stepped.status, Status::Ok) << "frame " << frame;
+            EXPECT_LE(stepped.iterations, kStepBudget) << "frame " << frame;
+            const UpdateResult after = hose.measureViolation();
+            EXPECT_LE(after.lengthViolation, 1e-9) << "frame " << frame << ", after the step";
+            EXPECT_LE(after.angleViolation, 1e-9) << "frame " << frame << ", after the step";
+            for (int i = 0; i < n; ++i) {
+                EXPECT_TRUE(hose.point(i).allFinite()) << "frame " << frame << ", point " << i;
+                figures.lowest = std::min(figures.lowest, hose.point(i).y());
+            }
+            figures.maxStepIterations = std::max(figures.maxStepIterations, stepped.iterations);
+        }
         if (clip) {
             EXPECT_LE(clipOffAxis(hose, clipNow()), 1e-9) << "frame " << frame;
             EXPECT_LE(hose.attachmentGap(clipId), 1e-9) << "frame " << frame;
@@ -173,7 +197,36 @@ void expectTheClipWalkWithinBudget(int points, int frames, int clampedAtLeast, i
                 kClipGrabBudget);
 }
 
+/// The walk with a gravity step after every grab: every grab and step checked; the hose falls
+/// (a point more than `fallsAtLeast` metres below the ends' plane) and the grabs go beyond reach.
+void expectTheGravityWalkWithinBudget(int points, int frames, int clampedAtLeast,
+                                      double fallsAtLeast)
+{
+    const WalkFigures f = walkTheMiddle(points, frames, false, true);
+    EXPECT_EQ(f.frames, frames);
+    EXPECT_GT(f.clamped, clampedAtLeast);
+    EXPECT_LT(f.lowest, -fallsAtLeast);
+    std::printf("%d points with gravity: %d frames, %d clamped, at most %d Newton steps a grab "
+                "(budget %d) and %d a step (budget %d), lowest point %.3f m\n",
+                points, f.frames, f.clamped, f.maxIterations, kGrabBudget, f.maxStepIterations,
+                kStepBudget, f.lowest);
+}
+
 } // namespace
+
+TEST(RealTimeBudget,
+     ALongWalkWithAGravityStepEachFrameKeepsEveryConstraintWithinBothBudgets25Points)
+{
+    expectTheGravityWalkWithinBudget(25, 4000, 1000, 0.05);
+}
+
+TEST(RealTimeBudget,
+     ALongWalkWithAGravityStepEachFrameKeepsEveryConstraintWithinBothBudgets100Points)
+{
+    // 500 frames (5.6 s at 90 Hz): the finer hose's steps mostly fall by 1/4 or 1/16 of the
+    // full prediction (tests/bench/PERFORMANCE-NOTES.md, "Gravity frame"), so it sags slower.
+    expectTheGravityWalkWithinBudget(100, 500, 100, 0.01);
+}
 
 TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabBudget25Points)
 {
