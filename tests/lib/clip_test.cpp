@@ -129,6 +129,40 @@ double placeAtX(const Hose& hose, double x)
     return place;
 }
 
+/// bumpHose with its far end fixed too and a sliding clip on the straight run at x = 0.6 m.
+struct ClippedBetweenEnds
+{
+    Hose hose;
+    int a = -1, b = -1, clip = -1;
+    double length = 0.0; ///< of the axis as built
+};
+
+ClippedBetweenEnds clippedBetweenEnds()
+{
+    int a = -1;
+    ClippedBetweenEnds c{bumpHose(a)};
+    c.a = a;
+    const int n = c.hose.pointCount() - 1;
+    c.b = c.hose.attach(n - 1, n, Frame::identity());
+    c.clip = c.hose.addClip(placeAtX(c.hose, 0.6), Frame::identity());
+    c.length = c.hose.currentLength();
+    return c;
+}
+
+/// Every constraint, both ends and the clip met, the length as built, the hose through the
+/// clip's centre.
+void expectHeldThroughTheClip(const ClippedBetweenEnds& c, const Hose& hose,
+                              const std::string& when)
+{
+    EXPECT_LE(violation(hose).length, 1e-9) << when;
+    EXPECT_LE(violation(hose).angle, 1e-9) << when;
+    EXPECT_LE(hose.attachmentGap(c.a), 1e-9) << when;
+    EXPECT_LE(hose.attachmentGap(c.b), 1e-9) << when;
+    EXPECT_LE(hose.attachmentGap(c.clip), 1e-9) << when;
+    EXPECT_NEAR(hose.currentLength(), c.length, 1e-9) << when;
+    EXPECT_LE(through(hose, c.clip).distance, 1e-12) << when;
+}
+
 /// A fixed end pulled away from a clip: the hose slides through the clip from its free side.
 TEST(Clip, AnEndPulledAwayDrawsTheHoseThroughTheClipFromTheFreeSide)
 {
@@ -166,12 +200,10 @@ TEST(Clip, AnEndPulledAwayDrawsTheHoseThroughTheClipFromTheFreeSide)
 /// Between two fixed ends the side pulled taut takes length from the side with slack.
 TEST(Clip, BetweenTwoFixedEndsTheTautSideTakesTheOtherSidesSlack)
 {
-    int a = -1;
-    Hose hose = bumpHose(a);
-    const int n = hose.pointCount() - 1;
-    const int b = hose.attach(n - 1, n, Frame::identity());
-    const int clip = hose.addClip(placeAtX(hose, 0.6), Frame::identity());
-    const double length = hose.currentLength();
+    ClippedBetweenEnds c = clippedBetweenEnds();
+    Hose& hose = c.hose;
+    const int a = c.a, b = c.b, clip = c.clip;
+    const double length = c.length;
     const double slide0 = attachment(hose, clip).slide;
     for (int k = 1; k <= 5; ++k) {
         const UpdateResult r = hose.moveAttachment(b, translated(Vec3(0.01 * k, 0, 0)));
@@ -243,24 +275,12 @@ TEST(Clip, AFreeEndGrabbedAndPulledSlidesTheHoseThroughTheClip)
 /// back the 1 % margin from the other side's slack).
 TEST(Clip, AClipMovedFarAlongItsAxisSlidesAlongTheHoseWhichStays)
 {
-    int a = -1;
-    Hose hose = bumpHose(a);
-    const int n = hose.pointCount() - 1;
-    const int b = hose.attach(n - 1, n, Frame::identity());
-    const int clip = hose.addClip(placeAtX(hose, 0.6), Frame::identity());
-    const double length = hose.currentLength();
-    const double slide0 = attachment(hose, clip).slide;
-    const UpdateResult r = hose.moveAttachment(clip, translated(Vec3(0.08, 0, 0)));
-    EXPECT_EQ(r.status, Status::Ok);
-    EXPECT_LE(violation(hose).length, 1e-9);
-    EXPECT_LE(violation(hose).angle, 1e-9);
-    EXPECT_LE(hose.attachmentGap(a), 1e-9);
-    EXPECT_LE(hose.attachmentGap(b), 1e-9);
-    EXPECT_LE(hose.attachmentGap(clip), 1e-9);
-    EXPECT_NEAR(hose.currentLength(), length, 1e-9);
-    EXPECT_LE(through(hose, clip).distance, 1e-12);
+    ClippedBetweenEnds c = clippedBetweenEnds();
+    const double slide0 = attachment(c.hose, c.clip).slide;
+    EXPECT_EQ(c.hose.moveAttachment(c.clip, translated(Vec3(0.08, 0, 0))).status, Status::Ok);
+    expectHeldThroughTheClip(c, c.hose, "moved along");
     // The 0.32 m to the far end keep 1 % more than their straight line.
-    const double slid = attachment(hose, clip).slide - slide0;
+    const double slid = attachment(c.hose, c.clip).slide - slide0;
     EXPECT_LE(slid, 0.08);
     EXPECT_GE(slid, 0.08 - 0.011 * 0.32);
 }
@@ -271,28 +291,18 @@ TEST(Clip, AClipMovedFarAlongItsAxisSlidesAlongTheHoseWhichStays)
 TEST(Clip, AClipMovedFarAcrossTheHoseInOneUpdateIsFollowedAsADrag)
 {
     for (const Vec3& direction : {Vec3(0, 1, 0), Vec3(0, 0, 1)}) {
-        int a = -1;
-        Hose jump = bumpHose(a);
-        const int n = jump.pointCount() - 1;
-        const int b = jump.attach(n - 1, n, Frame::identity());
-        const int clip = jump.addClip(placeAtX(jump, 0.6), Frame::identity());
+        ClippedBetweenEnds c = clippedBetweenEnds();
+        Hose& jump = c.hose;
         Hose halves = jump;
-        const double length = jump.currentLength();
-        const UpdateResult r = jump.moveAttachment(clip, translated(0.08 * direction));
+        const UpdateResult r = jump.moveAttachment(c.clip, translated(0.08 * direction));
         EXPECT_EQ(r.status, Status::Ok);
         EXPECT_GT(r.movedPoints, 0);
-        EXPECT_LE(violation(jump).length, 1e-9);
-        EXPECT_LE(violation(jump).angle, 1e-9);
-        EXPECT_LE(jump.attachmentGap(a), 1e-9);
-        EXPECT_LE(jump.attachmentGap(b), 1e-9);
-        EXPECT_LE(jump.attachmentGap(clip), 1e-9);
-        EXPECT_NEAR(jump.currentLength(), length, 1e-9);
-        EXPECT_LE(through(jump, clip).distance, 1e-12);
+        expectHeldThroughTheClip(c, jump, "moved across");
         for (const double d : {0.04, 0.08})
-            ASSERT_EQ(halves.moveAttachment(clip, translated(d * direction)).status, Status::Ok);
-        for (int i = 0; i <= n; ++i)
+            ASSERT_EQ(halves.moveAttachment(c.clip, translated(d * direction)).status, Status::Ok);
+        for (int i = 0; i < jump.pointCount(); ++i)
             EXPECT_EQ(jump.point(i), halves.point(i)) << "point " << i;
-        EXPECT_EQ(attachment(jump, clip).slide, attachment(halves, clip).slide);
+        EXPECT_EQ(attachment(jump, c.clip).slide, attachment(halves, c.clip).slide);
     }
 }
 
