@@ -158,7 +158,7 @@ void Hose::placeClip(Attachment& a, double s)
 }
 
 std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margin,
-                                  const std::vector<Attachment>* previous)
+                                  const std::vector<std::pair<int, double>>* shifts)
 {
     std::vector<int> slid;
     std::vector<Attachment*> clips;
@@ -185,11 +185,9 @@ std::vector<int> Hose::slideClips(int held, const Vec3* heldTarget, double margi
         // A clip moved along its own axis slides along the hose, which stays where it is (no
         // friction): its slide starts from where the centre's move along the axis takes it.
         double shift = 0.0;
-        if (previous)
-            for (const Attachment& was : *previous)
-                if (was.id == clip->id)
-                    shift = (clip->frame.apply(clip->clipCentre) - was.frame.apply(was.clipCentre))
-                                .dot((was.frame.rotation * was.clipAxis).normalized());
+        if (shifts)
+            for (const auto& [id, along] : *shifts)
+                if (id == clip->id) shift = along;
         auto pinnedOther = [&](int i) {
             return i == held ||
                    (m_fixed[static_cast<size_t>(i)] && (i < clip->first || i > clip->last));

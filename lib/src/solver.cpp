@@ -960,9 +960,16 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
     // Undone when no valid shape is found.
     const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
                                    [](const Attachment& a) { return a.isClip(); });
-    const std::vector<Attachment> framesBefore = clips ? m_attachments : std::vector<Attachment>();
-    for (size_t i = 0; i < targets.size(); ++i)
+    // How far each moved clip's centre moves along its axis (clip id, metres).
+    std::vector<std::pair<int, double>> axialShifts;
+    for (size_t i = 0; i < targets.size(); ++i) {
+        const Attachment& a = *targets[i];
+        if (a.isClip())
+            axialShifts.emplace_back(a.id,
+                                     (frames[i].apply(a.clipCentre) - a.frame.apply(a.clipCentre))
+                                         .dot((a.frame.rotation * a.clipAxis).normalized()));
         targets[i]->frame = frames[i];
+    }
     const std::vector<Attachment> attachmentsBefore =
         clips ? m_attachments : std::vector<Attachment>();
     const std::vector<unsigned char> fixedBefore = clips ? m_fixed : std::vector<unsigned char>();
@@ -978,15 +985,10 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
     // A clip moved along its axis: when no shape is found from its slide as it was, the margins
     // again from where that move takes the slide (the hose staying where it is).
     const int margins = static_cast<int>(std::size(kClipMargins));
-    const bool clipMoved = std::any_of(moved.begin(), moved.end(), [&](const Attachment* a) {
-        if (!a->isClip()) return false;
-        for (const Attachment& was : framesBefore)
-            if (was.id == a->id)
-                return std::abs((a->frame.apply(a->clipCentre) - was.frame.apply(was.clipCentre))
-                                    .dot(was.frame.rotation * was.clipAxis)) >
-                       1e-12 * m_restLength.front();
-        return false;
-    });
+    const bool clipMoved =
+        std::any_of(axialShifts.begin(), axialShifts.end(), [&](const auto& shift) {
+            return std::abs(shift.second) > 1e-12 * m_restLength.front();
+        });
     const int attempts = clips ? (clipMoved ? 2 : 1) * margins : 1;
     for (int attempt = 0; attempt < attempts; ++attempt) {
         if (attempt > 0) {
@@ -996,7 +998,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         m_local = m_scratch;
         if (clips)
             for (const int id : slideClips(-1, nullptr, kClipMargins[attempt % margins],
-                                           attempt >= margins ? &framesBefore : nullptr)) {
+                                           attempt >= margins ? &axialShifts : nullptr)) {
                 auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
                                        [&](const Attachment& a) { return a.id == id; });
                 if (std::find(targets.begin(), targets.end(), &*it) == targets.end())

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace chaintube {
@@ -385,12 +386,12 @@ private:
     /// Clips: slide the hose through each clip whose one side needs more length to reach its
     /// pinned points (the held point at `heldTarget` when given) and whose other side can
     /// spare it, the short side fed to `margin` (a fraction) inside its reach (lib/README.md,
-    /// "Clips"). `previous`: the attachments before an attachment move (the same order), or
-    /// null; a clip that moved along its axis starts from the slide at which the hose stays
-    /// where it is. Re-places the clips that slid (their segment, its fixed flags and positions
-    /// on the clip's axis) and returns their ids.
+    /// "Clips"). `shifts`: (clip id, how far its centre moved along its axis) of the clips an
+    /// attachment move moved, or null; such a clip starts from the slide at which the hose
+    /// stays where it is. Re-places the clips that slid (their segment, its fixed flags and
+    /// positions on the clip's axis) and returns their ids.
     std::vector<int> slideClips(int held, const Vec3* heldTarget, double margin,
-                                const std::vector<Attachment>* previous = nullptr);
+                                const std::vector<std::pair<int, double>>* shifts = nullptr);
     /// Puts clip `a` at slide position `s` (its segment, fixed flags, local points, and its
     /// two points at the frame).
     void placeClip(Attachment& a, double s);
