@@ -185,7 +185,7 @@ bool ChainProjection::solveWorking(const std::vector<Vec3>& from)
             ++s;
         width = std::max(width, s - r + 1);
     }
-    m_band.assign(m * width, 0.0);
+    m_band.resize(m * width); // every entry the solve reads is written below
     m_lambda.resize(m);
     for (size_t r = 0; r < m; ++r) {
         const Row& a = m_rows[m_working[r]];

@@ -64,7 +64,7 @@ struct JointMoments
     struct Sym
     {
         double m[6] = {};
-        void add(const Vec3& a)
+        [[gnu::always_inline]] void add(const Vec3& a)
         {
             m[0] += a.x() * a.x(), m[1] += a.y() * a.y(), m[2] += a.z() * a.z();
             m[3] += a.x() * a.y(), m[4] += a.x() * a.z(), m[5] += a.y() * a.z();
@@ -79,7 +79,7 @@ struct JointMoments
     struct Outer
     {
         double m[9] = {};
-        void add(const Vec3& a, const Vec3& b)
+        [[gnu::always_inline]] void add(const Vec3& a, const Vec3& b)
         {
             for (int i = 0; i < 3; ++i)
                 for (int j = 0; j < 3; ++j)
@@ -100,7 +100,8 @@ struct JointMoments
     Outer dc, ne;
     Vec3 heldRoom = Vec3::Zero(), heldRoomE = Vec3::Zero(); ///< Σ room n, Σ room e (held joints)
 
-    void add(const Vec3& at, const Vec3& d, const Vec3* held, double room, bool lengthFree)
+    [[gnu::always_inline]] void add(const Vec3& at, const Vec3& d, const Vec3* held, double room,
+                                    bool lengthFree)
     {
         const Vec3 c = d.cross(at);
         count += 1.0;
@@ -150,6 +151,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     m_trial.resize(segments);
     m_trialLength.resize(segments);
     m_position.resize(segments + 1);
+    m_savedPositions.resize(segments + 1);
     m_saturated.assign(segments, 0);
     m_lengthHeld.assign(segments, 0);
     m_normal.resize(segments);
@@ -529,7 +531,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         std::swap(m_direction, m_trial);
         clampChain(m_direction);
         std::swap(m_direction, m_trial);
-        m_savedPositions = m_position;
+        std::swap(m_savedPositions, m_position); // forward() writes every position
         forward(m_trial, m_trialLength);
         std::swap(m_direction, m_trial);
         std::swap(m_length, m_trialLength);
@@ -549,13 +551,13 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // Valid, and the soft goals no nearer even with heavy damping: as near as they get.
             std::swap(m_direction, m_trial);
             std::swap(m_length, m_trialLength);
-            m_position = m_savedPositions;
+            std::swap(m_position, m_savedPositions);
             break;
         } else if (endFixed && anySoft && !polishing && current.closure > tolerance) {
             // The soft goals are as near as they get: finish the closure alone.
             std::swap(m_direction, m_trial);
             std::swap(m_length, m_trialLength);
-            m_position = m_savedPositions;
+            std::swap(m_position, m_savedPositions);
             polishing = true;
             damping = 0.0;
             evaluate(current);
@@ -563,7 +565,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // Undo, damp harder.
             std::swap(m_direction, m_trial);
             std::swap(m_length, m_trialLength);
-            m_position = m_savedPositions;
+            std::swap(m_position, m_savedPositions);
             damping = std::max(4.0 * damping, 1e-4);
             if (++rejected == rejectLimit) {
                 ++out.iterations;
