@@ -15,10 +15,14 @@ constexpr double kFrameTime = 1.0 / 90.0; ///< seconds a step advances (a headse
 constexpr double kGravity = 9.81;         ///< m/s²
 constexpr double kDamping = 0.9;          ///< fraction of the velocity a step carries on
 constexpr int kStepProjectionSteps = 8;   ///< Newton steps of one attempt
-/// The attempts of one step: the full prediction, then from rest with the fall scaled by these
-/// factors (a smaller move from the valid start is nearer the constraints, so Newton's
-/// quadratic convergence reaches them within the attempt's steps).
-constexpr double kFallFactors[] = {1.0, 0.25, 1.0 / 16.0};
+/// The attempts of one step: the full prediction, then from rest with the fall scaled by the
+/// hose's retry fall and by a quarter of it (a smaller move from the valid start is nearer the
+/// constraints, so Newton's quadratic convergence reaches them within the attempt's steps). The
+/// retry fall is the last one that worked, never below kLeastFall; a step whose full prediction
+/// works lets it grow by kFallGrowth (at most the full fall).
+constexpr double kFallShrink = 0.25;
+constexpr double kLeastFall = 1.0 / 16.0;
+constexpr double kFallGrowth = 4.0;
 constexpr double kStepConverged = 1e-10; ///< relative length, radians, contact depth
 /// Largest violation left by the projection that the span solver closes (relative length,
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
@@ -167,6 +171,7 @@ void Hose::markSettled()
     m_gravityInputRevision = 0;
     m_gravityLowestEnergy = 0.0;
     m_gravityStallSteps = 0;
+    m_gravityRetryFall = 1.0;
     m_settledRevision = m_revision;
 }
 
@@ -246,15 +251,23 @@ UpdateResult Hose::step()
     const Vec3 fall = m_spec.gravity.direction.normalized() * (kGravity * kFrameTime * kFrameTime);
     std::vector<Vec3> predicted(n);
     bool valid = false;
-    for (size_t attempt = 0; attempt <= std::size(kFallFactors) && !valid; ++attempt) {
+    double factors[3] = {1.0, m_gravityRetryFall, 0.0};
+    if (m_gravityRetryFall > kLeastFall)
+        factors[2] = std::max(kLeastFall, kFallShrink * m_gravityRetryFall);
+    for (size_t attempt = 0; attempt < std::size(factors) && factors[attempt] > 0.0; ++attempt) {
         // Attempt 0 carries the velocity; the others start from rest with a smaller fall.
         const double velocity = attempt == 0 ? kDamping : 0.0;
-        const Vec3 move = fall * (attempt == 0 ? 1.0 : kFallFactors[attempt - 1]);
+        const Vec3 move = fall * factors[attempt];
         for (size_t i = 0; i < n; ++i)
             predicted[i] =
                 w[i] != 0.0 ? Vec3(start[i] + velocity * (start[i] - m_gravityPrevious[i]) + move)
                             : start[i];
         valid = engine.project(predicted, start, result.iterations);
+        if (valid) {
+            m_gravityRetryFall =
+                attempt == 0 ? std::min(1.0, kFallGrowth * m_gravityRetryFall) : factors[attempt];
+            break;
+        }
     }
     if (!valid) {
         // Nothing valid within the budget: the hose stays where it is, at rest, until an input

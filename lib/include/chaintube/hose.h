@@ -316,16 +316,16 @@ public:
     /// of the smallest mass-weighted move: every length in its band, every joint within its
     /// limit and, with colliders, every point outerRadius() outside the tangent plane of its
     /// nearest collider (a touching point keeps no velocity); a projection that ends close is
-    /// finished exactly by the span solver. Bounded: at most 4 attempts (then from rest, with
-    /// the fall, a quarter and a sixteenth of it); when none ends valid the hose stays where it
-    /// is, at rest. After every call every constraint holds (1e-9). Moves made by grabs and
-    /// attachments carry no velocity; fixed points and the held point (the last grabbed, until
-    /// releaseGrab()) stay. A shape that violates its constraints is brought nearer to valid
-    /// instead of falling. At rest (no point moved more than 1e-6 of a mean segment in a step,
-    /// or no lower by 1 % of a mean segment in 120 steps), with gravity off, or with nothing
-    /// fixed and nothing held, a call costs one comparison until an input changes (any
-    /// revision()). Deterministic. Returns the constraint state; movedPoints is 0 when nothing
-    /// was done, iterations the Newton steps.
+    /// finished exactly by the span solver. Bounded: at most 3 attempts (then from rest, with
+    /// the fall of the last retry that worked and a quarter of it, never below a sixteenth of
+    /// the full fall); when none ends valid the hose stays where it is, at rest. After every call
+    /// every constraint holds (1e-9). Moves made by grabs and attachments carry no velocity; fixed
+    /// points and the held point (the last grabbed, until releaseGrab()) stay. A shape that
+    /// violates its constraints is brought nearer to valid instead of falling. At rest (no point
+    /// moved more than 1e-6 of a mean segment in a step, or no lower by 1 % of a mean segment in
+    /// 120 steps), with gravity off, or with nothing fixed and nothing held, a call costs one
+    /// comparison until an input changes (any revision()). Deterministic. Returns the constraint
+    /// state; movedPoints is 0 when nothing was done, iterations the Newton steps.
     UpdateResult step();
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
     /// releaseGrab() frees it; a grab of another point moves the hold there.
@@ -440,6 +440,7 @@ private:
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
     double m_gravityLowestEnergy = 0.0; ///< step(): lowest potential energy since an input changed
     int m_gravityStallSteps = 0;        ///< step(): steps since it last fell
+    double m_gravityRetryFall = 1.0;    ///< step(): fall of a retry from rest (sag.cpp)
     bool m_dirtyViolation = false;      ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
