@@ -440,7 +440,11 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 a(rows - 1, rows - 1) = 1.0; // unused row
                 rhs(rows - 1) = 0.0;
             }
-            lambda = a.ldlt().solve(rhs);
+            // Positive definite (J Jᵀ with a relative floor on the diagonal): Cholesky; the
+            // pivoted LDLᵀ where rounding leaves it short of definite.
+            const Eigen::LLT<RowMatrix> cholesky(a);
+            lambda = cholesky.info() == Eigen::Success ? RowVector(cholesky.solve(rhs))
+                                                       : RowVector(a.ldlt().solve(rhs));
             // ω_s = P_s R_sᵀ λ (+ the held turn). A free joint whose turn would pass its limit
             // is held on it; a held joint that this step would turn back inside is freed.
             bool changed = false;
