@@ -245,6 +245,15 @@ RandomWalk CaseSetup::walk() const
                       CaseConstants::walkStep);
 }
 
+int workBudget(const HoseCase& hoseCase)
+{
+    if (hoseCase.floor || !hoseCase.endsFixed) return -1;
+    const int grab = 12 + 4 * (6 + 6) + 12;
+    if (hoseCase.clip) return 3 * (2 * 32) + (2 * 12 + 4 * (6 + 6) + 12 + 2 * 12);
+    if (hoseCase.gravity) return grab + 3 * (8 + 2 * 32);
+    return grab;
+}
+
 void checkChainTubeUpdate(FrameChecks& checks, const Hose& hose, const ChainLimits& limits,
                           const UpdateResult& grabbed, const UpdateResult* stepped,
                           int grabbedPoint, const Vec3& target)
@@ -257,6 +266,7 @@ void checkChainTubeUpdate(FrameChecks& checks, const Hose& hose, const ChainLimi
     }
     if (grabbed.blocked || (stepped && stepped->blocked)) ++checks.blocked;
     checks.iterations.push_back(grabbed.iterations + (stepped ? stepped->iterations : 0));
+    if (checks.budget >= 0 && checks.iterations.back() > checks.budget) ++checks.overBudget;
     const std::vector<Vec3> points = hose.points();
     checkPoints(checks, points, limits, grabbedPoint, target);
 
@@ -294,6 +304,7 @@ Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup)
     Row row{hoseCase.id, "ChainTube", points, 1, {}};
     FrameChecks& checks = row.checks;
     checks.hasFloor = hoseCase.floor;
+    checks.budget = workBudget(hoseCase);
     checks.microseconds.reserve(static_cast<size_t>(frames));
     checks.cpuMicroseconds.reserve(static_cast<size_t>(frames));
     FrameTimer timer;

@@ -85,6 +85,11 @@ struct FrameChecks
     /// ChainTube: per update, the Newton steps it reported (UpdateResult::iterations; the grab's
     /// plus the step's with gravity): the work counter, bounded by the solver's budget.
     std::vector<int> iterations;
+    /// ChainTube: the Newton steps an update may take by the library's stated budget
+    /// (lib/README.md, "Budgets a call"; workBudget()); −1: none stated (contacts, the engine).
+    int budget = -1;
+    /// ChainTube: updates that took more Newton steps than `budget`.
+    int overBudget = 0;
     /// ChainTube: updates whose final status is Ok or Clamped (every constraint holds) while
     /// Hose::measureViolation() exceeds 1e-9 (with colliders: CollisionOptions::
     /// constraintTolerance). −1: not applicable.
@@ -133,6 +138,14 @@ struct HoseCase
     bool clip = false;
 };
 const std::vector<HoseCase>& hoseCases();
+
+/// The Newton steps one frame of a case may take by the library's stated budgets (lib/README.md,
+/// "Budgets a call"): a grab between two fixed points 12 + 4 × (6 + 6) + 12; with the clip
+/// three slide attempts closing both spans (32 a span) before a grab over two spans
+/// (2 × 12 + 4 × (6 + 6) + 12 + 2 × 12); with gravity the grab and a step of three attempts of
+/// 8 projection steps and the closing of both spans. −1 with the floor: the contact rounds'
+/// work is not part of the stated budgets.
+int workBudget(const HoseCase& hoseCase);
 
 /// The definitions shared by every case and solver.
 struct CaseConstants

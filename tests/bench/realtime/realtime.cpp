@@ -160,6 +160,10 @@ std::vector<std::string> consistencyProblems(const std::vector<Row>& rows, int f
             problems.push_back(name +
                                "own violation measure and Hose::measureViolation differ by " +
                                std::to_string(c.checkerDisagreement));
+        if (c.overBudget > 0)
+            problems.push_back(name + std::to_string(c.overBudget) +
+                               " updates took more Newton steps than the stated budget of " +
+                               std::to_string(c.budget));
         if (c.statusContradicted > 0)
             problems.push_back(name + std::to_string(c.statusContradicted) +
                                " updates returned Ok or Clamped with a constraint violated beyond "
@@ -360,8 +364,9 @@ int main(int argc, char** argv)
         if (problems.empty())
             md << "Passed: every frame timed and checked, every status counted, no NaN or Inf, "
                   "the benchmark's violation measure agrees with `Hose::measureViolation()` (to "
-                  "1e-8), and no update that returned Ok or Clamped left a violation beyond that "
-                  "status's promise.\n";
+                  "1e-8), no update that returned Ok or Clamped left a violation beyond that "
+                  "status's promise, and no update of a case with a stated budget took more "
+                  "Newton steps than it.\n";
         else
             for (const std::string& problem : problems)
                 md << "* " << problem << "\n";
