@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace chaintube {
 
@@ -321,14 +322,25 @@ int Hose::attach(int first, int last, const Frame& frame)
     return m_attachments.back().id;
 }
 
-bool Hose::detach(int id)
+const Hose::Attachment* Hose::attachmentWithId(int id) const
 {
     const auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
                                  [id](const Attachment& a) { return a.id == id; });
-    if (it == m_attachments.end()) return false;
-    for (int i = it->first; i <= it->last; ++i)
+    return it == m_attachments.end() ? nullptr : &*it;
+}
+
+Hose::Attachment* Hose::attachmentWithId(int id)
+{
+    return const_cast<Attachment*>(std::as_const(*this).attachmentWithId(id));
+}
+
+bool Hose::detach(int id)
+{
+    const Attachment* a = attachmentWithId(id);
+    if (!a) return false;
+    for (int i = a->first; i <= a->last; ++i)
         m_fixed[static_cast<size_t>(i)] = 0;
-    m_attachments.erase(it);
+    m_attachments.erase(m_attachments.begin() + (a - m_attachments.data()));
     m_settledRevision = 0; // step(): the freed points may fall
     m_edgePoint = -1;      // grab(): what was the edge of reach may no longer be
     return true;
@@ -336,9 +348,8 @@ bool Hose::detach(int id)
 
 double Hose::attachmentGap(int id) const
 {
-    const auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
-                                 [id](const Attachment& a) { return a.id == id; });
-    if (it == m_attachments.end()) return -1.0;
+    const Attachment* it = attachmentWithId(id);
+    if (!it) return -1.0;
     double gap = 0.0;
     for (int i = it->first; i <= it->last; ++i)
         gap = std::max(

@@ -896,12 +896,11 @@ UpdateResult Hose::moveAttachmentsInSteps(const std::vector<int>& ids,
     std::vector<Frame> from;
     double longest = 0.0;
     for (size_t i = 0; i < ids.size() && i < frames.size(); ++i)
-        for (const Attachment& a : m_attachments)
-            if (a.id == ids[i]) {
-                from.push_back(a.frame);
-                const Vec3 local = a.isClip() ? a.clipCentre : a.localPoints.front();
-                longest = std::max(longest, (frames[i].apply(local) - a.frame.apply(local)).norm());
-            }
+        if (const Attachment* a = attachmentWithId(ids[i])) {
+            from.push_back(a->frame);
+            const Vec3 local = a->isClip() ? a->clipCentre : a->localPoints.front();
+            longest = std::max(longest, (frames[i].apply(local) - a->frame.apply(local)).norm());
+        }
     const bool wasValid = !m_dirtyViolation;
     UpdateResult result = moveAttachmentsOnce(ids, frames);
     // No shape found (the hose stayed where it was) for a long move of a valid hose: the move
@@ -911,8 +910,7 @@ UpdateResult Hose::moveAttachmentsInSteps(const std::vector<int>& ids,
         return result;
     const Hose unmet = *this;
     for (size_t i = 0; i < ids.size(); ++i) // back where they were: the hose has not moved
-        for (Attachment& a : m_attachments)
-            if (a.id == ids[i]) a.frame = from[i];
+        attachmentWithId(ids[i])->frame = from[i];
     std::vector<Frame> halfway(frames.size());
     for (size_t i = 0; i < frames.size(); ++i) {
         halfway[i].rotation = from[i].rotation.slerp(0.5, frames[i].rotation);
@@ -942,10 +940,9 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
     std::vector<Attachment*> targets;
     bool valid = ids.size() == frames.size();
     for (size_t i = 0; valid && i < ids.size(); ++i) {
-        auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
-                               [&](const Attachment& a) { return a.id == ids[i]; });
-        valid = it != m_attachments.end() && isFiniteFrame(frames[i]);
-        if (valid) targets.push_back(&*it);
+        Attachment* a = attachmentWithId(ids[i]);
+        valid = a && isFiniteFrame(frames[i]);
+        if (valid) targets.push_back(a);
     }
     if (!valid) {
         result.status = Status::InvalidInput;
@@ -999,10 +996,9 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         if (clips)
             for (const int id : slideClips(-1, nullptr, kClipMargins[attempt % margins],
                                            attempt >= margins ? &axialShifts : nullptr)) {
-                auto it = std::find_if(m_attachments.begin(), m_attachments.end(),
-                                       [&](const Attachment& a) { return a.id == id; });
-                if (std::find(targets.begin(), targets.end(), &*it) == targets.end())
-                    targets.push_back(&*it);
+                Attachment* slid = attachmentWithId(id);
+                if (std::find(targets.begin(), targets.end(), slid) == targets.end())
+                    targets.push_back(slid);
             }
         // Clips first: the moved attachments' reach is measured from where the clips now hold.
         std::stable_partition(targets.begin(), targets.end(),

@@ -376,6 +376,9 @@ private:
     void recomputeLimits();
     /// −1: fixed points only before `index`; +1: only after it; 0: on both sides or none.
     int pinnedSide(int index) const;
+    /// The attachment (or clip) with this id, or null.
+    Attachment* attachmentWithId(int id);
+    const Attachment* attachmentWithId(int id) const;
     bool blendSide(int from, int side, const Vec3& displacement);
     /// moveAttachments: one update, and the halvings of a long move that found no shape.
     UpdateResult moveAttachmentsOnce(const std::vector<int>& ids, const std::vector<Frame>& frames);
