@@ -6,6 +6,7 @@
 #include "test_util.h"
 
 #include <algorithm>
+#include <chaintube/test_support/work_budgets.h>
 #include <random>
 
 using namespace chaintube;
@@ -13,22 +14,9 @@ using namespace chaintube::test;
 
 namespace {
 
-/// Newton steps a grab between two fixed points may take (lib/README.md): 12 to bow a straight
-/// span, 4 steps of at most 6 hard and 6 soft Newton steps to advance, 12 to solve the span again
-/// with the point soft.
-constexpr int kGrabBudget = 12 + 4 * (6 + 6) + 12;
-
-/// The same with a clip between one fixed end and the grabbed point (lib/README.md, "Clips" and
-/// "Budgets a call"): two spans (end to clip, clip to end through the grabbed point). At most
-/// three slide attempts, each closing both spans (32 Newton steps a span), then the grab: 12 a
-/// span to bow, 4 × (6 + 6) to advance the grabbed point's span and 12 to solve the other, 12 a
-/// span for the fallback with the point soft.
-constexpr int kClipGrabBudget = 3 * (2 * 32) + (2 * 12 + 4 * (6 + 6) + 12 + 2 * 12);
-
-/// Newton steps of one gravity step (Hose::step, lib/README.md "Budgets a call") of a hose
-/// whose held point splits it into two spans: three attempts of 8 projection steps and the
-/// closing of both spans (32 a span).
-constexpr int kStepBudget = 3 * (8 + 2 * 32);
+using test_support::kClipGrabBudget;
+using test_support::kGrabBudget;
+using test_support::kStepBudget;
 
 struct WalkFigures
 {

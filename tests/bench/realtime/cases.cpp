@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chaintube/collision.h>
+#include <chaintube/test_support/work_budgets.h>
 #include <cmath>
 #include <ctime>
 #include <memory>
@@ -247,11 +248,10 @@ RandomWalk CaseSetup::walk() const
 
 int workBudget(const HoseCase& hoseCase)
 {
+    using namespace test_support;
     if (hoseCase.floor || !hoseCase.endsFixed) return -1;
-    const int grab = 12 + 4 * (6 + 6) + 12;
-    if (hoseCase.clip) return 3 * (2 * 32) + (2 * 12 + 4 * (6 + 6) + 12 + 2 * 12);
-    if (hoseCase.gravity) return grab + 3 * (8 + 2 * 32);
-    return grab;
+    if (hoseCase.clip) return kClipGrabBudget;
+    return hoseCase.gravity ? kGrabBudget + kStepBudget : kGrabBudget;
 }
 
 void checkChainTubeUpdate(FrameChecks& checks, const Hose& hose, const ChainLimits& limits,

@@ -140,11 +140,9 @@ struct HoseCase
 const std::vector<HoseCase>& hoseCases();
 
 /// The Newton steps one frame of a case may take by the library's stated budgets (lib/README.md,
-/// "Budgets a call"): a grab between two fixed points 12 + 4 × (6 + 6) + 12; with the clip
-/// three slide attempts closing both spans (32 a span) before a grab over two spans
-/// (2 × 12 + 4 × (6 + 6) + 12 + 2 × 12); with gravity the grab and a step of three attempts of
-/// 8 projection steps and the closing of both spans. −1 with the floor: the contact rounds'
-/// work is not part of the stated budgets.
+/// "Budgets a call"; tests/support's work_budgets.h): a grab between the fixed ends, with the
+/// clip the clip's grab, with gravity the grab and a step. −1 with the floor: the contact
+/// rounds' work is not part of the stated budgets.
 int workBudget(const HoseCase& hoseCase);
 
 /// The definitions shared by every case and solver.
