@@ -187,22 +187,24 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     auto limited = [&](int s) { return previousOf(m_direction, s) && limitCos(s) > -1.0 + 1e-12; };
 
     // Clamps every joint of `d` to its limit, in order, turning the rest of the chain with
-    // each correction (so the joints after it keep their turns).
+    // each correction (so the joints after it keep their turns). The corrections are built from
+    // unit vectors, so they are orthogonal and the directions they turn stay unit to rounding.
     auto clampChain = [&](std::vector<Vec3>& d) {
         Mat3 correction = Mat3::Identity();
         bool corrected = false;
         for (int s = 0; s < m; ++s) {
             Vec3& ds = d[static_cast<size_t>(s)];
-            if (corrected) ds = (correction * ds).normalized();
+            if (corrected) ds = correction * ds;
             const Vec3* before = previousOf(d, s);
             if (!before || !(limitCos(s) > -1.0 + 1e-12)) continue;
-            const double c = before->dot(ds);
-            if (c >= limitCos(s)) continue;
-            Vec3 w = ds - c * *before;
+            if (before->dot(ds) >= limitCos(s) * ds.norm()) continue;
+            const Vec3 unit = ds.normalized();
+            const double c = before->dot(unit);
+            Vec3 w = unit - c * *before;
             if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
             const Vec3 clamped =
                 (limitCos(s) * *before + limitSin(s) * w.normalized()).normalized();
-            correction = rotationBetween(ds, clamped) * correction;
+            correction = rotationBetween(unit, clamped) * correction;
             corrected = true;
             ds = clamped;
         }
@@ -523,11 +525,16 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 add(change.joint, m_saturated[k] != 0, stretchable && !m_lengthHeld[k], 1.0);
             }
         }
-        // The step: joint rotations accumulate along the chain.
+        // The step: joint rotations accumulate along the chain. A Cayley rotation is
+        // orthogonal: with |ω/2| ≤ 1 it keeps a unit direction unit to a few ulps (every solve
+        // starts from normalised directions; over the walks of tests/ a direction's length stays
+        // within 1e-13 of 1), so only larger rotations, whose rounding grows with |ω|², are
+        // normalised again.
         Vec3 total = Vec3::Zero();
         for (size_t s = 0; s < segments; ++s) {
             total += omega[s];
-            m_trial[s] = cayley(total, m_direction[s]).normalized();
+            m_trial[s] = cayley(total, m_direction[s]);
+            if (total.squaredNorm() > 4.0) m_trial[s].normalize(); // |ω/2| > 1
             const size_t k = segment(static_cast<int>(s));
             m_trialLength[s] =
                 std::clamp(m_length[s] + stretch[s], h.m_minLength[k], h.m_maxLength[k]);
