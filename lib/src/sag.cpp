@@ -161,6 +161,7 @@ void Hose::releaseGrab()
 {
     if (m_held < 0) return;
     m_held = -1;
+    m_trustCarry = TrustCarry{};
     m_settledRevision = 0; // step(): the released point may fall
 }
 

@@ -608,7 +608,14 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int dir = end > root ? 1 : -1;
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
+    // The trust radius starts whole, except where the last grab of this point beyond reach
+    // stopped short of its clamped goal: it goes on from the radius that grab ended with,
+    // widened by how far the goal has moved since (a held target keeps the steps that work
+    // along the edge of the reachable set instead of halving down to them again each call).
     double radius = std::numeric_limits<double>::infinity();
+    const bool beyondReach = requested && moving >= 0;
+    if (beyondReach && h.m_trustCarry.point == point)
+        radius = h.m_trustCarry.radius + (target - h.m_trustCarry.goal).norm();
     for (int step = 0; step < maxSteps; ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
@@ -674,6 +681,11 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         p[static_cast<size_t>(point)] = target;
         out.goalsMet = true;
     }
+    if (beyondReach && !out.goalsMet)
+        h.m_trustCarry = {point, std::min(radius, (target - p[static_cast<size_t>(point)]).norm()),
+                          target};
+    else if (moving >= 0)
+        h.m_trustCarry = Hose::TrustCarry{};
     return out;
 }
 

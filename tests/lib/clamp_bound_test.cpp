@@ -100,6 +100,55 @@ TEST(ClampBetweenFixedPoints, HoldingATargetBeyondReachConvergesAndThenStays)
     }
 }
 
+// Held far beyond reach (a hand that pulls a hose laid in an arc 0.7 m away and holds still):
+// the point goes towards the edge of what it can reach, never farther from the target, and is
+// within 1 mm of where it rests by frame 10 (lib/README.md: the trust radius of a grab beyond
+// reach goes on from where the last grab of the same point left it).
+TEST(ClampBetweenFixedPoints, HeldFarBeyondReachItIsWithinAMillimetreOfItsRestByFrameTen)
+{
+    constexpr int points = 100;
+    HoseSpec spec;
+    spec.segmentLength = 1.0 / (points - 1);
+    spec.material.expansionCoefficient = 0.0;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    // A circular arc of length 1 m whose chord is 0.8 m (half angle h: sin h = 0.8 h).
+    double half = 1.0;
+    for (int i = 0; i < 50; ++i)
+        half -= (std::sin(half) - 0.8 * half) / (std::cos(half) - 0.8);
+    const double radius = 0.5 / half;
+    std::vector<Vec3> axis;
+    for (int i = 0; i < points; ++i) {
+        const double a = -half + 2.0 * half * i / (points - 1);
+        axis.emplace_back(0.4 + radius * std::sin(a), radius * (std::cos(a) - std::cos(half)), 0.0);
+    }
+    for (int trial = 0; trial < 12; ++trial) {
+        SCOPED_TRACE("trial " + std::to_string(trial));
+        Hose hose = Hose::fromAxis(axis, spec);
+        const int n = hose.pointCount(), k = n / 2;
+        hose.attach(0, 1, Frame::identity());
+        hose.attach(n - 2, n - 1, Frame::identity());
+        const double turn = 0.45 * trial; // directions round the upper half-space
+        const Vec3 direction =
+            Vec3(std::cos(turn), 0.4 + 0.3 * std::sin(1.7 * turn), std::sin(turn)).normalized();
+        const Vec3 target = Vec3(0.4, 0.0, 0.0) + 0.7 * direction;
+        double error = (hose.point(k) - target).norm();
+        Vec3 atTen = Vec3::Zero();
+        for (int frame = 1; frame <= 40; ++frame) {
+            const Vec3 before = hose.point(k);
+            const UpdateResult held = hose.grab(k, target);
+            ASSERT_EQ(held.status, Status::Clamped) << "frame " << frame;
+            EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+            EXPECT_LE(held.grabError, error * (1 + 1e-12)) << "frame " << frame;
+            error = held.grabError;
+            if (frame == 10) atTen = hose.point(k);
+            if (frame > 10) {
+                EXPECT_LT((hose.point(k) - before).norm(), 1e-3) << "frame " << frame;
+            }
+        }
+        EXPECT_LT((hose.point(k) - atTen).norm(), 1e-3) << "at frame 10 within 1 mm of its rest";
+    }
+}
+
 // At rest at the edge of its reach, the same target again with nothing changed returns the same
 // answer without any work (no points moved, revision unchanged, so the surface is not rebuilt
 // either). A moved target, a release in between, or colliders (which move without the hose

@@ -449,6 +449,16 @@ private:
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;
     std::uint64_t m_revision = 1;
+    /// SpanSolver::advance: where the last grab whose goal was clamped into reach stopped short
+    /// of it (its point, its trust radius, the clamped goal), from which the next grab of the
+    /// same point goes on.
+    struct TrustCarry
+    {
+        int point = -1;
+        double radius = 0.0;
+        Vec3 goal = Vec3::Zero();
+    };
+    TrustCarry m_trustCarry;
 
     /// Collision hook at the end of every update entry point (collision.cpp); no-op without
     /// colliders. `grabbed` is the grabbed point (−1 if none) and its requested local target.
