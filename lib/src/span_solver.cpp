@@ -17,6 +17,9 @@ constexpr double kEdgeGain = 1e-3;
 /// tries that arrive, about 5 % have one step undone on the way); an undone step is the sign of
 /// a sub-goal out of reach, and the soft try follows.
 constexpr int kHardTryRejects = 1;
+/// SpanSolver::advance: a clamped goal within this many segments of the last grab's is the same
+/// goal (a held target), whose trust radius goes on from where that grab left it.
+constexpr double kHeldGoal = 1e-3;
 /// SpanSolver::solve: the room of a free joint not worked out yet.
 constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
@@ -608,14 +611,15 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int dir = end > root ? 1 : -1;
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
-    // The trust radius starts whole, except where the last grab of this point beyond reach
-    // stopped short of its clamped goal: it goes on from the radius that grab ended with,
-    // widened by how far the goal has moved since (a held target keeps the steps that work
-    // along the edge of the reachable set instead of halving down to them again each call).
+    // The trust radius starts whole, except for a target held beyond reach: where the last grab
+    // of this point stopped short of the same clamped goal (to kHeldGoal of a segment), it goes
+    // on from the radius that grab ended with, keeping the short steps that arrive along the
+    // edge of the reachable set instead of halving down to them again each call.
     double radius = std::numeric_limits<double>::infinity();
     const bool beyondReach = requested && moving >= 0;
-    if (beyondReach && h.m_trustCarry.point == point)
-        radius = h.m_trustCarry.radius + (target - h.m_trustCarry.goal).norm();
+    if (beyondReach && h.m_trustCarry.point == point &&
+        (target - h.m_trustCarry.goal).norm() <= kHeldGoal * rest)
+        radius = h.m_trustCarry.radius;
     for (int step = 0; step < maxSteps; ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
