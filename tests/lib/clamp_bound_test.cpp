@@ -111,10 +111,8 @@ TEST(ClampBetweenFixedPoints, HeldFarBeyondReachItIsWithinAMillimetreOfItsRestBy
     spec.segmentLength = 1.0 / (points - 1);
     spec.material.expansionCoefficient = 0.0;
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-    // A circular arc of length 1 m whose chord is 0.8 m (half angle h: sin h = 0.8 h).
-    double half = 1.0;
-    for (int i = 0; i < 50; ++i)
-        half -= (std::sin(half) - 0.8 * half) / (std::cos(half) - 0.8);
+    // A circular arc of length 1 m whose chord is 0.8 m.
+    const double half = arcHalfAngle(0.8);
     const double radius = 0.5 / half;
     std::vector<Vec3> axis;
     for (int i = 0; i < points; ++i) {

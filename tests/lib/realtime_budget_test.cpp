@@ -58,11 +58,8 @@ WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravit
     // An arc of length 1 m through (0, 0, 0) and (0.8, 0, 0) bulging towards −z, or two of
     // 0.5 m through (0, 0, 0), (0.4, 0, 0) and (0.8, 0, 0).
     std::vector<Vec3> axis;
-    // Half the angle each subtends solves sin(h) / h = 0.8 (chord 0.8 = 2 R sin h, length
-    // 1 = 2 R h; or chord 0.4, length 0.5).
-    double half = 1.0;
-    for (int i = 0; i < 50; ++i)
-        half -= (std::sin(half) - 0.8 * half) / (std::cos(half) - 0.8);
+    // Either way the chord is 0.8 of the arc's length.
+    const double half = arcHalfAngle(0.8);
     const double radius = (clip ? 0.25 : 0.5) / half;
     for (int i = 0; i < points; ++i) {
         const double s = static_cast<double>(i) / (points - 1); // arc length (m)

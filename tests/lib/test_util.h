@@ -21,6 +21,16 @@ inline HoseSpec paperSpec(int segments = 12, double expansion = 0.2, double defl
     return spec;
 }
 
+/// Half the angle subtended by a circular arc whose chord is `ratio` times its length (chord
+/// 2 R sin h, length 2 R h): the root of sin h = ratio · h, by Newton's method from 1.
+inline double arcHalfAngle(double ratio)
+{
+    double half = 1.0;
+    for (int i = 0; i < 50; ++i)
+        half -= (std::sin(half) - ratio * half) / (std::cos(half) - ratio);
+    return half;
+}
+
 /// Largest relative length excess and largest angle excess (radians), measured from scratch.
 struct Violation
 {
