@@ -62,7 +62,7 @@ public:
         if (!ids.empty()) static_cast<void>(m_hose.moveAttachments(ids, frames));
         for (const auto& [index, target] : r.grabs)
             static_cast<void>(m_hose.grab(index, target));
-        // The runtime's per-frame gravity call: damped rounds whose velocity carries over
+        // The runtime's per-frame gravity call: one implicit step whose velocity carries over
         // from frame to frame, as the peers' inertia does (a settled hose costs nothing).
         if (m_gravity != Vec3::Zero())
             static_cast<void>(m_hose.step()); // one implicit step a frame

@@ -20,11 +20,10 @@ struct RodSetup
     bool noBendLimit = false;     ///< no bend limit at all (the catenary): overrides both above
     /// Gravity (m/s², world). Zero: the peers run quasi-static (no inertia). Non-zero: XPBD and
     /// Bullet integrate with time step `timeStep` per frame (inertia, damping); ChainTube runs
-    /// Hose::step(sagRoundsPerFrame) per frame (HoseSpec::gravity on: damped rounds whose
+    /// one Hose::step() per frame (HoseSpec::gravity on: one implicit step of 1/90 s whose
     /// velocity carries over from frame to frame).
     Vec3 gravity = Vec3::Zero();
     double timeStep = 1.0 / 60.0;
-    int sagRoundsPerFrame = 25;
     /// A floor: axis points stay at or above this height (world y, metres), i.e. the floor's
     /// surface plus the rod's radius. −∞ (the default): no floor. The XPBD rod lifts every free
     /// point below it back to it after each sweep; the ChainTube rod gets a MeshCollider plane
@@ -56,8 +55,8 @@ public:
 };
 
 /// ChainTube (the library) behind the common interface. With gravity the hose has
-/// HoseSpec::gravity on and each frame (after the frame's requests) runs
-/// Hose::step(sagRoundsPerFrame), the runtime's per-frame gravity call.
+/// HoseSpec::gravity on and each frame (after the frame's requests) runs Hose::step(), the
+/// runtime's per-frame gravity call.
 std::unique_ptr<RodSolver> makeChainTubeRod(const RodSetup& setup);
 
 /// Position-based rod: XPBD with zero compliance (hard constraints): a stretch-band constraint
