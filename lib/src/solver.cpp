@@ -25,9 +25,12 @@ constexpr int kSpanSteps = 12;
 /// The same when closing a shape that nearly holds its constraints (Hose::closeSpans): near a
 /// solution with saturated joints the steps converge linearly (about a third a step).
 constexpr int kCloseSpanSteps = 32;
-/// A grab: at most this many valid steps towards the target, of this many Newton steps each.
+/// A grab: at most this many steps towards the target, of this many Newton steps each; towards
+/// a target that moved since the last grab, ended after this many that brought the point nearer
+/// (the rest of the way is covered by the next grabs).
 constexpr int kAdvanceSteps = 4;
 constexpr int kAdvanceIterations = 6;
+constexpr int kMovingAdvanceGains = 1;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
 /// Clips: the margins a short side is fed to, one attempt each (Hose::slideClips).
@@ -640,7 +643,8 @@ public:
                         ? solver.advance(root, end, endTarget, goals, moving, *heldTarget,
                                          haveRoot ? &rootDirection : nullptr,
                                          haveEnd ? &endDirection : nullptr, kAdvanceSteps,
-                                         kAdvanceIterations, kConverged, requested)
+                                         kMovingAdvanceGains, kAdvanceIterations, kConverged,
+                                         requested)
                         : solver.solve(root, end, endFixed, endTarget, goals,
                                        haveRoot ? &rootDirection : nullptr,
                                        haveEnd ? &endDirection : nullptr, spanSteps, kConverged,

@@ -17,8 +17,8 @@ constexpr double kEdgeGain = 1e-3;
 /// tries that arrive, about 5 % have one step undone on the way); an undone step is the sign of
 /// a sub-goal out of reach, and the soft try follows.
 constexpr int kHardTryRejects = 1;
-/// SpanSolver::advance: a clamped goal within this many segments of the last grab's is the same
-/// goal (a held target), whose trust radius goes on from where that grab left it.
+/// SpanSolver::advance: a goal within this many segments of the last grab's is the same goal (a
+/// held target), whose trust radius goes on from where that grab left it.
 constexpr double kHeldGoal = 1e-3;
 /// SpanSolver::solve: the room of a free joint not worked out yet.
 constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
@@ -602,8 +602,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
 SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget,
                                         std::vector<SpanGoal> goals, int moving, const Vec3& target,
                                         const Vec3* rootDirection, const Vec3* endDirection,
-                                        int maxSteps, int stepIterations, double tolerance,
-                                        const Vec3* requested)
+                                        int maxSteps, int movingSteps, int stepIterations,
+                                        double tolerance, const Vec3* requested)
 {
     Outcome out;
     out.valid = true;
@@ -611,16 +611,21 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int dir = end > root ? 1 : -1;
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
-    // The trust radius starts whole, except for a target held beyond reach: where the last grab
-    // of this point stopped short of the same clamped goal (to kHeldGoal of a segment), it goes
-    // on from the radius that grab ended with, keeping the short steps that arrive along the
-    // edge of the reachable set instead of halving down to them again each call.
+    // At most maxSteps steps. A target that moved since the last grab of this point: from a
+    // whole trust radius, ending after movingSteps steps that brought the point nearer (what
+    // they leave is covered by the next grabs). A held target (the last grab of this point
+    // stopped short of the same goal, to kHeldGoal of a segment): from the radius that grab ended
+    // with, keeping the short steps that arrive along the edge of the reachable set instead of
+    // halving down to them again each call.
     double radius = std::numeric_limits<double>::infinity();
-    const bool beyondReach = requested && moving >= 0;
-    if (beyondReach && h.m_trustCarry.point == point &&
-        (target - h.m_trustCarry.goal).norm() <= kHeldGoal * rest)
+    bool held = false;
+    if (moving >= 0 && h.m_trustCarry.point == point &&
+        (target - h.m_trustCarry.goal).norm() <= kHeldGoal * rest) {
         radius = h.m_trustCarry.radius;
-    for (int step = 0; step < maxSteps; ++step) {
+        held = true;
+    }
+    int gained = 0; // steps that brought the point nearer
+    for (int step = 0; step < maxSteps && (held || gained < movingSteps); ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
         // Nearer the target by `gain` (relative to a segment). Beyond reach, nearer the
@@ -664,6 +669,7 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
             if (o.goalsMet) radius = 2.0 * std::min(radius, error);
+            ++gained;
             continue;
         }
         std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
@@ -678,14 +684,16 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
         out.iterations += soft.iterations;
         // A soft step counts when it gains kEdgeGain of a segment (the same creep).
-        if (!(soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain)))
+        if (soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain))
+            ++gained;
+        else
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
     }
     if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
         p[static_cast<size_t>(point)] = target;
         out.goalsMet = true;
     }
-    if (beyondReach && !out.goalsMet)
+    if (moving >= 0 && !out.goalsMet)
         h.m_trustCarry = {point, std::min(radius, (target - p[static_cast<size_t>(point)]).norm()),
                           target};
     else if (moving >= 0)

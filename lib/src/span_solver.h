@@ -73,13 +73,17 @@ public:
     /// reached it, halved after one that failed), solved with every other goal and the end
     /// hard. `moving` is the index in `goals` of the point that moves, or −1 for the end
     /// itself (a span ending at a grabbed point: `endTarget` is then ignored). The span stays
-    /// valid whatever happens; `goalsMet` says whether the point got to its target.
+    /// valid whatever happens; `goalsMet` says whether the point got to its target. At most
+    /// `maxSteps` steps; for a target that moved since the last call for this point they start
+    /// from a whole trust radius and end after `movingSteps` that brought the point nearer;
+    /// when the last call stopped short of the same target they start from the radius it ended
+    /// with (Hose::m_trustCarry; an inner point only).
     /// `requested` (a grab's target beyond reach, of which `target` is the nearest point within
     /// the reach balls): a step that takes the point farther from it is not taken.
     Outcome advance(int root, int end, const Vec3& endTarget, std::vector<SpanGoal> goals,
                     int moving, const Vec3& target, const Vec3* rootDirection,
-                    const Vec3* endDirection, int maxSteps, int stepIterations, double tolerance,
-                    const Vec3* requested = nullptr);
+                    const Vec3* endDirection, int maxSteps, int movingSteps, int stepIterations,
+                    double tolerance, const Vec3* requested = nullptr);
 
 private:
     /// A joint whose active-set state a pass of SpanSolver::solve changed: its state before.

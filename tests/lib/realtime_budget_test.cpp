@@ -189,7 +189,7 @@ void expectTheGravityWalkWithinBudget(int points, int frames, int clampedAtLeast
     EXPECT_GT(f.clamped, clampedAtLeast);
     EXPECT_LT(f.lowest, -fallsAtLeast);
     std::printf("%d points with gravity: %d frames, %d clamped, at most %d Newton steps a grab "
-                "(budget %d) and %d a step (budget %d), lowest point %.3f m\n",
+                "(budget %d) and %d a step (budget %d), lowest point %.4f m\n",
                 points, f.frames, f.clamped, f.maxIterations, kGrabBudget, f.maxStepIterations,
                 kStepBudget, f.lowest);
 }

@@ -449,9 +449,9 @@ private:
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;
     std::uint64_t m_revision = 1;
-    /// SpanSolver::advance: where the last grab whose goal was clamped into reach stopped short
-    /// of it (its point, its trust radius, the clamped goal), from which the next grab of the
-    /// same point goes on.
+    /// SpanSolver::advance: where the last grab stopped short of its (reach-clamped) goal (its
+    /// point, its trust radius, the goal), from which the next grab of the same point and goal
+    /// goes on.
     struct TrustCarry
     {
         int point = -1;
