@@ -1,33 +1,35 @@
-// The banded symmetric solve shared by the relaxation's Newton finish (solver.cpp) and the
-// gravity rounds' joint projection (sag.cpp). Internal to lib/.
+// The banded symmetric solve of the chain projection (projection.cpp: gravity steps, contacts,
+// bends giving way). Internal to lib/.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
-#include <limits>
 
 namespace chaintube::detail {
 
 /// Solves A x = b in place for a symmetric positive semi-definite m × m matrix A stored as its
 /// upper band, row-major: band[i · width + d] = A(i, i + d) for d < width (d = 0: the
-/// diagonal). LDLᵀ without pivoting; `band` is overwritten by the factor and `rhs` (b) by x.
-/// A pivot that vanishes (≤ 1e-300 or not finite: a row dependent on the ones before) drops
-/// its row, x = 0 there. Returns the number of rows dropped. O(m · width²).
+/// diagonal). LDLᵀ without pivoting; `band` is overwritten by the factor (its diagonal by the
+/// inverses of the pivots, so that each row costs one division) and `rhs` (b) by x. A pivot
+/// that vanishes (≤ 1e-300 or not finite: a row dependent on the ones before) drops its row,
+/// x = 0 there. Returns the number of rows dropped. O(m · width²).
 inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
 {
     std::size_t dropped = 0;
     for (std::size_t i = 0; i < m; ++i) {
         double& pivot = band[i * width];
         if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
-            pivot = std::numeric_limits<double>::infinity();
+            pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
             rhs[i] = 0.0;
             for (std::size_t d = 1; d < width; ++d)
                 band[i * width + d] = 0.0;
             ++dropped;
             continue;
         }
+        const double inverse = 1.0 / pivot;
+        pivot = inverse;
         for (std::size_t d = 1; d < width && i + d < m; ++d) {
-            const double factor = band[i * width + d] / pivot;
+            const double factor = band[i * width + d] * inverse;
             if (factor == 0.0) continue;
             for (std::size_t e = d; e < width && i + e < m; ++e)
                 band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
@@ -35,11 +37,10 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
         }
     }
     for (std::size_t i = m; i-- > 0;) {
-        const double pivot = band[i * width];
         double x = rhs[i];
         for (std::size_t d = 1; d < width && i + d < m; ++d)
             x -= band[i * width + d] * rhs[i + d];
-        rhs[i] = std::isfinite(pivot) ? x / pivot : 0.0;
+        rhs[i] = x * band[i * width];
     }
     return dropped;
 }
