@@ -20,6 +20,10 @@ constexpr int kHardTryRejects = 1;
 /// SpanSolver::advance: a goal within this many segments of the last grab's is the same goal (a
 /// held target), whose trust radius goes on from where that grab left it.
 constexpr double kHeldGoal = 1e-3;
+/// SpanSolver::advance: steps towards a target that moved when the last grab of the point got it
+/// no nearer (it stays at the edge of its reach while the target moves beyond it: the steps after
+/// a first one that fails gain nothing either, in nearly every frame).
+constexpr int kStalledSteps = 1;
 /// SpanSolver::solve: the room of a free joint not worked out yet.
 constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
@@ -611,12 +615,12 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const int dir = end > root ? 1 : -1;
     const int point = moving >= 0 ? goals[static_cast<size_t>(moving)].point : end;
     const double rest = h.m_restLength[static_cast<size_t>(dir > 0 ? end - 1 : end)];
-    // At most maxSteps steps. A target that moved since the last grab of this point: from a
-    // whole trust radius, ending after movingSteps steps that brought the point nearer (what
-    // they leave is covered by the next grabs). A held target (the last grab of this point
-    // stopped short of the same goal, to kHeldGoal of a segment): from the radius that grab ended
-    // with, keeping the short steps that arrive along the edge of the reachable set instead of
-    // halving down to them again each call.
+    // At most maxSteps steps. A target that moved since the last grab of this point: from a whole
+    // trust radius, ending after movingSteps steps that brought the point nearer (what they leave
+    // is covered by the next grabs), and after kStalledSteps when that grab got the point no
+    // nearer. A held target (the last grab of this point stopped short of the same goal, to
+    // kHeldGoal of a segment): from the radius that grab ended with, keeping the short steps that
+    // arrive along the edge of the reachable set instead of halving down to them again each call.
     double radius = std::numeric_limits<double>::infinity();
     bool held = false;
     if (moving >= 0 && h.m_trustCarry.point == point &&
@@ -624,6 +628,8 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         radius = h.m_trustCarry.radius;
         held = true;
     }
+    if (!held && moving >= 0 && h.m_trustCarry.point == point && h.m_trustCarry.stalled)
+        maxSteps = std::min(maxSteps, kStalledSteps);
     int gained = 0; // steps that brought the point nearer
     for (int step = 0; step < maxSteps && (held || gained < movingSteps); ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
@@ -695,7 +701,7 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     }
     if (moving >= 0 && !out.goalsMet)
         h.m_trustCarry = {point, std::min(radius, (target - p[static_cast<size_t>(point)]).norm()),
-                          target};
+                          target, gained == 0};
     else if (moving >= 0)
         h.m_trustCarry = Hose::TrustCarry{};
     return out;

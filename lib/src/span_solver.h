@@ -75,7 +75,8 @@ public:
     /// itself (a span ending at a grabbed point: `endTarget` is then ignored). The span stays
     /// valid whatever happens; `goalsMet` says whether the point got to its target. At most
     /// `maxSteps` steps; for a target that moved since the last call for this point they start
-    /// from a whole trust radius and end after `movingSteps` that brought the point nearer;
+    /// from a whole trust radius and end after `movingSteps` that brought the point nearer (after
+    /// one step when the last call got it no nearer);
     /// when the last call stopped short of the same target they start from the radius it ended
     /// with (Hose::m_trustCarry; an inner point only).
     /// `requested` (a grab's target beyond reach, of which `target` is the nearest point within

@@ -3,6 +3,9 @@
 // bounded, valid steps; held, it keeps coming nearer, never farther, and comes to rest.
 #include "test_util.h"
 
+#include <cstdio>
+#include <numbers>
+
 using namespace chaintube;
 using namespace chaintube::test;
 
@@ -166,6 +169,37 @@ TEST(ClampBetweenFixedPoints, HeldFarBeyondReachItIsWithinAMillimetreOfItsRestBy
 TEST(ClampBetweenFixedPoints, HeldInsideTheReachBallsButBeyondTheBendsItIsAtRestByFrameTen)
 {
     expectAHeldTargetAtRestByFrameTen(0.2, false);
+}
+
+// At rest at the edge of its reach with the target moving on beyond it (a hand circling above a
+// taut hose): a grab that got the point no nearer (nothing moved) is followed by one that takes
+// a single step, a hard try and a soft one of at most 6 Newton steps each (lib/README.md, "Grab
+// with attachments"), instead of four; every grab keeps every constraint.
+TEST(ClampBetweenFixedPoints,
+     AtTheEdgeWithTheTargetMovingOnBeyondItAGrabThatGainedNothingIsFollowedByOneStep)
+{
+    Hose hose = pulledHose();
+    const int k = hose.pointCount() / 2;
+    const Vec3 centre(0.4, 0.6, 0.0); // the apex of the taut span is below 0.5
+    for (int frame = 0; frame < 60 && hose.grab(k, centre).movedPoints > 0; ++frame) {
+    }
+    ASSERT_EQ(hose.grab(k, centre).movedPoints, 0) << "at rest before the circle";
+    int afterNothing = 0;
+    bool gainedNothing = true;
+    for (int step = 1; step <= 80; ++step) {
+        const double angle = 2.0 * std::numbers::pi * step / 40.0;
+        const Vec3 target = centre + 0.05 * Vec3(std::cos(angle) - 1.0, 0.0, std::sin(angle));
+        const UpdateResult r = hose.grab(k, target);
+        EXPECT_EQ(r.status, Status::Clamped) << "step " << step;
+        EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+        if (gainedNothing) {
+            EXPECT_LE(r.iterations, 12) << "step " << step;
+            ++afterNothing;
+        }
+        gainedNothing = r.movedPoints == 0;
+    }
+    std::printf("%d of 80 grabs followed one that moved nothing\n", afterNothing);
+    EXPECT_GE(afterNothing, 20);
 }
 
 // At rest at the edge of its reach, the same target again with nothing changed returns the same

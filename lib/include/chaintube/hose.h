@@ -451,12 +451,13 @@ private:
     std::uint64_t m_revision = 1;
     /// SpanSolver::advance: where the last grab stopped short of its (reach-clamped) goal (its
     /// point, its trust radius, the goal), from which the next grab of the same point and goal
-    /// goes on.
+    /// goes on; and whether that grab got the point no nearer at all.
     struct TrustCarry
     {
         int point = -1;
         double radius = 0.0;
         Vec3 goal = Vec3::Zero();
+        bool stalled = false;
     };
     TrustCarry m_trustCarry;
 
