@@ -40,7 +40,8 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
         double x = rhs[i];
         for (std::size_t d = 1; d < width && i + d < m; ++d)
             x -= band[i * width + d] * rhs[i + d];
-        rhs[i] = x * band[i * width];
+        const double inverse = band[i * width];
+        rhs[i] = inverse != 0.0 ? x * inverse : 0.0; // 0: a dropped row
     }
     return dropped;
 }
