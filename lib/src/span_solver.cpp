@@ -621,15 +621,10 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     // nearer. A held target (the last grab of this point stopped short of the same goal, to
     // kHeldGoal of a segment): from the radius that grab ended with, keeping the short steps that
     // arrive along the edge of the reachable set instead of halving down to them again each call.
-    double radius = std::numeric_limits<double>::infinity();
-    bool held = false;
-    if (moving >= 0 && h.m_trustCarry.point == point &&
-        (target - h.m_trustCarry.goal).norm() <= kHeldGoal * rest) {
-        radius = h.m_trustCarry.radius;
-        held = true;
-    }
-    if (!held && moving >= 0 && h.m_trustCarry.point == point && h.m_trustCarry.stalled)
-        maxSteps = std::min(maxSteps, kStalledSteps);
+    const bool samePoint = moving >= 0 && h.m_trustCarry.point == point;
+    const bool held = samePoint && (target - h.m_trustCarry.goal).norm() <= kHeldGoal * rest;
+    double radius = held ? h.m_trustCarry.radius : std::numeric_limits<double>::infinity();
+    if (samePoint && !held && h.m_trustCarry.stalled) maxSteps = std::min(maxSteps, kStalledSteps);
     int gained = 0; // steps that brought the point nearer
     for (int step = 0; step < maxSteps && (held || gained < movingSteps); ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
