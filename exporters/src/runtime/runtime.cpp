@@ -507,6 +507,8 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
     const std::vector<RingFrame>& frames = running.surface.frames();
     const Vec3& origin = running.hose.origin();
     running.poses.resize(frames.size());
+    int invertedParent = -1; // the joints share their parent node as a rule: inverted once
+    detail::Affine parentInverse;
     for (size_t i = 0; i < frames.size(); ++i) {
         JointPose& pose = running.poses[i];
         pose.node = i < description.jointNodes.size() ? description.jointNodes[i] : -1;
@@ -519,8 +521,11 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
             pose.local.scale = Vec3::Ones();
             continue;
         }
-        const detail::Affine local =
-            m_world[static_cast<size_t>(parent)].inverse() * detail::matrixOf(pose.world);
+        if (parent != invertedParent) {
+            parentInverse = m_world[static_cast<size_t>(parent)].inverse();
+            invertedParent = parent;
+        }
+        const detail::Affine local = parentInverse * detail::matrixOf(pose.world);
         detail::decompose(local, pose.local);
     }
 }

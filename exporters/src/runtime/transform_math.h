@@ -27,6 +27,10 @@ inline Affine matrixOf(const Frame& frame)
     return m;
 }
 
+/// decompose(): a 3 × 3 block whose columns are this near orthonormal is a rotation as it is
+/// (rounding only; the quaternion is normalised).
+constexpr double kOrthonormal = 1e-12;
+
 /// Splits an affine matrix into T · R · S with S diagonal (positive; a reflection flips the
 /// sign of the smallest scale). Returns false if the 3×3 block is not a rotation times a
 /// diagonal scale within `tolerance` (relative), i.e. it has shear; trs is then a best fit.
@@ -49,9 +53,12 @@ inline bool decompose(const Affine& m, NodeTransform& trs, double tolerance = 1e
     }
     const double orthogonality =
         (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-    // Re-orthonormalise (the columns are unit length; remove rounding in their angles).
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(rotation, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    rotation = svd.matrixU() * svd.matrixV().transpose();
+    // Re-orthonormalise where the columns' angles are off by more than rounding (the columns
+    // are unit length): the nearest rotation, by the SVD.
+    if (orthogonality > kOrthonormal) {
+        Eigen::JacobiSVD<Eigen::Matrix3d> svd(rotation, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        rotation = svd.matrixU() * svd.matrixV().transpose();
+    }
     trs.rotation = Quat(Eigen::Quaterniond(rotation).normalized());
     trs.scale = scale;
     return orthogonality <= tolerance;
