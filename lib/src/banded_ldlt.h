@@ -1,5 +1,6 @@
 // The banded symmetric solve of the chain projection (projection.cpp: gravity steps, contacts,
-// bends giving way). Internal to lib/.
+// bends giving way), and of the span solver's small dense normal equations (span_solver.cpp:
+// a band as wide as the matrix). Internal to lib/.
 #pragma once
 
 #include <cmath>

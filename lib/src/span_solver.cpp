@@ -1,6 +1,7 @@
 #include "span_solver.h"
 
-#include <Eigen/Cholesky>
+#include "banded_ldlt.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -450,11 +451,16 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 a(rows - 1, rows - 1) = 1.0; // unused row
                 rhs(rows - 1) = 0.0;
             }
-            // Positive definite (J Jᵀ with a relative floor on the diagonal): Cholesky; the
-            // pivoted LDLᵀ where rounding leaves it short of definite.
-            const Eigen::LLT<RowMatrix> cholesky(a);
-            lambda = cholesky.info() == Eigen::Success ? RowVector(cholesky.solve(rhs))
-                                                       : RowVector(a.ldlt().solve(rhs));
+            // Positive definite (J Jᵀ with a relative floor on the diagonal): LDLᵀ without
+            // pivoting, the dense case of the band solve (a row that rounding leaves without
+            // a positive pivot is dropped).
+            double dense[kMaxRows * kMaxRows];
+            for (int i = 0; i < rows; ++i)
+                for (int j = i; j < rows; ++j)
+                    dense[i * rows + (j - i)] = a(i, j);
+            lambda = rhs;
+            solveBandedLdlt(dense, lambda.data(), static_cast<size_t>(rows),
+                            static_cast<size_t>(rows));
             // ω_s = P_s R_sᵀ λ (+ the held turn). A free joint whose turn would pass its limit
             // is held on it; a held joint that this step would turn back inside is freed.
             bool changed = false;
