@@ -8,6 +8,7 @@
 #include "chaintube/collision.h"
 
 #include "chaintube/hose.h"
+#include "projection.h"
 
 #include <algorithm>
 #include <array>
@@ -21,6 +22,13 @@ namespace {
 
 constexpr int kLeafSize = 4;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Hose::applyCollisions: Newton steps of the chain projection with the contacts, and the
+/// largest violation it stops at (relative length, radians, contact depth over a segment).
+constexpr int kContactProjectionSteps = 8;
+constexpr double kContactProjectionConverged = 1e-10;
+/// Stopped this near (and not within kContactProjectionConverged), the span solver closes the
+/// rest exactly (Hose::closeSpans): its moves are of the order of the violation.
+constexpr double kContactProjectionClose = 1e-5;
 
 double boxDistance2(const Aabb& box, const Vec3& p)
 {
@@ -950,6 +958,7 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             result.lengthViolation = redo.lengthViolation;
             result.angleViolation = redo.angleViolation;
             result.movedPoints = redo.movedPoints;
+            result.iterations += redo.iterations;
             solved = m_local;
             changed = true;
         }
@@ -977,15 +986,16 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         if (closest) *closest = c;
         return freeBound[i];
     };
-    // Pushes penetrating points and segments out; returns the deepest penetration found.
-    auto pushOut = [&]() {
+    // Pushes penetrating points and segments out (with `move`; otherwise only measures);
+    // returns the deepest penetration found.
+    auto pushOut = [&](bool move = true) {
         double deepest = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             MeshCollider::Closest c;
             const double free = pointClearance(i, &c);
             if (free >= -tolerance || !c.found) continue;
             deepest = std::max(deepest, -free);
-            if (pinned[i]) continue;
+            if (pinned[i] || !move) continue;
             Vec3 normal = c.normal;
             if (c.distance < 1e-12) { // centre on the surface: go back to the side it came from
                 const Vec3 back = m_collisionStart[i] + m_origin - c.onMesh;
@@ -1002,6 +1012,7 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             if (!c.found || c.distance >= radius - tolerance) continue;
             const double depth = radius - c.distance;
             deepest = std::max(deepest, depth);
+            if (!move) continue;
             Vec3 normal = c.normal;
             if (c.distance < 1e-12) {
                 const Vec3 mid = 0.5 * (m_collisionStart[s] + m_collisionStart[s + 1]) + m_origin;
@@ -1063,7 +1074,54 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     double penetration = pushOut();
     const double ctol = m_collisionOptions.constraintTolerance;
     UpdateResult violation = changed ? measureViolation() : UpdateResult();
-    for (int round = 0; changed && round < m_collisionOptions.maxRounds; ++round) {
+    bool fixedMoved = false;
+    for (std::size_t i = 0; i < n && !fixedMoved; ++i)
+        fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
+    // The contacts as rows of the chain projection (the tangent plane at the closest point of
+    // each collider near a free point, which the axis keeps the outer radius and a tenth of the
+    // tolerance above) with every length and bend: at most kContactProjectionSteps Newton steps
+    // from the pushed-out shape, the rest closed by the span solver when they end near. The
+    // result is kept when the points get there swept without touching anything and nothing
+    // penetrates; otherwise the contact rounds below go on from the swept shape. When the steps
+    // end far off, the update is refused (below) unless a fixed point moved: then only the
+    // rounds are left.
+    bool projectionFailed = false;
+    if (changed && (violation.status != Status::Ok || penetration > tolerance)) {
+        const std::vector<Vec3> before = m_local;
+        detail::ChainProjection projection(*this);
+        projection.setRange(0, static_cast<int>(n) - 1);
+        projection.useMassesFromRestLengths(grabbed);
+        const double reach = radius + tolerance + maxRest;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (pinned[i]) continue;
+            const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, reach);
+            if (!c.found) continue;
+            Vec3 normal = c.normal;
+            const Vec3 onMesh = c.onMesh - m_origin;
+            if (c.distance < 1e-12 && normal.dot(m_collisionStart[i] - onMesh) < 0.0)
+                normal = -normal; // centre on the surface: the side it came from
+            if (!normal.allFinite()) continue;
+            projection.setContact(static_cast<int>(i), normal, onMesh, radius + 0.1 * tolerance);
+        }
+        const detail::ProjectionOutcome out =
+            projection.run(kContactProjectionSteps, kContactProjectionConverged);
+        result.iterations += out.iterations;
+        if (out.converged || (out.violation <= kContactProjectionClose &&
+                              closeSpans(grabbed, before, result.iterations))) {
+            const std::vector<Vec3> after = m_local;
+            m_local = before;
+            for (std::size_t i = 0; i < n; ++i)
+                if (!pinned[i] && after[i] != before[i])
+                    m_local[i] = moveSwept(i, before[i], after[i], false);
+            penetration = pushOut(false);
+            violation = measureViolation();
+        } else {
+            m_local = before;
+            projectionFailed = true;
+        }
+    }
+    const bool runRounds = !projectionFailed || fixedMoved;
+    for (int round = 0; changed && runRounds && round < m_collisionOptions.maxRounds; ++round) {
         if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol &&
             penetration <= tolerance)
             break;
@@ -1074,15 +1132,12 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         penetration = pushOut();
         violation = measureViolation();
     }
-    // Lengths are never given up to contacts: when the rounds leave a segment outside its band
-    // and no fixed point moved (a grab, a gravity step), the hose stays at its last
-    // collision-resolved shape (if that one keeps its lengths) and the update is reported
-    // blocked. (Fixed points stay where their frames put them.)
+    // Lengths are never given up to contacts: when the rounds leave a segment outside its band,
+    // or the projection found no shape, and no fixed point moved (a grab, a gravity step), the
+    // hose stays at its last collision-resolved shape (if that one keeps its lengths) and the
+    // update is reported blocked. (Fixed points stay where their frames put them.)
     bool refused = false;
-    bool fixedMoved = false;
-    for (std::size_t i = 0; i < n && !fixedMoved; ++i)
-        fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
-    if (changed && !fixedMoved && violation.lengthViolation > ctol) {
+    if (changed && !fixedMoved && (violation.lengthViolation > ctol || !runRounds)) {
         const std::vector<Vec3> rounds = m_local;
         m_local = m_collisionStart;
         const UpdateResult kept = measureViolation();

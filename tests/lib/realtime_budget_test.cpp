@@ -15,6 +15,7 @@ using namespace chaintube::test;
 namespace {
 
 using test_support::kClipGrabBudget;
+using test_support::kContactGrabBudget;
 using test_support::kGrabBudget;
 using test_support::kStepBudget;
 
@@ -27,6 +28,7 @@ struct WalkFigures
     int slidesBack = 0;        ///< of them, towards point 0
     int maxStepIterations = 0; ///< with gravity: the most Newton steps of a step
     double lowest = 0.0;       ///< with gravity: the lowest y a point reached (m)
+    int touching = 0;          ///< with the floor: frames whose grab left a point touching it
 };
 
 /// Distance from the clip's centre to the line of the segment holding it (metres).
@@ -46,8 +48,10 @@ double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
 /// the middle of the segment at a quarter of its length (the first arc's middle, with 5 % more
 /// hose than the straight line from the near end): pulled away from the clip, the middle draws
 /// hose through it. With `gravity`, Hose::step() (gravity −y) follows every grab, as the runtime's
-/// update does, and is checked as the grab is.
-WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravity = false)
+/// update does, and is checked as the grab is. With `floor`, a floor collider lies 1 mm under
+/// the hose (its plane y = 0): every point stays above it (to the collision tolerance).
+WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravity = false,
+                          bool floor = false)
 {
     HoseSpec spec;
     spec.gravity.enabled = gravity;
@@ -90,8 +94,14 @@ WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravit
         return *std::find_if(hose.attachments().begin(), hose.attachments().end(),
                              [&](const Hose::Attachment& a) { return a.id == clipId; });
     };
+    const double floorY = -(0.5 * spec.outerDiameter + 0.001);
+    if (floor) {
+        const std::vector<Vec3> corners = {Vec3(-2.0, floorY, -2.0), Vec3(3.0, floorY, -2.0),
+                                           Vec3(3.0, floorY, 2.0), Vec3(-2.0, floorY, 2.0)};
+        hose.setColliders({MeshCollider::fromArrays(corners, {0, 2, 1, 0, 3, 2})});
+    }
     double slide = clip ? clipNow().slide : 0.0;
-    const int budget = clip ? kClipGrabBudget : kGrabBudget;
+    const int budget = clip ? kClipGrabBudget : floor ? kContactGrabBudget : kGrabBudget;
     EXPECT_TRUE(hose.measureViolation().ok()) << "the starting arc holds every constraint";
 
     std::mt19937_64 random(20240901);
@@ -126,6 +136,12 @@ WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravit
             EXPECT_TRUE(allFinite(hose)) << "frame " << frame << when;
         };
         expectValid("");
+        if (floor) {
+            const double tolerance = hose.collisionOptions().tolerance;
+            for (const Vec3& p : hose.points())
+                EXPECT_GE(p.y() - floorY, hose.outerRadius() - tolerance) << "frame " << frame;
+            figures.touching += r.contacts > 0;
+        }
         if (gravity) {
             const UpdateResult stepped = hose.step();
             EXPECT_EQ(stepped.status, Status::Ok) << "frame " << frame;
@@ -194,6 +210,19 @@ void expectTheGravityWalkWithinBudget(int points, int frames, int clampedAtLeast
                 kStepBudget, f.lowest);
 }
 
+/// The walk over a floor: every frame checked, the hose above the floor after every grab; the
+/// grabs press the hose onto it (a point touching it after more than `touchingAtLeast` grabs).
+void expectTheFloorWalkWithinBudget(int points, int frames, int clampedAtLeast, int touchingAtLeast)
+{
+    const WalkFigures f = walkTheMiddle(points, frames, false, false, true);
+    EXPECT_EQ(f.frames, frames);
+    EXPECT_GT(f.clamped, clampedAtLeast);
+    EXPECT_GT(f.touching, touchingAtLeast);
+    std::printf("%d points over a floor: %d frames, %d clamped, %d touching it, at most %d Newton "
+                "steps a grab (budget %d)\n",
+                points, f.frames, f.clamped, f.touching, f.maxIterations, kContactGrabBudget);
+}
+
 } // namespace
 
 TEST(RealTimeBudget,
@@ -229,4 +258,14 @@ TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGr
 TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGrabBudget100Points)
 {
     expectTheClipWalkWithinBudget(100, 2000, 1000, 2);
+}
+
+TEST(RealTimeBudget, ALongWalkOverAFloorKeepsEveryConstraintAndStaysAboveItWithinBudget25Points)
+{
+    expectTheFloorWalkWithinBudget(25, 4000, 1000, 200);
+}
+
+TEST(RealTimeBudget, ALongWalkOverAFloorKeepsEveryConstraintAndStaysAboveItWithinBudget100Points)
+{
+    expectTheFloorWalkWithinBudget(100, 2000, 500, 100);
 }

@@ -249,8 +249,11 @@ RandomWalk CaseSetup::walk() const
 int workBudget(const HoseCase& hoseCase)
 {
     using namespace test_support;
-    if (hoseCase.floor || !hoseCase.endsFixed) return -1;
+    if (!hoseCase.endsFixed) return -1;
     if (hoseCase.clip) return kClipGrabBudget;
+    if (hoseCase.floor)
+        return hoseCase.gravity ? kContactGrabBudget + kStepBudget + kContactBudget
+                                : kContactGrabBudget;
     return hoseCase.gravity ? kGrabBudget + kStepBudget : kGrabBudget;
 }
 

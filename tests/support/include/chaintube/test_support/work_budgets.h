@@ -16,6 +16,14 @@ inline constexpr int kGrabBudget = 12 + 4 * (6 + 6) + 12;
 /// fallback with the point soft.
 inline constexpr int kClipGrabBudget = 3 * (2 * 32) + (2 * 12 + 4 * (6 + 6) + 12 + 2 * 12);
 
+/// Contacts resolved after a grab or a step (Hose::applyCollisions): 8 steps of the chain
+/// projection with the contacts and the closing of both spans (32 a span).
+inline constexpr int kContactBudget = 8 + 2 * 32;
+
+/// A grab of a hose with colliders: the grab, again from the previous shape when a collider
+/// stopped the grabbed point, and the contacts.
+inline constexpr int kContactGrabBudget = 2 * kGrabBudget + kContactBudget;
+
 /// One gravity step (Hose::step) of a hose whose held point splits it into two spans: three
 /// attempts of 8 projection steps and the closing of both spans (32 a span).
 inline constexpr int kStepBudget = 3 * (8 + 2 * 32);
