@@ -165,53 +165,73 @@ double ChainProjection::gather(bool onlyMeasure)
     return worst;
 }
 
-bool ChainProjection::solveWorking(const std::vector<Vec3>& from)
+void ChainProjection::buildSystem(const std::vector<Vec3>& from)
 {
     const std::vector<Vec3>& p = h.m_local;
     const std::vector<double>& w = m_inverseMass;
-    m_working.clear();
-    for (size_t r = 0; r < m_rows.size(); ++r)
-        if (m_rows[r].working) m_working.push_back(r);
-    const size_t m = m_working.size();
-    m_step.assign(static_cast<size_t>(m_last - m_first + 1), Vec3::Zero());
-    if (m == 0) return true;
+    const size_t m = m_rows.size();
     // Band width: rows are ordered by first point and touch at most three points, so row r
     // couples only with rows starting no later than its last point.
-    size_t width = 1;
+    m_width = 1;
     for (size_t r = 0, s = 0; r < m; ++r) {
-        const int lastPoint = m_rows[m_working[r]].first + m_rows[m_working[r]].count - 1;
+        const int lastPoint = m_rows[r].first + m_rows[r].count - 1;
         s = std::max(s, r);
-        while (s + 1 < m && m_rows[m_working[s + 1]].first <= lastPoint)
+        while (s + 1 < m && m_rows[s + 1].first <= lastPoint)
             ++s;
-        width = std::max(width, s - r + 1);
+        m_width = std::max(m_width, s - r + 1);
     }
-    m_band.resize(m * width); // every entry the solve reads is written below
-    m_lambda.resize(m);
+    const size_t width = m_width;
+    m_system.resize(m * width); // every entry the solve reads is written below
+    m_systemRhs.resize(m);
     for (size_t r = 0; r < m; ++r) {
-        const Row& a = m_rows[m_working[r]];
+        const Row& a = m_rows[r];
         double rhs = -a.value;
         if (&from != &p)
             for (int q = 0; q < a.count; ++q) {
                 const size_t k = static_cast<size_t>(a.first + q);
                 rhs -= a.g[q].dot(from[k] - p[k]);
             }
-        m_lambda[r] = rhs;
-        for (size_t s = r; s < m && s < r + width; ++s) {
-            const Row& b = m_rows[m_working[s]];
+        m_systemRhs[r] = rhs;
+        for (size_t s = r; s < r + width; ++s) {
             double value = 0.0;
-            const int lo = std::max(a.first, b.first),
-                      hi = std::min(a.first + a.count, b.first + b.count);
-            for (int point = lo; point < hi; ++point)
-                value +=
-                    w[static_cast<size_t>(point)] * a.g[point - a.first].dot(b.g[point - b.first]);
-            m_band[r * width + (s - r)] = value;
+            if (s < m) {
+                const Row& b = m_rows[s];
+                const int lo = std::max(a.first, b.first),
+                          hi = std::min(a.first + a.count, b.first + b.count);
+                for (int point = lo; point < hi; ++point)
+                    value += w[static_cast<size_t>(point)] *
+                             a.g[point - a.first].dot(b.g[point - b.first]);
+            }
+            m_system[r * width + (s - r)] = value;
         }
-        double& diagonal = m_band[r * width];
+        double& diagonal = m_system[r * width];
         diagonal += (a.compliance + m_damping) * diagonal + 1e-14 * diagonal;
+    }
+}
+
+bool ChainProjection::solveWorking()
+{
+    const size_t m = m_rows.size(), width = m_width;
+    m_step.assign(static_cast<size_t>(m_last - m_first + 1), Vec3::Zero());
+    if (std::none_of(m_rows.begin(), m_rows.end(), [](const Row& row) { return row.working; }))
+        return true;
+    // The system of every candidate row, those outside the working set decoupled (a unit
+    // diagonal, no coupling, right-hand side 0: multiplier 0). The solve skips zero couplings,
+    // so the working rows' multipliers come out as from the system of those rows alone.
+    m_band = m_system;
+    m_lambda = m_systemRhs;
+    for (size_t r = 0; r < m; ++r) {
+        if (m_rows[r].working) continue;
+        std::fill_n(m_band.begin() + static_cast<std::ptrdiff_t>(r * width), width, 0.0);
+        m_band[r * width] = 1.0;
+        for (size_t d = 1; d < width && d <= r; ++d)
+            m_band[(r - d) * width + d] = 0.0;
+        m_lambda[r] = 0.0;
     }
     solveBandedLdlt(m_band.data(), m_lambda.data(), m, width);
     for (size_t r = 0; r < m; ++r) {
-        const Row& a = m_rows[m_working[r]];
+        const Row& a = m_rows[r];
+        if (!a.working) continue;
         for (int q = 0; q < a.count; ++q)
             m_step[static_cast<size_t>(a.first + q - m_first)] += m_lambda[r] * a.g[q];
     }
@@ -226,9 +246,9 @@ bool ChainProjection::adjustWorkingSet(const std::vector<Vec3>& from)
     const std::vector<double>& w = m_inverseMass;
     bool changed = false;
     // Working inequality rows whose multiplier pulls (the step needs no push from them) leave.
-    for (size_t r = 0; r < m_working.size(); ++r) {
-        Row& row = m_rows[m_working[r]];
-        if (row.inequality && m_lambda[r] > 0.0) {
+    for (size_t r = 0; r < m_rows.size(); ++r) {
+        Row& row = m_rows[r];
+        if (row.working && row.inequality && m_lambda[r] > 0.0) {
             row.working = false;
             changed = true;
         }
@@ -266,9 +286,10 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
     m_damping = 0.0;
     for (; out.iterations < maxIterations && !(worst <= tolerance); ++out.iterations) {
         const std::vector<Vec3>& from = m_predicted ? *m_predicted : p;
-        bool finite = solveWorking(from);
+        buildSystem(from);
+        bool finite = solveWorking();
         for (int pass = 1; finite && pass < kWorkingSetPasses && adjustWorkingSet(from); ++pass)
-            finite = solveWorking(from);
+            finite = solveWorking();
         m_saved.assign(p.begin() + m_first, p.begin() + m_last + 1);
         if (finite) {
             for (int i = m_first; i <= m_last; ++i) {

@@ -82,8 +82,11 @@ private:
     /// Gathers the candidate rows at the current positions (violated, near their bound, or in
     /// the working set); returns the largest violation.
     double gather(bool onlyMeasure);
-    /// Solves for the working rows' multipliers and the step from `from`; false if not finite.
-    bool solveWorking(const std::vector<Vec3>& from);
+    /// The linearised system of every gathered row at the current positions, for steps from
+    /// `from` (built once a Newton step; the working-set passes reuse it).
+    void buildSystem(const std::vector<Vec3>& from);
+    /// Solves for the working rows' multipliers and the step; false if not finite.
+    bool solveWorking();
     /// One primal-dual update of the working set after solveWorking(): rows whose multiplier
     /// pulls leave, rows the step would violate join. Returns whether it changed.
     bool adjustWorkingSet(const std::vector<Vec3>& from);
@@ -100,8 +103,9 @@ private:
     std::vector<Vec3> m_contactNormal, m_contactPoint;
     std::vector<double> m_contactDistance;
     std::vector<Row> m_rows;
-    std::vector<size_t> m_working;
-    std::vector<double> m_band, m_lambda;
+    std::vector<double> m_system, m_systemRhs; ///< buildSystem(): band (m_width a row), rhs
+    size_t m_width = 1;
+    std::vector<double> m_band, m_lambda; ///< solveWorking(): factor, multipliers (per row)
     std::vector<Vec3> m_step, m_saved;
     double m_merit = 0.0;   ///< gather(): sum of the squared violations
     double m_damping = 0.0; ///< Levenberg–Marquardt damping, relative to the diagonal
