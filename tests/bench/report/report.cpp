@@ -1273,7 +1273,7 @@ int main(int argc, char** argv)
         row("collision, 45,000-triangle floor the drag presses the hose into", base,
             featureFrame(
                 none, [&](Hose& hose) { hose.setColliders({pressed}); }, false, frames, rounds),
-            "the hose stays on the floor (continuous sweeps, contact rounds)");
+            "the hose stays on the floor (continuous sweeps, contacts as projection rows)");
         row("collision, the same floor 1 m away (no contact)", base,
             featureFrame(
                 none, [&](Hose& hose) { hose.setColliders({apart}); }, false, frames, rounds),
