@@ -572,6 +572,36 @@ TEST(HoseCollision, MovedColliderPushesTheHoseOutOnResolve)
     EXPECT_GT(hose.point(10).y(), 0.005 + hose.outerRadius() - 1e-4);
 }
 
+TEST(HoseCollision, AFloorRaisedUnderATautHoseIsRefusedAndTheHoseKeepsItsShape)
+{
+    // An inextensible hose fixed straight at both ends 1 mm above a floor; the floor rises 5 mm
+    // (half the hose's radius: a collider moving farther in one update can pass through a hose).
+    // No shape between the fixed ends clears it (the hose has no slack to rise): the
+    // contacts' projection finds none, no fixed point moved, so the update is refused at once
+    // (no contact rounds): the hose keeps its last collision-resolved shape, every constraint
+    // as it was, reported blocked and, still inside the floor, Infeasible.
+    HoseSpec spec = paperSpec(20, 0.0, 40);
+    const double radius = 0.5 * spec.outerDiameter;
+    Hose hose = Hose::straight({0, radius + 0.001, 0}, Vec3::UnitX(), 1.0, spec);
+    hose.attach(0, 1, Frame::identity());
+    hose.attach(19, 20, Frame::identity());
+    Mesh mesh;
+    mesh.quad({-1, 0, -1}, {-1, 0, 1}, {2, 0, 1}, {2, 0, -1});
+    auto floor = mesh.collider();
+    hose.setColliders({floor});
+    const std::vector<Vec3> before = hose.points();
+    Frame up;
+    up.translation = Vec3(0, 0.005, 0);
+    ASSERT_TRUE(floor->setFrame(up));
+    const UpdateResult r = hose.resolveCollisions();
+    EXPECT_TRUE(r.blocked);
+    EXPECT_EQ(r.status, Status::Infeasible);
+    EXPECT_NEAR(r.penetration, 0.004, 1e-9) << "radius − (1 mm + 10 mm − 5 mm)";
+    EXPECT_EQ(hose.points(), before);
+    EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+    EXPECT_LE(r.iterations, 8 + 2 * 32) << "the projection's steps and its closing, no more";
+}
+
 TEST(HoseCollision, AttachmentDrivenIntoAnObjectIsReportedBlocked)
 {
     Hose hose = straightHose();
