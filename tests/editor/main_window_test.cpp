@@ -1172,8 +1172,15 @@ TEST_F(MainWindowTest, RecentFilesAreListedNewestFirstAndOpenFromTheMenu)
     ASSERT_TRUE(QTest::qWaitForWindowExposed(menu));
     QAction* older = menu->actions().at(1);
     QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(older).center());
+    // The click reaches the menu through the window system: on a loaded machine a few event
+    // rounds later (at most 250 of them).
+    const auto openName = [&] {
+        return QString::fromStdString(m_window->document().fileName().string());
+    };
+    for (int round = 0; round < 250 && openName() != first; ++round)
+        QTest::qWait(20);
     settle();
-    EXPECT_EQ(QString::fromStdString(m_window->document().fileName().string()), first);
+    EXPECT_EQ(openName(), first);
     EXPECT_EQ(tips(menu), (QStringList{first, second}));
 
     // At most 8 entries.
