@@ -1095,13 +1095,10 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         for (std::size_t i = 0; i < n; ++i) {
             if (pinned[i]) continue;
             const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, reach);
-            if (!c.found) continue;
-            Vec3 normal = c.normal;
-            const Vec3 onMesh = c.onMesh - m_origin;
-            if (c.distance < 1e-12 && normal.dot(m_collisionStart[i] - onMesh) < 0.0)
-                normal = -normal; // centre on the surface: the side it came from
-            if (!normal.allFinite()) continue;
-            projection.setContact(static_cast<int>(i), normal, onMesh, radius + 0.1 * tolerance);
+            if (c.found)
+                static_cast<void>(projection.setContact(static_cast<int>(i), c, m_origin,
+                                                        m_collisionStart[i],
+                                                        radius + 0.1 * tolerance, 1e-12));
         }
         const detail::ProjectionOutcome out =
             projection.run(kContactProjectionSteps, kContactProjectionConverged);

@@ -59,6 +59,18 @@ void ChainProjection::setContact(int point, const Vec3& normal, const Vec3& onPl
     m_contactDistance[i] = distance;
 }
 
+bool ChainProjection::setContact(int point, const MeshCollider::Closest& closest,
+                                 const Vec3& origin, const Vec3& cameFrom, double distance,
+                                 double onSurface)
+{
+    Vec3 normal = closest.normal;
+    const Vec3 onMesh = closest.onMesh - origin;
+    if (closest.distance < onSurface && normal.dot(cameFrom - onMesh) < 0.0) normal = -normal;
+    if (!normal.allFinite()) return false;
+    setContact(point, normal, onMesh, distance);
+    return true;
+}
+
 double ChainProjection::gather(bool onlyMeasure)
 {
     const std::vector<Vec3>& p = h.m_local;

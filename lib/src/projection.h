@@ -57,6 +57,12 @@ public:
     /// Contact planes: point i keeps normal · (p_i − onPlane) ≥ distance (local coordinates).
     void clearContacts();
     void setContact(int point, const Vec3& normal, const Vec3& onPlane, double distance);
+    /// The contact of `point` with a collider's surface at `closest` (world coordinates; the
+    /// hose's origin is `origin`): its tangent plane, turned towards `cameFrom` (local) when
+    /// the point lies on the surface to within `onSurface`. Returns false, setting nothing, if
+    /// the normal is not finite.
+    bool setContact(int point, const MeshCollider::Closest& closest, const Vec3& origin,
+                    const Vec3& cameFrom, double distance, double onSurface);
     /// Starting point of each step: the predicted positions (dynamics) instead of the iterate.
     void setPredicted(const std::vector<Vec3>* predicted) { m_predicted = predicted; }
 

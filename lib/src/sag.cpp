@@ -72,14 +72,9 @@ public:
                 if (w[i] == 0.0) continue;
                 const MeshCollider::Closest c =
                     collider->closestToPoint(predicted[i] + h.m_origin, reach);
-                if (!c.found) continue;
-                Vec3 normal = c.normal;
-                const Vec3 onMesh = c.onMesh - h.m_origin;
-                if (c.distance < 1e-12 * meanRest && normal.dot(from[i] - onMesh) < 0.0)
-                    normal = -normal;
-                if (!normal.allFinite()) continue;
-                projection.setContact(static_cast<int>(i), normal, onMesh, radius);
-                touching[i] = 1;
+                if (c.found && projection.setContact(static_cast<int>(i), c, h.m_origin, from[i],
+                                                     radius, 1e-12 * meanRest))
+                    touching[i] = 1;
             }
         }
     }

@@ -420,12 +420,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         }
         std::vector<ActiveChange>& changes = m_changes;
         for (int pass = 0; pass < 4; ++pass) {
-            a = raw;
+            a = raw; // the upper blocks (the solve reads no more)
             rhs = rawRhs;
-            // Only the upper blocks were summed: mirror them.
-            for (int i = 0; i < rows; ++i)
-                for (int j = 0; j < i; ++j)
-                    a(i, j) = a(j, i);
             for (int g = 0; g < goalCount; ++g)
                 if (!goals[static_cast<size_t>(g)].hard)
                     for (int i = 0; i < 3; ++i) {
