@@ -48,8 +48,9 @@ double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
 /// the middle of the segment at a quarter of its length (the first arc's middle, with 5 % more
 /// hose than the straight line from the near end): pulled away from the clip, the middle draws
 /// hose through it. With `gravity`, Hose::step() (gravity −y) follows every grab, as the runtime's
-/// update does, and is checked as the grab is. With `floor`, a floor collider lies 1 mm under
-/// the hose (its plane y = 0): every point stays above it (to the collision tolerance).
+/// update does, and is checked as the grab is. With `floor`, a floor collider lies under the
+/// hose (laid in the plane y = 0), its surface 1 mm below the hose's: every point stays above it
+/// (to the collision tolerance).
 WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravity = false,
                           bool floor = false)
 {
