@@ -444,6 +444,8 @@ private:
     double m_gravityLowestEnergy = 0.0; ///< step(): lowest potential energy since an input changed
     int m_gravityStallSteps = 0;        ///< step(): steps since it last fell
     double m_gravityRetryFall = 1.0;    ///< step(): fall of a retry from rest (sag.cpp)
+    bool m_gravityFullFailed = false;   ///< step(): the last full prediction failed (sag.cpp)
+    int m_gravityFromRest = 0;          ///< step(): steps from rest since (sag.cpp)
     bool m_dirtyViolation = false;      ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
