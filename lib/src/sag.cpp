@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iterator>
 #include <limits>
 
@@ -26,6 +27,10 @@ constexpr double kFallGrowth = 4.0;
 /// A grabbed point left short of its target holds the hose at the edge of its reach; once a
 /// full prediction failed there, this many steps start from rest before it is tried again.
 constexpr int kFromRestSteps = 8;
+/// The free tails' velocity correction (Hose::step): a little more than follow-the-leader's
+/// full correction, with which a 99-segment cantilever falls as the coarse ones do
+/// (GravityStep.ACantileverFallsAlike…).
+constexpr double kTailCorrection = 1.1;
 constexpr double kStepConverged = 1e-10; ///< relative length, radians, contact depth
 /// Largest violation left by the projection that the span solver closes (relative length,
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
@@ -112,9 +117,39 @@ public:
         return moved <= kCloseMove * meanRest;
     }
 
+    /// The free tails beyond the outermost pinned points (which a step never moves), when none
+    /// touches a collider, may fall on their own: left out of the projection (inverse mass 0, so
+    /// they stay where they were during its attempts), they follow by the paper's pass from their
+    /// full prediction afterwards (Hose::step). Returns whether there are any.
+    bool separateTails()
+    {
+        const auto [lo, hi] = h.pinnedRangeOf(held);
+        if (lo > hi || (lo == 0 && hi == h.pointCount() - 1)) return false;
+        first = lo;
+        last = hi;
+        // A tail with a contact near its prediction stays in the projection (its contact rows).
+        for (size_t i = 0; i < touching.size(); ++i)
+            if (touching[i] && isTail(i)) {
+                first = 0;
+                last = std::numeric_limits<int>::max();
+                return false;
+            }
+        std::vector<double>& w = projection.inverseMass();
+        for (int i = 0; i < h.pointCount(); ++i)
+            if (isTail(static_cast<size_t>(i))) w[static_cast<size_t>(i)] = 0.0;
+        return true;
+    }
+
+    bool isTail(size_t i) const
+    {
+        return static_cast<int>(i) < first || static_cast<int>(i) > last;
+    }
+
     Hose& h;
     detail::ChainProjection projection;
     int held;
+    int first = 0, last = std::numeric_limits<int>::max(); ///< separateTails(): the pinned range
+    std::vector<Vec3> tailCorrection; ///< taken off the tails' velocity (Hose::step)
     double meanRest = 0.0;
     double radius = 0.0;
     std::vector<unsigned char> touching;
@@ -268,8 +303,11 @@ UpdateResult Hose::step()
         firstAttempt = 1;
         ++m_gravityFromRest;
     }
+    bool tails = false;
     for (size_t attempt = firstAttempt; attempt < std::size(factors) && factors[attempt] > 0.0;
          ++attempt) {
+        // Where the full prediction of the whole hose fails, its free tails fall on their own.
+        if (attempt > 0 && !tails) tails = engine.separateTails();
         // Attempt 0 carries the velocity; the others start from rest with a smaller fall.
         const double velocity = attempt == 0 ? kDamping : 0.0;
         const Vec3 move = fall * factors[attempt];
@@ -288,6 +326,32 @@ UpdateResult Hose::step()
             break;
         }
     }
+    if (tails) {
+        // The tails hang from pinned points that a step does not move: their full prediction,
+        // then the paper's pass outwards from the pins (exact, O(tail), every length and bend
+        // held by construction).
+        if (!valid) m_local = start;
+        for (size_t i = 0; i < n; ++i)
+            if (engine.isTail(i)) {
+                m_local[i] = start[i] + kDamping * (start[i] - m_gravityPrevious[i]) + fall;
+                predicted[i] = m_local[i];
+            }
+        followTails(m_held, start);
+        // Follow-the-leader's velocity correction (Müller et al. 2012): a point's velocity
+        // loses kTailCorrection times the correction its outward neighbour took, so the pass's
+        // pull along the tail does not whip its end.
+        engine.tailCorrection.assign(n, Vec3::Zero());
+        double tailMotion = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            if (!engine.isTail(i)) continue;
+            tailMotion = std::max(tailMotion, (m_local[i] - start[i]).norm());
+            const size_t outward = static_cast<int>(i) > engine.last ? i + 1 : i - 1;
+            if (outward < n && engine.isTail(outward))
+                engine.tailCorrection[i] =
+                    kTailCorrection * (m_local[outward] - predicted[outward]);
+        }
+        if (!valid && tailMotion > kSettledMotion * engine.meanRest) valid = true;
+    }
     if (!valid) {
         // Nothing valid within the budget: the hose stays where it is, at rest, until an input
         // changes.
@@ -304,6 +368,23 @@ UpdateResult Hose::step()
     m_gravityPrevious = start;
     for (size_t i = 0; i < n; ++i)
         if (engine.touching[i]) m_gravityPrevious[i] = m_local[i];
+    if (!engine.tailCorrection.empty()) {
+        // No tail point carries on faster than it would after falling freely from the hose's
+        // highest point (the pass must not add energy).
+        const Vec3 down = m_spec.gravity.direction.normalized();
+        double top = -std::numeric_limits<double>::infinity();
+        for (const Vec3& p : m_local)
+            top = std::max(top, -down.dot(p));
+        for (size_t i = 0; i < n; ++i) {
+            if (!engine.isTail(i)) continue;
+            m_gravityPrevious[i] += engine.tailCorrection[i];
+            const double height = std::max(0.0, top + down.dot(m_local[i]));
+            const double most = std::sqrt(2.0 * kGravity * height) * kFrameTime + fall.norm();
+            const Vec3 velocity = m_local[i] - m_gravityPrevious[i];
+            const double speed = velocity.norm();
+            if (speed > most) m_gravityPrevious[i] = m_local[i] - velocity * (most / speed);
+        }
+    }
     m_dirtyViolation = false;
     ++m_revision;
     const int iterations = result.iterations;

@@ -1104,6 +1104,19 @@ bool Hose::closeSpans(int held, const std::vector<Vec3>& before, int& iterations
     return measureViolation().status == Status::Ok;
 }
 
+std::pair<int, int> Hose::pinnedRangeOf(int held) const
+{
+    return pinnedRange(m_attachments, held);
+}
+
+void Hose::followTails(int held, const std::vector<Vec3>& before)
+{
+    const auto [lo, hi] = pinnedRange(m_attachments, held);
+    if (lo > hi) return;
+    Solver tails(*this);
+    tails.sweepTails(lo, hi, before, true);
+}
+
 UpdateResult Hose::settleFrom(int held)
 {
     if (held >= pointCount() || (held >= 0 && m_fixed[static_cast<size_t>(held)])) held = -1;

@@ -407,6 +407,11 @@ private:
     /// the update, for its fold-back rule). Bounded (the span solver's steps per span, one
     /// pass). Returns whether every constraint holds; the points may have moved either way.
     bool closeSpans(int held, const std::vector<Vec3>& before, int& iterations);
+    /// The first and last point of the attachments and `held` (first > last: nothing pinned).
+    std::pair<int, int> pinnedRangeOf(int held) const;
+    /// The paper's pass over the free tails beyond pinnedRangeOf(held), every tail point placed
+    /// from where it is (solver.cpp). `before`: the positions before the update.
+    void followTails(int held, const std::vector<Vec3>& before);
     /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
     double turnExcess(size_t j, const std::vector<Vec3>& points) const;
 
