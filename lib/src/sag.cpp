@@ -53,6 +53,10 @@ public:
         projection.setRange(0, h.pointCount() - 1);
         projection.useMassesFromRestLengths(heldPoint);
         meanRest = h.restLengthTotal() / h.segmentCount();
+        const std::vector<double>& w = projection.inverseMass();
+        moving.resize(w.size());
+        for (size_t i = 0; i < w.size(); ++i)
+            moving[i] = w[i] != 0.0 ? 1 : 0;
     }
 
     /// Contacts of the free points with the colliders near their predicted positions: the
@@ -140,6 +144,17 @@ public:
         return true;
     }
 
+    /// Whether every point from the first to the last pinned one is fixed or held (a hose
+    /// hanging from one attachment or the held point: its tails are all that falls).
+    bool onlyTailsFall() const
+    {
+        const auto [lo, hi] = h.pinnedRangeOf(held);
+        if (lo > hi) return false;
+        for (int i = lo; i <= hi; ++i)
+            if (moving[static_cast<size_t>(i)]) return false;
+        return true;
+    }
+
     bool isTail(size_t i) const
     {
         return static_cast<int>(i) < first || static_cast<int>(i) > last;
@@ -149,7 +164,8 @@ public:
     detail::ChainProjection projection;
     int held;
     int first = 0, last = std::numeric_limits<int>::max(); ///< separateTails(): the pinned range
-    std::vector<Vec3> tailCorrection; ///< taken off the tails' velocity (Hose::step)
+    std::vector<Vec3> tailCorrection;  ///< taken off the tails' velocity (Hose::step)
+    std::vector<unsigned char> moving; ///< points a step moves (not fixed, not held)
     double meanRest = 0.0;
     double radius = 0.0;
     std::vector<unsigned char> touching;
@@ -297,9 +313,13 @@ UpdateResult Hose::step()
     // from rest, as the failed attempt's retries would, while the point stays there. (Not
     // with colliders: there the failed attempt's working set helps the retries, whose p99
     // grew by a fifth without it.)
+    // A hose of which only the tails fall (hanging from one attachment or the held point alone)
+    // goes on without the projection once its full prediction failed: its tails fall by the
+    // paper's pass from their full prediction (below) whatever the projection does.
     const bool heldAtEdge = m_held >= 0 && m_trustCarry.point == m_held && m_colliders.empty();
+    const bool onlyTails = m_colliders.empty() && engine.onlyTailsFall();
     size_t firstAttempt = 0;
-    if (heldAtEdge && m_gravityFullFailed && m_gravityFromRest < kFromRestSteps) {
+    if (m_gravityFullFailed && (onlyTails || (heldAtEdge && m_gravityFromRest < kFromRestSteps))) {
         firstAttempt = 1;
         ++m_gravityFromRest;
     }

@@ -502,3 +502,38 @@ TEST(GravityStep, ACantileverFallsAlikeAtEveryResolutionWithoutWhipping)
         EXPECT_LT(worstJump, freeFallStep(0.0, lowest)) << segments << " segments";
     }
 }
+
+// A hose held by one end alone (the VR hand): its tails are all that falls, so once the whole
+// hose's full prediction failed (at fine resolutions) its steps skip the projection (one Newton
+// step's worth of work each), and it hangs straight down at every resolution.
+TEST(GravityStep, AHoseHeldByOneEndHangsStraightDownWithoutTheProjection)
+{
+    for (const int segments : {24, 99, 399}) {
+        HoseSpec spec;
+        spec.segmentCount = segments;
+        spec.outerDiameter = 0.01;
+        spec.material.expansionCoefficient = 0.0;
+        spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+        spec.gravity.enabled = true;
+        Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+        ASSERT_TRUE(hose.grab(0, Vec3::Zero()).ok());
+        int projected = 0, steps = 0; // steps that ran the projection (more than 1 Newton step)
+        for (; steps < 2000; ++steps) {
+            const std::uint64_t revision = hose.revision();
+            const UpdateResult r = hose.step();
+            ASSERT_EQ(r.status, Status::Ok) << segments << " segments, step " << steps;
+            ASSERT_LE(r.lengthViolation, 1e-9) << segments << " segments, step " << steps;
+            ASSERT_LE(r.angleViolation, 1e-9) << segments << " segments, step " << steps;
+            projected += r.iterations > 1;
+            if (hose.revision() == revision) break;
+        }
+        std::printf("[ figures ] held by one end, %d segments: settled after %d steps, lowest "
+                    "point %.4f m, %d steps ran the projection\n",
+                    segments, steps, lowestY(hose), projected);
+        EXPECT_LT(steps, 2000) << segments << " segments";
+        EXPECT_LT(lowestY(hose), -0.99) << segments << " segments";
+        if (segments > 24) {
+            EXPECT_LE(projected, 20) << segments << " segments"; // of 400 and more
+        }
+    }
+}
