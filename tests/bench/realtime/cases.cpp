@@ -188,6 +188,10 @@ const std::vector<HoseCase>& hoseCases()
          true},
         {"ends-fixed-clip", "ends fixed, a sliding clip at a quarter, middle point on the walk",
          true, false, false, true},
+        {"held-end-gravity",
+         "held by one end alone on the walk, per-frame gravity (a hose in a "
+         "hand)",
+         false, true, false, false, true},
     };
     return cases;
 }
@@ -213,6 +217,13 @@ CaseSetup caseSetup(const HoseCase& hoseCase, int points)
     setup.box.max =
         Vec3(0.5 * C::span + scale * (half - 0.5 * C::span), scale * reach, scale * reach);
     setup.floorY = -(0.5 * C::outerDiameter + C::floorGap);
+    if (hoseCase.heldEnd) {
+        // The same box about the first point (the walk starts there).
+        const Vec3 shift = setup.axis.front() - Vec3(0.5 * C::span, 0.0, 0.0);
+        setup.box.min += shift;
+        setup.box.max += shift;
+        setup.middle = 0;
+    }
     return setup;
 }
 

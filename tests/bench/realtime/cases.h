@@ -136,6 +136,9 @@ struct HoseCase
     /// A sliding clip that never moves (identity frame) at the middle of the segment at a
     /// quarter of the hose (Hose::addClip); the XPBD rod has no sliding clip and is not run.
     bool clip = false;
+    /// The hose held by its first point alone (a hose in a hand), walked in a box of the same
+    /// size about where that point starts.
+    bool heldEnd = false;
 };
 const std::vector<HoseCase>& hoseCases();
 
