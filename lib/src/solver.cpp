@@ -125,6 +125,11 @@ public:
                     }
                 }
                 v = cosLimit * *incoming + (sinLimit * wnInverse) * w;
+                // Unit to rounding; but along a long run of joints all at their limit (a tail
+                // falling from far off) each one carries the last one's rounding on and grows
+                // it (by 10 % a joint at 400 points): such a direction is normalised again.
+                const double v2 = v.squaredNorm();
+                if (!(std::abs(v2 - 1.0) <= 1e-14)) v *= 1.0 / std::sqrt(v2);
                 moved = true;
                 turned = true;
             }
