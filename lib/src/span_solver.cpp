@@ -665,11 +665,17 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        const Outcome o =
-            solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
-                  endDirection, stepIterations, tolerance, false, kHardTryRejects);
+        // Towards a target beyond the reach balls that moved on while the last grab got the point
+        // no nearer (it stays at the edge of its reach), the hard try fails at its first Newton
+        // step in nearly every frame: the soft try alone.
+        const bool softOnly = samePoint && !held && h.m_trustCarry.stalled && requested;
+        Outcome o;
+        if (!softOnly)
+            o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
+                      endDirection, stepIterations, tolerance, false, kHardTryRejects);
         out.iterations += o.iterations;
-        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
+        if (!softOnly && o.valid &&
+            progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
             if (o.goalsMet) radius = 2.0 * std::min(radius, error);
             ++gained;
