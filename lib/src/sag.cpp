@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <tuple>
 
 namespace chaintube {
 
@@ -52,6 +53,7 @@ public:
         projection.setRange(0, h.pointCount() - 1);
         projection.useMassesFromRestLengths(heldPoint);
         meanRest = h.restLengthTotal() / h.segmentCount();
+        std::tie(pinnedFirst, pinnedLast) = h.pinnedRangeOf(heldPoint);
         const std::vector<double>& w = projection.inverseMass();
         moving.resize(w.size());
         for (size_t i = 0; i < w.size(); ++i)
@@ -126,10 +128,10 @@ public:
     /// full prediction afterwards (Hose::step). Returns whether there are any.
     bool separateTails()
     {
-        const auto [lo, hi] = h.pinnedRangeOf(held);
-        if (lo > hi || (lo == 0 && hi == h.pointCount() - 1)) return false;
-        first = lo;
-        last = hi;
+        if (pinnedFirst > pinnedLast || (pinnedFirst == 0 && pinnedLast == h.pointCount() - 1))
+            return false;
+        first = pinnedFirst;
+        last = pinnedLast;
         // A tail with a contact near its prediction stays in the projection (its contact rows).
         for (size_t i = 0; i < touching.size(); ++i)
             if (touching[i] && isTail(i)) {
@@ -147,9 +149,8 @@ public:
     /// hanging from one attachment or the held point: its tails are all that falls).
     bool onlyTailsFall() const
     {
-        const auto [lo, hi] = h.pinnedRangeOf(held);
-        if (lo > hi) return false;
-        for (int i = lo; i <= hi; ++i)
+        if (pinnedFirst > pinnedLast) return false;
+        for (int i = pinnedFirst; i <= pinnedLast; ++i)
             if (moving[static_cast<size_t>(i)]) return false;
         return true;
     }
@@ -162,6 +163,7 @@ public:
     Hose& h;
     detail::ChainProjection projection;
     int held;
+    int pinnedFirst = 0, pinnedLast = -1;                  ///< Hose::pinnedRangeOf(held)
     int first = 0, last = std::numeric_limits<int>::max(); ///< separateTails(): the pinned range
     std::vector<Vec3> tailCorrection;  ///< taken off the tails' velocity (Hose::step)
     std::vector<unsigned char> moving; ///< points a step moves (not fixed, not held)

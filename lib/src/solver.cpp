@@ -1104,8 +1104,7 @@ bool Hose::closeSpans(int held, const std::vector<Vec3>& before, int& iterations
     PinnedSpans spans(*this, lo, hi, held);
     spans.spanSteps = kCloseSpanSteps;
     if (!spans.hard(iterations)) return false;
-    Solver tails(*this);
-    tails.sweepTails(lo, hi, before, true);
+    followTails(held, before);
     return measureViolation().status == Status::Ok;
 }
 

@@ -669,13 +669,12 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         // no nearer (it stays at the edge of its reach), the hard try fails at its first Newton
         // step in nearly every frame: the soft try alone.
         const bool softOnly = samePoint && !held && h.m_trustCarry.stalled && requested;
-        Outcome o;
+        Outcome o; // not valid: a soft-only step goes on to the soft try
         if (!softOnly)
             o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
                       endDirection, stepIterations, tolerance, false, kHardTryRejects);
         out.iterations += o.iterations;
-        if (!softOnly && o.valid &&
-            progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
+        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
             if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
             if (o.goalsMet) radius = 2.0 * std::min(radius, error);
             ++gained;

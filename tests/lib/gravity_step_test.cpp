@@ -49,6 +49,27 @@ double freeFallStep(double top, double lowest)
     return std::sqrt(2.0 * 9.81 * std::max(0.0, top - lowest)) * frame + 9.81 * frame * frame;
 }
 
+// The largest distance a point of `hose` moved from `before`.
+double largestMove(const Hose& hose, const std::vector<Vec3>& before)
+{
+    double largest = 0.0;
+    for (int i = 0; i < hose.pointCount(); ++i)
+        largest = std::max(largest, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+    return largest;
+}
+
+// A 1 m inextensible hose straight along x, bend radius at least 0.1 m, gravity on.
+Hose straightBendLimitedHose(int segments)
+{
+    HoseSpec spec;
+    spec.segmentCount = segments;
+    spec.outerDiameter = 0.01;
+    spec.material.expansionCoefficient = 0.0;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    spec.gravity.enabled = true;
+    return Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+}
+
 // Steps until settled (a step that does nothing), at most maxSteps. Returns the steps taken.
 int stepUntilSettled(Hose& hose, int maxSteps, double* worstLength = nullptr,
                      double* worstAngle = nullptr)
@@ -372,9 +393,7 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsWithoutWhipping)
         EXPECT_EQ(r.status, Status::Ok) << "step " << s;
         worstLength = std::max(worstLength, r.lengthViolation);
         worstAngle = std::max(worstAngle, r.angleViolation);
-        for (int i = 0; i < hose.pointCount(); ++i)
-            worstJump =
-                std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+        worstJump = std::max(worstJump, largestMove(hose, before));
         lowest = std::min(lowest, lowestY(hose));
     }
     std::printf(
@@ -412,9 +431,7 @@ TEST(GravityStep, AFreeEndOffASteepAttachmentFallsNearlyAsLowAsTheStaticSag)
         ASSERT_EQ(r.status, Status::Ok) << "step " << steps;
         ASSERT_LE(r.lengthViolation, 1e-9) << "step " << steps;
         ASSERT_LE(r.angleViolation, 1e-9) << "step " << steps;
-        for (int i = 0; i < hose.pointCount(); ++i)
-            worstJump =
-                std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+        worstJump = std::max(worstJump, largestMove(hose, before));
         lowest = std::min(lowest, lowestY(hose));
         if (hose.revision() == revision) break;
     }
@@ -471,13 +488,7 @@ TEST(GravityStep, ACantileverFallsAlikeAtEveryResolutionWithoutWhipping)
 {
     double coarseAt30 = 0.0;
     for (const int segments : {12, 24, 49, 99}) {
-        HoseSpec spec;
-        spec.segmentCount = segments;
-        spec.outerDiameter = 0.01;
-        spec.material.expansionCoefficient = 0.0;
-        spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-        spec.gravity.enabled = true;
-        Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+        Hose hose = straightBendLimitedHose(segments);
         hose.attach(0, 1, Frame::identity());
         double worstJump = 0.0, lowest = 0.0;
         std::vector<double> endY;
@@ -487,9 +498,7 @@ TEST(GravityStep, ACantileverFallsAlikeAtEveryResolutionWithoutWhipping)
             ASSERT_EQ(r.status, Status::Ok) << segments << " segments, step " << s;
             ASSERT_LE(r.lengthViolation, 1e-9) << segments << " segments, step " << s;
             ASSERT_LE(r.angleViolation, 1e-9) << segments << " segments, step " << s;
-            for (int i = 0; i < hose.pointCount(); ++i)
-                worstJump =
-                    std::max(worstJump, (hose.point(i) - before[static_cast<size_t>(i)]).norm());
+            worstJump = std::max(worstJump, largestMove(hose, before));
             lowest = std::min(lowest, lowestY(hose));
             endY.push_back(hose.points().back().y());
         }
@@ -510,13 +519,7 @@ TEST(GravityStep, ACantileverFallsAlikeAtEveryResolutionWithoutWhipping)
 TEST(GravityStep, AHoseHeldByOneEndHangsStraightDownWithoutTheProjection)
 {
     for (const int segments : {24, 99, 399}) {
-        HoseSpec spec;
-        spec.segmentCount = segments;
-        spec.outerDiameter = 0.01;
-        spec.material.expansionCoefficient = 0.0;
-        spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-        spec.gravity.enabled = true;
-        Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+        Hose hose = straightBendLimitedHose(segments);
         ASSERT_TRUE(hose.grab(0, Vec3::Zero()).ok());
         int projected = 0, steps = 0; // steps that ran the projection (more than 1 Newton step)
         for (; steps < 2000; ++steps) {
@@ -545,13 +548,7 @@ TEST(GravityStep, AHoseHeldByOneEndHangsStraightDownWithoutTheProjection)
 // 1e-9 after every step (around frame 13,000 the tail falls from farthest off).
 TEST(GravityStep, AHoseHeldByOneEndOnAWalkKeepsEveryLengthAt400Points)
 {
-    HoseSpec spec;
-    spec.segmentCount = 399;
-    spec.outerDiameter = 0.01;
-    spec.material.expansionCoefficient = 0.0;
-    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-    spec.gravity.enabled = true;
-    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    Hose hose = straightBendLimitedHose(399);
     std::mt19937_64 random(7);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     Vec3 target = hose.point(0);
