@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace chaintube::detail {
 
@@ -165,6 +166,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     m_lengthHeld.assign(segments, 0);
     m_normal.resize(segments);
     m_room.resize(segments);
+    m_roomBound.resize(segments);
     m_turnSin.resize(segments);
     m_turnCos.resize(segments);
     const bool stretchable = h.m_spec.material.expansionCoefficient > 0.0;
@@ -178,15 +180,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             m_room[k] = limitAngle(static_cast<int>(k)) - std::atan2(m_turnSin[k], m_turnCos[k]);
         return m_room[k];
     };
-    // Whether a free joint turning by t more along its normal passes its limit. The turn is at
-    // most tan(turn) = sin / cos below a right angle, so a small t is decided without atan2.
-    auto passesLimit = [&](size_t k, double t) {
-        if (!(t > 0.0)) return false;
-        if (m_turnCos[k] > 0.0 && std::isnan(m_room[k]) &&
-            t <= limitAngle(static_cast<int>(k)) - m_turnSin[k] / m_turnCos[k])
-            return false;
-        return t > roomOf(k);
-    };
+    // Whether a free joint turning by t more along its normal passes its limit (t above the
+    // joint's lower bound of its room, m_roomBound: the exact room decides).
+    auto passesLimit = [&](size_t k, double t) { return t > 0.0 && t > roomOf(k); };
     // The direction before segment s (null for the root without a fixed segment before it).
     auto previousOf = [&](const std::vector<Vec3>& d, int s) -> const Vec3* {
         if (s > 0) return &d[static_cast<size_t>(s - 1)];
@@ -194,28 +190,36 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     };
     auto limited = [&](int s) { return previousOf(m_direction, s) && limitCos(s) > -1.0 + 1e-12; };
 
-    // Clamps every joint of `d` to its limit, in order, turning the rest of the chain with
-    // each correction (so the joints after it keep their turns). The corrections are built from
-    // unit vectors, so they are orthogonal and the directions they turn stay unit to rounding.
+    // Clamps every joint to its limit, in order, turning the rest of the chain with each
+    // correction (so the joints after it keep their turns): clampJoint(d, s, …) takes direction
+    // s of `d` (those before it done) through the correction so far and clamps it. The
+    // corrections are built from unit vectors, so they are orthogonal and the directions they
+    // turn stay unit to rounding.
+    auto clampJoint = [&](std::vector<Vec3>& d, int s, Mat3& correction, bool& corrected) {
+        Vec3& ds = d[static_cast<size_t>(s)];
+        if (corrected) ds = correction * ds;
+        const Vec3* before = previousOf(d, s);
+        const double cosLimit = limitCos(s);
+        if (!before || !(cosLimit > -1.0 + 1e-12)) return;
+        // before·ds ≥ cos·|ds|, without the square root where both sides are positive.
+        const double dot = before->dot(ds);
+        if (cosLimit >= 0.0 ? dot >= 0.0 && dot * dot >= cosLimit * cosLimit * ds.squaredNorm()
+                            : dot >= cosLimit * ds.norm())
+            return;
+        const Vec3 unit = ds.normalized();
+        const double c = before->dot(unit);
+        Vec3 w = unit - c * *before;
+        if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
+        const Vec3 clamped = (cosLimit * *before + limitSin(s) * w.normalized()).normalized();
+        correction = rotationBetween(unit, clamped) * correction;
+        corrected = true;
+        ds = clamped;
+    };
     auto clampChain = [&](std::vector<Vec3>& d) {
         Mat3 correction = Mat3::Identity();
         bool corrected = false;
-        for (int s = 0; s < m; ++s) {
-            Vec3& ds = d[static_cast<size_t>(s)];
-            if (corrected) ds = correction * ds;
-            const Vec3* before = previousOf(d, s);
-            if (!before || !(limitCos(s) > -1.0 + 1e-12)) continue;
-            if (before->dot(ds) >= limitCos(s) * ds.norm()) continue;
-            const Vec3 unit = ds.normalized();
-            const double c = before->dot(unit);
-            Vec3 w = unit - c * *before;
-            if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
-            const Vec3 clamped =
-                (limitCos(s) * *before + limitSin(s) * w.normalized()).normalized();
-            correction = rotationBetween(unit, clamped) * correction;
-            corrected = true;
-            ds = clamped;
-        }
+        for (int s = 0; s < m; ++s)
+            clampJoint(d, s, correction, corrected);
     };
     auto forward = [&](const std::vector<Vec3>& d, const std::vector<double>& l) {
         m_position[0] = p[static_cast<size_t>(root)];
@@ -319,22 +323,31 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             if (sn > 1e-12) bendAxis = last.cross(g / sn);
         }
         // Per joint: the normal of its bend plane (turning about it increases the turn) and how
-        // far the turn may still grow.
+        // far the turn may still grow. A free joint's room is worked out when a step might use
+        // it up (roomOf); until then m_roomBound holds a lower bound: below a right angle the turn
+        // is asin(sin) ≤ sin + (π/2 − 1) sin³ (the series of asin has positive terms summing to π/2
+        // at 1), so most joints are decided without atan2 (−∞: the exact test, +∞: no limit to
+        // pass).
+        constexpr double kInfinity = std::numeric_limits<double>::infinity();
+        constexpr double kAsinCubic = std::numbers::pi / 2.0 - 1.0;
         for (int s = 0; s < m; ++s) {
             const size_t k = static_cast<size_t>(s);
             m_normal[k] = Vec3::Zero();
             m_room[k] = 1e300;
+            m_roomBound[k] = kInfinity;
             if (!limited(s)) continue;
             const Vec3& before = *previousOf(m_direction, s);
             const Vec3 cross = before.cross(m_direction[k]);
             const double sn = cross.norm();
+            m_roomBound[k] = -kInfinity;
             if (!(sn > 1e-12)) continue; // straight (or folded): no bend plane to limit in
             m_normal[k] = cross / sn;
             m_turnSin[k] = sn;
             m_turnCos[k] = before.dot(m_direction[k]);
-            // The room of a free joint is worked out when a step might use it up (roomOf).
             m_room[k] =
                 m_saturated[k] ? limitAngle(s) - std::atan2(sn, m_turnCos[k]) : kRoomUnknown;
+            if (!m_saturated[k] && m_turnCos[k] > 0.0)
+                m_roomBound[k] = limitAngle(s) - sn * (1.0 + kAsinCubic * sn * sn);
         }
         // Blocks of three rows (the goals, then the end) and the end's bend row. Joint s turns
         // segments s … m−1 about position s: a block's point q > s moves by ω × (p_q − p_s)
@@ -493,6 +506,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     } else {
                         w += (m_room[k] - n.dot(w)) * n;
                     }
+                } else if (!(n.dot(w) > m_roomBound[k])) {
+                    // Inside the bound of its room (or no limit): stays free.
                 } else if (hasNormal && passesLimit(k, n.dot(w))) {
                     m_saturated[k] = 1;
                     changed = true;
@@ -539,7 +554,13 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         // starts from normalised directions; over the walks of tests/ a direction's length stays
         // within 1e-13 of 1), so only larger rotations, whose rounding grows with |ω|², are
         // normalised again.
+        // Each direction turned is clamped back within its limit at once (the rest of the chain
+        // turning with it) and placed.
+        std::swap(m_savedPositions, m_position); // every position is written
+        m_position[0] = p[static_cast<size_t>(root)];
         Vec3 total = Vec3::Zero();
+        Mat3 correction = Mat3::Identity();
+        bool corrected = false;
         for (size_t s = 0; s < segments; ++s) {
             total += omega[s];
             m_trial[s] = cayley(total, m_direction[s]);
@@ -547,13 +568,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             const size_t k = segment(static_cast<int>(s));
             m_trialLength[s] =
                 std::clamp(m_length[s] + stretch[s], h.m_minLength[k], h.m_maxLength[k]);
+            clampJoint(m_trial, static_cast<int>(s), correction, corrected);
+            m_position[s + 1] = m_position[s] + m_trialLength[s] * m_trial[s];
         }
-        // Every joint back within its limit (the rest of the chain turning with each one).
-        std::swap(m_direction, m_trial);
-        clampChain(m_direction);
-        std::swap(m_direction, m_trial);
-        std::swap(m_savedPositions, m_position); // forward() writes every position
-        forward(m_trial, m_trialLength);
         std::swap(m_direction, m_trial);
         std::swap(m_length, m_trialLength);
         State next;

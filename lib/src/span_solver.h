@@ -99,7 +99,7 @@ private:
     std::vector<ActiveChange> m_changes;
     std::vector<Vec3> m_saved, m_savedPositions;
     std::vector<Vec3> m_direction, m_trial, m_position;
-    std::vector<double> m_length, m_trialLength, m_room, m_turnSin, m_turnCos;
+    std::vector<double> m_length, m_trialLength, m_room, m_roomBound, m_turnSin, m_turnCos;
     std::vector<Vec3> m_normal, m_omega;
     std::vector<double> m_stretch;
     std::vector<unsigned char> m_saturated;
