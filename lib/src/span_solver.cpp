@@ -22,6 +22,9 @@ constexpr int kHardTryRejects = 1;
 /// SpanSolver::advance: a goal within this many segments of the last grab's is the same goal (a
 /// held target), whose trust radius goes on from where that grab left it.
 constexpr double kHeldGoal = 1e-3;
+/// SpanSolver::advance: a sub-goal farther than this many segments whose hard try failed is
+/// tried again at half the distance before any soft try.
+constexpr double kFarSubGoal = 8.0;
 /// SpanSolver::advance: steps towards a target that moved when the last grab of the point got it
 /// no nearer (it stays at the edge of its reach while the target moves beyond it: the steps after
 /// a first one that fails gain nothing either, in nearly every frame).
@@ -700,7 +703,13 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
             continue;
         }
         std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
-        radius = 0.5 * std::min(radius, error);
+        const double distance = std::min(radius, error); // to the sub-goal
+        radius = 0.5 * distance;
+        // A far sub-goal is tried again at half the distance, without the soft try: that gains
+        // about a hundredth of the way a Newton step (its goal rows damped), nothing worth its
+        // steps this far out, and a grab that ended after it would leave a fine hose lagging
+        // behind its target frame after frame.
+        if (distance > kFarSubGoal * rest && step + 1 < maxSteps) continue;
         // The sub-goal is out of the span's reach (bend limits and the fixed segments' tangents
         // make the reachable set smaller than the balls of the grab's reach): the point goes as
         // near it as the span allows, the end still hard, so a held target keeps coming nearer
