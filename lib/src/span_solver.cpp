@@ -649,7 +649,8 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     const bool held = samePoint && (target - h.m_trustCarry.goal).norm() <= kHeldGoal * rest;
     double radius = held ? h.m_trustCarry.radius : std::numeric_limits<double>::infinity();
     if (samePoint && !held && h.m_trustCarry.stalled) maxSteps = std::min(maxSteps, kStalledSteps);
-    int gained = 0; // steps that brought the point nearer
+    int gained = 0;          // steps that brought the point nearer
+    bool softFailed = false; // a soft try that brought it no nearer
     for (int step = 0; step < maxSteps && (held || gained < movingSteps); ++step) {
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
@@ -710,6 +711,9 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         // steps this far out, and a grab that ended after it would leave a fine hose lagging
         // behind its target frame after frame.
         if (distance > kFarSubGoal * rest && step + 1 < maxSteps) continue;
+        // A soft try that brought the point no nearer in this call is not made again at a
+        // nearer sub-goal: at the edge of the reachable set it gains nothing there either.
+        if (softFailed) continue;
         // The sub-goal is out of the span's reach (bend limits and the fixed segments' tangents
         // make the reachable set smaller than the balls of the grab's reach): the point goes as
         // near it as the span allows, the end still hard, so a held target keeps coming nearer
@@ -720,10 +724,12 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
         if (moving >= 0) goals[static_cast<size_t>(moving)].hard = true;
         out.iterations += soft.iterations;
         // A soft step counts when it gains kEdgeGain of a segment (the same creep).
-        if (soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain))
+        if (soft.valid && progress(p[static_cast<size_t>(point)], kEdgeGain)) {
             ++gained;
-        else
+        } else {
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
+            softFailed = true;
+        }
     }
     if (!out.goalsMet && (target - p[static_cast<size_t>(point)]).norm() <= tolerance * rest) {
         p[static_cast<size_t>(point)] = target;
