@@ -3,6 +3,7 @@
 // a band as wide as the matrix). Internal to lib/.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -37,11 +38,22 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
             rhs[i + d] -= factor * rhs[i];
         }
     }
+    // Back substitution. Only the term of x[i + 1] waits for the row just solved: the others
+    // are summed first (two partial sums), so a row's latency is one multiply-add and one
+    // multiply, not a chain of width − 1 multiply-adds.
     for (std::size_t i = m; i-- > 0;) {
-        double x = rhs[i];
-        for (std::size_t d = 1; d < width && i + d < m; ++d)
-            x -= band[i * width + d] * rhs[i + d];
-        const double inverse = band[i * width];
+        const std::size_t last = std::min(width, m - i); // terms d = 1 … last − 1
+        const double* row = band + i * width;
+        double even = 0.0, odd = 0.0;
+        std::size_t d = 2;
+        for (; d + 1 < last; d += 2) {
+            even += row[d] * rhs[i + d];
+            odd += row[d + 1] * rhs[i + d + 1];
+        }
+        if (d < last) even += row[d] * rhs[i + d];
+        double x = rhs[i] - (even + odd);
+        if (last > 1) x -= row[1] * rhs[i + 1];
+        const double inverse = row[0];
         rhs[i] = inverse != 0.0 ? x * inverse : 0.0; // 0: a dropped row
     }
     return dropped;
