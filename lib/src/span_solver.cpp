@@ -367,38 +367,37 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         RowVector rawRhs, lambda, rhs;
         raw.setZero(rows, rows);
         rawRhs = -current.residual;
-        auto add = [&](int s, bool held, bool lengthFree, double sign) {
-            // A joint held on its limit turns along it: its turn grows by exactly its room
-            // (≥ 0, tiny), the rest of its rotation is free.
-            Vec3 v[kMaxRows / 3], c[kMaxRows / 3], e[kMaxRows / 3];
+        // A joint's change of state in the normal equations: only the terms of its state change
+        // (a joint held on its limit turns along it: its turn grows by exactly its room, ≥ 0 and
+        // tiny, the rest of its rotation is free; a free length adds d dᵀ).
+        auto toggle = [&](int s, int heldSign, int lengthSign) {
             const size_t k = static_cast<size_t>(s);
             const Vec3& d = m_direction[k];
             const Vec3& n = m_normal[k];
             int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
             while (first < blocks && blockPoint[first] <= s)
                 ++first;
+            Vec3 v[kMaxRows / 3], e[kMaxRows / 3];
             for (int b = first; b < blocks; ++b) {
                 v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
-                c[b] = v[b].cross(d);
-                if (held) e[b] = v[b].cross(n);
+                e[b] = v[b].cross(n);
             }
+            const Mat3 dd = d * d.transpose();
             for (int b = first; b < blocks; ++b) {
                 for (int q = b; q < blocks; ++q) {
-                    Mat3 block = -v[q] * v[b].transpose() - c[b] * c[q].transpose();
-                    block.diagonal().array() += v[b].dot(v[q]);
-                    if (held) block -= e[b] * e[q].transpose();
-                    if (lengthFree) block += d * d.transpose();
-                    raw.block<3, 3>(3 * b, 3 * q) += sign * block;
+                    Mat3 block = Mat3::Zero();
+                    if (heldSign != 0) block -= heldSign * (e[b] * e[q].transpose());
+                    if (lengthSign != 0) block += lengthSign * dd;
+                    raw.block<3, 3>(3 * b, 3 * q) += block;
                 }
-                if (held) rawRhs.segment<3>(3 * b) -= sign * m_room[k] * n.cross(v[b]);
+                if (heldSign != 0) rawRhs.segment<3>(3 * b) += heldSign * m_room[k] * e[b];
             }
-            if (current.bendRow) {
-                Vec3 pu = u - u.dot(d) * d;
-                if (held) pu -= u.dot(n) * n;
-                raw(rows - 1, rows - 1) += sign * u.dot(pu);
+            if (current.bendRow && heldSign != 0) { // (the bend row's free-length part is 0)
+                const double un = u.dot(n);
+                raw(rows - 1, rows - 1) -= heldSign * un * un;
                 for (int b = first; b < blocks; ++b)
-                    raw.block<3, 1>(3 * b, rows - 1) -= sign * v[b].cross(pu);
-                if (held) rawRhs(rows - 1) -= sign * m_room[k] * u.dot(n);
+                    raw.block<3, 1>(3 * b, rows - 1) += heldSign * un * e[b];
+                rawRhs(rows - 1) -= heldSign * m_room[k] * un;
             }
         };
         // Every joint's part at once: the joints between consecutive block points (the run
@@ -548,8 +547,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             if (!changed) break;
             for (const ActiveChange& change : changes) {
                 const size_t k = static_cast<size_t>(change.joint);
-                add(change.joint, change.held, change.lengthFree, -1.0);
-                add(change.joint, m_saturated[k] != 0, stretchable && !m_lengthHeld[k], 1.0);
+                const bool held = m_saturated[k] != 0, lengthFree = stretchable && !m_lengthHeld[k];
+                toggle(change.joint, held == change.held ? 0 : (held ? 1 : -1),
+                       lengthFree == change.lengthFree ? 0 : (lengthFree ? 1 : -1));
             }
         }
         // The step: joint rotations accumulate along the chain. A Cayley rotation is
