@@ -688,10 +688,14 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        // Towards a target beyond the reach balls that moved on while the last grab got the point
-        // no nearer (it stays at the edge of its reach), the hard try fails at its first Newton
-        // step in nearly every frame: the soft try alone.
-        const bool softOnly = samePoint && !held && h.m_trustCarry.stalled && requested;
+        // Towards a target beyond the reach balls (clamped to 1e-6 inside them: reaching it
+        // would take the span nearly straight, which the bends at its ends do not allow), the
+        // hard try from a whole trust radius fails: the soft try alone. So, too, at any radius,
+        // when the target moved on while the last grab got the point no nearer (it stays at the
+        // edge of its reach). A far target keeps the hard try, whose failure halves the way.
+        const bool softOnly = requested && !held &&
+                              ((samePoint && h.m_trustCarry.stalled) ||
+                               (step == 0 && std::min(radius, error) <= kFarSubGoal * rest));
         Outcome o; // not valid: a soft-only step goes on to the soft try
         if (!softOnly)
             o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,

@@ -242,8 +242,9 @@ TEST(ClampBetweenFixedPoints,
                 afterNothing, most);
     EXPECT_GE(afterNothing, 20);
     // Nor does any grab repeat a soft try that gained nothing at a nearer sub-goal (24 Newton
-    // steps in a grab here when it did).
-    EXPECT_LE(most, 12);
+    // steps in a grab here when it did), or start with a hard try towards the target clamped
+    // into the reach balls, which fails (9 when it did).
+    EXPECT_LE(most, 8);
 }
 
 // At rest at the edge of its reach, the same target again with nothing changed returns the same
