@@ -54,10 +54,6 @@ public:
         projection.useMassesFromRestLengths(heldPoint);
         meanRest = h.restLengthTotal() / h.segmentCount();
         std::tie(pinnedFirst, pinnedLast) = h.pinnedRangeOf(heldPoint);
-        const std::vector<double>& w = projection.inverseMass();
-        moving.resize(w.size());
-        for (size_t i = 0; i < w.size(); ++i)
-            moving[i] = w[i] != 0.0 ? 1 : 0;
     }
 
     /// Contacts of the free points with the colliders near their predicted positions: the
@@ -146,12 +142,14 @@ public:
     }
 
     /// Whether every point from the first to the last pinned one is fixed or held (a hose
-    /// hanging from one attachment or the held point: its tails are all that falls).
-    bool onlyTailsFall() const
+    /// hanging from one attachment or the held point: its tails are all that falls). The
+    /// points in that range keep their inverse masses (separateTails() zeroes only the tails').
+    bool onlyTailsFall()
     {
         if (pinnedFirst > pinnedLast) return false;
+        const std::vector<double>& w = projection.inverseMass();
         for (int i = pinnedFirst; i <= pinnedLast; ++i)
-            if (moving[static_cast<size_t>(i)]) return false;
+            if (w[static_cast<size_t>(i)] != 0.0) return false;
         return true;
     }
 
@@ -165,8 +163,7 @@ public:
     int held;
     int pinnedFirst = 0, pinnedLast = -1;                  ///< Hose::pinnedRangeOf(held)
     int first = 0, last = std::numeric_limits<int>::max(); ///< separateTails(): the pinned range
-    std::vector<Vec3> tailCorrection;  ///< taken off the tails' velocity (Hose::step)
-    std::vector<unsigned char> moving; ///< points a step moves (not fixed, not held)
+    std::vector<Vec3> tailCorrection; ///< taken off the tails' velocity (Hose::step)
     double meanRest = 0.0;
     double radius = 0.0;
     std::vector<unsigned char> touching;

@@ -1115,7 +1115,7 @@ std::pair<int, int> Hose::pinnedRangeOf(int held) const
 
 void Hose::followTails(int held, const std::vector<Vec3>& before)
 {
-    const auto [lo, hi] = pinnedRange(m_attachments, held);
+    const auto [lo, hi] = pinnedRangeOf(held);
     if (lo > hi) return;
     Solver tails(*this);
     tails.sweepTails(lo, hi, before, true);

@@ -377,11 +377,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
             while (first < blocks && blockPoint[first] <= s)
                 ++first;
-            Vec3 v[kMaxRows / 3], e[kMaxRows / 3];
-            for (int b = first; b < blocks; ++b) {
-                v[b] = m_position[static_cast<size_t>(blockPoint[b])] - m_position[k];
-                e[b] = v[b].cross(n);
-            }
+            Vec3 e[kMaxRows / 3];
+            for (int b = first; b < blocks; ++b)
+                e[b] = (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k]).cross(n);
             const Mat3 dd = d * d.transpose();
             for (int b = first; b < blocks; ++b) {
                 for (int q = b; q < blocks; ++q) {
@@ -668,11 +666,20 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
             out.goalsMet = true;
             break;
         }
+        const double distance = std::min(radius, error); // to the sub-goal
         const Vec3 subGoal = error <= radius ? target : Vec3(at + (target - at) * (radius / error));
         if (moving >= 0) goals[static_cast<size_t>(moving)].target = subGoal;
         const int lo = std::min(root, end), hi = std::max(root, end);
         m_saved.assign(p.begin() + lo, p.begin() + hi + 1);
-        if (moving >= 0) {
+        // Towards a target beyond the reach balls (clamped to 1e-6 inside them: reaching it
+        // would take the span nearly straight, which the bends at its ends do not allow), the
+        // hard try from a whole trust radius fails: the soft try alone. So, too, at any radius,
+        // when the target moved on while the last grab got the point no nearer (it stays at the
+        // edge of its reach). A far target keeps the hard try, whose failure halves the way.
+        const bool softOnly = requested && !held &&
+                              ((samePoint && h.m_trustCarry.stalled) ||
+                               (step == 0 && distance <= kFarSubGoal * rest));
+        if (moving >= 0 && !softOnly) {
             // Warm start: the step's displacement spread over the span, fading to nothing at
             // its ends (and at the other goals), so the solve starts near a shape that has
             // the point at its sub-goal instead of at a corner of the bend limits.
@@ -688,27 +695,19 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
                 p[static_cast<size_t>(i)] += weight * shift;
             }
         }
-        // Towards a target beyond the reach balls (clamped to 1e-6 inside them: reaching it
-        // would take the span nearly straight, which the bends at its ends do not allow), the
-        // hard try from a whole trust radius fails: the soft try alone. So, too, at any radius,
-        // when the target moved on while the last grab got the point no nearer (it stays at the
-        // edge of its reach). A far target keeps the hard try, whose failure halves the way.
-        const bool softOnly = requested && !held &&
-                              ((samePoint && h.m_trustCarry.stalled) ||
-                               (step == 0 && std::min(radius, error) <= kFarSubGoal * rest));
-        Outcome o; // not valid: a soft-only step goes on to the soft try
-        if (!softOnly)
-            o = solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
+        if (!softOnly) {
+            const Outcome o =
+                solve(root, end, true, moving >= 0 ? endTarget : subGoal, goals, rootDirection,
                       endDirection, stepIterations, tolerance, false, kHardTryRejects);
-        out.iterations += o.iterations;
-        if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
-            if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
-            if (o.goalsMet) radius = 2.0 * std::min(radius, error);
-            ++gained;
-            continue;
+            out.iterations += o.iterations;
+            if (o.valid && progress(moving >= 0 ? p[static_cast<size_t>(point)] : subGoal, 1e-12)) {
+                if (moving < 0) p[static_cast<size_t>(point)] = subGoal;
+                if (o.goalsMet) radius = 2.0 * distance;
+                ++gained;
+                continue;
+            }
+            std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
         }
-        std::copy(m_saved.begin(), m_saved.end(), p.begin() + lo);
-        const double distance = std::min(radius, error); // to the sub-goal
         radius = 0.5 * distance;
         // A far sub-goal is tried again at half the distance, without the soft try: that gains
         // about a hundredth of the way a Newton step (its goal rows damped), nothing worth its
