@@ -31,6 +31,8 @@ constexpr double kFarSubGoal = 8.0;
 constexpr int kStalledSteps = 1;
 /// SpanSolver::solve: the room of a free joint not worked out yet.
 constexpr double kRoomUnknown = std::numeric_limits<double>::quiet_NaN();
+/// SpanSolver::solve: m_lengthHeld, the end of its band a length is held at (0: free).
+constexpr unsigned char kHeldAtMax = 1, kHeldAtMin = 2;
 constexpr int kMaxRows = 16; // position blocks of 3 (goals and the end) and the end's bend row
 using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
@@ -112,10 +114,12 @@ struct JointMoments
     Sym lengthDD; ///< Σ d dᵀ of the joints whose length is free
     Outer dc, ne;
     Vec3 heldRoom = Vec3::Zero(), heldRoomE = Vec3::Zero(); ///< Σ room n, Σ room e (held joints)
+    Vec3 heldStretch = Vec3::Zero(); ///< Σ room d (held lengths: their change to their bound)
 
     [[gnu::always_inline]] void add(const Vec3& at, const Vec3& d, const Vec3* held, double room,
-                                    bool lengthFree)
+                                    bool lengthFree, double lengthRoom)
     {
+        heldStretch += lengthRoom * d;
         const Vec3 c = d.cross(at);
         count += 1.0;
         yy += at.squaredNorm();
@@ -167,6 +171,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     m_savedPositions.resize(segments + 1);
     m_saturated.assign(segments, 0);
     m_lengthHeld.assign(segments, 0);
+    m_lengthRoom.assign(segments, 0.0);
     m_normal.resize(segments);
     m_room.resize(segments);
     m_roomBound.resize(segments);
@@ -335,6 +340,12 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         constexpr double kAsinCubic = std::numbers::pi / 2.0 - 1.0;
         for (int s = 0; s < m; ++s) {
             const size_t k = static_cast<size_t>(s);
+            if (m_lengthHeld[k]) {
+                const size_t seg = segment(s);
+                m_lengthRoom[k] =
+                    (m_lengthHeld[k] == kHeldAtMax ? h.m_maxLength[seg] : h.m_minLength[seg]) -
+                    m_length[k];
+            }
             m_normal[k] = Vec3::Zero();
             m_room[k] = 1e300;
             m_roomBound[k] = kInfinity;
@@ -389,6 +400,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     raw.block<3, 3>(3 * b, 3 * q) += block;
                 }
                 if (heldSign != 0) rawRhs.segment<3>(3 * b) += heldSign * m_room[k] * e[b];
+                if (lengthSign != 0) rawRhs.segment<3>(3 * b) += lengthSign * m_lengthRoom[k] * d;
             }
             if (current.bendRow && heldSign != 0) { // (the bend row's free-length part is 0)
                 const double un = u.dot(n);
@@ -408,7 +420,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const size_t k = static_cast<size_t>(s);
                 sum.add(m_position[k] - origin, m_direction[k],
                         m_saturated[k] ? &m_normal[k] : nullptr, m_room[k],
-                        stretchable && !m_lengthHeld[k]);
+                        stretchable && !m_lengthHeld[k], m_lengthRoom[k]);
             }
             if (sum.count == 0.0) continue;
             const Mat3 q = sum.sumQ(), qy = sum.sumQY(), yqy = sum.sumYQY();
@@ -420,7 +432,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     raw.block<3, 3>(3 * b, 3 * q2) +=
                         -arm[b] * q * arm[q2] + arm[b] * qy - qy.transpose() * arm[q2] + yqy;
                 const Vec3 toBlock = m_position[static_cast<size_t>(blockPoint[b])] - origin;
-                rawRhs.segment<3>(3 * b) -= sum.heldRoom.cross(toBlock) - sum.heldRoomE;
+                rawRhs.segment<3>(3 * b) -=
+                    sum.heldRoom.cross(toBlock) - sum.heldRoomE + sum.heldStretch;
             }
             if (current.bendRow) {
                 const Vec3 qu = q * u;
@@ -525,18 +538,24 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 }
                 omega[k] = w;
                 if (stretchable) {
-                    // A length at an end of its band that the step would take beyond it is held
-                    // there (its row left out); held, it is freed when the step pulls it back in.
+                    // A length that the step would take beyond an end of its band is held: its
+                    // change is the way to that end (its room, as a held joint's turn), its row
+                    // left out. Held, it is freed when the step pulls it back in.
                     const double dl = d.dot(force[first]);
                     const size_t seg = segment(s);
-                    const bool atMax = m_length[k] >= h.m_maxLength[seg] * (1.0 - 1e-12);
-                    const bool atMin = m_length[k] <= h.m_minLength[seg] * (1.0 + 1e-12);
-                    const bool outward = (atMax && dl > 0.0) || (atMin && dl < 0.0);
-                    if (m_lengthHeld[k] != (outward ? 1 : 0)) {
-                        m_lengthHeld[k] = outward ? 1 : 0;
+                    const double lo = h.m_minLength[seg], hi = h.m_maxLength[seg];
+                    if (m_lengthHeld[k]) {
+                        if (m_lengthHeld[k] == kHeldAtMax ? dl < 0.0 : dl > 0.0) {
+                            m_lengthHeld[k] = 0; // the room is taken out with its row (toggle)
+                            changed = true;
+                        }
+                    } else if ((dl > 0.0 && m_length[k] + dl > hi) ||
+                               (dl < 0.0 && m_length[k] + dl < lo)) {
+                        m_lengthHeld[k] = dl > 0.0 ? kHeldAtMax : kHeldAtMin;
+                        m_lengthRoom[k] = (dl > 0.0 ? hi : lo) - m_length[k];
                         changed = true;
                     }
-                    stretch[k] = m_lengthHeld[k] ? 0.0 : dl;
+                    stretch[k] = m_lengthHeld[k] ? m_lengthRoom[k] : dl;
                 }
                 if (before.held != (m_saturated[k] != 0) ||
                     before.lengthFree != (stretchable && !m_lengthHeld[k]))
@@ -548,6 +567,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const bool held = m_saturated[k] != 0, lengthFree = stretchable && !m_lengthHeld[k];
                 toggle(change.joint, held == change.held ? 0 : (held ? 1 : -1),
                        lengthFree == change.lengthFree ? 0 : (lengthFree ? 1 : -1));
+                if (lengthFree && !change.lengthFree) m_lengthRoom[k] = 0.0;
             }
         }
         // The step: joint rotations accumulate along the chain. A Cayley rotation is

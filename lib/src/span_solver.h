@@ -103,7 +103,8 @@ private:
     std::vector<Vec3> m_normal, m_omega;
     std::vector<double> m_stretch;
     std::vector<unsigned char> m_saturated;
-    std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band
+    std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band (which)
+    std::vector<double> m_lengthRoom;        ///< a held length's change to that end
 };
 
 } // namespace chaintube::detail

@@ -295,3 +295,50 @@ TEST(ClampBetweenFixedPoints, ARepeatedGrabBeyondReachDoesNoWorkAndKeepsTheRevis
     EXPECT_EQ(repeat.status, Status::Clamped);
     EXPECT_GT(repeat.iterations, 0) << "colliders may have moved: the grab is done again";
 }
+
+namespace {
+// A stretchable hose (band ±5 %, 20° a joint), 1 m straight between one-segment attachments
+// at its ends, 40 segments.
+Hose straightStretchableHose()
+{
+    HoseSpec spec = paperSpec(40, 0.05, 20);
+    Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    hose.attach(0, 1, Frame::identity());
+    hose.attach(39, 40, Frame::identity());
+    return hose;
+}
+
+double longestSegment(const Hose& hose)
+{
+    double longest = 0.0;
+    for (int i = 0; i + 1 < hose.pointCount(); ++i)
+        longest = std::max(longest, (hose.point(i + 1) - hose.point(i)).norm());
+    return longest;
+}
+} // namespace
+
+// Pulled sideways to where its lengths must reach the end of their band, a stretchable hose
+// gets there: a length that a Newton step would take beyond its band is held at its end for
+// that step (its change the way left to it), so the step keeps the span closed to first order.
+// (Clamped after the step instead, the lengths opened the span by as much as the step asked
+// beyond the band: the step was undone, and the grab of the 10th frame ended 1.5 cm short.)
+TEST(ClampBetweenFixedPoints, AStretchableHosePulledToTheEndOfItsBandGetsThere)
+{
+    const Vec3 target(0.5, 0.15, 0.0);
+    Hose ramped = straightStretchableHose();
+    for (int frame = 1; frame <= 10; ++frame) {
+        const UpdateResult r =
+            ramped.grab(20, Vec3(0.5, 0.0, 0.0) + frame / 10.0 * (target - Vec3(0.5, 0.0, 0.0)));
+        EXPECT_EQ(r.status, Status::Ok) << "frame " << frame;
+        EXPECT_CONSTRAINTS_HOLD(ramped, 1e-9);
+    }
+    EXPECT_EQ(ramped.point(20), target);
+    EXPECT_NEAR(longestSegment(ramped), 1.05 * 0.025, 1e-9 * 0.025) << "at the end of the band";
+
+    Hose pulled = straightStretchableHose();
+    const UpdateResult once = pulled.grab(20, target);
+    EXPECT_EQ(once.status, Status::Ok);
+    EXPECT_LE(once.iterations, 8);
+    EXPECT_CONSTRAINTS_HOLD(pulled, 1e-9);
+    EXPECT_EQ(pulled.point(20), target);
+}
