@@ -93,28 +93,23 @@ public:
     /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps.
     /// Where they end close but not within the tolerance (bend limits switching on and off near
     /// their bounds converge slowly), the span solver closes the rest exactly
-    /// (Hose::closeSpans); without contacts the projection stops as soon as it is that close
-    /// (the span solver's closing moves the points by about the violation, in one or two of its
-    /// cheaper Newton steps where the projection's linear convergence took three or four), and
-    /// is closed too from farther off when that moves no point by more than kCloseMove of a
-    /// segment. Returns whether every constraint holds afterwards.
+    /// (Hose::closeSpans); without contacts, also farther off when closing moves no point by
+    /// more than kCloseMove of a segment. Returns
+    /// whether every constraint holds afterwards.
     bool project(const std::vector<Vec3>& predicted, const std::vector<Vec3>& from, int& iterations)
     {
         gatherContacts(predicted, from);
         h.m_local = predicted;
         projection.setPredicted(nullptr);
-        const bool contacts =
-            std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; });
-        const detail::ProjectionOutcome out =
-            projection.run(kStepProjectionSteps, contacts ? kStepConverged : kCloseFrom);
+        const detail::ProjectionOutcome out = projection.run(kStepProjectionSteps, kStepConverged);
         iterations += out.iterations;
-        if (out.violation <= kStepConverged && h.measureViolation().status == Status::Ok)
-            return true;
+        if (out.converged && h.measureViolation().status == Status::Ok) return true;
         if (out.violation <= kCloseFrom) return h.closeSpans(held, from, iterations);
         // Farther off and without contacts (nothing to push into): closed too when that moves
         // no point more than kCloseMove of a segment from where the projection left it (a
         // larger correction would be a jump, not a fall).
-        if (contacts) return false;
+        if (std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; }))
+            return false;
         projected = h.m_local;
         if (!h.closeSpans(held, from, iterations)) return false;
         double moved = 0.0;
