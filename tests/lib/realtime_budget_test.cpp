@@ -1,8 +1,8 @@
 // Bounded work a frame (lib/README.md, "Grab with attachments", "Budgets a call"): a hose fixed
 // at both ends whose middle is grabbed every frame on a long random walk in and beyond its reach
-// (with a clip, or with a gravity step after each grab) keeps every constraint after every
-// frame, never leaves a NaN, and never does more Newton steps a grab or a step than the budget
-// the README states. Work is counted (UpdateResult::iterations), never timed.
+// (with a clip, a gravity step after each grab, a floor, or stretchable) keeps every constraint
+// after every frame, never leaves a NaN, and never does more Newton steps a grab or a step than the
+// budget the README states. Work is counted (UpdateResult::iterations), never timed.
 #include "test_util.h"
 
 #include <algorithm>
@@ -30,6 +30,7 @@ struct WalkFigures
     long stepIterations = 0;   ///< with gravity: the Newton steps of every step
     double lowest = 0.0;       ///< with gravity: the lowest y a point reached (m)
     int touching = 0;          ///< with the floor: frames whose grab left a point touching it
+    int atBandEnd = 0; ///< stretchable: frames after which a segment was at an end of its band
 };
 
 /// Distance from the clip's centre to the line of the segment holding it (metres).
@@ -51,15 +52,16 @@ double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
 /// hose through it. With `gravity`, Hose::step() (gravity −y) follows every grab, as the runtime's
 /// update does, and is checked as the grab is. With `floor`, a floor collider lies under the
 /// hose (laid in the plane y = 0), its surface 1 mm below the hose's: every point stays above it
-/// (to the collision tolerance).
+/// (to the collision tolerance). With `expansion`, the hose is stretchable by that much (its
+/// segments' band), the walk otherwise the same.
 WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravity = false,
-                          bool floor = false)
+                          bool floor = false, double expansion = 0.0)
 {
     HoseSpec spec;
     spec.gravity.enabled = gravity;
     spec.gravity.direction = Vec3(0.0, -1.0, 0.0);
     spec.segmentLength = 1.0 / (points - 1);
-    spec.material.expansionCoefficient = 0.0;
+    spec.material.expansionCoefficient = expansion;
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
     // An arc of length 1 m through (0, 0, 0) and (0.8, 0, 0) bulging towards −z, or two of
     // 0.5 m through (0, 0, 0), (0.4, 0, 0) and (0.8, 0, 0).
@@ -162,6 +164,14 @@ WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravit
             slide = clipNow().slide;
         }
         if (::testing::Test::HasFailure()) break; // one frame's report is enough
+        for (int i = 0; i + 1 < n; ++i) {
+            const double length = (hose.point(i + 1) - hose.point(i)).norm();
+            if (length >= (1.0 + expansion) * hose.restLength(i) * (1.0 - 1e-9) ||
+                length <= (1.0 - expansion) * hose.restLength(i) * (1.0 + 1e-9)) {
+                figures.atBandEnd += expansion > 0.0;
+                break;
+            }
+        }
         figures.clamped += r.status == Status::Clamped;
         figures.maxIterations = std::max(figures.maxIterations, r.iterations);
         ++figures.frames;
@@ -180,6 +190,21 @@ void expectTheWalkWithinBudget(int points, int frames, int clampedAtLeast)
     EXPECT_GT(f.maxIterations, 24);
     std::printf("%d points: %d frames, %d clamped, at most %d Newton steps a grab (budget %d)\n",
                 points, f.frames, f.clamped, f.maxIterations, kGrabBudget);
+}
+
+/// The walk of a hose stretchable by 5 %: every frame checked; the walk goes beyond reach (more
+/// than `clampedAtLeast` grabs Clamped) and takes segments to an end of their band (after more
+/// than `atBandEndAtLeast` frames), where a Newton step holds them (lib/README.md).
+void expectTheStretchableWalkWithinBudget(int points, int frames, int clampedAtLeast,
+                                          int atBandEndAtLeast)
+{
+    const WalkFigures f = walkTheMiddle(points, frames, false, false, false, 0.05);
+    EXPECT_EQ(f.frames, frames);
+    EXPECT_GT(f.clamped, clampedAtLeast);
+    EXPECT_GT(f.atBandEnd, atBandEndAtLeast);
+    std::printf("%d points, stretchable by 5 %%: %d frames, %d clamped, %d with a segment at an "
+                "end of its band, at most %d Newton steps a grab (budget %d)\n",
+                points, f.frames, f.clamped, f.atBandEnd, f.maxIterations, kGrabBudget);
 }
 
 /// The walk with the clip: every frame checked, the hose through the clip's centre after every
@@ -255,6 +280,18 @@ TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabB
 TEST(RealTimeBudget, ALongWalkBetweenFixedEndsKeepsEveryConstraintWithinTheGrabBudget100Points)
 {
     expectTheWalkWithinBudget(100, 4000, 200);
+}
+
+TEST(RealTimeBudget,
+     ALongWalkOfAStretchableHoseBetweenFixedEndsKeepsEveryConstraintWithinTheGrabBudget25Points)
+{
+    expectTheStretchableWalkWithinBudget(25, 4000, 1000, 2000);
+}
+
+TEST(RealTimeBudget,
+     ALongWalkOfAStretchableHoseBetweenFixedEndsKeepsEveryConstraintWithinTheGrabBudget100Points)
+{
+    expectTheStretchableWalkWithinBudget(100, 2000, 400, 1000);
 }
 
 TEST(RealTimeBudget, ALongWalkThroughASlidingClipKeepsEveryConstraintWithinTheGrabBudget25Points)
