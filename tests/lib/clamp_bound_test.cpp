@@ -320,8 +320,9 @@ double longestSegment(const Hose& hose)
 // Pulled sideways to where its lengths must reach the end of their band, a stretchable hose
 // gets there: a length that a Newton step would take beyond its band is held at its end for
 // that step (its change the way left to it), so the step keeps the span closed to first order.
-// (Clamped after the step instead, the lengths opened the span by as much as the step asked
-// beyond the band: the step was undone, and the grab of the 10th frame ended 1.5 cm short.)
+// (Clamped after the step instead, the lengths would open the span by as much as the step asks
+// beyond the band: the step would be undone, and the grab of the 10th frame would end 1.5 cm
+// short.)
 TEST(ClampBetweenFixedPoints, AStretchableHosePulledToTheEndOfItsBandGetsThere)
 {
     const Vec3 target(0.5, 0.15, 0.0);
