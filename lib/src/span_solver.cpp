@@ -197,6 +197,12 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         return rootDirection;
     };
     auto limited = [&](int s) { return previousOf(m_direction, s) && limitCos(s) > -1.0 + 1e-12; };
+    // The way left from length s to the end of its band it is held at (kHeldAtMax, kHeldAtMin).
+    auto lengthRoomOf = [&](int s, unsigned char bandEnd) {
+        const size_t seg = segment(s);
+        return (bandEnd == kHeldAtMax ? h.m_maxLength[seg] : h.m_minLength[seg]) -
+               m_length[static_cast<size_t>(s)];
+    };
 
     // Clamps every joint to its limit, in order, turning the rest of the chain with each
     // correction (so the joints after it keep their turns): clampJoint(d, s, …) takes direction
@@ -340,12 +346,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         constexpr double kAsinCubic = std::numbers::pi / 2.0 - 1.0;
         for (int s = 0; s < m; ++s) {
             const size_t k = static_cast<size_t>(s);
-            if (m_lengthHeld[k]) {
-                const size_t seg = segment(s);
-                m_lengthRoom[k] =
-                    (m_lengthHeld[k] == kHeldAtMax ? h.m_maxLength[seg] : h.m_minLength[seg]) -
-                    m_length[k];
-            }
+            if (m_lengthHeld[k]) m_lengthRoom[k] = lengthRoomOf(s, m_lengthHeld[k]);
             m_normal[k] = Vec3::Zero();
             m_room[k] = 1e300;
             m_roomBound[k] = kInfinity;
@@ -542,18 +543,19 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     // change is the way to that end (its room, as a held joint's turn), its row
                     // left out. Held, it is freed when the step pulls it back in.
                     const double dl = d.dot(force[first]);
-                    const size_t seg = segment(s);
-                    const double lo = h.m_minLength[seg], hi = h.m_maxLength[seg];
                     if (m_lengthHeld[k]) {
                         if (m_lengthHeld[k] == kHeldAtMax ? dl < 0.0 : dl > 0.0) {
                             m_lengthHeld[k] = 0; // the room is taken out with its row (toggle)
                             changed = true;
                         }
-                    } else if ((dl > 0.0 && m_length[k] + dl > hi) ||
-                               (dl < 0.0 && m_length[k] + dl < lo)) {
-                        m_lengthHeld[k] = dl > 0.0 ? kHeldAtMax : kHeldAtMin;
-                        m_lengthRoom[k] = (dl > 0.0 ? hi : lo) - m_length[k];
-                        changed = true;
+                    } else if (dl != 0.0) {
+                        const unsigned char bandEnd = dl > 0.0 ? kHeldAtMax : kHeldAtMin;
+                        const double room = lengthRoomOf(s, bandEnd);
+                        if (dl > 0.0 ? dl > room : dl < room) {
+                            m_lengthHeld[k] = bandEnd;
+                            m_lengthRoom[k] = room;
+                            changed = true;
+                        }
                     }
                     stretch[k] = m_lengthHeld[k] ? m_lengthRoom[k] : dl;
                 }

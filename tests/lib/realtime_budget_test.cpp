@@ -42,6 +42,15 @@ double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
     return (r - r.dot(d) * d).norm();
 }
 
+/// What a walk adds to the hose between fixed ends (walkTheMiddle).
+struct WalkKind
+{
+    bool clip = false;
+    bool gravity = false;
+    bool floor = false;
+    double expansion = 0.0;
+};
+
 /// A hose of `points` points, 1 m long, bend radius 0.1 m, inextensible, its end segments fixed
 /// 0.8 m apart, laid as an arc; its middle grabbed `frames` times on a 2 cm random walk inside a
 /// box that reaches beyond the middle's reach (seeded: the same walk on every platform). With
@@ -54,9 +63,10 @@ double clipOffAxis(const Hose& hose, const Hose::Attachment& clip)
 /// hose (laid in the plane y = 0), its surface 1 mm below the hose's: every point stays above it
 /// (to the collision tolerance). With `expansion`, the hose is stretchable by that much (its
 /// segments' band), the walk otherwise the same.
-WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravity = false,
-                          bool floor = false, double expansion = 0.0)
+WalkFigures walkTheMiddle(int points, int frames, const WalkKind& kind = {})
 {
+    const bool clip = kind.clip, gravity = kind.gravity, floor = kind.floor;
+    const double expansion = kind.expansion;
     HoseSpec spec;
     spec.gravity.enabled = gravity;
     spec.gravity.direction = Vec3(0.0, -1.0, 0.0);
@@ -164,11 +174,11 @@ WalkFigures walkTheMiddle(int points, int frames, bool clip = false, bool gravit
             slide = clipNow().slide;
         }
         if (::testing::Test::HasFailure()) break; // one frame's report is enough
-        for (int i = 0; i + 1 < n; ++i) {
+        for (int i = 0; expansion > 0.0 && i + 1 < n; ++i) {
             const double length = (hose.point(i + 1) - hose.point(i)).norm();
             if (length >= (1.0 + expansion) * hose.restLength(i) * (1.0 - 1e-9) ||
                 length <= (1.0 - expansion) * hose.restLength(i) * (1.0 + 1e-9)) {
-                figures.atBandEnd += expansion > 0.0;
+                ++figures.atBandEnd;
                 break;
             }
         }
@@ -198,7 +208,7 @@ void expectTheWalkWithinBudget(int points, int frames, int clampedAtLeast)
 void expectTheStretchableWalkWithinBudget(int points, int frames, int clampedAtLeast,
                                           int atBandEndAtLeast)
 {
-    const WalkFigures f = walkTheMiddle(points, frames, false, false, false, 0.05);
+    const WalkFigures f = walkTheMiddle(points, frames, {.expansion = 0.05});
     EXPECT_EQ(f.frames, frames);
     EXPECT_GT(f.clamped, clampedAtLeast);
     EXPECT_GT(f.atBandEnd, atBandEndAtLeast);
@@ -212,7 +222,7 @@ void expectTheStretchableWalkWithinBudget(int points, int frames, int clampedAtL
 /// frames each way) and go beyond reach (more than `clampedAtLeast` grabs Clamped).
 void expectTheClipWalkWithinBudget(int points, int frames, int clampedAtLeast, int slidesAtLeast)
 {
-    const WalkFigures f = walkTheMiddle(points, frames, true);
+    const WalkFigures f = walkTheMiddle(points, frames, {.clip = true});
     EXPECT_EQ(f.frames, frames);
     EXPECT_GT(f.clamped, clampedAtLeast);
     EXPECT_GT(f.slidesBack, slidesAtLeast);
@@ -229,7 +239,7 @@ void expectTheClipWalkWithinBudget(int points, int frames, int clampedAtLeast, i
 void expectTheGravityWalkWithinBudget(int points, int frames, int clampedAtLeast,
                                       double fallsAtLeast, double meanStepsAtMost)
 {
-    const WalkFigures f = walkTheMiddle(points, frames, false, true);
+    const WalkFigures f = walkTheMiddle(points, frames, {.gravity = true});
     EXPECT_EQ(f.frames, frames);
     EXPECT_GT(f.clamped, clampedAtLeast);
     EXPECT_LT(f.lowest, -fallsAtLeast);
@@ -245,7 +255,7 @@ void expectTheGravityWalkWithinBudget(int points, int frames, int clampedAtLeast
 /// grabs press the hose onto it (a point touching it after more than `touchingAtLeast` grabs).
 void expectTheFloorWalkWithinBudget(int points, int frames, int clampedAtLeast, int touchingAtLeast)
 {
-    const WalkFigures f = walkTheMiddle(points, frames, false, false, true);
+    const WalkFigures f = walkTheMiddle(points, frames, {.floor = true});
     EXPECT_EQ(f.frames, frames);
     EXPECT_GT(f.clamped, clampedAtLeast);
     EXPECT_GT(f.touching, touchingAtLeast);
