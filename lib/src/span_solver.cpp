@@ -58,6 +58,31 @@ Mat3 rotationBetween(const Vec3& from, const Vec3& to)
     return Mat3::Identity() + s * k + (1.0 - c) * k * k;
 }
 
+/// Takes direction `ds` through the correction so far (the rotations of the joints clamped
+/// before it) and clamps it to its limit against `before` (null: no limit), composing its own
+/// clamp into the correction so that the rest of the chain turns with it (the joints after it
+/// keep their turns). The corrections are built from unit vectors, so they are orthogonal and
+/// the directions they turn stay unit to rounding.
+void clampDirection(Vec3& ds, const Vec3* before, double cosLimit, double sinLimit,
+                    Mat3& correction, bool& corrected)
+{
+    if (corrected) ds = correction * ds;
+    if (!before || !(cosLimit > -1.0 + 1e-12)) return;
+    // before·ds ≥ cos·|ds|, without the square root where both sides are positive.
+    const double dot = before->dot(ds);
+    if (cosLimit >= 0.0 ? dot >= 0.0 && dot * dot >= cosLimit * cosLimit * ds.squaredNorm()
+                        : dot >= cosLimit * ds.norm())
+        return;
+    const Vec3 unit = ds.normalized();
+    const double c = before->dot(unit);
+    Vec3 w = unit - c * *before;
+    if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
+    const Vec3 clamped = (cosLimit * *before + sinLimit * w.normalized()).normalized();
+    correction = rotationBetween(unit, clamped) * correction;
+    corrected = true;
+    ds = clamped;
+}
+
 /// The cross-product matrix [a]: [a] x = a × x.
 Mat3 skew(const Vec3& a)
 {
@@ -204,30 +229,11 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                m_length[static_cast<size_t>(s)];
     };
 
-    // Clamps every joint to its limit, in order, turning the rest of the chain with each
-    // correction (so the joints after it keep their turns): clampJoint(d, s, …) takes direction
-    // s of `d` (those before it done) through the correction so far and clamps it. The
-    // corrections are built from unit vectors, so they are orthogonal and the directions they
-    // turn stay unit to rounding.
+    // Clamps every joint to its limit, in order (clampDirection): clampJoint(d, s, …) takes
+    // direction s of `d`, those before it done.
     auto clampJoint = [&](std::vector<Vec3>& d, int s, Mat3& correction, bool& corrected) {
-        Vec3& ds = d[static_cast<size_t>(s)];
-        if (corrected) ds = correction * ds;
-        const Vec3* before = previousOf(d, s);
-        const double cosLimit = limitCos(s);
-        if (!before || !(cosLimit > -1.0 + 1e-12)) return;
-        // before·ds ≥ cos·|ds|, without the square root where both sides are positive.
-        const double dot = before->dot(ds);
-        if (cosLimit >= 0.0 ? dot >= 0.0 && dot * dot >= cosLimit * cosLimit * ds.squaredNorm()
-                            : dot >= cosLimit * ds.norm())
-            return;
-        const Vec3 unit = ds.normalized();
-        const double c = before->dot(unit);
-        Vec3 w = unit - c * *before;
-        if (!(w.norm() > 1e-12)) w = anyPerpendicular(*before);
-        const Vec3 clamped = (cosLimit * *before + limitSin(s) * w.normalized()).normalized();
-        correction = rotationBetween(unit, clamped) * correction;
-        corrected = true;
-        ds = clamped;
+        clampDirection(d[static_cast<size_t>(s)], previousOf(d, s), limitCos(s), limitSin(s),
+                       correction, corrected);
     };
     auto clampChain = [&](std::vector<Vec3>& d) {
         Mat3 correction = Mat3::Identity();
