@@ -1,6 +1,7 @@
 // The banded symmetric solve of the chain projection (projection.cpp: gravity steps, contacts,
-// bends giving way), and of the span solver's small dense normal equations (span_solver.cpp:
-// a band as wide as the matrix). Internal to lib/.
+// bends giving way), of the span solver's small dense normal equations (span_solver.cpp: a band
+// as wide as the matrix) and of its steps towards a held target (a block-tridiagonal band
+// factored once and solved for several right-hand sides). Internal to lib/.
 #pragma once
 
 #include <algorithm>
@@ -9,20 +10,19 @@
 
 namespace chaintube::detail {
 
-/// Solves A x = b in place for a symmetric positive semi-definite m × m matrix A stored as its
-/// upper band, row-major: band[i · width + d] = A(i, i + d) for d < width (d = 0: the
-/// diagonal). LDLᵀ without pivoting; `band` is overwritten by the factor (its diagonal by the
-/// inverses of the pivots, so that each row costs one division) and `rhs` (b) by x. A pivot
-/// that vanishes (≤ 1e-300 or not finite: a row dependent on the ones before) drops its row,
-/// x = 0 there. Returns the number of rows dropped. O(m · width²).
-inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
+/// Factors a symmetric positive semi-definite m × m matrix A stored as its upper band,
+/// row-major: band[i · width + d] = A(i, i + d) for d < width (d = 0: the diagonal). LDLᵀ
+/// without pivoting, in place: the diagonal becomes the inverses of the pivots (so that each row
+/// of a solve costs one division less), the rest Dᵀ Lᵀ's band. A pivot that vanishes (≤ 1e-300
+/// or not finite: a row dependent on the ones before) drops its row: x = 0 there. Returns the
+/// number of rows dropped. O(m · width²).
+inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t width)
 {
     std::size_t dropped = 0;
     for (std::size_t i = 0; i < m; ++i) {
         double& pivot = band[i * width];
         if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
-            pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
-            rhs[i] = 0.0;
+            pivot = 0.0; // the inverse pivot of a dropped row
             for (std::size_t d = 1; d < width; ++d)
                 band[i * width + d] = 0.0;
             ++dropped;
@@ -35,8 +35,25 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
             if (factor == 0.0) continue;
             for (std::size_t e = d; e < width && i + e < m; ++e)
                 band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
-            rhs[i + d] -= factor * rhs[i];
         }
+    }
+    return dropped;
+}
+
+/// Solves A x = b in place (`rhs`: b, then x) with the factor of factorBandedLdlt. O(m · width).
+inline void solveFactoredBandedLdlt(const double* band, double* rhs, std::size_t m,
+                                    std::size_t width)
+{
+    for (std::size_t i = 0; i < m; ++i) {
+        const double inverse = band[i * width];
+        if (inverse == 0.0) { // a dropped row
+            rhs[i] = 0.0;
+            continue;
+        }
+        const double r = rhs[i];
+        if (r == 0.0) continue;
+        for (std::size_t d = 1; d < width && i + d < m; ++d)
+            rhs[i + d] -= band[i * width + d] * inverse * r;
     }
     // Back substitution. Only the term of x[i + 1] waits for the row just solved: the others
     // are summed first (two partial sums), so a row's latency is one multiply-add and one
@@ -56,6 +73,14 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
         const double inverse = row[0];
         rhs[i] = inverse != 0.0 ? x * inverse : 0.0; // 0: a dropped row
     }
+}
+
+/// Solves A x = b in place for A as factorBandedLdlt takes it (`band` is overwritten by the
+/// factor, `rhs` by x). Returns the number of rows dropped.
+inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
+{
+    const std::size_t dropped = factorBandedLdlt(band, m, width);
+    solveFactoredBandedLdlt(band, rhs, m, width);
     return dropped;
 }
 
