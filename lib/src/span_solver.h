@@ -86,6 +86,21 @@ public:
                     const Vec3* endDirection, int maxSteps, int movingSteps, int stepIterations,
                     double tolerance, const Vec3* requested = nullptr);
 
+    /// From a valid span (its end reached), brings goal `moving` as near `target` as the span
+    /// allows (a held target beyond reach): SQP steps on min ½|p − target|² subject to the end's
+    /// closure, the other goals and the bend limits and length bands, in each segment's own
+    /// rotation across it (and its length), with the Lagrangian's curvature: a stretch's
+    /// sideways stiffness under tension, and the curved cone of a joint on its limit. Each step
+    /// is one factor of a block-tridiagonal band and one banded solve a row (goals and end),
+    /// O(end − root); the span is then closed again (chord steps with that factor, then solve()
+    /// with the point kept where they put it), and the step is taken only when the point ends
+    /// nearer, so the span stays valid whatever happens. `iterations` counts the steps and the
+    /// closing Newton steps. `metric`: the step's metric to start from (σ of σ·rest² a squared
+    /// turn), and on return the one it ended with, for the next call of the same held target.
+    Outcome reach(int root, int end, const Vec3& endTarget, const std::vector<SpanGoal>& goals,
+                  int moving, const Vec3& target, const Vec3* rootDirection,
+                  const Vec3* endDirection, int maxIterations, double tolerance, double& metric);
+
 private:
     /// A joint whose active-set state a pass of SpanSolver::solve changed: its state before.
     struct ActiveChange
@@ -105,6 +120,12 @@ private:
     std::vector<unsigned char> m_saturated;
     std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band (which)
     std::vector<double> m_lengthRoom;        ///< a held length's change to that end
+    // reach(): the span's state, the step's band, its rows' columns
+    std::vector<Vec3> m_reachDirection, m_reachFirst, m_reachSecond, m_reachPositions, m_reachStart;
+    std::vector<double> m_reachLength, m_band, m_columns, m_solved, m_rhs, m_step;
+    std::vector<Vec3> m_reachNormal;
+    std::vector<double> m_reachRoom;
+    std::vector<unsigned char> m_reachHeld;
 };
 
 } // namespace chaintube::detail

@@ -3,6 +3,7 @@
 // bounded, valid steps; held, it keeps coming nearer, never farther, and comes to rest.
 #include "test_util.h"
 
+#include <chaintube/test_support/taut_span.h>
 #include <cstdio>
 #include <numbers>
 
@@ -11,9 +12,9 @@ using namespace chaintube::test;
 
 namespace {
 // A hose whose end attachments are 0.8 m apart, 1 m long, bend radius 0.1 m, 40 segments.
-Hose pulledHose(double expansion = 0.0)
+Hose pulledHose(double expansion = 0.0, int segments = 40)
 {
-    HoseSpec spec = paperSpec(40, expansion);
+    HoseSpec spec = paperSpec(segments, expansion);
     spec.material.bendLimit = BendLimit::minBendRadius(0.1);
     Hose hose = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
     hose.attach(0, 0, Frame::identity());
@@ -342,4 +343,41 @@ TEST(ClampBetweenFixedPoints, AStretchableHosePulledToTheEndOfItsBandGetsThere)
     EXPECT_LE(once.iterations, 8);
     EXPECT_CONSTRAINTS_HOLD(pulled, 1e-9);
     EXPECT_EQ(pulled.point(20), target);
+}
+
+// The report's ends-fixed-middle-grab scenario, at two resolutions: the middle pulled straight
+// up to 1 cm above the apex of the taut shape over 10 frames and held there. Held, the hose goes
+// to the closest reachable shape (lib/README.md, "Pinned spans, reach and gravity"): the taut
+// shape of the same length, straight lines tangent to an arc of the bend radius, nearer at the
+// finer resolution (0.30 / 0.07 mm at 40 / 80 segments; 6.6 / 6.7 mm where the held point
+// came to rest at the first shape from which a soft step of the grab gained nothing).
+TEST(ClampBetweenFixedPoints, HeldAboveTheApexTheHoseGoesToTheTautShapeNearerAtTheFinerResolution)
+{
+    const test_support::TautSpan taut = test_support::TautSpan::solve(0.8, 0.5, 0.1);
+    double previous = 1.0;
+    for (const int segments : {40, 80}) {
+        SCOPED_TRACE(std::to_string(segments) + " segments");
+        Hose hose = pulledHose(0.0, segments);
+        const int n = hose.pointCount(), k = n / 2;
+        const Vec3 above(0.4, taut.apexHeight + 0.01, 0.0);
+        double error = 1.0;
+        for (int frame = 1; frame <= 30; ++frame) {
+            const Vec3 target =
+                Vec3(0.4, 0.0, 0.0) + std::min(1.0, frame / 10.0) * above.y() * Vec3::UnitY();
+            const UpdateResult r = hose.grab(k, target);
+            EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+            if (frame > 10) {
+                EXPECT_EQ(r.status, Status::Clamped) << "frame " << frame;
+                EXPECT_LE(r.grabError, error * (1 + 1e-12)) << "frame " << frame;
+                error = r.grabError;
+            }
+        }
+        double worst = 0.0;
+        for (int i = 0; i < n; ++i)
+            worst = std::max(worst, (hose.point(i) - taut.along(double(i) / (n - 1), 1.0)).norm());
+        std::printf("%d segments: %.3g mm from the taut shape\n", segments, worst * 1e3);
+        EXPECT_LT(worst, 0.5e-3);
+        EXPECT_LT(worst, previous);
+        previous = worst;
+    }
 }

@@ -465,6 +465,7 @@ private:
         double radius = 0.0;
         Vec3 goal = Vec3::Zero();
         bool stalled = false;
+        double reachMetric = 0.0; ///< SpanSolver::reach's metric it ended with (0: none yet)
     };
     TrustCarry m_trustCarry;
 

@@ -18,6 +18,7 @@
 #include "../realtime/machine.h"
 
 #include <algorithm>
+#include <chaintube/test_support/taut_span.h>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -32,6 +33,7 @@
 
 using namespace chaintube;
 using namespace chaintube::bench;
+using chaintube::test_support::TautSpan;
 
 namespace {
 constexpr double kHoseLength = 1.0;
@@ -100,50 +102,12 @@ double hairpinError(const std::vector<Vec3>& points, const RodSetup& setup)
     return best;
 }
 
-// ends-fixed-middle-grab reference: the ends pinned at A = 0 and B = (D, 0, 0), the middle
-// point pulled to the apex T = (D/2, h, 0) of the taut shape: from each end a straight line
-// tangent to a circle of radius R whose top is T, then the arc to T. h is where that shape is
-// exactly as long as the hose (L/2 per half): one monotone equation, solved by bisection.
-struct TautSpan
-{
-    double span = 0.8, halfLength = 0.5, apexHeight = 0.0, tangentLength = 0.0, lineAngle = 0.0;
-    Vec3 centre() const { return Vec3(0.5 * span, apexHeight - kBendRadius, 0.0); }
-    void geometry(double h, double& t, double& gamma) const
-    {
-        const double cx = 0.5 * span, cy = h - kBendRadius, d = std::hypot(cx, cy);
-        t = std::sqrt(std::max(0.0, d * d - kBendRadius * kBendRadius));
-        gamma = std::atan2(cy, cx) + std::asin(std::min(1.0, kBendRadius / d));
-    }
-    static TautSpan solve(double span, double halfLength)
-    {
-        TautSpan taut;
-        taut.span = span, taut.halfLength = halfLength;
-        double lo = kBendRadius, hi = halfLength + kBendRadius;
-        for (int k = 0; k < 200; ++k) {
-            const double h = 0.5 * (lo + hi);
-            double t = 0, gamma = 0;
-            taut.geometry(h, t, gamma);
-            (t + kBendRadius * gamma > halfLength ? hi : lo) = h;
-        }
-        taut.apexHeight = 0.5 * (lo + hi);
-        taut.geometry(taut.apexHeight, taut.tangentLength, taut.lineAngle);
-        return taut;
-    }
-    // Point at rest arclength s from end A along the first half (s ≤ halfLength).
-    Vec3 point(double s) const
-    {
-        if (s <= tangentLength) return s * Vec3(std::cos(lineAngle), std::sin(lineAngle), 0.0);
-        const double psi = std::min(lineAngle, (s - tangentLength) / kBendRadius),
-                     a = lineAngle - psi;
-        return centre() + kBendRadius * Vec3(-std::sin(a), std::cos(a), 0.0);
-    }
-};
-
 const double kBeyondReach = 0.01; // ends-fixed-middle-grab: final target above the apex (m)
 
+// ends-fixed-middle-grab reference: the taut shape (test_support/taut_span.h).
 const TautSpan& tautSpan()
 {
-    static const TautSpan taut = TautSpan::solve(0.8, 0.5);
+    static const TautSpan taut = TautSpan::solve(0.8, 0.5, kBendRadius);
     return taut;
 }
 
@@ -153,16 +117,8 @@ double tautSpanError(const std::vector<Vec3>& points, const RodSetup& setup)
     const double total = s.back();
     const TautSpan& taut = tautSpan();
     double worst = 0.0;
-    for (size_t i = 0; i < points.size(); ++i) {
-        Vec3 reference;
-        if (s[i] <= 0.5 * total)
-            reference = taut.point(s[i]);
-        else {
-            reference = taut.point(total - s[i]);
-            reference.x() = taut.span - reference.x();
-        }
-        worst = std::max(worst, (points[i] - reference).norm());
-    }
+    for (size_t i = 0; i < points.size(); ++i)
+        worst = std::max(worst, (points[i] - taut.along(s[i], total)).norm());
     return worst;
 }
 
