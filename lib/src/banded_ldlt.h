@@ -40,24 +40,12 @@ inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t wid
     return dropped;
 }
 
-/// Solves A x = b in place (`rhs`: b, then x) with the factor of factorBandedLdlt. O(m · width).
-inline void solveFactoredBandedLdlt(const double* band, double* rhs, std::size_t m,
-                                    std::size_t width)
+/// The back substitution of a factored band on an eliminated right-hand side. Only the term of
+/// x[i + 1] waits for the row just solved: the others are summed first (two partial sums), so a
+/// row's latency is one multiply-add and one multiply, not a chain of width − 1 multiply-adds.
+inline void backSubstituteBandedLdlt(const double* band, double* rhs, std::size_t m,
+                                     std::size_t width)
 {
-    for (std::size_t i = 0; i < m; ++i) {
-        const double inverse = band[i * width];
-        if (inverse == 0.0) { // a dropped row
-            rhs[i] = 0.0;
-            continue;
-        }
-        const double r = rhs[i];
-        if (r == 0.0) continue;
-        for (std::size_t d = 1; d < width && i + d < m; ++d)
-            rhs[i + d] -= band[i * width + d] * inverse * r;
-    }
-    // Back substitution. Only the term of x[i + 1] waits for the row just solved: the others
-    // are summed first (two partial sums), so a row's latency is one multiply-add and one
-    // multiply, not a chain of width − 1 multiply-adds.
     for (std::size_t i = m; i-- > 0;) {
         const std::size_t last = std::min(width, m - i); // terms d = 1 … last − 1
         const double* row = band + i * width;
@@ -75,12 +63,53 @@ inline void solveFactoredBandedLdlt(const double* band, double* rhs, std::size_t
     }
 }
 
+/// Solves A x = b in place (`rhs`: b, then x) with the factor of factorBandedLdlt. O(m · width).
+inline void solveFactoredBandedLdlt(const double* band, double* rhs, std::size_t m,
+                                    std::size_t width)
+{
+    for (std::size_t i = 0; i < m; ++i) {
+        const double inverse = band[i * width];
+        if (inverse == 0.0) { // a dropped row
+            rhs[i] = 0.0;
+            continue;
+        }
+        const double r = rhs[i];
+        if (r == 0.0) continue;
+        for (std::size_t d = 1; d < width && i + d < m; ++d)
+            rhs[i + d] -= band[i * width + d] * inverse * r;
+    }
+    backSubstituteBandedLdlt(band, rhs, m, width);
+}
+
 /// Solves A x = b in place for A as factorBandedLdlt takes it (`band` is overwritten by the
-/// factor, `rhs` by x). Returns the number of rows dropped.
+/// factor, `rhs` by x), b eliminated in the same pass as the factoring: one pass over the band
+/// fewer than factorBandedLdlt and solveFactoredBandedLdlt in turn, for the chain projection's
+/// single right-hand side (its gravity steps are 8 % slower with two). Returns the number of
+/// rows dropped.
 inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
 {
-    const std::size_t dropped = factorBandedLdlt(band, m, width);
-    solveFactoredBandedLdlt(band, rhs, m, width);
+    std::size_t dropped = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+        double& pivot = band[i * width];
+        if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
+            pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
+            rhs[i] = 0.0;
+            for (std::size_t d = 1; d < width; ++d)
+                band[i * width + d] = 0.0;
+            ++dropped;
+            continue;
+        }
+        const double inverse = 1.0 / pivot;
+        pivot = inverse;
+        for (std::size_t d = 1; d < width && i + d < m; ++d) {
+            const double factor = band[i * width + d] * inverse;
+            if (factor == 0.0) continue;
+            for (std::size_t e = d; e < width && i + e < m; ++e)
+                band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
+            rhs[i + d] -= factor * rhs[i];
+        }
+    }
+    backSubstituteBandedLdlt(band, rhs, m, width);
     return dropped;
 }
 
