@@ -10,19 +10,17 @@
 
 namespace chaintube::detail {
 
-/// Factors a symmetric positive semi-definite m × m matrix A stored as its upper band,
-/// row-major: band[i · width + d] = A(i, i + d) for d < width (d = 0: the diagonal). LDLᵀ
-/// without pivoting, in place: the diagonal becomes the inverses of the pivots (so that each row
-/// of a solve costs one division less), the rest Dᵀ Lᵀ's band. A pivot that vanishes (≤ 1e-300
-/// or not finite: a row dependent on the ones before) drops its row: x = 0 there. Returns the
-/// number of rows dropped. O(m · width²).
-inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t width)
+/// The LDLᵀ elimination of factorBandedLdlt, with `rhs` (b) eliminated in the same pass when
+/// WithRhs (solveBandedLdlt's one pass over the band).
+template <bool WithRhs>
+inline std::size_t eliminateBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
 {
     std::size_t dropped = 0;
     for (std::size_t i = 0; i < m; ++i) {
         double& pivot = band[i * width];
         if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
-            pivot = 0.0; // the inverse pivot of a dropped row
+            pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
+            if constexpr (WithRhs) rhs[i] = 0.0;
             for (std::size_t d = 1; d < width; ++d)
                 band[i * width + d] = 0.0;
             ++dropped;
@@ -35,9 +33,21 @@ inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t wid
             if (factor == 0.0) continue;
             for (std::size_t e = d; e < width && i + e < m; ++e)
                 band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
+            if constexpr (WithRhs) rhs[i + d] -= factor * rhs[i];
         }
     }
     return dropped;
+}
+
+/// Factors a symmetric positive semi-definite m × m matrix A stored as its upper band,
+/// row-major: band[i · width + d] = A(i, i + d) for d < width (d = 0: the diagonal). LDLᵀ
+/// without pivoting, in place: the diagonal becomes the inverses of the pivots (so that each row
+/// of a solve costs one division less), the rest Dᵀ Lᵀ's band. A pivot that vanishes (≤ 1e-300
+/// or not finite: a row dependent on the ones before) drops its row: x = 0 there. Returns the
+/// number of rows dropped. O(m · width²).
+inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t width)
+{
+    return eliminateBandedLdlt<false>(band, nullptr, m, width);
 }
 
 /// The back substitution of a factored band on an eliminated right-hand side. Only the term of
@@ -88,27 +98,7 @@ inline void solveFactoredBandedLdlt(const double* band, double* rhs, std::size_t
 /// rows dropped.
 inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
 {
-    std::size_t dropped = 0;
-    for (std::size_t i = 0; i < m; ++i) {
-        double& pivot = band[i * width];
-        if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
-            pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
-            rhs[i] = 0.0;
-            for (std::size_t d = 1; d < width; ++d)
-                band[i * width + d] = 0.0;
-            ++dropped;
-            continue;
-        }
-        const double inverse = 1.0 / pivot;
-        pivot = inverse;
-        for (std::size_t d = 1; d < width && i + d < m; ++d) {
-            const double factor = band[i * width + d] * inverse;
-            if (factor == 0.0) continue;
-            for (std::size_t e = d; e < width && i + e < m; ++e)
-                band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
-            rhs[i + d] -= factor * rhs[i];
-        }
-    }
+    const std::size_t dropped = eliminateBandedLdlt<true>(band, rhs, m, width);
     backSubstituteBandedLdlt(band, rhs, m, width);
     return dropped;
 }

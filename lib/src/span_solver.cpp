@@ -947,6 +947,20 @@ SpanSolver::Outcome SpanSolver::reach(int root, int end, const Vec3& endTarget,
                 if (static_cast<size_t>(blockPoint[b]) > s) f += force[b];
             return f;
         };
+        // The rows of C (the same in every pass): row (b, i) moves with segment s < its point
+        // by θ × l d (turns e1, e2: −l e2, l e1) and by d with its length.
+        for (int b = 0; b < blocks; ++b)
+            for (int i = 0; i < 3; ++i) {
+                double* column = m_columns.data() + static_cast<size_t>(3 * b + i) * vars;
+                std::fill(column, column + vars, 0.0);
+                for (int s = 0; s < blockPoint[b]; ++s) {
+                    const size_t k = static_cast<size_t>(s);
+                    double* c = column + k * static_cast<size_t>(nv);
+                    c[0] = -l[k] * e2[k][i];
+                    c[1] = l[k] * e1[k][i];
+                    if (stretchable) c[2] = d[k][i];
+                }
+            }
         double x[kMaxRows];
         RowMatrix hardSchur; // S of the hard rows, for the chord steps
         bool solved = false;
@@ -1008,20 +1022,6 @@ SpanSolver::Outcome SpanSolver::reach(int root, int end, const Vec3& endTarget,
                     m_rhs[v] += kappa * lengthRoom[s];
                 }
             factorBandedLdlt(m_band.data(), vars, width);
-            // The rows' columns K⁻¹ Cᵀ: row (b, i) moves with segment s < its point by
-            // θ × l d (turns e1, e2: −l e2, l e1) and by d with its length.
-            for (int b = 0; b < blocks; ++b)
-                for (int i = 0; i < 3; ++i) {
-                    double* column = m_columns.data() + static_cast<size_t>(3 * b + i) * vars;
-                    std::fill(column, column + vars, 0.0);
-                    for (int s = 0; s < blockPoint[b]; ++s) {
-                        const size_t k = static_cast<size_t>(s);
-                        double* c = column + k * static_cast<size_t>(nv);
-                        c[0] = -l[k] * e2[k][i];
-                        c[1] = l[k] * e1[k][i];
-                        if (stretchable) c[2] = d[k][i];
-                    }
-                }
             // S = C K⁻¹ Cᵀ (+ I on the soft rows), from the columns before and after the solve.
             RowMatrix schur;
             schur.setZero(rows, rows);
