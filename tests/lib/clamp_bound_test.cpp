@@ -11,7 +11,8 @@ using namespace chaintube;
 using namespace chaintube::test;
 
 namespace {
-// A hose whose end attachments are 0.8 m apart, 1 m long, bend radius 0.1 m, 40 segments.
+// A hose whose end attachments are 0.8 m apart, 1 m long, bend radius 0.1 m, 40 segments unless
+// asked for more.
 Hose pulledHose(double expansion = 0.0, int segments = 40)
 {
     HoseSpec spec = paperSpec(segments, expansion);
