@@ -9,6 +9,7 @@
 #include <chaintube/formats/project_hoses.h>
 #include <chaintube/surface.h>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <tuple>
 
@@ -527,6 +528,66 @@ TEST(HoseRuntime, JointLocalPosesUnderAMovedNodeStayConsistentWithTheirWorldPose
             const Vec3 recomposed = parentWorld.apply(pose.local.translation);
             EXPECT_LT((recomposed - pose.world.translation).norm(), 1e-9);
         }
+}
+
+/// World ← node of a runtime node, composed from the local transforms up to the root.
+formats::Mat4 worldMatrixOf(const rig::HoseRuntime& runtime, int node)
+{
+    formats::Mat4 world = formats::Mat4::Identity();
+    for (; node >= 0; node = runtime.node(node).parent)
+        world = matrixOf(runtime.node(node).local) * world;
+    return world;
+}
+
+TEST(HoseRuntime, JointLocalPosesComposeToTheirWorldPosesUnderScaledParents)
+{
+    TemporaryFolder folder;
+    const fs::path output = folder / "rig.glb";
+    exportProjectFile(samplesDir() / "test-rig.ctproj", output, roots());
+    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    const int hose = runtime.findHose("left-feed");
+    ASSERT_GE(hose, 0);
+    runtime.update();
+    ASSERT_FALSE(runtime.jointPoses(hose).empty());
+    // The parent most of the hose's joints share.
+    std::map<int, int> sharing;
+    for (const rig::JointPose& pose : runtime.jointPoses(hose))
+        ++sharing[runtime.node(pose.node).parent];
+    const int parent = std::max_element(sharing.begin(), sharing.end(), [](auto a, auto b) {
+                           return a.second < b.second;
+                       })->first;
+    ASSERT_GE(parent, 0);
+    // That parent turned and scaled: uniformly (the joints' local poses by
+    // quaternion products), uniformly with a reflection and non-uniformly (through the matrix and
+    // its decomposition). Parent world · local = world for each joint under that parent; under a
+    // non-uniform scale a turned joint's exact local transform has shear, which a
+    // translation-rotation-scale cannot hold: there its translation alone is exact.
+    const rig::NodeTransform original = runtime.node(parent).local;
+    for (const Vec3& scale : {Vec3(2.0, 2.0, 2.0), Vec3(-1.5, 1.5, 1.5), Vec3(1.0, 2.0, 0.5)}) {
+        SCOPED_TRACE(::testing::Message() << "parent scale " << scale.transpose());
+        const bool uniform = scale.cwiseAbs().maxCoeff() == scale.cwiseAbs().minCoeff();
+        rig::NodeTransform local = original;
+        local.scale = scale;
+        local.rotation = Quat(Eigen::AngleAxisd(0.3, Vec3(1.0, 2.0, 3.0).normalized()));
+        static_cast<void>(runtime.setNodeTransform(parent, local));
+        runtime.update();
+        const formats::Mat4 parentWorld = worldMatrixOf(runtime, parent);
+        int checked = 0;
+        for (const rig::JointPose& pose : runtime.jointPoses(hose)) {
+            if (runtime.node(pose.node).parent != parent) continue;
+            rig::NodeTransform world;
+            world.translation = pose.world.translation;
+            world.rotation = pose.world.rotation;
+            const formats::Mat4 composed = parentWorld * matrixOf(pose.local);
+            const formats::Mat4 expected = matrixOf(world);
+            EXPECT_LT((composed.col(3) - expected.col(3)).norm(), 1e-9);
+            if (uniform) {
+                EXPECT_LT((composed - expected).cwiseAbs().maxCoeff(), 1e-9);
+            }
+            ++checked;
+        }
+        EXPECT_GT(checked, 10);
+    }
 }
 
 TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)

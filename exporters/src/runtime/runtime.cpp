@@ -507,23 +507,50 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
     const std::vector<RingFrame>& frames = running.surface.frames();
     const Vec3& origin = running.hose.origin();
     running.poses.resize(frames.size());
-    int invertedParent = -1; // the joints share their parent node as a rule: inverted once
+    // The joints share their parent node as a rule: its inverse is worked out once. A parent
+    // whose world transform is a rotation and a uniform positive scale (within rounding) gives
+    // each joint's local pose by quaternion products; any other (shear, non-uniform scale, a
+    // reflection) goes through the matrix and its decomposition.
+    int invertedParent = -1;
+    bool similarity = false;
     detail::Affine parentInverse;
+    NodeTransform parent;
+    Quat parentRotationInverse = Quat::Identity();
+    double inverseScale = 1.0;
     for (size_t i = 0; i < frames.size(); ++i) {
         JointPose& pose = running.poses[i];
         pose.node = i < description.jointNodes.size() ? description.jointNodes[i] : -1;
         pose.world.translation = origin + frames[i].center;
         pose.world.rotation = frames[i].rotation();
-        const int parent = i < running.jointParents.size() ? running.jointParents[i] : -1;
-        if (parent < 0) {
+        const int parentNode = i < running.jointParents.size() ? running.jointParents[i] : -1;
+        if (parentNode < 0) {
             pose.local.translation = pose.world.translation;
             pose.local.rotation = pose.world.rotation;
             pose.local.scale = Vec3::Ones();
             continue;
         }
-        if (parent != invertedParent) {
-            parentInverse = m_world[static_cast<size_t>(parent)].inverse();
-            invertedParent = parent;
+        if (parentNode != invertedParent) {
+            const detail::Affine& world = m_world[static_cast<size_t>(parentNode)];
+            similarity = detail::decompose(world, parent, detail::kOrthonormal) &&
+                         (parent.scale.array() > 0.0).all() &&
+                         (parent.scale.array() - parent.scale.x()).abs().maxCoeff() <=
+                             detail::kOrthonormal * parent.scale.x();
+            if (similarity) {
+                parentRotationInverse = parent.rotation.conjugate();
+                inverseScale = 1.0 / parent.scale.x();
+            } else {
+                parentInverse = world.inverse();
+            }
+            invertedParent = parentNode;
+        }
+        if (similarity) {
+            pose.local.translation = parentRotationInverse *
+                                     (pose.world.translation - parent.translation) * inverseScale;
+            pose.local.rotation = (parentRotationInverse * pose.world.rotation).normalized();
+            if (pose.local.rotation.w() < 0.0) // of a rotation's two quaternions, w ≥ 0
+                pose.local.rotation.coeffs() = -pose.local.rotation.coeffs();
+            pose.local.scale = Vec3::Constant(inverseScale);
+            continue;
         }
         const detail::Affine local = parentInverse * detail::matrixOf(pose.world);
         detail::decompose(local, pose.local);
