@@ -16,6 +16,9 @@
 namespace chaintube::rig {
 
 namespace {
+/// HoseRuntime::poseJoints: a parent node's world transform whose columns are orthogonal and of
+/// equal length to this (relative) is a rotation and a uniform scale.
+constexpr double kSimilar = 1e-6;
 
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
@@ -508,9 +511,10 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
     const Vec3& origin = running.hose.origin();
     running.poses.resize(frames.size());
     // The joints share their parent node as a rule: its inverse is worked out once. A parent
-    // whose world transform is a rotation and a uniform positive scale (within rounding) gives
-    // each joint's local pose by quaternion products; any other (shear, non-uniform scale, a
-    // reflection) goes through the matrix and its decomposition.
+    // whose world transform is a rotation and a uniform positive scale to kSimilar (relative;
+    // scenes stored in floats carry scales that differ in the eighth digit) gives each joint's
+    // local pose by quaternion products; any other (shear, a non-uniform scale, a reflection)
+    // goes through the matrix and its decomposition.
     int invertedParent = -1;
     bool similarity = false;
     detail::Affine parentInverse;
@@ -531,13 +535,13 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
         }
         if (parentNode != invertedParent) {
             const detail::Affine& world = m_world[static_cast<size_t>(parentNode)];
-            similarity = detail::decompose(world, parent, detail::kOrthonormal) &&
-                         (parent.scale.array() > 0.0).all() &&
-                         (parent.scale.array() - parent.scale.x()).abs().maxCoeff() <=
-                             detail::kOrthonormal * parent.scale.x();
+            const bool noShear = detail::decompose(world, parent, kSimilar);
+            const double scale = parent.scale.mean();
+            similarity = noShear && (parent.scale.array() > 0.0).all() &&
+                         (parent.scale.array() - scale).abs().maxCoeff() <= kSimilar * scale;
             if (similarity) {
                 parentRotationInverse = parent.rotation.conjugate();
-                inverseScale = 1.0 / parent.scale.x();
+                inverseScale = 1.0 / scale;
             } else {
                 parentInverse = world.inverse();
             }
