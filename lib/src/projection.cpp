@@ -11,6 +11,11 @@ namespace chaintube::detail {
 namespace {
 /// A constraint within this fraction of its bound counts as on it.
 constexpr double kActiveMargin = 1e-9;
+/// A row outside the working set joins it when the step would take it beyond its bound by this
+/// fraction of run()'s tolerance (at most kActiveMargin): a row left violated by less than the
+/// margin but more than the tolerance would otherwise stay out, and the steps stall above the
+/// tolerance.
+constexpr double kJoinShare = 0.01;
 /// Re-solves of one linearisation while its working set changes.
 constexpr int kWorkingSetPasses = 4;
 } // namespace
@@ -275,7 +280,7 @@ bool ChainProjection::adjustWorkingSet(const std::vector<Vec3>& from)
             linear += row.g[q].dot(next - p[k]);
         }
         const double scale = row.count == 2 ? h.m_restLength[static_cast<size_t>(row.first)] : 1.0;
-        if (linear > kActiveMargin * scale) {
+        if (linear > m_joinMargin * scale) {
             row.working = true;
             changed = true;
         }
@@ -293,6 +298,7 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
     std::vector<Vec3>& p = h.m_local;
     const std::vector<double>& w = m_inverseMass;
     ProjectionOutcome out;
+    m_joinMargin = std::min(kActiveMargin, kJoinShare * tolerance);
     double worst = gather(false);
     double merit = m_merit;
     m_damping = 0.0;

@@ -113,8 +113,9 @@ private:
     size_t m_width = 1;
     std::vector<double> m_band, m_lambda; ///< solveWorking(): factor, multipliers (per row)
     std::vector<Vec3> m_step, m_saved;
-    double m_merit = 0.0;   ///< gather(): sum of the squared violations
-    double m_damping = 0.0; ///< Levenberg–Marquardt damping, relative to the diagonal
+    double m_merit = 0.0;       ///< gather(): sum of the squared violations
+    double m_damping = 0.0;     ///< Levenberg–Marquardt damping, relative to the diagonal
+    double m_joinMargin = 1e-9; ///< run(): adjustWorkingSet()'s margin for rows that join
 };
 
 } // namespace chaintube::detail
