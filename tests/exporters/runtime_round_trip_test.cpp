@@ -508,12 +508,18 @@ TEST(HoseRuntime, AHoseIgnoresTheCollidersItsAttachmentNodesSitInButNotTheirSibl
               << "the valve " << after << " m\n";
 }
 
+/// The test rig sample exported to `folder`/rig.glb and loaded by the runtime.
+rig::HoseRuntime exportedTestRig(const TemporaryFolder& folder)
+{
+    const fs::path output = folder / "rig.glb";
+    exportProjectFile(samplesDir() / "test-rig.ctproj", output, roots());
+    return rig::HoseRuntime::load(output);
+}
+
 TEST(HoseRuntime, JointLocalPosesUnderAMovedNodeStayConsistentWithTheirWorldPoses)
 {
     TemporaryFolder folder;
-    const fs::path output = folder / "rig.glb";
-    exportProjectFile(samplesDir() / "test-rig.ctproj", output, roots());
-    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    rig::HoseRuntime runtime = exportedTestRig(folder);
     const int valve = runtime.findNode("valve");
     ASSERT_GE(valve, 0);
     rig::NodeTransform local = runtime.node(valve).local;
@@ -542,9 +548,7 @@ formats::Mat4 worldMatrixOf(const rig::HoseRuntime& runtime, int node)
 TEST(HoseRuntime, JointLocalPosesComposeToTheirWorldPosesUnderScaledParents)
 {
     TemporaryFolder folder;
-    const fs::path output = folder / "rig.glb";
-    exportProjectFile(samplesDir() / "test-rig.ctproj", output, roots());
-    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    rig::HoseRuntime runtime = exportedTestRig(folder);
     const int hose = runtime.findHose("left-feed");
     ASSERT_GE(hose, 0);
     runtime.update();
@@ -657,9 +661,7 @@ TEST(HoseRuntime, AppliesGravityTorsionAndCollidersFromTheDescriptor)
 TEST(HoseRuntime, RejectsGrabsOfFixedPointsAndUnknownNodes)
 {
     TemporaryFolder folder;
-    const fs::path output = folder / "rig.glb";
-    exportProjectFile(samplesDir() / "test-rig.ctproj", output, roots());
-    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    rig::HoseRuntime runtime = exportedTestRig(folder);
     const Vec3 before = runtime.hose(0).point(0);
     EXPECT_EQ(runtime.grab(0, 0, Vec3(1, 1, 1)).status, Status::InvalidInput); // attached
     EXPECT_EQ(runtime.grab(5, 3, Vec3(1, 1, 1)).status, Status::InvalidInput); // no hose 5

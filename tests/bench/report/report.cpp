@@ -40,6 +40,7 @@ constexpr double kHoseLength = 1.0;
 /// The summary's second comparison counts only the XPBD runs that keep every segment within
 /// this many percent of its rest length (a run that stretches it by more is not a hose).
 constexpr double kHoseStretchPercent = 1.0;
+constexpr const char* kHosePeer = "XPBD within 1 % (best)"; ///< its peer name in the tables
 constexpr double kHoseRadius = 0.008;
 
 // --- scenarios ------------------------------------------------------------------------------
@@ -571,6 +572,13 @@ std::string fmt(double value, int precision = 3)
     std::ostringstream out;
     out << std::setprecision(precision) << value;
     return out.str();
+}
+
+/// A summary's "ChainTube faster by" cell: the range of its ratios ("≥": a lower bound), or "—".
+std::string ratioRange(const EqualErrorSummary& sum)
+{
+    if (!sum.compared) return "—";
+    return (sum.minIsLowerBound ? "≥ " : "") + fmt(sum.minRatio) + "x … " + fmt(sum.maxRatio) + "x";
 }
 
 // The paper's target frame: 50 hoses × 100 points × 16-sided rings, `moving` of them dragged
@@ -1391,8 +1399,7 @@ int main(int argc, char** argv)
         if (xpbdHose.empty())
             md << "(none of the XPBD runs does)\n\n";
         else
-            md << equalErrorTable(chaintube, {{"XPBD within 1 % (best)", Front::of(xpbdHose)}},
-                                  "µs", &hoseSummary)
+            md << equalErrorTable(chaintube, {{kHosePeer, Front::of(xpbdHose)}}, "µs", &hoseSummary)
                << "\n";
         size_t colour = 0;
         std::vector<PlotSeries>& plot = scenarioPlots[scenario.name];
@@ -1450,8 +1457,7 @@ int main(int argc, char** argv)
             Front::of(catenaryChainTube), {{"XPBD (best)", Front::of(xpbdAll)}}, "µs",
             &xpbdSummaries.emplace_back("catenary (time to settle)", EqualErrorSummary()).second);
         ignored << equalErrorTable(
-            Front::of(catenaryChainTube), {{"XPBD within 1 % (best)", Front::of(catenaryXpbdHose)}},
-            "µs",
+            Front::of(catenaryChainTube), {{kHosePeer, Front::of(catenaryXpbdHose)}}, "µs",
             &xpbdHoseSummaries.emplace_back("catenary (time to settle)", EqualErrorSummary())
                  .second);
     }
@@ -1470,11 +1476,7 @@ int main(int argc, char** argv)
                    "best XPBD error (m) | best ChainTube error (m) |\n|---|---|---|---|---|---|\n";
         for (const auto& [name, sum] : xpbdSummaries) {
             summary << "| " << name << " | " << sum.compared + sum.moreAccurate << " | ";
-            if (sum.compared)
-                summary << (sum.minIsLowerBound ? "≥ " : "") << fmt(sum.minRatio) << "x … "
-                        << fmt(sum.maxRatio) << "x";
-            else
-                summary << "—";
+            summary << ratioRange(sum);
             summary << " | " << sum.moreAccurate << " | " << fmt(sum.bestPeerError) << " | "
                     << fmt(sum.bestChainTubeError) << " |\n";
         }
@@ -1487,11 +1489,7 @@ int main(int argc, char** argv)
                    "best of those, error (m) |\n|---|---|---|---|---|\n";
         for (const auto& [name, sum] : xpbdHoseSummaries) {
             summary << "| " << name << " | " << sum.compared + sum.moreAccurate << " | ";
-            if (sum.compared)
-                summary << (sum.minIsLowerBound ? "≥ " : "") << fmt(sum.minRatio) << "x … "
-                        << fmt(sum.maxRatio) << "x";
-            else
-                summary << "—";
+            summary << ratioRange(sum);
             summary << " | " << sum.moreAccurate << " | "
                     << (sum.compared + sum.moreAccurate ? fmt(sum.bestPeerError) : "—") << " |\n";
         }
