@@ -24,9 +24,9 @@ constexpr int kStepProjectionSteps = 8;   ///< Newton steps of one attempt
 constexpr double kFallShrink = 0.25;
 constexpr double kLeastFall = 1.0 / 16.0;
 constexpr double kFallGrowth = 4.0;
-/// A grabbed point left short of its target holds the hose at the edge of its reach; once a
-/// full prediction failed there, this many steps start from rest before it is tried again.
-constexpr int kFromRestSteps = 8;
+/// Once a full prediction of a hose with a held point failed (without colliders), this many
+/// steps skip it before it is tried again: they start with the retry fall and the velocity.
+constexpr int kSkipFullSteps = 8;
 /// The free tails' velocity correction (Hose::step): a little more than follow-the-leader's
 /// full correction, with which a 99-segment cantilever falls as the coarse ones do
 /// (GravityStep.ACantileverFallsAlike…).
@@ -221,7 +221,7 @@ void Hose::markSettled()
     m_gravityStallSteps = 0;
     m_gravityRetryFall = 1.0;
     m_gravityFullFailed = false;
-    m_gravityFromRest = 0;
+    m_gravitySkippedFull = 0;
     m_settledRevision = m_revision;
 }
 
@@ -304,30 +304,35 @@ UpdateResult Hose::step()
     double factors[3] = {1.0, m_gravityRetryFall, 0.0};
     if (m_gravityRetryFall > kLeastFall)
         factors[2] = std::max(kLeastFall, kFallShrink * m_gravityRetryFall);
-    // A grabbed point that its last grab left short of its target holds the hose at the edge of
-    // its reach, taut along the pull, where the full prediction (the velocity and the whole
-    // fall) fails at fine resolutions (every such step of the real-time walks at 100 and 400
-    // points, almost none at 25): once it failed there, the next kFromRestSteps steps start
-    // from rest, as the failed attempt's retries would, while the point stays there. (Not
-    // with colliders: there the failed attempt's working set helps the retries, whose p99
-    // grew by a fifth without it.)
+    // While a point is held (a grab each frame), a full prediction that failed fails again on
+    // most of the next steps: the hose is held taut between pinned points (attachments, the
+    // held point) and cannot take the whole fall next to them, and the projection does not
+    // converge from there within its steps (the real-time walk at 100 points: 1,084 of 1,255
+    // full predictions failed, 41 % of the Newton steps). So once it failed, the next
+    // kSkipFullSteps steps start with the retry fall, the velocity kept. (Not without a held
+    // point: a hose settling on its own keeps trying the full prediction each step; with the
+    // skips a test-rig hose settled in 296 steps instead of 133 and moved a point by 0.51 of a
+    // segment in one. Not with colliders: there the failed attempt's working set helps the
+    // retries, whose p99 grew by a fifth without it.)
     // A hose of which only the tails fall (hanging from one attachment or the held point alone)
     // goes on without the projection once its full prediction failed: its tails fall by the
     // paper's pass from their full prediction (below) whatever the projection does.
-    const bool heldAtEdge = m_held >= 0 && m_trustCarry.point == m_held && m_colliders.empty();
     const bool onlyTails = m_colliders.empty() && engine.onlyTailsFall();
     size_t firstAttempt = 0;
-    if (m_gravityFullFailed && (onlyTails || (heldAtEdge && m_gravityFromRest < kFromRestSteps))) {
+    const bool skipFull =
+        m_held >= 0 && m_colliders.empty() && m_gravitySkippedFull < kSkipFullSteps;
+    if (m_gravityFullFailed && (onlyTails || skipFull)) {
         firstAttempt = 1;
-        ++m_gravityFromRest;
+        ++m_gravitySkippedFull;
     }
     bool tails = false;
     for (size_t attempt = firstAttempt; attempt < std::size(factors) && factors[attempt] > 0.0;
          ++attempt) {
         // Where the full prediction of the whole hose fails, its free tails fall on their own.
         if (attempt > 0 && !tails) tails = engine.separateTails();
-        // Attempt 0 carries the velocity; the others start from rest with a smaller fall.
-        const double velocity = attempt == 0 ? kDamping : 0.0;
+        // Attempt 0 carries the velocity, and so does the first attempt of a step that skips it;
+        // the others start from rest with a smaller fall.
+        const double velocity = attempt == firstAttempt && attempt < 2 ? kDamping : 0.0;
         const Vec3 move = fall * factors[attempt];
         for (size_t i = 0; i < n; ++i)
             predicted[i] =
@@ -336,7 +341,7 @@ UpdateResult Hose::step()
         valid = engine.project(predicted, start, result.iterations);
         if (attempt == 0) {
             m_gravityFullFailed = !valid;
-            m_gravityFromRest = 0;
+            m_gravitySkippedFull = 0;
         }
         if (valid) {
             m_gravityRetryFall =

@@ -318,7 +318,9 @@ public:
     /// nearest collider (a touching point keeps no velocity); a projection that ends close is
     /// finished exactly by the span solver. Bounded: at most 3 attempts (then from rest, with
     /// the fall of the last retry that worked and a quarter of it, never below a sixteenth of
-    /// the full fall); when none ends valid the hose stays where it is, at rest. After every call
+    /// the full fall; while a point is held, once the full prediction failed, the next 8 steps
+    /// without colliders start with that retry fall and the velocity instead); when none ends
+    /// valid the hose stays where it is, at rest. After every call
     /// every constraint holds (1e-9). Moves made by grabs and attachments carry no velocity; fixed
     /// points and the held point (the last grabbed, until releaseGrab()) stay. A shape that
     /// violates its constraints is brought nearer to valid instead of falling. At rest (no point
@@ -448,10 +450,11 @@ private:
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
     double m_gravityLowestEnergy = 0.0; ///< step(): lowest potential energy since an input changed
     int m_gravityStallSteps = 0;        ///< step(): steps since it last fell
-    double m_gravityRetryFall = 1.0;    ///< step(): fall of a retry from rest (sag.cpp)
+    double m_gravityRetryFall = 1.0;    ///< step(): fall of a retry (sag.cpp)
     bool m_gravityFullFailed = false;   ///< step(): the last full prediction failed (sag.cpp)
-    int m_gravityFromRest = 0;          ///< step(): steps from rest since (sag.cpp)
-    bool m_dirtyViolation = false;      ///< last update left a violation: next one checks globally
+    int m_gravitySkippedFull =
+        0; ///< step(): steps that skipped the full prediction since (sag.cpp)
+    bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;
