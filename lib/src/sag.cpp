@@ -24,8 +24,8 @@ constexpr int kStepProjectionSteps = 8;   ///< Newton steps of one attempt
 constexpr double kFallShrink = 0.25;
 constexpr double kLeastFall = 1.0 / 16.0;
 constexpr double kFallGrowth = 4.0;
-/// Once a full prediction of a hose with a held point failed (without colliders), this many
-/// steps skip it before it is tried again: they start with the retry fall and the velocity.
+/// Once a full prediction of a hose with a held point failed, this many steps skip it before it
+/// is tried again: they start with the retry fall and the velocity.
 constexpr int kSkipFullSteps = 8;
 /// The free tails' velocity correction (Hose::step): a little more than follow-the-leader's
 /// full correction, with which a 99-segment cantilever falls as the coarse ones do
@@ -312,15 +312,13 @@ UpdateResult Hose::step()
     // kSkipFullSteps steps start with the retry fall, the velocity kept. (Not without a held
     // point: a hose settling on its own keeps trying the full prediction each step; with the
     // skips a test-rig hose settled in 296 steps instead of 133 and moved a point by 0.51 of a
-    // segment in one. Not with colliders: there the failed attempt's working set helps the
-    // retries, whose p99 grew by a fifth without it.)
+    // segment in one.)
     // A hose of which only the tails fall (hanging from one attachment or the held point alone)
     // goes on without the projection once its full prediction failed: its tails fall by the
     // paper's pass from their full prediction (below) whatever the projection does.
     const bool onlyTails = m_colliders.empty() && engine.onlyTailsFall();
     size_t firstAttempt = 0;
-    const bool skipFull =
-        m_held >= 0 && m_colliders.empty() && m_gravitySkippedFull < kSkipFullSteps;
+    const bool skipFull = m_held >= 0 && m_gravitySkippedFull < kSkipFullSteps;
     if (m_gravityFullFailed && (onlyTails || skipFull)) {
         firstAttempt = 1;
         ++m_gravitySkippedFull;

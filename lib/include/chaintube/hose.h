@@ -319,8 +319,8 @@ public:
     /// finished exactly by the span solver. Bounded: at most 3 attempts (then from rest, with
     /// the fall of the last retry that worked and a quarter of it, never below a sixteenth of
     /// the full fall; while a point is held, once the full prediction failed, the next 8 steps
-    /// without colliders start with that retry fall and the velocity instead); when none ends
-    /// valid the hose stays where it is, at rest. After every call
+    /// start with that retry fall and the velocity instead); when none ends valid the hose stays
+    /// where it is, at rest. After every call
     /// every constraint holds (1e-9). Moves made by grabs and attachments carry no velocity; fixed
     /// points and the held point (the last grabbed, until releaseGrab()) stay. A shape that
     /// violates its constraints is brought nearer to valid instead of falling. At rest (no point
