@@ -452,9 +452,8 @@ private:
     int m_gravityStallSteps = 0;        ///< step(): steps since it last fell
     double m_gravityRetryFall = 1.0;    ///< step(): fall of a retry (sag.cpp)
     bool m_gravityFullFailed = false;   ///< step(): the last full prediction failed (sag.cpp)
-    int m_gravitySkippedFull =
-        0; ///< step(): steps that skipped the full prediction since (sag.cpp)
-    bool m_dirtyViolation = false; ///< last update left a violation: next one checks globally
+    int m_gravitySkippedFull = 0;       ///< step(): full predictions skipped since (sag.cpp)
+    bool m_dirtyViolation = false;      ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;
