@@ -330,7 +330,7 @@ UpdateResult Hose::step()
         if (attempt > 0 && !tails) tails = engine.separateTails();
         // Attempt 0 carries the velocity, and so does the first attempt of a step that skips it;
         // the others start from rest with a smaller fall.
-        const double velocity = attempt == firstAttempt && attempt < 2 ? kDamping : 0.0;
+        const double velocity = attempt == firstAttempt ? kDamping : 0.0;
         const Vec3 move = fall * factors[attempt];
         for (size_t i = 0; i < n; ++i)
             predicted[i] =

@@ -320,10 +320,10 @@ public:
     /// the fall of the last retry that worked and a quarter of it, never below a sixteenth of
     /// the full fall; while a point is held, once the full prediction failed, the next 8 steps
     /// start with that retry fall and the velocity instead); when none ends valid the hose stays
-    /// where it is, at rest. After every call
-    /// every constraint holds (1e-9). Moves made by grabs and attachments carry no velocity; fixed
-    /// points and the held point (the last grabbed, until releaseGrab()) stay. A shape that
-    /// violates its constraints is brought nearer to valid instead of falling. At rest (no point
+    /// where it is, at rest. After every call every constraint holds (1e-9). Moves made by
+    /// grabs and attachments carry no velocity; fixed points and the held point (the last
+    /// grabbed, until releaseGrab()) stay. A shape that violates its constraints is brought
+    /// nearer to valid instead of falling. At rest (no point
     /// moved more than 1e-6 of a mean segment in a step, or no lower by 1 % of a mean segment in
     /// 120 steps), with gravity off, or with nothing fixed and nothing held, a call costs one
     /// comparison until an input changes (any revision()). Deterministic. Returns the constraint
