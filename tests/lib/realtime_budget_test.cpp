@@ -277,8 +277,9 @@ TEST(RealTimeBudget,
 {
     // 500 frames (5.6 s at 90 Hz): the finer hose's full prediction mostly fails and its
     // retries fall by 1/16 of it (tests/bench/PERFORMANCE-NOTES.md, "Gravity frame"), so it
-    // sags slower. Once its full prediction failed, its next steps skip it (lib/README.md,
-    // "Gravity"): 7.7 Newton steps a step on average, 15.6 without.
+    // sags slower. Once its full prediction failed, its next steps skip it, and each
+    // projection stops where the span solver can close the rest (lib/README.md, "Gravity"):
+    // 7.2 Newton steps a step on average.
     expectTheGravityWalkWithinBudget(100, 500, 100, 0.01, 10.0);
 }
 
