@@ -23,11 +23,10 @@ namespace {
 constexpr int kLeafSize = 4;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Hose::applyCollisions: Newton steps of the chain projection with the contacts, and the
-/// largest violation it stops at (relative length, radians, contact depth over a segment).
+/// largest violation it stops at (relative length, radians, contact depth over a segment), from
+/// which the span solver closes the rest exactly (Hose::closeSpans): its moves are of the order
+/// of the violation.
 constexpr int kContactProjectionSteps = 8;
-constexpr double kContactProjectionConverged = 1e-10;
-/// Stopped this near (and not within kContactProjectionConverged), the span solver closes the
-/// rest exactly (Hose::closeSpans): its moves are of the order of the violation.
 constexpr double kContactProjectionClose = 1e-5;
 
 double boxDistance2(const Aabb& box, const Vec3& p)
@@ -1101,9 +1100,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
                                                         radius + 0.1 * tolerance, 1e-12));
         }
         const detail::ProjectionOutcome out =
-            projection.run(kContactProjectionSteps, kContactProjectionConverged);
+            projection.run(kContactProjectionSteps, kContactProjectionClose);
         result.iterations += out.iterations;
-        if (out.converged || (out.violation <= kContactProjectionClose &&
+        if (out.converged && (measureViolation().status == Status::Ok ||
                               closeSpans(grabbed, before, result.iterations))) {
             const std::vector<Vec3> after = m_local;
             m_local = before;
