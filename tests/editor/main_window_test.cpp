@@ -91,9 +91,20 @@ protected:
     }
     void settle()
     {
-        QApplication::processEvents();
+        takeKeys();
         m_window->viewport().repaint();
         QApplication::processEvents();
+    }
+    /// Under xvfb no window manager gives the window the focus back when a dialog it opened
+    /// closes (the import's progress dialog, shown once an import takes 300 ms, so only on a
+    /// loaded machine): with no window active, its window-wide shortcuts (Return finishing a
+    /// route, Ctrl+Z) would go nowhere. The window asks for the focus and waits until it has it.
+    void takeKeys()
+    {
+        QApplication::processEvents();
+        if (!m_window || QApplication::activeWindow()) return;
+        m_window->activateWindow();
+        EXPECT_TRUE(QTest::qWaitForWindowActive(m_window.get()));
     }
     /// Selects a hose of the open document (the properties panel then shows it).
     void selectHose(const std::string& id)
@@ -299,6 +310,7 @@ TEST_F(MainWindowTest, LayOutFixMoveUndoAndExportOnTheTestRig)
     for (const auto& click : clicks)
         QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
     ASSERT_EQ(viewport.pendingRoute().size(), 3u);
+    takeKeys();
     QTest::keyClick(&viewport, Qt::Key_Return);
     settle();
     ASSERT_EQ(document.hoseCount(), 3) << m_errors.join('\n').toStdString();
@@ -456,6 +468,7 @@ TEST_F(MainWindowTest, EngineSceneLayOutFixAndMove)
     m_window->action("actionNewHose")->trigger();
     for (const auto& hit : hits)
         QTest::mouseClick(&viewport, Qt::LeftButton, {}, hit.first);
+    takeKeys();
     QTest::keyClick(&viewport, Qt::Key_Return);
     settle();
     ASSERT_EQ(document.hoseCount(), hosesBefore + 1) << m_errors.join('\n').toStdString();
@@ -584,6 +597,7 @@ TEST_F(MainWindowTest, ARouteClickedOnASurfaceKeepsTheNewHoseOutOfThePartAtEvery
         for (const auto& click : clicks)
             QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
         ASSERT_EQ(viewport.pendingRoute().size(), 4u);
+        takeKeys();
         QTest::keyClick(&viewport, Qt::Key_Return);
         settle();
         ASSERT_EQ(document.hoseCount(), 1) << m_errors.join('\n').toStdString();
@@ -685,6 +699,7 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
     for (const auto& click : clicks)
         QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
     ASSERT_EQ(viewport.pendingRoute().size(), 4u);
+    takeKeys();
     QTest::keyClick(&viewport, Qt::Key_Return);
     settle();
     ASSERT_EQ(document.hoseCount(), 1) << m_errors.join('\n').toStdString();
@@ -750,6 +765,7 @@ TEST_F(MainWindowTest, RoutePointsClickedNextToTheBracketsUprightKeepTheClearanc
         EXPECT_FALSE(anyNearer) << "click " << i << ": a surface at "
                                 << (nearest - point).norm() * 1000.0 << " mm";
     }
+    takeKeys();
     QTest::keyClick(&viewport, Qt::Key_Return);
     settle();
     ASSERT_EQ(document.hoseCount(), 1) << m_errors.join('\n').toStdString();
