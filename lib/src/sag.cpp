@@ -90,19 +90,22 @@ public:
 
     /// Projects `predicted` (written into the hose) onto the constraints by the fast
     /// projection (Goldenthal et al. 2007): Newton steps of the smallest mass-weighted move onto
-    /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps,
-    /// until the largest violation is within kCloseFrom. The span solver then closes the rest
-    /// exactly (Hose::closeSpans): the projection's last steps often converge only linearly
-    /// (bend limits switching on and off near their bounds), and closing from there moves the
-    /// points by the order of the violation. Without contacts, the span solver also closes from
-    /// farther off when that moves no point by more than kCloseMove of a segment. Returns
-    /// whether every constraint holds afterwards.
+    /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps.
+    /// Where they end close but not within the tolerance, the span solver closes the rest
+    /// exactly (Hose::closeSpans): its moves are then of the order of the violation. While a
+    /// point is held, the projection stops as soon as it is that close (its last steps often
+    /// converge only linearly there, bend limits switching on and off near their bounds, and
+    /// closing costs less than they do); a hose settling on its own converges to the tolerance
+    /// (closing would cost more than its last steps). Without contacts, the span solver also
+    /// closes from farther off when that moves no point by more than kCloseMove of a segment.
+    /// Returns whether every constraint holds afterwards.
     bool project(const std::vector<Vec3>& predicted, const std::vector<Vec3>& from, int& iterations)
     {
         gatherContacts(predicted, from);
         h.m_local = predicted;
         projection.setPredicted(nullptr);
-        const detail::ProjectionOutcome out = projection.run(kStepProjectionSteps, kCloseFrom);
+        const detail::ProjectionOutcome out =
+            projection.run(kStepProjectionSteps, held >= 0 ? kCloseFrom : kStepConverged);
         iterations += out.iterations;
         if (out.converged && h.measureViolation().status == Status::Ok) return true;
         if (out.violation <= kCloseFrom) return h.closeSpans(held, from, iterations);
