@@ -35,6 +35,11 @@ constexpr double kStepConverged = 1e-10; ///< relative length, radians, contact 
 /// Largest violation left by the projection that the span solver closes (relative length,
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
 constexpr double kCloseFrom = 1e-5;
+/// Without contacts, while a point is held: the violation at which the projection stops and
+/// the span solver closes the rest (checked by kCloseMove). Instructions counted for
+/// `ends-fixed-gravity` at 100 points: 2.41 / 2.25 / 2.01 / 2.29 M a frame stopping at 1e-5 /
+/// 1e-4 / 1e-3 / 1e-2 (tests/bench/PERFORMANCE-NOTES.md).
+constexpr double kCloseFromFree = 1e-3;
 /// Farther off, without contacts: the largest move (of the mean rest length) that closing may
 /// make from the projection's state.
 constexpr double kCloseMove = 0.05;
@@ -92,28 +97,32 @@ public:
     /// projection (Goldenthal et al. 2007): Newton steps of the smallest mass-weighted move onto
     /// the linearised constraints, from the predicted positions, at most kStepProjectionSteps.
     /// Where they end close but not within the tolerance, the span solver closes the rest
-    /// exactly (Hose::closeSpans): its moves are then of the order of the violation. While a
-    /// point is held, the projection stops as soon as it is that close (its last steps often
-    /// converge only linearly there, bend limits switching on and off near their bounds, and
-    /// closing costs less than they do); a hose settling on its own converges to the tolerance
-    /// (closing would cost more than its last steps). Without contacts, the span solver also
-    /// closes from farther off when that moves no point by more than kCloseMove of a segment.
-    /// Returns whether every constraint holds afterwards.
+    /// exactly (Hose::closeSpans): its moves are then of the order of the violation. Without
+    /// contacts, it also closes from farther off when that moves no point by more than
+    /// kCloseMove of a segment. While a point is held, the projection stops as soon as closing
+    /// can take over (within kCloseFrom, or kCloseFromFree without contacts): its last steps
+    /// often converge only linearly there, bend limits switching on and off near their bounds,
+    /// and closing costs less than they do; a hose settling on its own converges to the
+    /// tolerance (closing would cost more than its last steps). Returns whether every
+    /// constraint holds afterwards.
     bool project(const std::vector<Vec3>& predicted, const std::vector<Vec3>& from, int& iterations)
     {
         gatherContacts(predicted, from);
         h.m_local = predicted;
         projection.setPredicted(nullptr);
-        const detail::ProjectionOutcome out =
-            projection.run(kStepProjectionSteps, held >= 0 ? kCloseFrom : kStepConverged);
+        const bool contacts =
+            std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; });
+        const double stopAt = held < 0 ? kStepConverged : contacts ? kCloseFrom : kCloseFromFree;
+        const detail::ProjectionOutcome out = projection.run(kStepProjectionSteps, stopAt);
         iterations += out.iterations;
-        if (out.converged && h.measureViolation().status == Status::Ok) return true;
+        if (out.violation <= std::min(stopAt, kCloseFrom) &&
+            h.measureViolation().status == Status::Ok)
+            return true;
         if (out.violation <= kCloseFrom) return h.closeSpans(held, from, iterations);
         // Farther off and without contacts (nothing to push into): closed too when that moves
         // no point more than kCloseMove of a segment from where the projection left it (a
         // larger correction would be a jump, not a fall).
-        if (std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; }))
-            return false;
+        if (contacts) return false;
         projected = h.m_local;
         if (!h.closeSpans(held, from, iterations)) return false;
         double moved = 0.0;

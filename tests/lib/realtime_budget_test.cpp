@@ -279,7 +279,7 @@ TEST(RealTimeBudget,
     // retries fall by 1/16 of it (tests/bench/PERFORMANCE-NOTES.md, "Gravity frame"), so it
     // sags slower. Once its full prediction failed, its next steps skip it, and each
     // projection stops where the span solver can close the rest (lib/README.md, "Gravity"):
-    // 7.2 Newton steps a step on average.
+    // 6.9 Newton steps a step on average.
     expectTheGravityWalkWithinBudget(100, 500, 100, 0.01, 10.0);
 }
 
