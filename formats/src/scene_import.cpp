@@ -119,10 +119,18 @@ void checkPlyHeader(const std::filesystem::path& file)
             if (keyword == "format") {
                 format = a;
             } else if (keyword == "element") {
-                elementCount = 0;
-                if (!b.empty() && b.size() < 13 &&
-                    b.find_first_not_of("0123456789") == std::string::npos)
-                    elementCount = std::min(kCap, std::stoull(b));
+                // assimp reads the digits an element's name starts with as its count (a name of
+                // "6666666666666vertex" asked for 21 GB, scene_import_fuzzer), and a count's
+                // leading digits whatever follows them: both are refused, and a count too long
+                // to sum counts as the cap (the body check then refuses it).
+                if (a.empty() || std::isdigit(static_cast<unsigned char>(a[0])))
+                    throw FileError(file, "malformed PLY: element name '" + a +
+                                              "': expected a name that does not start with a "
+                                              "digit");
+                if (b.empty() || b.find_first_not_of("0123456789") != std::string::npos)
+                    throw FileError(file, "malformed PLY: element '" + a + "' has count '" + b +
+                                              "': expected a whole number");
+                elementCount = b.size() < 13 ? std::min(kCap, std::stoull(b)) : kCap;
             } else if (keyword == "property") {
                 // A scalar takes one value; a list at least its count.
                 minimumValues = std::min(kCap, minimumValues + elementCount);

@@ -12,8 +12,10 @@
 // without a signal hit a sanitizer report in our conversion code (or an allocation over
 // build.sh's max_allocation_size_mb): that is
 // our bug, so its report is printed and the run stops. PLY headers without `end_header` made
-// assimp 5.2.5 loop forever (tests/fuzz/findings/assimp-ply-hang.bin); the wrapper refuses them
-// first (test SceneImportHardening.*).
+// assimp 5.2.5 loop forever (tests/fuzz/findings/assimp-ply-hang.bin), and an element name
+// starting with digits made it read them as the count and ask for 21 GB
+// (tests/fuzz/findings/assimp-ply-element-name-digits-21gb.bin, also in the corpus); the wrapper
+// refuses both first (test SceneImportHardening.*).
 #include "fuzz_support.h"
 
 #include <chaintube/formats/scene_import.h>

@@ -140,6 +140,42 @@ TEST(SceneImportHardening, PlyBodyShorterThanItsHeaderIsRefusedBeforeAssimpAbort
         << binary.child.message;
 }
 
+TEST(SceneImportHardening, PlyElementCountsAssimpWouldMisreadAreRefusedBeforeAllocating)
+{
+    // scene_import_fuzzer (tests/fuzz/findings/assimp-ply-element-name-digits-21gb.bin without
+    // its format byte): assimp 5.2.5 read the digits of the element name "6666666666666vertex"
+    // as its count and asked for 21 GB.
+    ScratchFolder folder;
+    const std::string rest = " 3\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list uchar int vertex_indices\n"
+                             "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const fs::path named =
+        folder.write("name.ply", "ply\nformat ascii 1.0\nelement 6666666666666vertex" + rest);
+    const ImportOutcome name = importWithin(named, std::chrono::seconds(20));
+    ASSERT_TRUE(name.child.finished) << "importScene did not return within 20 s";
+    EXPECT_TRUE(name.refused()) << "exit " << name.child.exitCode;
+    EXPECT_EQ(name.child.message,
+              named.string() + ": malformed PLY: element name '6666666666666vertex': expected a "
+                               "name that does not start with a digit");
+    // A count with something glued to it, and one of 13 digits (more than any file holds).
+    const fs::path glued = folder.write("glued.ply", "ply\nformat ascii 1.0\nelement vertex 3x" +
+                                                         rest.substr(2)); // " 3" replaced by "3x"
+    const ImportOutcome gluedOutcome = importWithin(glued, std::chrono::seconds(20));
+    ASSERT_TRUE(gluedOutcome.child.finished);
+    EXPECT_TRUE(gluedOutcome.refused()) << "exit " << gluedOutcome.child.exitCode;
+    EXPECT_EQ(gluedOutcome.child.message,
+              glued.string() + ": malformed PLY: element 'vertex' has count '3x': expected a "
+                               "whole number");
+    const ImportOutcome huge = importWithin(
+        folder.write("huge.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 6666666666666" + rest.substr(2)),
+        std::chrono::seconds(20));
+    ASSERT_TRUE(huge.child.finished);
+    EXPECT_TRUE(huge.refused()) << "exit " << huge.child.exitCode;
+    EXPECT_NE(huge.child.message.find("malformed PLY: the header declares"), std::string::npos)
+        << huge.child.message;
+}
+
 TEST(SceneImportHardening, OffDeclaringMoreVerticesThanItsBytesIsRefusedBeforeAllocating)
 {
     // The fuzzer's finding: 115 bytes declaring 4.4e31 vertices made assimp 5.2.5 ask for
