@@ -36,9 +36,8 @@ constexpr double kStepConverged = 1e-10; ///< relative length, radians, contact 
 /// radians): its moves are then of the order of the violation, so contacts stay respected.
 constexpr double kCloseFrom = 1e-5;
 /// Without contacts, while a point is held: the violation at which the projection stops and
-/// the span solver closes the rest (checked by kCloseMove). Instructions counted for
-/// `ends-fixed-gravity` at 100 points: 2.41 / 2.25 / 2.01 / 2.29 M a frame stopping at 1e-5 /
-/// 1e-4 / 1e-3 / 1e-2 (tests/bench/PERFORMANCE-NOTES.md).
+/// the span solver closes the rest (checked by kCloseMove); the fewest instructions a frame of
+/// 1e-5 … 1e-2 (tests/bench/PERFORMANCE-NOTES.md, "Grabs between fixed points").
 constexpr double kCloseFromFree = 1e-3;
 /// Farther off, without contacts: the largest move (of the mean rest length) that closing may
 /// make from the projection's state.
