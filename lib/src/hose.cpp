@@ -1,6 +1,7 @@
 #include "chaintube/hose.h"
 
 #include "chaintube/route.h"
+#include "workspace.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,26 @@
 #include <utility>
 
 namespace chaintube {
+
+namespace detail {
+
+WorkspaceSlot::WorkspaceSlot() noexcept = default;
+WorkspaceSlot::~WorkspaceSlot() = default;
+WorkspaceSlot::WorkspaceSlot(const WorkspaceSlot&) noexcept {}
+WorkspaceSlot& WorkspaceSlot::operator=(const WorkspaceSlot&) noexcept
+{
+    return *this; // the buffers are not state: each hose keeps its own
+}
+WorkspaceSlot::WorkspaceSlot(WorkspaceSlot&&) noexcept = default;
+WorkspaceSlot& WorkspaceSlot::operator=(WorkspaceSlot&&) noexcept = default;
+
+Workspace& WorkspaceSlot::get()
+{
+    if (!m_workspace) m_workspace = std::make_unique<Workspace>();
+    return *m_workspace;
+}
+
+} // namespace detail
 
 namespace {
 constexpr int kMaxSegments = 1000000;

@@ -1,10 +1,12 @@
 #include "projection.h"
 
 #include "banded_ldlt.h"
+#include "workspace.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace chaintube::detail {
 
@@ -20,6 +22,33 @@ constexpr double kJoinShare = 0.01;
 constexpr int kWorkingSetPasses = 4;
 } // namespace
 
+void ProjectionBuffers::clear()
+{
+    m_inverseMass.clear();
+    m_hasContact.clear();
+    m_contactNormal.clear();
+    m_contactPoint.clear();
+    m_contactDistance.clear();
+    m_rows.clear();
+    m_system.clear();
+    m_systemRhs.clear();
+    m_band.clear();
+    m_lambda.clear();
+    m_step.clear();
+    m_saved.clear();
+}
+
+ChainProjection::ChainProjection(Hose& hose) : h(hose)
+{
+    std::swap(static_cast<ProjectionBuffers&>(*this), h.m_workspace.get().projection);
+    ProjectionBuffers::clear();
+}
+
+ChainProjection::~ChainProjection()
+{
+    std::swap(static_cast<ProjectionBuffers&>(*this), h.m_workspace.get().projection);
+}
+
 void ChainProjection::setRange(int first, int last)
 {
     m_first = std::max(0, first);
@@ -27,6 +56,7 @@ void ChainProjection::setRange(int first, int last)
     const size_t n = static_cast<size_t>(h.pointCount());
     if (m_inverseMass.size() != n) m_inverseMass.assign(n, 1.0);
     h.m_workingSet.assign(3 * n, 0);
+    m_rows.reserve(3 * n); // a contact, a length and a bend row a point at most
     m_meanRest = h.restLengthTotal() / static_cast<double>(h.segmentCount());
 }
 
@@ -115,7 +145,8 @@ double ChainProjection::gather(bool onlyMeasure)
         if (w[k] + w[k + 1] > 0.0) {
             const double excess = std::max(length - hi, lo - length) / rest;
             worst = std::max(worst, excess);
-            if (excess > 0.0) m_merit += excess * excess;
+            const double over = std::max(excess, 0.0); // branch-free: its sign is a coin toss
+            m_merit += over * over;
             // Equality, or the bound nearer than half the band: a candidate row.
             const bool equality = lo == hi;
             const double sign = (equality || length >= rest) ? 1.0 : -1.0;

@@ -35,10 +35,44 @@ struct ProjectionOutcome
 /// are held there, rows whose multiplier pulls leave it, rows the step would violate join it
 /// (up to four solves of one linearisation). Deterministic; never produces NaN or Inf (a
 /// non-finite step is not taken).
-class ChainProjection
+/// A row of the linearised system: one constraint on 1 … 3 consecutive points.
+struct ProjectionRow
+{
+    int first = 0;                                          ///< first point
+    int count = 0;                                          ///< 1 … 3 consecutive points
+    Vec3 g[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}; ///< gradient per point
+    double value = 0.0;                                     ///< C(x): 0 on the bound, > 0 violated
+    double compliance = 0.0; ///< added to the diagonal (relative, see setBendCompliance)
+    size_t key = 0;          ///< 3 · point + kind (contact, length, bend): Hose::m_workingSet
+    signed char side = 0;    ///< length rows: +1 upper bound, −1 lower bound
+    bool inequality = false;
+    bool working = false; ///< held on its bound in this step
+};
+
+/// ChainProjection's vectors, kept in the hose's workspace between projections (each
+/// projection starts with them empty, as if new).
+struct ProjectionBuffers
+{
+    std::vector<double> m_inverseMass;
+    std::vector<unsigned char> m_hasContact;
+    std::vector<Vec3> m_contactNormal, m_contactPoint;
+    std::vector<double> m_contactDistance;
+    std::vector<ProjectionRow> m_rows;
+    std::vector<double> m_system, m_systemRhs; ///< buildSystem(): band (m_width a row), rhs
+    std::vector<double> m_band, m_lambda;      ///< solveWorking(): factor, multipliers (per row)
+    std::vector<Vec3> m_step, m_saved;
+    void clear();
+};
+
+class ChainProjection : private ProjectionBuffers
 {
 public:
-    explicit ChainProjection(Hose& hose) : h(hose) {}
+    /// Takes the hose's projection buffers for its lifetime (a projection made while another
+    /// one holds them starts with its own).
+    explicit ChainProjection(Hose& hose);
+    ~ChainProjection();
+    ChainProjection(const ChainProjection&) = delete;
+    ChainProjection& operator=(const ChainProjection&) = delete;
 
     /// Range of points taking part (inclusive). Rows touching only points outside it, or only
     /// points of inverse mass 0, are left out; points outside it count as fixed.
@@ -73,18 +107,7 @@ public:
     double violation();
 
 private:
-    struct Row
-    {
-        int first = 0;                                          ///< first point
-        int count = 0;                                          ///< 1 … 3 consecutive points
-        Vec3 g[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()}; ///< gradient per point
-        double value = 0.0;      ///< C(x): 0 on the bound, > 0 violated
-        double compliance = 0.0; ///< added to the diagonal (relative, see setBendCompliance)
-        size_t key = 0;          ///< 3 · point + kind (contact, length, bend): Hose::m_workingSet
-        signed char side = 0;    ///< length rows: +1 upper bound, −1 lower bound
-        bool inequality = false;
-        bool working = false; ///< held on its bound in this step
-    };
+    using Row = ProjectionRow;
     /// Gathers the candidate rows at the current positions (violated, near their bound, or in
     /// the working set); returns the largest violation.
     double gather(bool onlyMeasure);
@@ -104,15 +127,7 @@ private:
     double m_bendCompliance = 0.0;
     bool m_bends = true;
     const std::vector<Vec3>* m_predicted = nullptr;
-    std::vector<double> m_inverseMass;
-    std::vector<unsigned char> m_hasContact;
-    std::vector<Vec3> m_contactNormal, m_contactPoint;
-    std::vector<double> m_contactDistance;
-    std::vector<Row> m_rows;
-    std::vector<double> m_system, m_systemRhs; ///< buildSystem(): band (m_width a row), rhs
     size_t m_width = 1;
-    std::vector<double> m_band, m_lambda; ///< solveWorking(): factor, multipliers (per row)
-    std::vector<Vec3> m_step, m_saved;
     double m_merit = 0.0;       ///< gather(): sum of the squared violations
     double m_damping = 0.0;     ///< Levenberg–Marquardt damping, relative to the diagonal
     double m_joinMargin = 1e-9; ///< run(): adjustWorkingSet()'s margin for rows that join

@@ -2,6 +2,7 @@
 // sag(), which steps until the hose is at rest.
 #include "chaintube/hose.h"
 #include "projection.h"
+#include "workspace.h"
 
 #include <algorithm>
 #include <cmath>
@@ -114,9 +115,12 @@ public:
         const double stopAt = held < 0 ? kStepConverged : contacts ? kCloseFrom : kCloseFromFree;
         const detail::ProjectionOutcome out = projection.run(kStepProjectionSteps, stopAt);
         iterations += out.iterations;
-        if (out.violation <= std::min(stopAt, kCloseFrom) &&
-            h.measureViolation().status == Status::Ok)
-            return true;
+        measuredValid = false;
+        if (out.violation <= std::min(stopAt, kCloseFrom)) {
+            measured = h.measureViolation();
+            measuredValid = measured.status == Status::Ok;
+            if (measuredValid) return true;
+        }
         if (out.violation <= kCloseFrom) return h.closeSpans(held, from, iterations);
         // Farther off and without contacts (nothing to push into): closed too when that moves
         // no point more than kCloseMove of a segment from where the projection left it (a
@@ -180,6 +184,10 @@ public:
     double radius = 0.0;
     std::vector<unsigned char> touching;
     std::vector<Vec3> projected; ///< project(): the projection's state before it is closed
+    /// project(): the hose's violation as it returned true without closing (measuredValid),
+    /// which Hose::step reports when nothing moves after it.
+    UpdateResult measured;
+    bool measuredValid = false;
 };
 
 SagResult Hose::sag(const SagOptions& options)
@@ -257,7 +265,9 @@ UpdateResult Hose::step()
             m_gravityPrevious[i] += m_local[i] - m_gravityLast[i];
     }
     const bool inputChanged = m_gravityInputRevision != m_revision;
-    const std::vector<Vec3> start = m_local;
+    detail::Workspace& workspace = m_workspace.get();
+    workspace.gravityStart = m_local;
+    const std::vector<Vec3>& start = workspace.gravityStart;
     GravityStep engine(*this, m_held);
     const std::vector<double>& w = engine.projection.inverseMass();
     if (m_dirtyViolation) {
@@ -311,7 +321,8 @@ UpdateResult Hose::step()
         m_dirtyViolation = false;
     }
     const Vec3 fall = m_spec.gravity.direction.normalized() * (kGravity * kFrameTime * kFrameTime);
-    std::vector<Vec3> predicted(n);
+    std::vector<Vec3>& predicted = workspace.gravityPredicted;
+    predicted.resize(n); // every point written before it is read
     bool valid = false;
     double factors[3] = {1.0, m_gravityRetryFall, 0.0};
     if (m_gravityRetryFall > kLeastFall)
@@ -421,7 +432,7 @@ UpdateResult Hose::step()
     m_dirtyViolation = false;
     ++m_revision;
     const int iterations = result.iterations;
-    result = measureViolation();
+    result = engine.measuredValid && !tails ? engine.measured : measureViolation();
     result.iterations = iterations;
     if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
     double stepMotion = 0.0;

@@ -42,10 +42,45 @@ struct SpanGoal
 /// Joints at their limit may turn along the limit or back inside it, never beyond; the bend at
 /// the root (from the segment before root, when `rootDirection` is set) and at the end (to
 /// the segment after it, `endDirection`) are limited too.
-class SpanSolver
+/// A joint whose active-set state a pass of SpanSolver::solve changed: its state before.
+struct SpanActiveChange
+{
+    int joint = 0;
+    bool held = false;       ///< on its bend limit
+    bool lengthFree = false; ///< its length free to change (a stretchable hose, not held)
+};
+
+/// SpanSolver's vectors, kept in the hose's workspace between solvers (each solver starts
+/// with them empty, as if new).
+struct SpanBuffers
+{
+    std::vector<SpanActiveChange> m_changes;
+    std::vector<Vec3> m_saved, m_savedPositions;
+    std::vector<Vec3> m_direction, m_trial, m_position;
+    std::vector<double> m_length, m_trialLength, m_room, m_roomBound, m_turnSin, m_turnCos;
+    std::vector<Vec3> m_normal, m_omega;
+    std::vector<double> m_stretch;
+    std::vector<unsigned char> m_saturated;
+    std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band (which)
+    std::vector<double> m_lengthRoom;        ///< a held length's change to that end
+    // reach(): the span's state, the step's band, its rows' columns
+    std::vector<Vec3> m_reachDirection, m_reachFirst, m_reachSecond, m_reachPositions, m_reachStart;
+    std::vector<double> m_reachLength, m_band, m_columns, m_solved, m_rhs, m_step;
+    std::vector<Vec3> m_reachNormal;
+    std::vector<double> m_reachRoom;
+    std::vector<unsigned char> m_reachHeld;
+    void clear();
+};
+
+class SpanSolver : private SpanBuffers
 {
 public:
-    explicit SpanSolver(Hose& hose) : h(hose) {}
+    /// Takes the hose's span-solver buffers for its lifetime (a solver made while another one
+    /// holds them starts with its own).
+    explicit SpanSolver(Hose& hose);
+    ~SpanSolver();
+    SpanSolver(const SpanSolver&) = delete;
+    SpanSolver& operator=(const SpanSolver&) = delete;
 
     struct Outcome
     {
@@ -102,30 +137,9 @@ public:
                   const Vec3* endDirection, int maxIterations, double tolerance, double& metric);
 
 private:
-    /// A joint whose active-set state a pass of SpanSolver::solve changed: its state before.
-    struct ActiveChange
-    {
-        int joint = 0;
-        bool held = false;       ///< on its bend limit
-        bool lengthFree = false; ///< its length free to change (a stretchable hose, not held)
-    };
+    using ActiveChange = SpanActiveChange;
 
     Hose& h;
-    std::vector<ActiveChange> m_changes;
-    std::vector<Vec3> m_saved, m_savedPositions;
-    std::vector<Vec3> m_direction, m_trial, m_position;
-    std::vector<double> m_length, m_trialLength, m_room, m_roomBound, m_turnSin, m_turnCos;
-    std::vector<Vec3> m_normal, m_omega;
-    std::vector<double> m_stretch;
-    std::vector<unsigned char> m_saturated;
-    std::vector<unsigned char> m_lengthHeld; ///< a length held at an end of its band (which)
-    std::vector<double> m_lengthRoom;        ///< a held length's change to that end
-    // reach(): the span's state, the step's band, its rows' columns
-    std::vector<Vec3> m_reachDirection, m_reachFirst, m_reachSecond, m_reachPositions, m_reachStart;
-    std::vector<double> m_reachLength, m_band, m_columns, m_solved, m_rhs, m_step;
-    std::vector<Vec3> m_reachNormal;
-    std::vector<double> m_reachRoom;
-    std::vector<unsigned char> m_reachHeld;
 };
 
 } // namespace chaintube::detail

@@ -17,6 +17,24 @@ namespace chaintube {
 namespace detail {
 class ChainProjection;
 class SpanSolver;
+struct Workspace;
+
+/// A hose's scratch buffers (the solvers' vectors, kept between updates so that a frame does
+/// not allocate them again). Not part of the hose's state: a copy starts without them.
+class WorkspaceSlot
+{
+public:
+    WorkspaceSlot() noexcept;
+    ~WorkspaceSlot();
+    WorkspaceSlot(const WorkspaceSlot&) noexcept;
+    WorkspaceSlot& operator=(const WorkspaceSlot&) noexcept;
+    WorkspaceSlot(WorkspaceSlot&&) noexcept;
+    WorkspaceSlot& operator=(WorkspaceSlot&&) noexcept;
+    Workspace& get(); ///< created on first use
+
+private:
+    std::unique_ptr<Workspace> m_workspace;
+};
 } // namespace detail
 
 /// What an update did. Always look at status. Every update does a bounded amount of work
@@ -438,6 +456,7 @@ private:
     std::vector<unsigned char> m_fixed;
     std::vector<Attachment> m_attachments;
     std::vector<Vec3> m_scratch; ///< the shape before the current update (restored if it fails)
+    detail::WorkspaceSlot m_workspace; ///< the solvers' buffers (workspace.h)
     int m_nextAttachmentId = 1;
     int m_held = -1;                          ///< see heldPoint()
     int m_edgePoint = -1;                     ///< point last grabbed to the edge of its reach
