@@ -71,21 +71,11 @@ Mat3 rotationBetween(const Vec3& from, const Vec3& to)
     return Mat3::Identity() + s * k + (1.0 - c) * k * k;
 }
 
-/// Takes direction `ds` through the correction so far (the rotations of the joints clamped
-/// before it) and clamps it to its limit against `before` (null: no limit), composing its own
-/// clamp into the correction so that the rest of the chain turns with it (the joints after it
-/// keep their turns). The corrections are built from unit vectors, so they are orthogonal and
-/// the directions they turn stay unit to rounding.
-void clampDirection(Vec3& ds, const Vec3* before, double cosLimit, double sinLimit,
-                    Mat3& correction, bool& corrected)
+/// clampDirection's clamp of a direction beyond its limit (out of line: about one call in
+/// twenty clamps in the real-time walks).
+[[gnu::noinline]] void clampBeyondLimit(Vec3& ds, const Vec3* before, double cosLimit,
+                                        double sinLimit, Mat3& correction, bool& corrected)
 {
-    if (corrected) ds = correction * ds;
-    if (!before || !(cosLimit > -1.0 + 1e-12)) return;
-    // before·ds ≥ cos·|ds|, without the square root where both sides are positive.
-    const double dot = before->dot(ds);
-    if (cosLimit >= 0.0 ? dot >= 0.0 && dot * dot >= cosLimit * cosLimit * ds.squaredNorm()
-                        : dot >= cosLimit * ds.norm())
-        return;
     const Vec3 unit = ds.normalized();
     const double c = before->dot(unit);
     Vec3 w = unit - c * *before;
@@ -94,6 +84,25 @@ void clampDirection(Vec3& ds, const Vec3* before, double cosLimit, double sinLim
     correction = rotationBetween(unit, clamped) * correction;
     corrected = true;
     ds = clamped;
+}
+
+/// Takes direction `ds` through the correction so far (the rotations of the joints clamped
+/// before it) and clamps it to its limit against `before` (null: no limit), composing its own
+/// clamp into the correction so that the rest of the chain turns with it (the joints after it
+/// keep their turns). The corrections are built from unit vectors, so they are orthogonal and
+/// the directions they turn stay unit to rounding.
+[[gnu::always_inline]] inline void clampDirection(Vec3& ds, const Vec3* before, double cosLimit,
+                                                  double sinLimit, Mat3& correction,
+                                                  bool& corrected)
+{
+    if (corrected) ds = correction * ds;
+    if (!before || !(cosLimit > -1.0 + 1e-12)) return;
+    // before·ds ≥ cos·|ds|, without the square root where both sides are positive.
+    const double dot = before->dot(ds);
+    if (cosLimit >= 0.0 ? dot >= 0.0 && dot * dot >= cosLimit * cosLimit * ds.squaredNorm()
+                        : dot >= cosLimit * ds.norm())
+        return;
+    clampBeyondLimit(ds, before, cosLimit, sinLimit, correction, corrected);
 }
 
 /// The cross-product matrix [a]: [a] x = a × x.
