@@ -324,3 +324,64 @@ TEST(RealTimeBudget, ALongWalkOverAFloorKeepsEveryConstraintAndStaysAboveItWithi
 {
     expectTheFloorWalkWithinBudget(100, 2000, 500, 100);
 }
+
+// A hose keeps its solvers' buffers between updates (lib/src/workspace.h); they are not its
+// state. A copy made mid-walk (which starts without them), and a hose of another size that had
+// its own buffers and is assigned the same hose, go on exactly as the original does.
+TEST(RealTimeBudget, ACopiedHoseGoesOnBitIdenticallyWhateverBuffersItHadBefore)
+{
+    HoseSpec spec;
+    spec.gravity.enabled = true;
+    spec.gravity.direction = Vec3(0.0, -1.0, 0.0);
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    const auto arc = [](int points) {
+        const double half = arcHalfAngle(0.8), radius = 0.5 / half;
+        std::vector<Vec3> axis;
+        for (int i = 0; i < points; ++i) {
+            const double a = -half + 2.0 * half * i / (points - 1);
+            axis.emplace_back(0.4 + radius * std::sin(a), 0.0,
+                              -radius * (std::cos(a) - std::cos(half)));
+        }
+        return axis;
+    };
+    const auto fixEnds = [](Hose& hose) {
+        const int n = hose.pointCount();
+        hose.attach(0, 1, Frame::identity());
+        hose.attach(n - 2, n - 1, Frame::identity());
+        const double y = -0.011;
+        hose.setColliders({MeshCollider::fromArrays(
+            {Vec3(-2.0, y, -2.0), Vec3(3.0, y, -2.0), Vec3(3.0, y, 2.0), Vec3(-2.0, y, 2.0)},
+            {0, 2, 1, 0, 3, 2})});
+    };
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto frame = [&](std::vector<Hose*> hoses, Vec3& target) {
+        target += 0.02 * Vec3(unit(random), unit(random), unit(random)).normalized();
+        target = target.cwiseMax(Vec3(0.34, 0.0, -0.18)).cwiseMin(Vec3(0.46, 0.18, 0.18));
+        for (Hose* hose : hoses) {
+            static_cast<void>(hose->grab(hose->pointCount() / 2, target));
+            static_cast<void>(hose->step());
+        }
+    };
+    Hose original = Hose::fromAxis(arc(60), spec);
+    fixEnds(original);
+    Hose other = Hose::fromAxis(arc(140), spec); // larger buffers, other contents
+    fixEnds(other);
+    Vec3 target = original.point(30), otherTarget = other.point(70);
+    for (int f = 0; f < 40; ++f) {
+        frame({&original}, target);
+        frame({&other}, otherTarget);
+    }
+    Hose copy = original;
+    other = original;
+    int differing = 0;
+    for (int f = 0; f < 200; ++f) {
+        frame({&original, &copy, &other}, target);
+        for (int i = 0; i < original.pointCount(); ++i)
+            for (const Hose* hose : {&copy, &other})
+                if (!(hose->point(i).array() == original.point(i).array()).all()) ++differing;
+        ASSERT_TRUE(original.measureViolation().ok()) << "frame " << f;
+    }
+    EXPECT_EQ(differing, 0) << "points that differ from the original's after a frame";
+    EXPECT_EQ(copy.revision(), original.revision());
+}
