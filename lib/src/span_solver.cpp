@@ -51,7 +51,7 @@ using RowVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
 
 /// Rotates x by the Cayley rotation of ω (exactly orthogonal, first order the rotation vector).
-Vec3 cayley(const Vec3& omega, const Vec3& x)
+[[gnu::always_inline]] inline Vec3 cayley(const Vec3& omega, const Vec3& x)
 {
     const Vec3 a = 0.5 * omega;
     const double k = 2.0 / (1.0 + a.squaredNorm());
@@ -279,7 +279,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
 
     // Clamps every joint to its limit, in order (clampDirection): clampJoint(d, s, …) takes
     // direction s of `d`, those before it done.
-    auto clampJoint = [&](std::vector<Vec3>& d, int s, Mat3& correction, bool& corrected) {
+    auto clampJoint = [&](std::vector<Vec3> & d, int s, Mat3& correction, bool& corrected)
+        __attribute__((always_inline))
+    {
         clampDirection(d[static_cast<size_t>(s)], previousOf(d, s), limitCos(s), limitSin(s),
                        correction, corrected);
     };
