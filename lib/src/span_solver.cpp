@@ -71,8 +71,8 @@ Mat3 rotationBetween(const Vec3& from, const Vec3& to)
     return Mat3::Identity() + s * k + (1.0 - c) * k * k;
 }
 
-/// clampDirection's clamp of a direction beyond its limit (out of line: about one call in
-/// twenty clamps in the real-time walks).
+/// clampDirection's clamp of a direction beyond its limit (out of line: about one call of
+/// clampDirection in twenty needs it in the real-time walks).
 [[gnu::noinline]] void clampBeyondLimit(Vec3& ds, const Vec3* before, double cosLimit,
                                         double sinLimit, Mat3& correction, bool& corrected)
 {
