@@ -7,6 +7,7 @@
 #include <chaintube/test_support/work_budgets.h>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -99,6 +100,45 @@ void checkPoints(FrameChecks& checks, const std::vector<Vec3>& points, const Cha
     checks.grabErrorMax = std::max(checks.grabErrorMax, grabError);
 }
 } // namespace
+
+namespace {
+/// `iterations` dependent multiply-adds from `x` (each waits for the last: a fixed latency).
+double fixedWork(long iterations, double x)
+{
+    for (long i = 0; i < iterations; ++i)
+        x = x * 0.9999999 + 1e-7;
+    return x;
+}
+} // namespace
+
+FrameChecks runFixedWork(double microseconds, int frames, int warmup)
+{
+    // Calibration: the fastest of 50 runs of a trial length, scaled to the frame's length.
+    constexpr long kTrial = 20000;
+    volatile double sink = 1.0;
+    double fastest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 50; ++k) {
+        const auto start = std::chrono::steady_clock::now();
+        sink = fixedWork(kTrial, sink);
+        fastest = std::min(fastest, std::chrono::duration<double, std::micro>(
+                                        std::chrono::steady_clock::now() - start)
+                                        .count());
+    }
+    const long iterations =
+        std::max(1L, std::lround(static_cast<double>(kTrial) * microseconds / fastest));
+    FrameChecks checks;
+    checks.microseconds.reserve(static_cast<size_t>(frames));
+    checks.cpuMicroseconds.reserve(static_cast<size_t>(frames));
+    for (int f = 0; f < warmup; ++f)
+        sink = fixedWork(iterations, sink);
+    FrameTimer timer;
+    for (int f = 0; f < frames; ++f) {
+        timer.start();
+        sink = fixedWork(iterations, sink);
+        timer.stop(checks);
+    }
+    return checks;
+}
 
 void FrameTimer::start()
 {

@@ -189,6 +189,14 @@ CaseSetup caseSetup(const HoseCase& hoseCase, int points);
 Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup);
 Row runXpbd(const HoseCase& hoseCase, int points, int sweeps, int frames, int warmup);
 
+/// The machine's floor: `frames` frames of the same fixed arithmetic (a chain of dependent
+/// multiply-adds, its length calibrated at the start to take about `microseconds`), timed back
+/// to back with FrameTimer as the cases are, after `warmup` untimed ones. Every frame does the
+/// same work, so what its p99 and worst add to its median is the machine's (interrupts, the
+/// hypervisor, the timer), the share of any case's frame of that length that no solver can
+/// remove. Only `microseconds` and `cpuMicroseconds` of the result are filled.
+FrameChecks runFixedWork(double microseconds, int frames, int warmup);
+
 /// Adds what one ChainTube update left to `checks`: the grab's status (and the step's, when
 /// `stepped` is not null), violations by both measures, the status check, non-finite
 /// positions, the grab error.

@@ -311,9 +311,30 @@ int main(int argc, char** argv)
             else
                 std::cerr << "engine-50: skipped: " << engine.skipped << "\n";
         }
+        // The machine's floor at the targets' median and p99 (lib/README.md, "Real time").
+        struct Floor
+        {
+            double microseconds;
+            TimeSummary wall, cpu;
+        };
+        std::vector<Floor> floors;
+        for (const double microseconds : {15.0, 50.0}) {
+            const FrameChecks work = runFixedWork(microseconds, options.frames, options.warmup);
+            floors.push_back({microseconds, TimeSummary::of(work.microseconds),
+                              TimeSummary::of(work.cpuMicroseconds)});
+            std::cerr << "fixed work of " << microseconds << " µs: median "
+                      << formatMicroseconds(floors.back().wall.median) << ", p99 "
+                      << formatMicroseconds(floors.back().wall.p99) << ", worst "
+                      << formatMicroseconds(floors.back().wall.worst) << "\n";
+        }
         const std::string loadAtEnd = loadAverage();
 
         std::vector<std::string> problems = consistencyProblems(rows, options.frames);
+        for (const Floor& f : floors)
+            if (!(f.wall.median >= 0.5 * f.microseconds && f.wall.median <= 3.0 * f.microseconds))
+                problems.push_back("the fixed work calibrated to " +
+                                   formatMicroseconds(f.microseconds) + " took a median of " +
+                                   formatMicroseconds(f.wall.median) + " a frame");
         std::ostringstream md;
         md << "# Real-time benchmark: time per frame beside what each frame leaves\n\n"
            << "| | |\n|---|---|\n"
@@ -361,6 +382,21 @@ int main(int argc, char** argv)
             md << "Skipped: " << engine.skipped << ".\n\n";
         else
             md << "Not run (--case).\n\n";
+        md << "## The machine's floor\n\n"
+           << "The same arithmetic every frame (a chain of dependent multiply-adds calibrated to "
+              "the length in the first column), timed back to back as the cases are. Its work "
+              "never varies, so what its p99 and worst add to its median is this machine's "
+              "(interrupts, the hypervisor, the clocks), and a case's frame of that length "
+              "carries it too.\n\n"
+           << "| fixed work a frame | frames | median | p99 | worst | CPU median | CPU p99 | CPU "
+              "worst |\n|---|---|---|---|---|---|---|---|\n";
+        for (const Floor& f : floors)
+            md << "| " << formatMicroseconds(f.microseconds) << " | " << options.frames << " | "
+               << formatMicroseconds(f.wall.median) << " | " << formatMicroseconds(f.wall.p99)
+               << " | " << formatMicroseconds(f.wall.worst) << " | "
+               << formatMicroseconds(f.cpu.median) << " | " << formatMicroseconds(f.cpu.p99)
+               << " | " << formatMicroseconds(f.cpu.worst) << " |\n";
+        md << "\n";
         md << "## Consistency checks\n\n";
         if (problems.empty())
             md << "Passed: every frame timed and checked, every status counted, no NaN or Inf, "
