@@ -1,7 +1,8 @@
 // The banded symmetric solve of the chain projection (projection.cpp: gravity steps, contacts,
-// bends giving way), of the span solver's small dense normal equations (span_solver.cpp: a band
-// as wide as the matrix) and of its steps towards a held target (a block-tridiagonal band
-// factored once and solved for several right-hand sides). Internal to lib/.
+// bends giving way; solved from both ends at once), of the span solver's small dense normal
+// equations (span_solver.cpp: a band as wide as the matrix) and of its steps towards a held
+// target (a block-tridiagonal band factored once and solved for several right-hand sides).
+// Internal to lib/.
 #pragma once
 
 #include <algorithm>
@@ -10,32 +11,42 @@
 
 namespace chaintube::detail {
 
+/// One row of the downward LDLᵀ elimination: row i's pivot replaced by its inverse, the rows
+/// below it (up to, not including, row `limit`) updated, `rhs` too when WithRhs. A vanishing
+/// pivot (≤ 1e-300 or not finite) drops the row: its inverse pivot, right-hand side and
+/// couplings within the limit become 0. Returns whether it was dropped.
+template <bool WithRhs>
+[[gnu::always_inline]] inline bool eliminateRowDown(double* band, double* rhs, std::size_t i,
+                                                    std::size_t limit, std::size_t width)
+{
+    double& pivot = band[i * width];
+    if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
+        pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
+        if constexpr (WithRhs) rhs[i] = 0.0;
+        for (std::size_t d = 1; d < width && i + d < limit; ++d)
+            band[i * width + d] = 0.0;
+        return true;
+    }
+    const double inverse = 1.0 / pivot;
+    pivot = inverse;
+    for (std::size_t d = 1; d < width && i + d < limit; ++d) {
+        const double factor = band[i * width + d] * inverse;
+        if (factor == 0.0) continue;
+        for (std::size_t e = d; e < width && i + e < limit; ++e)
+            band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
+        if constexpr (WithRhs) rhs[i + d] -= factor * rhs[i];
+    }
+    return false;
+}
+
 /// The LDLᵀ elimination of factorBandedLdlt, with `rhs` (b) eliminated in the same pass when
 /// WithRhs (solveBandedLdlt's one pass over the band).
 template <bool WithRhs>
 inline std::size_t eliminateBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
 {
     std::size_t dropped = 0;
-    for (std::size_t i = 0; i < m; ++i) {
-        double& pivot = band[i * width];
-        if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
-            pivot = 0.0; // the inverse pivot of a dropped row: x = 0 there
-            if constexpr (WithRhs) rhs[i] = 0.0;
-            for (std::size_t d = 1; d < width; ++d)
-                band[i * width + d] = 0.0;
-            ++dropped;
-            continue;
-        }
-        const double inverse = 1.0 / pivot;
-        pivot = inverse;
-        for (std::size_t d = 1; d < width && i + d < m; ++d) {
-            const double factor = band[i * width + d] * inverse;
-            if (factor == 0.0) continue;
-            for (std::size_t e = d; e < width && i + e < m; ++e)
-                band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
-            if constexpr (WithRhs) rhs[i + d] -= factor * rhs[i];
-        }
-    }
+    for (std::size_t i = 0; i < m; ++i)
+        dropped += eliminateRowDown<WithRhs>(band, rhs, i, m, width);
     return dropped;
 }
 
@@ -50,27 +61,35 @@ inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t wid
     return eliminateBandedLdlt<false>(band, nullptr, m, width);
 }
 
-/// The back substitution of a factored band on an eliminated right-hand side. Only the term of
-/// x[i + 1] waits for the row just solved: the others are summed first (two partial sums), so a
-/// row's latency is one multiply-add and one multiply, not a chain of width − 1 multiply-adds.
+/// One row of the back substitution of a downward factor: x_i from the rows after it, up to (not
+/// including) row `limit`. Only the term of x[i + 1] waits for the row just solved: the others
+/// are summed first (two partial sums), so a row's latency is one multiply-add and one
+/// multiply, not a chain of width − 1 multiply-adds.
+[[gnu::always_inline]] inline void backSubstituteRowDown(const double* band, double* rhs,
+                                                         std::size_t i, std::size_t limit,
+                                                         std::size_t width)
+{
+    const std::size_t last = std::min(width, limit - i); // terms d = 1 … last − 1
+    const double* row = band + i * width;
+    double even = 0.0, odd = 0.0;
+    std::size_t d = 2;
+    for (; d + 1 < last; d += 2) {
+        even += row[d] * rhs[i + d];
+        odd += row[d + 1] * rhs[i + d + 1];
+    }
+    if (d < last) even += row[d] * rhs[i + d];
+    double x = rhs[i] - (even + odd);
+    if (last > 1) x -= row[1] * rhs[i + 1];
+    const double inverse = row[0];
+    rhs[i] = inverse != 0.0 ? x * inverse : 0.0; // 0: a dropped row
+}
+
+/// The back substitution of a factored band on an eliminated right-hand side.
 inline void backSubstituteBandedLdlt(const double* band, double* rhs, std::size_t m,
                                      std::size_t width)
 {
-    for (std::size_t i = m; i-- > 0;) {
-        const std::size_t last = std::min(width, m - i); // terms d = 1 … last − 1
-        const double* row = band + i * width;
-        double even = 0.0, odd = 0.0;
-        std::size_t d = 2;
-        for (; d + 1 < last; d += 2) {
-            even += row[d] * rhs[i + d];
-            odd += row[d + 1] * rhs[i + d + 1];
-        }
-        if (d < last) even += row[d] * rhs[i + d];
-        double x = rhs[i] - (even + odd);
-        if (last > 1) x -= row[1] * rhs[i + 1];
-        const double inverse = row[0];
-        rhs[i] = inverse != 0.0 ? x * inverse : 0.0; // 0: a dropped row
-    }
+    for (std::size_t i = m; i-- > 0;)
+        backSubstituteRowDown(band, rhs, i, m, width);
 }
 
 /// Solves A x = b in place (`rhs`: b, then x) with the factor of factorBandedLdlt. O(m · width).
@@ -100,6 +119,95 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
 {
     const std::size_t dropped = eliminateBandedLdlt<true>(band, rhs, m, width);
     backSubstituteBandedLdlt(band, rhs, m, width);
+    return dropped;
+}
+
+/// One row of the upward elimination (the mirror of eliminateRowDown, A = U D Uᵀ from the last
+/// row): row i's pivot replaced by its inverse, the rows above it updated with its column
+/// (stored in their bands), and the right-hand side. Every row above it that it couples with
+/// must exist (i ≥ width − 1). A vanishing pivot drops the row. Returns whether it was dropped.
+[[gnu::always_inline]] inline bool eliminateRowUp(double* band, double* rhs, std::size_t i,
+                                                  std::size_t width)
+{
+    double& pivot = band[i * width];
+    if (!(pivot > 1e-300) || !std::isfinite(pivot)) {
+        pivot = 0.0;
+        rhs[i] = 0.0;
+        for (std::size_t d = 1; d < width; ++d)
+            band[(i - d) * width + d] = 0.0;
+        return true;
+    }
+    const double inverse = 1.0 / pivot;
+    pivot = inverse;
+    for (std::size_t d1 = 1; d1 < width; ++d1) {
+        const double factor = band[(i - d1) * width + d1] * inverse;
+        if (factor == 0.0) continue;
+        for (std::size_t d2 = d1; d2 < width; ++d2)
+            band[(i - d2) * width + (d2 - d1)] -= factor * band[(i - d2) * width + d2];
+        rhs[i - d1] -= factor * rhs[i];
+    }
+    return false;
+}
+
+/// One row of the back substitution of an upward factor: x_i from the rows before it (as
+/// backSubstituteRowDown, two partial sums).
+[[gnu::always_inline]] inline void backSubstituteRowUp(const double* band, double* rhs,
+                                                       std::size_t i, std::size_t width)
+{
+    double even = 0.0, odd = 0.0;
+    std::size_t d = 2;
+    for (; d + 1 < width; d += 2) {
+        even += band[(i - d) * width + d] * rhs[i - d];
+        odd += band[(i - d - 1) * width + d + 1] * rhs[i - d - 1];
+    }
+    if (d < width) even += band[(i - d) * width + d] * rhs[i - d];
+    double x = rhs[i] - (even + odd);
+    if (width > 1) x -= band[(i - 1) * width + 1] * rhs[i - 1];
+    const double inverse = band[i * width];
+    rhs[i] = inverse != 0.0 ? x * inverse : 0.0;
+}
+
+/// solveBandedLdlt from both ends at once (a twisted factorization): the first half of the rows
+/// eliminated downwards and the second half upwards, a row of each in turn, so that the two
+/// chains of pivots — each row's pivot waits for the row before it — overlap in the CPU; they
+/// meet in a separator of width − 1 rows in the middle, which both halves update and which is
+/// solved last, then the two halves are substituted back outwards, again in turn. The same
+/// system and the same work as solveBandedLdlt, a different order (so rounding differs in the
+/// last bits); 1.2–1.4× faster at the chain projection's sizes (tests/bench/PERFORMANCE-NOTES.md).
+/// A row whose pivot vanishes is dropped as there; of a set of dependent rows, the one that each
+/// half reaches last is dropped. Fewer than 4 · width rows: solveBandedLdlt.
+inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t m,
+                                          std::size_t width)
+{
+    if (width < 2 || m < 4 * width) return solveBandedLdlt(band, rhs, m, width);
+    const std::size_t q = width - 1; // half-bandwidth
+    const std::size_t top = (m - q) / 2,
+                      bottom = top + q; // [0, top) ↓, [top, bottom), [bottom, m) ↑
+    const std::size_t topRows = top, bottomRows = m - bottom;
+    const std::size_t both = std::min(topRows, bottomRows);
+    std::size_t dropped = 0;
+    for (std::size_t t = 0; t < both; ++t) {
+        dropped += eliminateRowDown<true>(band, rhs, t, m, width);
+        dropped += eliminateRowUp(band, rhs, m - 1 - t, width);
+    }
+    for (std::size_t t = both; t < topRows; ++t)
+        dropped += eliminateRowDown<true>(band, rhs, t, m, width);
+    for (std::size_t t = both; t < bottomRows; ++t)
+        dropped += eliminateRowUp(band, rhs, m - 1 - t, width);
+    // The separator: its rows' couplings with each other only (those with the halves are the
+    // halves' factors).
+    for (std::size_t i = top; i < bottom; ++i)
+        dropped += eliminateRowDown<true>(band, rhs, i, bottom, width);
+    for (std::size_t i = bottom; i-- > top;)
+        backSubstituteRowDown(band, rhs, i, bottom, width);
+    for (std::size_t t = 0; t < both; ++t) {
+        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
+        backSubstituteRowUp(band, rhs, bottom + t, width);
+    }
+    for (std::size_t t = both; t < topRows; ++t)
+        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
+    for (std::size_t t = both; t < bottomRows; ++t)
+        backSubstituteRowUp(band, rhs, bottom + t, width);
     return dropped;
 }
 

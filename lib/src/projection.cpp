@@ -276,7 +276,7 @@ bool ChainProjection::solveWorking()
             m_band[(r - d) * width + d] = 0.0;
         m_lambda[r] = 0.0;
     }
-    solveBandedLdlt(m_band.data(), m_lambda.data(), m, width);
+    solveBandedLdltTwisted(m_band.data(), m_lambda.data(), m, width);
     for (size_t r = 0; r < m; ++r) {
         const Row& a = m_rows[r];
         if (!a.working) continue;
