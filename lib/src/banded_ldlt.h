@@ -173,7 +173,7 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
 /// meet in a separator of width − 1 rows in the middle, which both halves update and which is
 /// solved last, then the two halves are substituted back outwards, again in turn. The same
 /// system and the same work as solveBandedLdlt, a different order (so rounding differs in the
-/// last bits); 1.2–1.4× faster at the chain projection's sizes (tests/bench/PERFORMANCE-NOTES.md).
+/// last bits); 1.3–1.5× faster at the chain projection's sizes (tests/bench/PERFORMANCE-NOTES.md).
 /// A row whose pivot vanishes is dropped as there; of a set of dependent rows, the one that each
 /// half reaches last is dropped. Fewer than 4 · width rows: solveBandedLdlt.
 inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t m,
