@@ -72,8 +72,8 @@ std::unique_ptr<RodSolver> makeXpbdRod(const RodSetup& setup, int iterations);
 /// axis, bending links (distance-2 links, stiffness `bendStiffness` in [0, 1]) unless
 /// noBendLimit; fixed nodes and grabbed nodes get zero mass and are placed at their targets
 /// every frame (kinematic). A grabbed node stays kinematic from its first grab on: toggling its
-/// mass back after each step (the first version of this peer) leaves the links' constants
-/// stale and the node then does not pull its neighbours. One stepSimulation(timeStep) per frame
+/// mass back after each step would leave the links' constants stale, and the node would then
+/// not pull its neighbours. One stepSimulation(timeStep) per frame
 /// with `iterations` position iterations. Bullet has no bend limit, only bending stiffness.
 std::unique_ptr<RodSolver> makeBulletRope(const RodSetup& setup, int iterations,
                                           double bendStiffness = 1.0);

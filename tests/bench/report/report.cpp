@@ -1349,11 +1349,9 @@ int main(int argc, char** argv)
        << "; Bullet has bending "
           "stiffness, no bend limit). Grabs in Bullet: the grabbed node becomes a zero-mass "
           "(kinematic) node "
-          "placed at the target every frame and stays kinematic while grabbed; the first version "
-          "of this peer "
-          "restored its mass after every step, which left Bullet's link constants stale so the "
-          "node did not "
-          "pull its neighbours.\n\n";
+          "placed at the target every frame and stays kinematic while grabbed (its mass given "
+          "back after every step would leave Bullet's link constants stale, and the node would "
+          "not pull its neighbours).\n\n";
     std::vector<std::pair<std::string, EqualErrorSummary>>
         xpbdSummaries,     // per scenario, against the best XPBD runs
         xpbdHoseSummaries; // the same, counting the runs within kHoseStretchPercent
