@@ -44,10 +44,7 @@ Band randomBand(size_t m, size_t width, unsigned seed, const std::vector<size_t>
     const size_t columns = m + width - 1;
     std::vector<double> g(m * columns, 0.0);
     for (size_t i = 0; i < m; ++i) {
-        bool zero = false;
-        for (size_t z : zeroRows)
-            zero = zero || z == i;
-        if (zero) continue;
+        if (std::find(zeroRows.begin(), zeroRows.end(), i) != zeroRows.end()) continue;
         for (size_t c = i; c < i + width; ++c)
             g[i * columns + c] = (c == i ? 2.0 : 0.5) * uniform(random);
     }

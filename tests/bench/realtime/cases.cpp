@@ -99,9 +99,7 @@ void checkPoints(FrameChecks& checks, const std::vector<Vec3>& points, const Cha
     checks.grabErrorSum += grabError;
     checks.grabErrorMax = std::max(checks.grabErrorMax, grabError);
 }
-} // namespace
 
-namespace {
 /// `iterations` dependent multiply-adds from `x` (each waits for the last: a fixed latency).
 double fixedWork(long iterations, double x)
 {

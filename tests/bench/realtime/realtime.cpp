@@ -311,7 +311,8 @@ int main(int argc, char** argv)
             else
                 std::cerr << "engine-50: skipped: " << engine.skipped << "\n";
         }
-        // The machine's floor at the targets' median and p99 (lib/README.md, "Real time").
+        // The machine's floor at the targets' median and p99 (README.md beside this file,
+        // "Timing").
         struct Floor
         {
             double microseconds;
