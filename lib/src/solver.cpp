@@ -5,6 +5,7 @@
 #include "span_solver.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -40,6 +41,26 @@ constexpr double kClipMargins[] = {0.01, 0.05, 0.15};
 /// halved (at most 2 + 4 + … more updates).
 constexpr double kHalvedMove = 2.0;
 constexpr int kMoveHalvings = 2;
+/// Solver::bowFlatCompressedSpans: samples of the buckling mode along its chord, and at most
+/// this many Newton steps for its amplitude (from above it takes 3–8; each is one pass over
+/// the samples).
+constexpr int kBowSamples = 512;
+constexpr int kBowSteps = 32;
+
+/// The buckling mode's height over its amplitude at sample q, (1 − cos 2πq/N) / 2 for N =
+/// kBowSamples: the same for every span (the curve at amplitude a over chord c is
+/// (c q/N, a · height[q])).
+const std::array<double, kBowSamples + 1>& bowHeights()
+{
+    static const std::array<double, kBowSamples + 1> heights = [] {
+        std::array<double, kBowSamples + 1> h{};
+        for (size_t q = 0; q <= kBowSamples; ++q)
+            h[q] = 0.5 *
+                   (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(q) / kBowSamples));
+        return h;
+    }();
+    return heights;
+}
 
 using detail::anyPerpendicular;
 
@@ -389,41 +410,47 @@ public:
             const Vec3 up = anyPerpendicular(axis); // the fold-back rule's plane (place())
             // The first buckling mode of a rod clamped at both ends, y(x) = a (1 − cos 2πx/c)/2:
             // it leaves and meets both pins along the line, so the pins' own tangents (an
-            // attachment's segments) stay compatible. The amplitude a gives the curve the span's
-            // rest length (bisection); the points are laid at its rest lengths along the curve.
+            // attachment's segments) stay compatible. The amplitude a gives the sampled curve
+            // the span's rest length; the points are laid at its rest lengths along the curve.
             double total = 0.0;
             for (int s = first; s < i; ++s)
                 total += h.m_restLength[static_cast<size_t>(s)];
-            constexpr int kSamples = 512;
-            auto curve = [&](double a, double x) {
-                return Vec2(x, 0.5 * a * (1.0 - std::cos(2.0 * std::numbers::pi * x / c)));
+            const std::array<double, kBowSamples + 1>& height = bowHeights();
+            const double dx = c / kBowSamples;
+            auto curve = [&](double a, size_t q) {
+                return Vec2(dx * static_cast<double>(q), a * height[q]);
             };
-            auto arcLength = [&](double a) {
-                double length = 0.0;
-                for (int q = 0; q < kSamples; ++q)
-                    length +=
-                        (curve(a, c * (q + 1) / kSamples) - curve(a, c * q / kSamples)).norm();
-                return length;
-            };
-            double lo = 0.0, hi = total;
-            for (int step = 0; step < 64; ++step) {
-                const double a = 0.5 * (lo + hi);
-                (arcLength(a) < total ? lo : hi) = a;
+            // The sampled curve's length L(a) is convex and increasing in a ≥ 0 (a sum of
+            // sqrt(dx² + a² Δh²)), and L(a) ≥ sqrt(c² + 4a²) (the heights rise by 1 and fall by
+            // 1): Newton's method from a = sqrt(total² − c²)/2, where L ≥ total, comes down to the
+            // root monotonically; it stops where a step no longer lowers a (the rounding floor).
+            double amplitude = 0.5 * std::sqrt(std::max(0.0, total * total - c * c));
+            for (int step = 0; step < kBowSteps; ++step) {
+                double length = 0.0, slope = 0.0;
+                for (size_t q = 0; q < kBowSamples; ++q) {
+                    const double rise = height[q + 1] - height[q];
+                    const double piece = std::sqrt(dx * dx + amplitude * amplitude * rise * rise);
+                    length += piece;
+                    slope += amplitude * rise * rise / piece;
+                }
+                if (!(length > total) || !(slope > 0.0)) break;
+                const double next = amplitude - (length - total) / slope;
+                if (!(next < amplitude)) break;
+                amplitude = std::max(0.0, next);
             }
-            const double amplitude = 0.5 * (lo + hi);
             if (!bowed) before = p;
             bowed = true;
             double along = 0.0, wanted = 0.0;
-            int q = 0;
-            Vec2 previous = curve(amplitude, 0.0);
+            size_t q = 0;
+            Vec2 previous = curve(amplitude, 0);
             for (int k = first + 1; k < i; ++k) {
                 wanted += h.m_restLength[static_cast<size_t>(k - 1)];
-                Vec2 next = curve(amplitude, c * (q + 1) / kSamples);
-                while (along + (next - previous).norm() < wanted && q + 1 < kSamples) {
+                Vec2 next = curve(amplitude, q + 1);
+                while (along + (next - previous).norm() < wanted && q + 1 < kBowSamples) {
                     along += (next - previous).norm();
                     previous = next;
                     ++q;
-                    next = curve(amplitude, c * (q + 1) / kSamples);
+                    next = curve(amplitude, q + 1);
                 }
                 const double piece = (next - previous).norm();
                 const Vec2 at =

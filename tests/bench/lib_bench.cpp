@@ -166,5 +166,26 @@ void BM_GrabBetweenFixedEnds(benchmark::State& state)
     }
 }
 BENCHMARK(BM_GrabBetweenFixedEnds);
+
+// The end attachment of a straight inextensible hose moved 1 cm towards the other: the span is
+// laid on its buckling mode (the bow) and then solved, 10 and 100 points.
+void BM_BowStraightSpan(benchmark::State& state)
+{
+    const int segments = static_cast<int>(state.range(0));
+    HoseSpec spec = benchSpec(segments);
+    spec.material.expansionCoefficient = 0.0;
+    const Hose straight = Hose::straight(Vec3::Zero(), Vec3::UnitX(), 1.0, spec);
+    Frame closer;
+    closer.translation = Vec3(-0.01, 0.0, 0.0);
+    for (auto _ : state) {
+        state.PauseTiming();
+        Hose hose = straight;
+        hose.attach(0, 0, Frame::identity());
+        const int end = hose.attach(segments, segments, Frame::identity());
+        state.ResumeTiming();
+        benchmark::DoNotOptimize(hose.moveAttachment(end, closer));
+    }
+}
+BENCHMARK(BM_BowStraightSpan)->Arg(10)->Arg(100);
 } // namespace
 BENCHMARK_MAIN();
