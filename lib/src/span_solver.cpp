@@ -131,6 +131,13 @@ struct JointMoments
             m[0] += a.x() * a.x(), m[1] += a.y() * a.y(), m[2] += a.z() * a.z();
             m[3] += a.x() * a.y(), m[4] += a.x() * a.z(), m[5] += a.y() * a.z();
         }
+        /// Adds sign · a aᵀ.
+        [[gnu::always_inline]] void add(const Vec3& a, double sign)
+        {
+            const Vec3 s = sign * a;
+            m[0] += s.x() * a.x(), m[1] += s.y() * a.y(), m[2] += s.z() * a.z();
+            m[3] += s.x() * a.y(), m[4] += s.x() * a.z(), m[5] += s.y() * a.z();
+        }
         Mat3 matrix() const
         {
             Mat3 r;
@@ -435,12 +442,11 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         RowVector rawRhs, lambda, rhs;
         raw.setZero(rows, rows);
         rawRhs = -current.residual;
-        // A joint's change of state in the normal equations: only the terms of its state change
-        // (a joint held on its limit turns along it: its turn grows by exactly its room, ≥ 0 and
-        // tiny, the rest of its rotation is free; a free length adds d dᵀ).
-        auto toggle = [&](int s, int heldSign, int lengthSign) {
+        // A joint's change of bend state in the normal equations (heldSign +1: held on its
+        // limit, −1: freed): a joint held on its limit turns along it (its turn grows by exactly
+        // its room, ≥ 0 and tiny), the rest of its rotation is free.
+        auto toggle = [&](int s, int heldSign) {
             const size_t k = static_cast<size_t>(s);
-            const Vec3& d = m_direction[k];
             const Vec3& n = m_normal[k];
             int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
             while (first < blocks && blockPoint[first] <= s)
@@ -448,18 +454,12 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             Vec3 e[kMaxRows / 3];
             for (int b = first; b < blocks; ++b)
                 e[b] = (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k]).cross(n);
-            const Mat3 dd = d * d.transpose();
             for (int b = first; b < blocks; ++b) {
-                for (int q = b; q < blocks; ++q) {
-                    Mat3 block = Mat3::Zero();
-                    if (heldSign != 0) block -= heldSign * (e[b] * e[q].transpose());
-                    if (lengthSign != 0) block += lengthSign * dd;
-                    raw.block<3, 3>(3 * b, 3 * q) += block;
-                }
-                if (heldSign != 0) rawRhs.segment<3>(3 * b) += heldSign * m_room[k] * e[b];
-                if (lengthSign != 0) rawRhs.segment<3>(3 * b) += lengthSign * m_lengthRoom[k] * d;
+                for (int q = b; q < blocks; ++q)
+                    raw.block<3, 3>(3 * b, 3 * q) -= heldSign * (e[b] * e[q].transpose());
+                rawRhs.segment<3>(3 * b) += heldSign * m_room[k] * e[b];
             }
-            if (current.bendRow && heldSign != 0) { // (the bend row's free-length part is 0)
+            if (current.bendRow) {
                 const double un = u.dot(n);
                 raw(rows - 1, rows - 1) -= heldSign * un * un;
                 for (int b = first; b < blocks; ++b)
@@ -620,12 +620,41 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     changes.push_back(before);
             }
             if (!changed) break;
+            // Bend states one joint at a time (toggle). A length's change adds ±d dᵀ to every
+            // block pair beyond its joint and ±room d to those blocks' right-hand side: summed
+            // over the joints before the same first block, and added once a run.
+            JointMoments::Sym lengthBlock[kMaxRows / 3];
+            Vec3 lengthRhs[kMaxRows / 3];
+            bool lengthChanged[kMaxRows / 3] = {};
+            int firstBlock = 0;
             for (const ActiveChange& change : changes) {
                 const size_t k = static_cast<size_t>(change.joint);
                 const bool held = m_saturated[k] != 0, lengthFree = stretchable && !m_lengthHeld[k];
-                toggle(change.joint, held == change.held ? 0 : (held ? 1 : -1),
-                       lengthFree == change.lengthFree ? 0 : (lengthFree ? 1 : -1));
-                if (lengthFree && !change.lengthFree) m_lengthRoom[k] = 0.0;
+                if (held != change.held) toggle(change.joint, held ? 1 : -1);
+                if (lengthFree == change.lengthFree) continue;
+                while (firstBlock < blocks && blockPoint[firstBlock] <= change.joint)
+                    ++firstBlock;
+                const double sign = lengthFree ? 1.0 : -1.0;
+                if (firstBlock < blocks) {
+                    const Vec3& d = m_direction[k];
+                    if (!lengthChanged[firstBlock]) {
+                        lengthBlock[firstBlock] = JointMoments::Sym{};
+                        lengthRhs[firstBlock] = Vec3::Zero();
+                        lengthChanged[firstBlock] = true;
+                    }
+                    lengthBlock[firstBlock].add(d, sign);
+                    lengthRhs[firstBlock] += sign * m_lengthRoom[k] * d;
+                }
+                if (lengthFree) m_lengthRoom[k] = 0.0;
+            }
+            for (int f = 0; f < blocks; ++f) {
+                if (!lengthChanged[f]) continue;
+                const Mat3 block = lengthBlock[f].matrix();
+                for (int b = f; b < blocks; ++b) {
+                    for (int q = b; q < blocks; ++q)
+                        raw.block<3, 3>(3 * b, 3 * q) += block;
+                    rawRhs.segment<3>(3 * b) += lengthRhs[f];
+                }
             }
         }
         // The step: joint rotations accumulate along the chain. A Cayley rotation is
