@@ -122,6 +122,32 @@ inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std
     return dropped;
 }
 
+/// solveBandedLdlt of a small dense matrix (width = m, the span solver's normal equations):
+/// for its usual sizes with m a constant, so the loops unroll (the same arithmetic in the same
+/// order).
+template <std::size_t M>
+[[gnu::always_inline]] inline std::size_t solveDenseLdltOf(double* band, double* rhs)
+{
+    std::size_t dropped = 0;
+    for (std::size_t i = 0; i < M; ++i)
+        dropped += eliminateRowDown<true>(band, rhs, i, M, M);
+    for (std::size_t i = M; i-- > 0;)
+        backSubstituteRowDown(band, rhs, i, M, M);
+    return dropped;
+}
+
+inline std::size_t solveDenseLdlt(double* band, double* rhs, std::size_t m)
+{
+    switch (m) {
+    case 4:
+        return solveDenseLdltOf<4>(band, rhs);
+    case 7:
+        return solveDenseLdltOf<7>(band, rhs);
+    default:
+        return solveBandedLdlt(band, rhs, m, m);
+    }
+}
+
 /// One row of the upward elimination (the mirror of eliminateRowDown, A = U D Uᵀ from the last
 /// row): row i's pivot replaced by its inverse, the rows above it updated with its column
 /// (stored in their bands), and the right-hand side. Every row above it that it couples with

@@ -538,8 +538,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 for (int j = i; j < rows; ++j)
                     dense[i * rows + (j - i)] = a(i, j);
             lambda = rhs;
-            solveBandedLdlt(dense, lambda.data(), static_cast<size_t>(rows),
-                            static_cast<size_t>(rows));
+            solveDenseLdlt(dense, lambda.data(), static_cast<size_t>(rows));
             // ω_s = P_s R_sᵀ λ (+ the held turn). A free joint whose turn would pass its limit
             // is held on it; a held joint that this step would turn back inside is freed.
             bool changed = false;
@@ -561,7 +560,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             for (int s = 0; s < m; ++s) {
                 const size_t k = static_cast<size_t>(s);
                 const Vec3& d = m_direction[k];
-                const ActiveChange before{s, m_saturated[k] != 0, stretchable && !m_lengthHeld[k]};
+                const unsigned char wasSaturated = m_saturated[k], wasLengthHeld = m_lengthHeld[k];
                 while (first < blocks && blockPoint[first] <= s)
                     ++first;
                 const Vec3 full =
@@ -615,9 +614,8 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                     }
                     stretch[k] = m_lengthHeld[k] ? m_lengthRoom[k] : dl;
                 }
-                if (before.held != (m_saturated[k] != 0) ||
-                    before.lengthFree != (stretchable && !m_lengthHeld[k]))
-                    changes.push_back(before);
+                if (m_saturated[k] != wasSaturated || m_lengthHeld[k] != wasLengthHeld)
+                    changes.push_back({s, wasSaturated != 0, stretchable && !wasLengthHeld});
             }
             if (!changed) break;
             // Bend states one joint at a time (toggle). A length's change adds ±d dᵀ to every
@@ -1145,7 +1143,7 @@ SpanSolver::Outcome SpanSolver::reach(int root, int end, const Vec3& endTarget,
                     dense[i * rows + (j - i)] = schur(i, j) + (i == j ? 1e-13 * scale : 0.0);
             for (int i = 0; i < rows; ++i)
                 x[i] = rhs(i);
-            solveBandedLdlt(dense, x, static_cast<size_t>(rows), static_cast<size_t>(rows));
+            solveDenseLdlt(dense, x, static_cast<size_t>(rows));
             // The step: K⁻¹ k − K⁻¹ Cᵀ μ.
             for (int r = 0; r < rows; ++r) {
                 const double* column = m_solved.data() + static_cast<size_t>(r) * vars;
