@@ -119,7 +119,8 @@ Mat3 skew(const Vec3& a)
 /// points beyond it: a block at a = p_b − o moves by ω × (a − y) (+ d δl), so it adds
 /// [a_b − y]ᵀ Q [a_q − y] (+ d dᵀ) to block (b, q), Q = I − d dᵀ (− n nᵀ). With c = d × y and
 /// e = n × y: Σ Q = count I − Σ d dᵀ − Σ n nᵀ, Σ Q [y] = [Σ y] − Σ d cᵀ − Σ n eᵀ,
-/// Σ [y]ᵀ Q [y] = Σ |y|² I − Σ y yᵀ − Σ c cᵀ − Σ e eᵀ (sumYQY adds the lengths' Σ d dᵀ).
+/// Σ [y]ᵀ Q [y] = Σ |y|² I − Σ y yᵀ − Σ c cᵀ − Σ e eᵀ (sumYQY adds the lengths' Σ d dᵀ); each
+/// sum of outer products is kept as one accumulator (three in all, not seven).
 struct JointMoments
 {
     /// A symmetric 3 × 3 sum (xx, yy, zz, xy, xz, yz) and a general one (row-major).
@@ -164,9 +165,9 @@ struct JointMoments
 
     double count = 0.0, yy = 0.0;
     Vec3 y = Vec3::Zero();
-    Sym yyT, dd, cc, nn, ee;
-    Sym lengthDD; ///< Σ d dᵀ of the joints whose length is free
-    Outer dc, ne;
+    Sym ddNn;   ///< Σ d dᵀ + Σ n nᵀ
+    Outer dcNe; ///< Σ d cᵀ + Σ n eᵀ
+    Sym yyCcEe; ///< Σ y yᵀ + Σ c cᵀ + Σ e eᵀ − Σ d dᵀ of the joints whose length is free
     Vec3 heldRoom = Vec3::Zero(), heldRoomE = Vec3::Zero(); ///< Σ room n, Σ room e (held joints)
     Vec3 heldStretch = Vec3::Zero(); ///< Σ room d (held lengths: their change to their bound)
 
@@ -178,27 +179,24 @@ struct JointMoments
         count += 1.0;
         yy += at.squaredNorm();
         y += at;
-        yyT.add(at);
-        dd.add(d);
-        dc.add(d, c);
-        cc.add(c);
-        if (lengthFree) lengthDD.add(d);
+        yyCcEe.add(at);
+        ddNn.add(d);
+        dcNe.add(d, c);
+        yyCcEe.add(c);
+        if (lengthFree) yyCcEe.add(d, -1.0);
         if (held) {
             const Vec3& n = *held;
             const Vec3 e = n.cross(at);
-            nn.add(n);
-            ne.add(n, e);
-            ee.add(e);
+            ddNn.add(n);
+            dcNe.add(n, e);
+            yyCcEe.add(e);
             heldRoom += room * n;
             heldRoomE += room * e;
         }
     }
-    Mat3 sumQ() const { return count * Mat3::Identity() - dd.matrix() - nn.matrix(); }
-    Mat3 sumQY() const { return skew(y) - dc.matrix() - ne.matrix(); }
-    Mat3 sumYQY() const
-    {
-        return yy * Mat3::Identity() - yyT.matrix() - cc.matrix() - ee.matrix() + lengthDD.matrix();
-    }
+    Mat3 sumQ() const { return count * Mat3::Identity() - ddNn.matrix(); }
+    Mat3 sumQY() const { return skew(y) - dcNe.matrix(); }
+    Mat3 sumYQY() const { return yy * Mat3::Identity() - yyCcEe.matrix(); }
 };
 
 } // namespace
