@@ -240,19 +240,23 @@ void ChainProjection::buildSystem(const std::vector<Vec3>& from)
                 rhs -= a.g[q].dot(from[k] - p[k]);
             }
         m_systemRhs[r] = rhs;
-        for (size_t s = r; s < r + width; ++s) {
+        // Row s ≥ r starts at or after row r (the order): they share the points from its first
+        // to the end of the shorter, none once it starts beyond row r's last point.
+        const int end = a.first + a.count;
+        double* entries = &m_system[r * width];
+        size_t s = r;
+        for (; s < m && s < r + width && m_rows[s].first < end; ++s) {
+            const Row& b = m_rows[s];
+            const int hi = std::min(end, b.first + b.count);
             double value = 0.0;
-            if (s < m) {
-                const Row& b = m_rows[s];
-                const int lo = std::max(a.first, b.first),
-                          hi = std::min(a.first + a.count, b.first + b.count);
-                for (int point = lo; point < hi; ++point)
-                    value += w[static_cast<size_t>(point)] *
-                             a.g[point - a.first].dot(b.g[point - b.first]);
-            }
-            m_system[r * width + (s - r)] = value;
+            for (int point = b.first; point < hi; ++point)
+                value +=
+                    w[static_cast<size_t>(point)] * a.g[point - a.first].dot(b.g[point - b.first]);
+            entries[s - r] = value;
         }
-        double& diagonal = m_system[r * width];
+        for (; s < r + width; ++s)
+            entries[s - r] = 0.0;
+        double& diagonal = entries[0];
         diagonal += (a.compliance + m_damping) * diagonal + 1e-14 * diagonal;
     }
 }

@@ -472,6 +472,7 @@ public:
 
 double Hose::turnExcess(size_t j, const std::vector<Vec3>& points) const
 {
+    if (m_cosLimit[j] <= -1.0) return -1.0; // no limit (π): no turn exceeds it
     const Vec3 in = points[j] - points[j - 1], out = points[j + 1] - points[j];
     // Clearly within the limit (cos turn ≥ cos limit, with a margin far above rounding):
     // no need for the angles themselves, the excess is negative.
