@@ -202,8 +202,8 @@ inline std::size_t solveDenseLdlt(double* band, double* rhs, std::size_t m)
 /// last bits); 1.3–1.5× faster at the chain projection's sizes (tests/bench/PERFORMANCE-NOTES.md).
 /// A row whose pivot vanishes is dropped as there; of a set of dependent rows, the one that each
 /// half reaches last is dropped. Fewer than 4 · width rows: solveBandedLdlt.
-inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t m,
-                                          std::size_t width)
+[[gnu::always_inline]] inline std::size_t solveBandedLdltTwistedIn(double* band, double* rhs,
+                                                                   std::size_t m, std::size_t width)
 {
     if (width < 2 || m < 4 * width) return solveBandedLdlt(band, rhs, m, width);
     const std::size_t q = width - 1; // half-bandwidth
@@ -235,6 +235,30 @@ inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t
     for (std::size_t t = both; t < bottomRows; ++t)
         backSubstituteRowUp(band, rhs, bottom + t, width);
     return dropped;
+}
+
+/// solveBandedLdltTwisted with the band's width a constant for the chain projection's usual
+/// widths (lengths alone: 2; with bends: 5; with contacts too: 7), so the rows' loops unroll (the
+/// same arithmetic in the same order).
+template <std::size_t W>
+std::size_t solveBandedLdltTwistedOf(double* band, double* rhs, std::size_t m)
+{
+    return solveBandedLdltTwistedIn(band, rhs, m, W);
+}
+
+inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t m,
+                                          std::size_t width)
+{
+    switch (width) {
+    case 2:
+        return solveBandedLdltTwistedOf<2>(band, rhs, m);
+    case 5:
+        return solveBandedLdltTwistedOf<5>(band, rhs, m);
+    case 7:
+        return solveBandedLdltTwistedOf<7>(band, rhs, m);
+    default:
+        return solveBandedLdltTwistedIn(band, rhs, m, width);
+    }
 }
 
 } // namespace chaintube::detail
