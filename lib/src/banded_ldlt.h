@@ -42,7 +42,8 @@ template <bool WithRhs>
 /// The LDLᵀ elimination of factorBandedLdlt, with `rhs` (b) eliminated in the same pass when
 /// WithRhs (solveBandedLdlt's one pass over the band).
 template <bool WithRhs>
-inline std::size_t eliminateBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
+[[gnu::always_inline]] inline std::size_t eliminateBandedLdlt(double* band, double* rhs,
+                                                              std::size_t m, std::size_t width)
 {
     std::size_t dropped = 0;
     for (std::size_t i = 0; i < m; ++i)
@@ -85,8 +86,8 @@ inline std::size_t factorBandedLdlt(double* band, std::size_t m, std::size_t wid
 }
 
 /// The back substitution of a factored band on an eliminated right-hand side.
-inline void backSubstituteBandedLdlt(const double* band, double* rhs, std::size_t m,
-                                     std::size_t width)
+[[gnu::always_inline]] inline void backSubstituteBandedLdlt(const double* band, double* rhs,
+                                                            std::size_t m, std::size_t width)
 {
     for (std::size_t i = m; i-- > 0;)
         backSubstituteRowDown(band, rhs, i, m, width);
@@ -115,34 +116,24 @@ inline void solveFactoredBandedLdlt(const double* band, double* rhs, std::size_t
 /// fewer than factorBandedLdlt and solveFactoredBandedLdlt in turn, for the chain projection's
 /// single right-hand side (its gravity steps are 8 % slower with two). Returns the number of
 /// rows dropped.
-inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m, std::size_t width)
+[[gnu::always_inline]] inline std::size_t solveBandedLdlt(double* band, double* rhs, std::size_t m,
+                                                          std::size_t width)
 {
     const std::size_t dropped = eliminateBandedLdlt<true>(band, rhs, m, width);
     backSubstituteBandedLdlt(band, rhs, m, width);
     return dropped;
 }
 
-/// solveBandedLdlt of a small dense matrix (width = m, the span solver's normal equations):
-/// for its usual sizes with m a constant, so the loops unroll (the same arithmetic in the same
+/// solveBandedLdlt of a small dense matrix (width = m, the span solver's normal equations),
+/// with m a constant for its usual sizes so the loops unroll (the same arithmetic in the same
 /// order).
-template <std::size_t M>
-[[gnu::always_inline]] inline std::size_t solveDenseLdltOf(double* band, double* rhs)
-{
-    std::size_t dropped = 0;
-    for (std::size_t i = 0; i < M; ++i)
-        dropped += eliminateRowDown<true>(band, rhs, i, M, M);
-    for (std::size_t i = M; i-- > 0;)
-        backSubstituteRowDown(band, rhs, i, M, M);
-    return dropped;
-}
-
 inline std::size_t solveDenseLdlt(double* band, double* rhs, std::size_t m)
 {
     switch (m) {
     case 4:
-        return solveDenseLdltOf<4>(band, rhs);
+        return solveBandedLdlt(band, rhs, 4, 4);
     case 7:
-        return solveDenseLdltOf<7>(band, rhs);
+        return solveBandedLdlt(band, rhs, 7, 7);
     default:
         return solveBandedLdlt(band, rhs, m, m);
     }
@@ -237,25 +228,19 @@ inline std::size_t solveDenseLdlt(double* band, double* rhs, std::size_t m)
     return dropped;
 }
 
-/// solveBandedLdltTwisted with the band's width a constant for the chain projection's usual
+/// solveBandedLdltTwistedIn with the band's width a constant for the chain projection's usual
 /// widths (lengths alone: 2; with bends: 5; with contacts too: 7), so the rows' loops unroll (the
 /// same arithmetic in the same order).
-template <std::size_t W>
-std::size_t solveBandedLdltTwistedOf(double* band, double* rhs, std::size_t m)
-{
-    return solveBandedLdltTwistedIn(band, rhs, m, W);
-}
-
 inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t m,
                                           std::size_t width)
 {
     switch (width) {
     case 2:
-        return solveBandedLdltTwistedOf<2>(band, rhs, m);
+        return solveBandedLdltTwistedIn(band, rhs, m, 2);
     case 5:
-        return solveBandedLdltTwistedOf<5>(band, rhs, m);
+        return solveBandedLdltTwistedIn(band, rhs, m, 5);
     case 7:
-        return solveBandedLdltTwistedOf<7>(band, rhs, m);
+        return solveBandedLdltTwistedIn(band, rhs, m, 7);
     default:
         return solveBandedLdltTwistedIn(band, rhs, m, width);
     }

@@ -619,8 +619,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
             // Bend states one joint at a time (toggle). A length's change adds ±d dᵀ to every
             // block pair beyond its joint and ±room d to those blocks' right-hand side: summed
             // over the joints before the same first block, and added once a run.
-            JointMoments::Sym lengthBlock[kMaxRows / 3];
+            JointMoments::Sym lengthBlock[kMaxRows / 3]; // zero
             Vec3 lengthRhs[kMaxRows / 3];
+            std::fill(std::begin(lengthRhs), std::end(lengthRhs), Vec3::Zero());
             bool lengthChanged[kMaxRows / 3] = {};
             int firstBlock = 0;
             for (const ActiveChange& change : changes) {
@@ -633,13 +634,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const double sign = lengthFree ? 1.0 : -1.0;
                 if (firstBlock < blocks) {
                     const Vec3& d = m_direction[k];
-                    if (!lengthChanged[firstBlock]) {
-                        lengthBlock[firstBlock] = JointMoments::Sym{};
-                        lengthRhs[firstBlock] = Vec3::Zero();
-                        lengthChanged[firstBlock] = true;
-                    }
                     lengthBlock[firstBlock].add(d, sign);
                     lengthRhs[firstBlock] += sign * m_lengthRoom[k] * d;
+                    lengthChanged[firstBlock] = true;
                 }
                 if (lengthFree) m_lengthRoom[k] = 0.0;
             }
