@@ -36,6 +36,7 @@ void ProjectionBuffers::clear()
     m_lambda.clear();
     m_step.clear();
     m_saved.clear();
+    m_unit.clear();
 }
 
 ChainProjection::ChainProjection(Hose& hose) : h(hose)
@@ -323,6 +324,94 @@ bool ChainProjection::adjustWorkingSet(const std::vector<Vec3>& from)
     return changed;
 }
 
+bool ChainProjection::lengthsOnly() const
+{
+    if (!m_hasContact.empty()) return false;
+    for (int i = m_first; i < m_last; ++i) {
+        const size_t k = static_cast<size_t>(i);
+        if (h.m_minLength[k] != h.m_maxLength[k]) return false;
+        if (m_bends && i > m_first && h.m_cosLimit[k] > -1.0 + 1e-12) return false;
+    }
+    return true;
+}
+
+double ChainProjection::gatherLengths()
+{
+    const std::vector<Vec3>& p = h.m_local;
+    const std::vector<double>& w = m_inverseMass;
+    const size_t m = static_cast<size_t>(std::max(0, m_last - m_first));
+    m_unit.resize(m);
+    m_systemRhs.resize(m);
+    double worst = 0.0;
+    m_merit = 0.0;
+    for (size_t j = 0; j < m; ++j) {
+        const size_t k = static_cast<size_t>(m_first) + j;
+        const Vec3 d = p[k + 1] - p[k];
+        const double length = d.norm();
+        m_unit[j] = length > 0.0 ? Vec3(d / length) : Vec3::Zero();
+        m_systemRhs[j] = length - h.m_maxLength[k]; // C(x)
+        if (w[k] + w[k + 1] > 0.0) {
+            const double excess = std::abs(m_systemRhs[j]) / h.m_restLength[k];
+            worst = std::max(worst, excess);
+            m_merit += excess * excess;
+        }
+    }
+    return worst;
+}
+
+bool ChainProjection::solveLengths(const std::vector<Vec3>& from)
+{
+    const std::vector<Vec3>& p = h.m_local;
+    const std::vector<double>& w = m_inverseMass;
+    const size_t first = static_cast<size_t>(m_first);
+    const size_t m = m_unit.size();
+    // Row j: the length of segment first + j, gradient −u_j at its first point and +u_j at its
+    // second; left out (multiplier 0) where both its points are fixed or it has no length.
+    // (J W Jᵀ)_jj = (w_a + w_b) |u_j|², and rows j − 1, j couple through their shared point a:
+    // −w_a u_{j−1} · u_j. LDLᵀ downwards (the factors l_j in m_band, D⁻¹ L⁻¹ b in m_lambda),
+    // then substituted back; a vanishing pivot drops its row as the banded solve does.
+    m_band.assign(m, 0.0);
+    m_lambda.assign(m, 0.0);
+    bool previous = false; // row j − 1 is in the system
+    double previousInverse = 0.0, previousY = 0.0;
+    for (size_t j = 0; j < m; ++j) {
+        const size_t k = first + j;
+        const Vec3& u = m_unit[j];
+        if (!(w[k] + w[k + 1] > 0.0) || !(u.squaredNorm() > 0.0)) {
+            previous = false;
+            continue;
+        }
+        const double uu = u.dot(u);
+        double diagonal = w[k] * uu + w[k + 1] * uu;
+        diagonal += m_damping * diagonal + 1e-14 * diagonal;
+        double y = -m_systemRhs[j];
+        if (&from != &p) y -= u.dot((from[k + 1] - p[k + 1]) - (from[k] - p[k]));
+        if (previous) {
+            const double coupling = -w[k] * m_unit[j - 1].dot(u);
+            const double factor = coupling * previousInverse;
+            m_band[j - 1] = factor;
+            diagonal -= factor * coupling;
+            y -= factor * previousY;
+        }
+        previous = diagonal > 1e-300 && std::isfinite(diagonal);
+        if (!previous) continue;
+        previousInverse = 1.0 / diagonal;
+        previousY = y;
+        m_lambda[j] = y * previousInverse;
+    }
+    for (size_t j = m; j-- > 1;)
+        m_lambda[j - 1] -= m_band[j - 1] * m_lambda[j];
+    m_step.assign(m + 1, Vec3::Zero());
+    for (size_t j = 0; j < m; ++j) {
+        const Vec3 g = m_lambda[j] * m_unit[j];
+        m_step[j] -= g;
+        m_step[j + 1] += g;
+    }
+    for (const Vec3& s : m_step)
+        if (!s.allFinite()) return false;
+    return true;
+}
+
 double ChainProjection::violation()
 {
     return gather(true);
@@ -334,15 +423,23 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
     const std::vector<double>& w = m_inverseMass;
     ProjectionOutcome out;
     m_joinMargin = std::min(kActiveMargin, kJoinShare * tolerance);
-    double worst = gather(false);
+    const bool lengths = lengthsOnly();
+    if (lengths) m_rows.clear();
+    auto measure = [&] { return lengths ? gatherLengths() : gather(false); };
+    double worst = measure();
     double merit = m_merit;
     m_damping = 0.0;
     for (; out.iterations < maxIterations && !(worst <= tolerance); ++out.iterations) {
         const std::vector<Vec3>& from = m_predicted ? *m_predicted : p;
-        buildSystem(from);
-        bool finite = solveWorking();
-        for (int pass = 1; finite && pass < kWorkingSetPasses && adjustWorkingSet(from); ++pass)
+        bool finite = true;
+        if (lengths) {
+            finite = solveLengths(from);
+        } else {
+            buildSystem(from);
             finite = solveWorking();
+            for (int pass = 1; finite && pass < kWorkingSetPasses && adjustWorkingSet(from); ++pass)
+                finite = solveWorking();
+        }
         m_saved.assign(p.begin() + m_first, p.begin() + m_last + 1);
         if (finite) {
             for (int i = m_first; i <= m_last; ++i) {
@@ -350,16 +447,24 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
                 if (w[k] != 0.0) p[k] = from[k] + w[k] * m_step[static_cast<size_t>(i - m_first)];
             }
         }
-        const double next = finite ? gather(false) : std::numeric_limits<double>::infinity();
+        const double next = finite ? measure() : std::numeric_limits<double>::infinity();
         // Levenberg–Marquardt: a step that does not lower the squared violations is undone and
         // the next one damped harder; a good one relaxes the damping. (Steps from predicted
         // positions are always taken: they start from a different point.)
         if (!m_predicted && !(m_merit < merit) && !(next < worst)) {
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + m_first);
-            worst = gather(false);
+            worst = measure();
             merit = m_merit;
             m_damping = std::max(4.0 * m_damping, 1e-3);
             continue;
+        }
+        if (lengths) {
+            // Every length row is working on its upper side (gather()'s rows of equal bounds).
+            for (size_t j = 0; j < m_unit.size(); ++j) {
+                const size_t k = static_cast<size_t>(m_first) + j;
+                if (w[k] + w[k + 1] > 0.0 && m_unit[j].squaredNorm() > 0.0)
+                    h.m_workingSet[3 * k + 1] = 1;
+            }
         }
         for (const Row& row : m_rows)
             h.m_workingSet[row.key] = row.working ? (row.side != 0 ? row.side : 1) : 0;

@@ -61,6 +61,7 @@ struct ProjectionBuffers
     std::vector<double> m_system, m_systemRhs; ///< buildSystem(): band (m_width a row), rhs
     std::vector<double> m_band, m_lambda;      ///< solveWorking(): factor, multipliers (per row)
     std::vector<Vec3> m_step, m_saved;
+    std::vector<Vec3> m_unit; ///< gatherLengths(): per segment of the range, its unit direction
     void clear();
 };
 
@@ -111,6 +112,15 @@ private:
     /// Gathers the candidate rows at the current positions (violated, near their bound, or in
     /// the working set); returns the largest violation.
     double gather(bool onlyMeasure);
+    /// Whether the range's constraints are its segments' lengths alone, each held at one length
+    /// (no contacts, no joint limited, no stretch band): the system is then tridiagonal, its
+    /// rows always working, and run() takes gatherLengths() and solveLengths() instead of the
+    /// rows.
+    bool lengthsOnly() const;
+    /// gather() of a lengths-only range: the segments' unit directions and violations, no rows.
+    double gatherLengths();
+    /// buildSystem() and solveWorking() of a lengths-only range: one tridiagonal LDLᵀ solve.
+    bool solveLengths(const std::vector<Vec3>& from);
     /// The linearised system of every gathered row at the current positions, for steps from
     /// `from` (built once a Newton step; the working-set passes reuse it).
     void buildSystem(const std::vector<Vec3>& from);
