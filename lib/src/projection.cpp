@@ -214,9 +214,8 @@ double ChainProjection::gather(bool onlyMeasure)
     return worst;
 }
 
-void ChainProjection::buildSystem(const std::vector<Vec3>& from)
+void ChainProjection::buildSystem()
 {
-    const std::vector<Vec3>& p = h.m_local;
     const std::vector<double>& w = m_inverseMass;
     const size_t m = m_rows.size();
     // Band width: rows are ordered by first point and touch at most three points, so row r
@@ -234,13 +233,7 @@ void ChainProjection::buildSystem(const std::vector<Vec3>& from)
     m_systemRhs.resize(m);
     for (size_t r = 0; r < m; ++r) {
         const Row& a = m_rows[r];
-        double rhs = -a.value;
-        if (&from != &p)
-            for (int q = 0; q < a.count; ++q) {
-                const size_t k = static_cast<size_t>(a.first + q);
-                rhs -= a.g[q].dot(from[k] - p[k]);
-            }
-        m_systemRhs[r] = rhs;
+        m_systemRhs[r] = -a.value;
         // Row s ≥ r starts at or after row r (the order): they share the points from its first
         // to the end of the shorter, none once it starts beyond row r's last point.
         const int end = a.first + a.count;
@@ -293,9 +286,8 @@ bool ChainProjection::solveWorking()
     return true;
 }
 
-bool ChainProjection::adjustWorkingSet(const std::vector<Vec3>& from)
+bool ChainProjection::adjustWorkingSet()
 {
-    const std::vector<Vec3>& p = h.m_local;
     const std::vector<double>& w = m_inverseMass;
     bool changed = false;
     // Working inequality rows whose multiplier pulls (the step needs no push from them) leave.
@@ -312,8 +304,7 @@ bool ChainProjection::adjustWorkingSet(const std::vector<Vec3>& from)
         double linear = row.value;
         for (int q = 0; q < row.count; ++q) {
             const size_t k = static_cast<size_t>(row.first + q);
-            const Vec3 next = from[k] + w[k] * m_step[static_cast<size_t>(row.first + q - m_first)];
-            linear += row.g[q].dot(next - p[k]);
+            linear += row.g[q].dot(w[k] * m_step[static_cast<size_t>(row.first + q - m_first)]);
         }
         const double scale = row.count == 2 ? h.m_restLength[static_cast<size_t>(row.first)] : 1.0;
         if (linear > m_joinMargin * scale) {
@@ -359,9 +350,8 @@ double ChainProjection::gatherLengths()
     return worst;
 }
 
-bool ChainProjection::solveLengths(const std::vector<Vec3>& from)
+bool ChainProjection::solveLengths()
 {
-    const std::vector<Vec3>& p = h.m_local;
     const std::vector<double>& w = m_inverseMass;
     const size_t first = static_cast<size_t>(m_first);
     const size_t m = m_unit.size();
@@ -385,7 +375,6 @@ bool ChainProjection::solveLengths(const std::vector<Vec3>& from)
         double diagonal = w[k] * uu + w[k + 1] * uu;
         diagonal += m_damping * diagonal + 1e-14 * diagonal;
         double y = -m_systemRhs[j];
-        if (&from != &p) y -= u.dot((from[k + 1] - p[k + 1]) - (from[k] - p[k]));
         if (previous) {
             const double coupling = -w[k] * m_unit[j - 1].dot(u);
             const double factor = coupling * previousInverse;
@@ -430,28 +419,26 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
     double merit = m_merit;
     m_damping = 0.0;
     for (; out.iterations < maxIterations && !(worst <= tolerance); ++out.iterations) {
-        const std::vector<Vec3>& from = m_predicted ? *m_predicted : p;
         bool finite = true;
         if (lengths) {
-            finite = solveLengths(from);
+            finite = solveLengths();
         } else {
-            buildSystem(from);
+            buildSystem();
             finite = solveWorking();
-            for (int pass = 1; finite && pass < kWorkingSetPasses && adjustWorkingSet(from); ++pass)
+            for (int pass = 1; finite && pass < kWorkingSetPasses && adjustWorkingSet(); ++pass)
                 finite = solveWorking();
         }
         m_saved.assign(p.begin() + m_first, p.begin() + m_last + 1);
         if (finite) {
             for (int i = m_first; i <= m_last; ++i) {
                 const size_t k = static_cast<size_t>(i);
-                if (w[k] != 0.0) p[k] = from[k] + w[k] * m_step[static_cast<size_t>(i - m_first)];
+                if (w[k] != 0.0) p[k] += w[k] * m_step[static_cast<size_t>(i - m_first)];
             }
         }
         const double next = finite ? measure() : std::numeric_limits<double>::infinity();
         // Levenberg–Marquardt: a step that does not lower the squared violations is undone and
-        // the next one damped harder; a good one relaxes the damping. (Steps from predicted
-        // positions are always taken: they start from a different point.)
-        if (!m_predicted && !(m_merit < merit) && !(next < worst)) {
+        // the next one damped harder; a good one relaxes the damping.
+        if (!(m_merit < merit) && !(next < worst)) {
             std::copy(m_saved.begin(), m_saved.end(), p.begin() + m_first);
             worst = measure();
             merit = m_merit;

@@ -24,13 +24,14 @@ struct ProjectionOutcome
 /// a held point); the others move in proportion to their inverse mass.
 ///
 /// Each step linearises the active constraints at the current positions x and solves
-///   (J W Jᵀ + D) λ = −(C(x) + J (z − x)),   x ← z + W Jᵀ λ
-/// with W the inverse masses, D the compliance of soft rows (0 for hard ones) and z the point
-/// the step starts from: z = x (the minimal move onto the linearised constraints: quadratic
-/// convergence to a feasible point), or z = the predicted positions y (the mass-weighted
-/// closest point to y, for dynamics). A constraint touches at most three consecutive points,
-/// so J W Jᵀ is banded (half-bandwidth ≤ 8) and one step costs O(last − first) through a banded
-/// LDLᵀ. Inequalities (stretch bands, bend limits, contacts) are handled by a working set
+///   (J W Jᵀ + D) λ = −C(x),   x ← x + W Jᵀ λ
+/// with W the inverse masses and D the compliance of soft rows (0 for hard ones): the minimal
+/// move onto the linearised constraints, converging quadratically to a feasible point (a
+/// gravity step writes its predicted positions into the hose and projects from there: the
+/// fast projection of Goldenthal et al. 2007). A constraint touches at most three consecutive
+/// points, so J W Jᵀ is banded (half-bandwidth ≤ 8) and one step costs O(last − first) through
+/// a banded LDLᵀ; a range of lengths alone is tridiagonal (lengthsOnly()). Inequalities
+/// (stretch bands, bend limits, contacts) are handled by a working set
 /// kept from Newton step to Newton step (Hose::m_workingSet): rows on their bound
 /// are held there, rows whose multiplier pulls leave it, rows the step would violate join it
 /// (up to four solves of one linearisation). Deterministic; never produces NaN or Inf (a
@@ -98,8 +99,6 @@ public:
     /// the normal is not finite.
     bool setContact(int point, const MeshCollider::Closest& closest, const Vec3& origin,
                     const Vec3& cameFrom, double distance, double onSurface);
-    /// Starting point of each step: the predicted positions (dynamics) instead of the iterate.
-    void setPredicted(const std::vector<Vec3>* predicted) { m_predicted = predicted; }
 
     /// At most maxIterations steps, stopping when the largest violation is ≤ tolerance.
     ProjectionOutcome run(int maxIterations, double tolerance);
@@ -120,15 +119,15 @@ private:
     /// gather() of a lengths-only range: the segments' unit directions and violations, no rows.
     double gatherLengths();
     /// buildSystem() and solveWorking() of a lengths-only range: one tridiagonal LDLᵀ solve.
-    bool solveLengths(const std::vector<Vec3>& from);
-    /// The linearised system of every gathered row at the current positions, for steps from
-    /// `from` (built once a Newton step; the working-set passes reuse it).
-    void buildSystem(const std::vector<Vec3>& from);
+    bool solveLengths();
+    /// The linearised system of every gathered row at the current positions (built once a
+    /// Newton step; the working-set passes reuse it).
+    void buildSystem();
     /// Solves for the working rows' multipliers and the step; false if not finite.
     bool solveWorking();
     /// One primal-dual update of the working set after solveWorking(): rows whose multiplier
     /// pulls leave, rows the step would violate join. Returns whether it changed.
-    bool adjustWorkingSet(const std::vector<Vec3>& from);
+    bool adjustWorkingSet();
 
     Hose& h;
     int m_first = 0;
@@ -136,7 +135,6 @@ private:
     double m_meanRest = 1.0;
     double m_bendCompliance = 0.0;
     bool m_bends = true;
-    const std::vector<Vec3>* m_predicted = nullptr;
     size_t m_width = 1;
     double m_merit = 0.0;       ///< gather(): sum of the squared violations
     double m_damping = 0.0;     ///< Levenberg–Marquardt damping, relative to the diagonal

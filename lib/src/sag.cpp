@@ -109,7 +109,6 @@ public:
     {
         gatherContacts(predicted, from);
         h.m_local = predicted;
-        projection.setPredicted(nullptr);
         const bool contacts =
             std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; });
         const double stopAt = held < 0 ? kStepConverged : contacts ? kCloseFrom : kCloseFromFree;
@@ -277,7 +276,6 @@ UpdateResult Hose::step()
         const UpdateResult before = measureViolation();
         if (before.status != Status::Ok) {
             engine.gatherContacts(start, start);
-            engine.projection.setPredicted(nullptr);
             const detail::ProjectionOutcome out =
                 engine.projection.run(kStepProjectionSteps, kStepConverged);
             result.iterations = std::max(out.iterations, 1);
