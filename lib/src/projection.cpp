@@ -1,6 +1,7 @@
 #include "projection.h"
 
 #include "banded_ldlt.h"
+#include "vector_set.h"
 #include "workspace.h"
 
 #include <algorithm>
@@ -24,30 +25,26 @@ constexpr int kWorkingSetPasses = 4;
 
 void ProjectionBuffers::clear()
 {
-    m_inverseMass.clear();
-    m_hasContact.clear();
-    m_contactNormal.clear();
-    m_contactPoint.clear();
-    m_contactDistance.clear();
-    m_rows.clear();
-    m_system.clear();
-    m_systemRhs.clear();
-    m_band.clear();
-    m_lambda.clear();
-    m_step.clear();
-    m_saved.clear();
-    m_unit.clear();
+    clearEach(vectors());
+}
+
+void ProjectionBuffers::swap(ProjectionBuffers& other) noexcept
+{
+    static_assert(sizeof(ProjectionBuffers) ==
+                      sizeOfVectors(std::tuple_size_v<decltype(vectors())>),
+                  "vectors() names every vector");
+    swapEach(vectors(), other.vectors());
 }
 
 ChainProjection::ChainProjection(Hose& hose) : h(hose)
 {
-    std::swap(static_cast<ProjectionBuffers&>(*this), h.m_workspace.get().projection);
+    ProjectionBuffers::swap(h.m_workspace.get().projection);
     ProjectionBuffers::clear();
 }
 
 ChainProjection::~ChainProjection()
 {
-    std::swap(static_cast<ProjectionBuffers&>(*this), h.m_workspace.get().projection);
+    ProjectionBuffers::swap(h.m_workspace.get().projection);
 }
 
 void ChainProjection::setRange(int first, int last)

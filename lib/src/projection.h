@@ -5,6 +5,7 @@
 #include "chaintube/hose.h"
 
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 namespace chaintube::detail {
@@ -64,6 +65,16 @@ struct ProjectionBuffers
     std::vector<Vec3> m_step, m_saved;
     std::vector<Vec3> m_unit; ///< gatherLengths(): per segment of the range, its unit direction
     void clear();
+    /// Exchanges every vector with `other`'s (their storage, no element moved).
+    void swap(ProjectionBuffers& other) noexcept;
+
+private:
+    auto vectors()
+    {
+        return std::tie(m_inverseMass, m_hasContact, m_contactNormal, m_contactPoint,
+                        m_contactDistance, m_rows, m_system, m_systemRhs, m_band, m_lambda, m_step,
+                        m_saved, m_unit);
+    }
 };
 
 class ChainProjection : private ProjectionBuffers

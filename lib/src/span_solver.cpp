@@ -1,6 +1,7 @@
 #include "span_solver.h"
 
 #include "banded_ldlt.h"
+#include "vector_set.h"
 #include "workspace.h"
 
 #include <algorithm>
@@ -203,28 +204,25 @@ struct JointMoments
 
 void SpanBuffers::clear()
 {
-    for (auto* v : {&m_saved, &m_savedPositions, &m_direction, &m_trial, &m_position, &m_normal,
-                    &m_omega, &m_reachDirection, &m_reachFirst, &m_reachSecond, &m_reachPositions,
-                    &m_reachStart, &m_reachNormal})
-        v->clear();
-    for (auto* v : {&m_length, &m_trialLength, &m_room, &m_roomBound, &m_turnSin, &m_turnCos,
-                    &m_stretch, &m_lengthRoom, &m_reachLength, &m_band, &m_columns, &m_solved,
-                    &m_rhs, &m_step, &m_reachRoom})
-        v->clear();
-    for (auto* v : {&m_saturated, &m_lengthHeld, &m_reachHeld})
-        v->clear();
-    m_changes.clear();
+    clearEach(vectors());
+}
+
+void SpanBuffers::swap(SpanBuffers& other) noexcept
+{
+    static_assert(sizeof(SpanBuffers) == sizeOfVectors(std::tuple_size_v<decltype(vectors())>),
+                  "vectors() names every vector");
+    swapEach(vectors(), other.vectors());
 }
 
 SpanSolver::SpanSolver(Hose& hose) : h(hose)
 {
-    std::swap(static_cast<SpanBuffers&>(*this), h.m_workspace.get().span);
+    SpanBuffers::swap(h.m_workspace.get().span);
     SpanBuffers::clear();
 }
 
 SpanSolver::~SpanSolver()
 {
-    std::swap(static_cast<SpanBuffers&>(*this), h.m_workspace.get().span);
+    SpanBuffers::swap(h.m_workspace.get().span);
 }
 
 SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Vec3& endTarget,

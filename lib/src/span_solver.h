@@ -5,6 +5,7 @@
 
 #include "chaintube/hose.h"
 
+#include <tuple>
 #include <vector>
 
 namespace chaintube::detail {
@@ -70,6 +71,19 @@ struct SpanBuffers
     std::vector<double> m_reachRoom;
     std::vector<unsigned char> m_reachHeld;
     void clear();
+    /// Exchanges every vector with `other`'s (their storage, no element moved).
+    void swap(SpanBuffers& other) noexcept;
+
+private:
+    auto vectors()
+    {
+        return std::tie(m_changes, m_saved, m_savedPositions, m_direction, m_trial, m_position,
+                        m_length, m_trialLength, m_room, m_roomBound, m_turnSin, m_turnCos,
+                        m_normal, m_omega, m_stretch, m_saturated, m_lengthHeld, m_lengthRoom,
+                        m_reachDirection, m_reachFirst, m_reachSecond, m_reachPositions,
+                        m_reachStart, m_reachLength, m_band, m_columns, m_solved, m_rhs, m_step,
+                        m_reachNormal, m_reachRoom, m_reachHeld);
+    }
 };
 
 class SpanSolver : private SpanBuffers
