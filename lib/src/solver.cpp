@@ -478,8 +478,17 @@ double Hose::turnExcess(size_t j, const std::vector<Vec3>& points) const
     // no need for the angles themselves, the excess is negative.
     const double dot = in.dot(out), lengths = std::sqrt(in.squaredNorm() * out.squaredNorm());
     if (dot >= (m_cosLimit[j] + 1e-9) * lengths && lengths > 0.0) return -1.0;
-    const double turn = std::atan2(in.cross(out).norm(), dot);
-    return turn - m_limitAngle[j];
+    // turn − limit from the difference's sine and cosine (both scaled by |in| |out|): at a
+    // joint held on its limit (within half a degree, |tan| ≤ 1/128) by the series of atan up
+    // to x⁷, whose next term is below 2e-18 of the result; atan2 farther off.
+    const double sinTurn = in.cross(out).norm();
+    const double s = sinTurn * m_cosLimit[j] - dot * m_sinLimit[j];
+    const double c = dot * m_cosLimit[j] + sinTurn * m_sinLimit[j];
+    if (c > 0.0 && std::abs(s) <= c * (1.0 / 128.0)) {
+        const double x = s / c, x2 = x * x;
+        return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 * (1.0 / 7.0))));
+    }
+    return std::atan2(s, c);
 }
 
 UpdateResult Hose::measureViolation() const

@@ -201,3 +201,37 @@ TEST(Solver, MinBendRadiusGivesTheSameBendAtEveryResolution)
         EXPECT_LT(m.smallestBendRadius, 0.1 * 1.02) << segments << " segments: the limit is used";
     }
 }
+
+// measureViolation()'s bend excess is the joint's turn less its limit, to rounding, whether the
+// joint is a hair beyond its limit (the series near the limit), far beyond it or inside it, and
+// at any limit up to a right angle and beyond.
+TEST(Solver, MeasuredBendExcessIsTheTurnLessTheLimitNearAndFarFromIt)
+{
+    for (double limit : {0.01, 0.4, 1.2, 2.5}) {
+        HoseSpec spec;
+        spec.material.expansionCoefficient = 0.0;
+        spec.material.bendLimit = BendLimit::deflectionAngle(limit);
+        for (double excess : {-0.3, 1e-12, 2e-9, 1e-6, 1e-3, 7e-3, 0.05, 0.3}) {
+            const double turn = limit + excess;
+            if (!(turn > 0.0) || !(turn < 3.1)) continue;
+            // Three points: in along x, out turned by `turn` about an axis across it, tilted out of
+            // the xy plane (so the turn does not lie in a coordinate plane).
+            const Vec3 in(0.3, 0.0, 0.0);
+            const Vec3 out =
+                0.2 * (Eigen::AngleAxisd(turn, Vec3(0.0, 0.3, 1.0).normalized()) * Vec3::UnitX());
+            const Vec3 a(0.1, -0.2, 0.3);
+            const std::vector<Vec3> axis = {a, a + in, a + in + out};
+            const Hose hose = Hose::fromAxis(axis, {in.norm(), out.norm()}, spec);
+            const double expected =
+                std::atan2(in.cross(out).norm(), in.dot(out)) - hose.deflectionLimit(1);
+            const UpdateResult r = hose.measureViolation();
+            SCOPED_TRACE(::testing::Message() << "limit " << limit << ", excess " << excess);
+            EXPECT_NEAR(r.angleViolation, std::max(expected, 0.0),
+                        1e-15 + 1e-12 * std::abs(expected));
+            if (excess > 1e-9) {
+                EXPECT_NEAR(r.angleViolation, excess, 1e-12);
+            }
+            EXPECT_EQ(r.status, excess > 1e-9 ? Status::Infeasible : Status::Ok);
+        }
+    }
+}
