@@ -364,7 +364,7 @@ bool ChainProjection::solveLengths()
     for (size_t j = 0; j < m; ++j) {
         const size_t k = first + j;
         const Vec3& u = m_unit[j];
-        if (!(w[k] + w[k + 1] > 0.0) || !(u.squaredNorm() > 0.0)) {
+        if (!hasLengthRow(j)) {
             previous = false;
             continue;
         }
@@ -444,11 +444,8 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
         }
         if (lengths) {
             // Every length row is working on its upper side (gather()'s rows of equal bounds).
-            for (size_t j = 0; j < m_unit.size(); ++j) {
-                const size_t k = static_cast<size_t>(m_first) + j;
-                if (w[k] + w[k + 1] > 0.0 && m_unit[j].squaredNorm() > 0.0)
-                    h.m_workingSet[3 * k + 1] = 1;
-            }
+            for (size_t j = 0; j < m_unit.size(); ++j)
+                if (hasLengthRow(j)) h.m_workingSet[3 * (static_cast<size_t>(m_first) + j) + 1] = 1;
         }
         for (const Row& row : m_rows)
             h.m_workingSet[row.key] = row.working ? (row.side != 0 ? row.side : 1) : 0;

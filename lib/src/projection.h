@@ -131,6 +131,13 @@ private:
     double gatherLengths();
     /// buildSystem() and solveWorking() of a lengths-only range: one tridiagonal LDLᵀ solve.
     bool solveLengths();
+    /// Whether segment first + j has a row in the lengths-only system (not both its points
+    /// fixed, a length to take a direction from), after gatherLengths().
+    bool hasLengthRow(size_t j) const
+    {
+        const size_t k = static_cast<size_t>(m_first) + j;
+        return m_inverseMass[k] + m_inverseMass[k + 1] > 0.0 && m_unit[j].squaredNorm() > 0.0;
+    }
     /// The linearised system of every gathered row at the current positions (built once a
     /// Newton step; the working-set passes reuse it).
     void buildSystem();

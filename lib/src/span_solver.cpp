@@ -431,6 +431,13 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         for (int g = 0; g < goalCount; ++g)
             blockPoint[g] = (goals[static_cast<size_t>(g)].point - root) * dir;
         blockPoint[goalCount] = m;
+        // The first block beyond joint s (blocks first … blocks − 1 lie beyond it: they are
+        // sorted by point), searched on from `from` (a block at or before an earlier joint).
+        auto firstBlockBeyond = [&](int s, int from) {
+            while (from < blocks && blockPoint[from] <= s)
+                ++from;
+            return from;
+        };
         const Vec3 u = bendAxis;
         // The normal equations, upper blocks: each joint adds its part (add(s, ±1) with its
         // state at the time), so a pass that holds or frees a few joints changes only theirs.
@@ -444,9 +451,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         auto toggle = [&](int s, int heldSign) {
             const size_t k = static_cast<size_t>(s);
             const Vec3& n = m_normal[k];
-            int first = 0; // blocks first … blocks − 1 lie beyond joint s (sorted by point)
-            while (first < blocks && blockPoint[first] <= s)
-                ++first;
+            const int first = firstBlockBeyond(s, 0);
             Vec3 e[kMaxRows / 3];
             for (int b = first; b < blocks; ++b)
                 e[b] = (m_position[static_cast<size_t>(blockPoint[b])] - m_position[k]).cross(n);
@@ -557,8 +562,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const size_t k = static_cast<size_t>(s);
                 const Vec3& d = m_direction[k];
                 const unsigned char wasSaturated = m_saturated[k], wasLengthHeld = m_lengthHeld[k];
-                while (first < blocks && blockPoint[first] <= s)
-                    ++first;
+                first = firstBlockBeyond(s, first);
                 const Vec3 full =
                     moment[first] - (m_position[k] - m_position[0]).cross(force[first]);
                 Vec3 w = full - d.dot(full) * d;
@@ -627,8 +631,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
                 const bool held = m_saturated[k] != 0, lengthFree = stretchable && !m_lengthHeld[k];
                 if (held != change.held) toggle(change.joint, held ? 1 : -1);
                 if (lengthFree == change.lengthFree) continue;
-                while (firstBlock < blocks && blockPoint[firstBlock] <= change.joint)
-                    ++firstBlock;
+                firstBlock = firstBlockBeyond(change.joint, firstBlock);
                 const double sign = lengthFree ? 1.0 : -1.0;
                 if (firstBlock < blocks) {
                     const Vec3& d = m_direction[k];
