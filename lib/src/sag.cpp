@@ -18,10 +18,11 @@ constexpr double kGravity = 9.81;         ///< m/s²
 constexpr double kDamping = 0.9;          ///< fraction of the velocity a step carries on
 constexpr int kStepProjectionSteps = 8;   ///< Newton steps of one attempt
 /// The attempts of one step: the full prediction, then from rest with the fall scaled by the
-/// hose's retry fall and by a quarter of it (a smaller move from the valid start is nearer the
-/// constraints, so Newton's quadratic convergence reaches them within the attempt's steps). The
-/// retry fall is the last one that worked, never below kLeastFall; a step whose full prediction
-/// works lets it grow by kFallGrowth (at most the full fall).
+/// hose's retry fall, by a quarter of it and, when that quarter is above kLeastFall, by
+/// kLeastFall (a smaller move from the valid start is nearer the constraints, so Newton's
+/// quadratic convergence reaches them within the attempt's steps). The retry fall is the last
+/// one that worked, never below kLeastFall; a step whose full prediction works lets it grow by
+/// kFallGrowth (at most the full fall).
 constexpr double kFallShrink = 0.25;
 constexpr double kLeastFall = 1.0 / 16.0;
 constexpr double kFallGrowth = 4.0;
@@ -322,9 +323,13 @@ UpdateResult Hose::step()
     std::vector<Vec3>& predicted = workspace.gravityPredicted;
     predicted.resize(n); // every point written before it is read
     bool valid = false;
-    double factors[3] = {1.0, m_gravityRetryFall, 0.0};
+    double factors[4] = {1.0, m_gravityRetryFall, 0.0, 0.0};
     if (m_gravityRetryFall > kLeastFall)
         factors[2] = std::max(kLeastFall, kFallShrink * m_gravityRetryFall);
+    // The least fall is always among the attempts: a hose marked settled (retry fall 1) whose
+    // bends sit on their limits next to its pins may take no more than that in its first step
+    // (without it sag() ended there, at round 0, the hose not lowered).
+    if (factors[2] > kLeastFall) factors[3] = kLeastFall;
     // While a point is held (a grab each frame), a full prediction that failed fails again on
     // most of the next steps: the hose is held taut between pinned points (attachments, the
     // held point) and cannot take the whole fall next to them, and the projection does not

@@ -334,11 +334,11 @@ public:
     /// of the smallest mass-weighted move: every length in its band, every joint within its
     /// limit and, with colliders, every point outerRadius() outside the tangent plane of its
     /// nearest collider (a touching point keeps no velocity); a projection that ends close is
-    /// finished exactly by the span solver. Bounded: at most 3 attempts (then from rest, with
-    /// the fall of the last retry that worked and a quarter of it, never below a sixteenth of
-    /// the full fall; while a point is held, once the full prediction failed, the next 8 steps
-    /// start with that retry fall and the velocity instead); when none ends valid the hose stays
-    /// where it is, at rest. After every call every constraint holds (1e-9). Moves made by
+    /// finished exactly by the span solver. Bounded: at most 4 attempts (then from rest, with
+    /// the fall of the last retry that worked, a quarter of it and a sixteenth of the full fall,
+    /// never below that sixteenth; while a point is held, once the full prediction failed, the next
+    /// 8 steps start with that retry fall and the velocity instead); when none ends valid the hose
+    /// stays where it is, at rest. After every call every constraint holds (1e-9). Moves made by
     /// grabs and attachments carry no velocity; fixed points and the held point (the last
     /// grabbed, until releaseGrab()) stay. A shape that violates its constraints is brought
     /// nearer to valid instead of falling. At rest (no point

@@ -24,8 +24,8 @@ inline constexpr int kContactBudget = 8 + 2 * 32;
 /// stopped the grabbed point, and the contacts.
 inline constexpr int kContactGrabBudget = 2 * kGrabBudget + kContactBudget;
 
-/// One gravity step (Hose::step) of a hose whose held point splits it into two spans: three
+/// One gravity step (Hose::step) of a hose whose held point splits it into two spans: four
 /// attempts of 8 projection steps and the closing of both spans (32 a span).
-inline constexpr int kStepBudget = 3 * (8 + 2 * 32);
+inline constexpr int kStepBudget = 4 * (8 + 2 * 32);
 
 } // namespace chaintube::test_support
