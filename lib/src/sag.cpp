@@ -45,8 +45,9 @@ constexpr double kCloseFromFree = 1e-3;
 /// make from the projection's state.
 constexpr double kCloseMove = 0.05;
 constexpr double kSettledMotion = 1e-6; ///< of the mean rest length, per step
-constexpr int kStallSteps = 120;        ///< steps without coming lower: at rest
-constexpr double kHover = 0.01;         ///< of the mean rest length, in mean height
+constexpr double kStill = 1e-12; ///< of the mean rest length: a held point that has not moved
+constexpr int kStallSteps = 120; ///< steps without coming lower: at rest
+constexpr double kHover = 0.01;  ///< of the mean rest length, in mean height
 } // namespace
 
 /// One implicit step: the predicted positions (inertia, damping, gravity) projected onto the
@@ -100,19 +101,24 @@ public:
     /// Where they end close but not within the tolerance, the span solver closes the rest
     /// exactly (Hose::closeSpans): its moves are then of the order of the violation. Without
     /// contacts, it also closes from farther off when that moves no point by more than
-    /// kCloseMove of a segment. While a point is held, the projection stops as soon as closing
-    /// can take over (within kCloseFrom, or kCloseFromFree without contacts): its last steps
-    /// often converge only linearly there, bend limits switching on and off near their bounds,
-    /// and closing costs less than they do; a hose settling on its own converges to the
-    /// tolerance (closing would cost more than its last steps). Returns whether every
-    /// constraint holds afterwards.
+    /// kCloseMove of a segment. While a point is held and moves, the projection stops as soon as
+    /// closing can take over (within kCloseFrom, or kCloseFromFree without contacts): its last
+    /// steps often converge only linearly there, bend limits switching on and off near their
+    /// bounds, and closing costs less than they do; a hose settling on its own, or held by a
+    /// point that has not moved since the last step (without contacts), converges to the
+    /// tolerance (closing would cost more than its last steps, and a close from 1e-3 moves the
+    /// points by more than the violation, so a hose held still would never come to rest).
+    /// Returns whether every constraint holds afterwards.
     bool project(const std::vector<Vec3>& predicted, const std::vector<Vec3>& from, int& iterations)
     {
         gatherContacts(predicted, from);
         h.m_local = predicted;
         const bool contacts =
             std::any_of(touching.begin(), touching.end(), [](unsigned char t) { return t != 0; });
-        const double stopAt = held < 0 ? kStepConverged : contacts ? kCloseFrom : kCloseFromFree;
+        const double stopAt = held < 0    ? kStepConverged
+                              : contacts  ? kCloseFrom
+                              : heldStill ? kStepConverged
+                                          : kCloseFromFree;
         const detail::ProjectionOutcome out = projection.run(kStepProjectionSteps, stopAt);
         iterations += out.iterations;
         measuredValid = false;
@@ -177,6 +183,9 @@ public:
     Hose& h;
     detail::ChainProjection projection;
     int held;
+    /// The held point has not moved since the last step (a hand holding still): the projection
+    /// converges as a hose settling on its own does, so the hose comes to rest.
+    bool heldStill = false;
     int pinnedFirst = 0, pinnedLast = -1;                  ///< Hose::pinnedRangeOf(held)
     int first = 0, last = std::numeric_limits<int>::max(); ///< separateTails(): the pinned range
     std::vector<Vec3> tailCorrection; ///< taken off the tails' velocity (Hose::step)
@@ -269,6 +278,12 @@ UpdateResult Hose::step()
     workspace.gravityStart = m_local;
     const std::vector<Vec3>& start = workspace.gravityStart;
     GravityStep engine(*this, m_held);
+    // Still: moved by no more than rounding (a grab of the same target may place the point
+    // again through the span's kinematics).
+    engine.heldStill =
+        m_held >= 0 && m_gravityLast.size() == n &&
+        (m_local[static_cast<size_t>(m_held)] - m_gravityLast[static_cast<size_t>(m_held)])
+                .norm() <= kStill * engine.meanRest;
     const std::vector<double>& w = engine.projection.inverseMass();
     if (m_dirtyViolation) {
         // The shape violates its constraints (bends that gave way to an attachment move, a shape

@@ -289,6 +289,43 @@ double pinnedSag(double length, int segments, double radius, int* steps = nullpt
     return -lowestY(hose);
 }
 
+// The real-time walk's hose: `n` points along a circle arc, 1 m long, inextensible, minimum bend
+// radius `bendRadius`, gravity on, its ends fixed by one-segment attachments 0.8 m apart.
+Hose walkHose(int n, double bendRadius)
+{
+    const double chord = 0.8, length = 1.0;
+    double radius = 0.6; // of the arc: chord = 2 r sin(length / 2r), by Newton's method
+    for (int i = 0; i < 100; ++i) {
+        const double f = 2.0 * radius * std::sin(0.5 * length / radius) - chord;
+        const double df = 2.0 * std::sin(0.5 * length / radius) -
+                          (length / radius) * std::cos(0.5 * length / radius);
+        radius -= f / df;
+    }
+    std::vector<Vec3> axis;
+    for (int i = 0; i < n; ++i) {
+        const double a = (double(i) / (n - 1) - 0.5) * length / radius;
+        axis.emplace_back(0.4 + radius * std::sin(a), 0.0,
+                          -(radius * std::cos(a) - radius * std::cos(0.5 * length / radius)));
+    }
+    HoseSpec spec;
+    spec.outerDiameter = 0.02;
+    spec.material.expansionCoefficient = 0.0;
+    spec.material.bendLimit = BendLimit::minBendRadius(bendRadius);
+    spec.gravity.enabled = true;
+    Hose hose = Hose::fromAxis(axis, spec);
+    static_cast<void>(hose.attach(0, 1, Frame::identity()));
+    static_cast<void>(hose.attach(n - 2, n - 1, Frame::identity()));
+    return hose;
+}
+
+double meanHeight(const Hose& hose)
+{
+    double sum = 0.0;
+    for (const Vec3& p : hose.points())
+        sum += p.y();
+    return sum / hose.pointCount();
+}
+
 } // namespace
 
 TEST(GravityStep, BendLimitedHoseBetweenTwoClampsSettlesStopsAndKeepsEveryConstraint)
@@ -573,28 +610,7 @@ TEST(GravityStep, ASagOfAHoseHeldTautWithItsBendsOnTheirLimitsFallsInsteadOfEndi
     // and sag() lets the hose settle. Its first step, the hose marked settled (retry fall 1),
     // finds no valid shape for the full fall nor a quarter of it; a sixteenth works.
     const int n = 100;
-    const double chord = 0.8, length = 1.0;
-    double radius = 0.6; // of the arc: chord = 2 r sin(length / 2r), by Newton's method
-    for (int i = 0; i < 100; ++i) {
-        const double f = 2.0 * radius * std::sin(0.5 * length / radius) - chord;
-        const double df = 2.0 * std::sin(0.5 * length / radius) -
-                          (length / radius) * std::cos(0.5 * length / radius);
-        radius -= f / df;
-    }
-    std::vector<Vec3> axis;
-    for (int i = 0; i < n; ++i) {
-        const double a = (double(i) / (n - 1) - 0.5) * length / radius;
-        axis.emplace_back(0.4 + radius * std::sin(a), 0.0,
-                          -(radius * std::cos(a) - radius * std::cos(0.5 * length / radius)));
-    }
-    HoseSpec spec;
-    spec.outerDiameter = 0.02;
-    spec.material.expansionCoefficient = 0.0;
-    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
-    spec.gravity.enabled = true;
-    Hose hose = Hose::fromAxis(axis, spec);
-    static_cast<void>(hose.attach(0, 1, Frame::identity()));
-    static_cast<void>(hose.attach(n - 2, n - 1, Frame::identity()));
+    Hose hose = walkHose(n, 0.1);
     const Vec3 from = hose.point(n / 2), to(0.4, 0.1, 0.05);
     for (int frame = 0; frame < 200; ++frame) {
         static_cast<void>(hose.grab(n / 2, from + std::min(1.0, (frame + 1) / 30.0) * (to - from)));
@@ -602,21 +618,63 @@ TEST(GravityStep, ASagOfAHoseHeldTautWithItsBendsOnTheirLimitsFallsInsteadOfEndi
     }
     hose.releaseGrab();
     static_cast<void>(hose.attach(n / 2, n / 2, Frame::identity()));
-    auto meanHeight = [&] {
-        double sum = 0.0;
-        for (const Vec3& p : hose.points())
-            sum += p.y();
-        return sum / n;
-    };
-    const double before = meanHeight();
+    const double before = meanHeight(hose);
     SagOptions options;
     options.maxRounds = 4000;
     const SagResult r = hose.sag(options);
     std::printf("[ figures  ] held taut, bends on their limits: sag() %d steps, mean height "
                 "%.5f -> %.5f m\n",
-                r.rounds, before, meanHeight());
+                r.rounds, before, meanHeight(hose));
     EXPECT_GT(r.rounds, 100);
-    EXPECT_LT(meanHeight(), before - 0.01) << "the hose hangs lower";
+    EXPECT_LT(meanHeight(hose), before - 0.01) << "the hose hangs lower";
     EXPECT_EQ(r.update.status, Status::Ok);
     EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+}
+
+TEST(GravityStep, AHoseHeldStillBetweenItsPinsComesToRestAndThenCostsNothing)
+{
+    // The real-time walk's hose with a 30 mm bend radius, its middle grabbed every frame (as a
+    // VR runtime does for a hand) and brought over 30 frames to a point above the span, then
+    // held still there. While the point moves, each step's projection stops within 1e-3 for the
+    // span solver to close; once it stands still, the projection converges, and the hose comes
+    // to rest as a hose settling on its own does: no point moves, a grab of the same target
+    // changes nothing, and a step costs one comparison.
+    const int n = 100;
+    Hose hose = walkHose(n, 0.03);
+    const Vec3 from = hose.point(n / 2), to(0.4, 0.1, 0.05);
+    double worstLength = 0.0, worstAngle = 0.0;
+    int restFrom = -1;
+    for (int frame = 0; frame < 1200; ++frame) {
+        static_cast<void>(hose.grab(n / 2, from + std::min(1.0, (frame + 1) / 30.0) * (to - from)));
+        const UpdateResult r = hose.step();
+        worstLength = std::max(worstLength, r.lengthViolation);
+        worstAngle = std::max(worstAngle, r.angleViolation);
+        if (r.movedPoints != 0)
+            restFrom = -1;
+        else if (restFrom < 0)
+            restFrom = frame;
+    }
+    std::printf("[ figures  ] 100 points, R 30 mm, middle held still: at rest from frame %d, mean "
+                "height %.5f m\n",
+                restFrom, meanHeight(hose));
+    EXPECT_GE(restFrom, 30);
+    EXPECT_LT(restFrom, 1000) << "at rest within 1,000 frames of holding still";
+    EXPECT_LE(worstLength, 1e-9);
+    EXPECT_LE(worstAngle, 1e-9);
+    EXPECT_CONSTRAINTS_HOLD(hose, 1e-9);
+    // It hangs: far below the straight line from the ends (y 0) to the held point (y 0.1).
+    EXPECT_LT(meanHeight(hose), -0.01);
+    // At rest: the same grab each frame and a step leave every point and the revision as they
+    // are, and a step costs one comparison (no Newton step).
+    const std::vector<Vec3> rest = hose.points();
+    const std::uint64_t revision = hose.revision();
+    const Vec3 held = from + 1.0 * (to - from); // the last frames' target, to the bit
+    for (int frame = 0; frame < 100; ++frame) {
+        static_cast<void>(hose.grab(n / 2, held));
+        const UpdateResult r = hose.step();
+        EXPECT_EQ(r.movedPoints, 0);
+        EXPECT_EQ(r.iterations, 0);
+    }
+    EXPECT_EQ(hose.points(), rest);
+    EXPECT_EQ(hose.revision(), revision);
 }
