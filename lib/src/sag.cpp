@@ -343,7 +343,7 @@ UpdateResult Hose::step()
         factors[2] = std::max(kLeastFall, kFallShrink * m_gravityRetryFall);
     // The least fall is always among the attempts: a hose marked settled (retry fall 1) whose
     // bends sit on their limits next to its pins may take no more than that in its first step
-    // (without it sag() ended there, at round 0, the hose not lowered).
+    // (otherwise sag() would end there, at round 0, the hose not lowered).
     if (factors[2] > kLeastFall) factors[3] = kLeastFall;
     // While a point is held (a grab each frame), a full prediction that failed fails again on
     // most of the next steps: the hose is held taut between pinned points (attachments, the

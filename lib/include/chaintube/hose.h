@@ -334,14 +334,16 @@ public:
     /// of the smallest mass-weighted move: every length in its band, every joint within its
     /// limit and, with colliders, every point outerRadius() outside the tangent plane of its
     /// nearest collider (a touching point keeps no velocity); a projection that ends close is
-    /// finished exactly by the span solver. Bounded: at most 4 attempts (then from rest, with
-    /// the fall of the last retry that worked, a quarter of it and a sixteenth of the full fall,
-    /// never below that sixteenth; while a point is held, once the full prediction failed, the next
-    /// 8 steps start with that retry fall and the velocity instead); when none ends valid the hose
-    /// stays where it is, at rest. After every call every constraint holds (1e-9). Moves made by
-    /// grabs and attachments carry no velocity; fixed points and the held point (the last
-    /// grabbed, until releaseGrab()) stay. A shape that violates its constraints is brought
-    /// nearer to valid instead of falling. At rest (no point
+    /// finished exactly by the span solver. While the held point moves from step to step, the
+    /// projection stops within 1e-3 (1e-5 near a collider) and the span solver finishes; once it
+    /// stands still (to rounding), the projection converges, so a hose held still comes to rest.
+    /// Bounded: at most 4 attempts (then from rest, with the fall of the last retry that worked, a
+    /// quarter of it and a sixteenth of the full fall, never below that sixteenth; while a point is
+    /// held, once the full prediction failed, the next 8 steps start with that retry fall and the
+    /// velocity instead); when none ends valid the hose stays where it is, at rest. After every
+    /// call every constraint holds (1e-9). Moves made by grabs and attachments carry no velocity;
+    /// fixed points and the held point (the last grabbed, until releaseGrab()) stay. A shape that
+    /// violates its constraints is brought nearer to valid instead of falling. At rest (no point
     /// moved more than 1e-6 of a mean segment in a step, or no lower by 1 % of a mean segment in
     /// 120 steps), with gravity off, or with nothing fixed and nothing held, a call costs one
     /// comparison until an input changes (any revision()). Deterministic. Returns the constraint
