@@ -34,6 +34,11 @@ constexpr int kAdvanceIterations = 6;
 constexpr int kMovingAdvanceGains = 1;
 /// A target beyond reach is brought this fraction inside the hose's reach.
 constexpr double kReachMargin = 1e-6;
+/// A grab between fixed points that moves no point by more than this (of the mean rest length)
+/// moves nothing: the hose stays as it was, bit for bit. A point held still (the same target
+/// each frame) is placed again through the span's kinematics, which moves the points by rounding
+/// (up to 4e-11 of a segment measured); the constraints' own tolerance is 1e-9.
+constexpr double kNoMove = 1e-9;
 /// Clips: the margins a short side is fed to, one attempt each (Hose::slideClips).
 constexpr double kClipMargins[] = {0.01, 0.05, 0.15};
 /// Hose::moveAttachments: a move that finds no shape is made again in two halves when an
@@ -779,6 +784,15 @@ double reachBetween(const Hose& hose, int from, int to)
     return reach;
 }
 
+/// Whether no point of `now` is farther than `most` from its place in `before`.
+bool movedWithin(const std::vector<Vec3>& now, const std::vector<Vec3>& before, double most)
+{
+    const double most2 = most * most;
+    for (size_t i = 0; i < now.size(); ++i)
+        if ((now[i] - before[i]).squaredNorm() > most2) return false;
+    return true;
+}
+
 /// Nearest fixed point from `index` going `side` (±1), or −1.
 int nearestFixed(const Hose& hose, int index, int side)
 {
@@ -799,8 +813,9 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     }
     const Vec3 localTarget = target - m_origin;
     const size_t k = static_cast<size_t>(index);
-    // The same target again, nothing changed since this grab stopped at the edge of its reach,
-    // still held, no colliders (they move without the hose knowing): no work.
+    // The same target again, nothing changed since a grab of this point moved nothing (its point
+    // was on that target, or got no nearer to it), still held, no colliders (they move without
+    // the hose knowing): no work.
     if (m_edgePoint == index && m_edgeRevision == m_revision && m_held == index &&
         m_colliders.empty() && localTarget == m_edgeTarget) {
         result = m_edgeResult;
@@ -898,6 +913,13 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         const std::vector<Vec3>& unmoved = beforeSlide.empty() ? m_scratch : beforeSlide;
         for (size_t i = 0; i < m_local.size(); ++i)
             moved += m_local[i] != unmoved[i];
+        // Moved by no more than kNoMove (no clip slid, a valid shape before): nothing moved, so a
+        // hose held still comes to rest and stays there (step()).
+        if (moved > 0 && beforeSlide.empty() && !wasInvalid &&
+            movedWithin(m_local, m_scratch, kNoMove * restLengthTotal() / segmentCount())) {
+            m_local = m_scratch;
+            moved = 0;
+        }
     }
     if (wasInvalid) {
         // A grab never makes a hose that already violated its constraints worse.
@@ -922,8 +944,9 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     m_held = index;
     if (moved > 0 || m_attachments.empty()) ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
-    // Remember a grab that could not get nearer: the same target again is answered at once.
-    m_edgePoint = status == Status::Clamped && moved == 0 ? index : -1;
+    // Remember a grab that moved nothing (on its target, or at the edge of its reach and no
+    // nearer): the same target again, from the same shape, is answered at once.
+    m_edgePoint = moved == 0 ? index : -1;
     m_edgeRevision = m_revision;
     m_edgeTarget = localTarget;
     m_edgeResult = result;

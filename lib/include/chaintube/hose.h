@@ -262,7 +262,11 @@ public:
     /// the point is held (heldPoint()) until the next grab or releaseGrab(). Fixed points never
     /// move. Between fixed points the point goes towards the target in steps that each end
     /// valid, at most a fixed number a call; a target beyond reach is replaced by the nearest
-    /// point within the reach of both sides. O(n) a step. See Status.
+    /// point within the reach of both sides. O(n) a step. A grab between fixed points that
+    /// would move no point by more than 1e-9 of the mean rest length (a point held still, its
+    /// target the same each frame) moves nothing (movedPoints 0, revision() unchanged), and
+    /// the same target again from the shape a grab left unmoved costs one comparison. See
+    /// Status.
     UpdateResult grab(int index, const Vec3& target);
 
     /// Fix the run of points first … last (inclusive, 0 ≤ first ≤ last < pointCount(), not
@@ -461,7 +465,7 @@ private:
     detail::WorkspaceSlot m_workspace; ///< the solvers' buffers (workspace.h)
     int m_nextAttachmentId = 1;
     int m_held = -1;                          ///< see heldPoint()
-    int m_edgePoint = -1;                     ///< point last grabbed to the edge of its reach
+    int m_edgePoint = -1;                     ///< point of the last grab, if it moved nothing
     std::uint64_t m_edgeRevision = 0;         ///< m_revision right after that grab
     Vec3 m_edgeTarget = Vec3::Zero();         ///< that grab's local target
     UpdateResult m_edgeResult;                ///< and what it returned
