@@ -9,6 +9,7 @@
 #include "chaintube/editor/export_integration.h"
 #include "chaintube/editor/route_layout.h"
 #include "chaintube/formats/project_hoses.h"
+#include "chaintube/route.h"
 #include "chaintube/test_support/hose_checks.h"
 #include "export_dialog.h"
 #include "import_dialog.h"
@@ -724,6 +725,115 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
 // Route points clicked on the bracket's flange next to its upright (where the flange's own
 // normal would leave the point nearer the upright than the hose's radius plus the clearance)
 // are moved on until every surface of the scene keeps that distance.
+/// The screen position whose upward hit on `path` lies nearest to the world point `wanted`
+/// (in x and z).
+std::pair<QPoint, ScenePickHit> nearestHit(const std::vector<std::pair<QPoint, ScenePickHit>>& hits,
+                                           const Vec3& wanted)
+{
+    return *std::min_element(hits.begin(), hits.end(), [&](const auto& a, const auto& b) {
+        auto d = [&](const Vec3& p) { return std::hypot(p.x() - wanted.x(), p.z() - wanted.z()); };
+        return d(a.second.point) < d(b.second.point);
+    });
+}
+
+TEST_F(MainWindowTest, ARouteClickedPastTheValveIsValidWhenLaid)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("route-valid-when-laid")));
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    settle();
+    // Along the floor past the valve: the leg between the middle clicks passes 5.5 mm from the
+    // valve's corner, which reaches to z = 0.1995 m (a hose of 10 mm radius would run into it).
+    const auto floor = topHits("/test-rig/floor_plate");
+    ASSERT_FALSE(floor.empty());
+    const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {
+        nearestHit(floor, Vec3(-0.35, 0, 0.0)), nearestHit(floor, Vec3(-0.2, 0, 0.205)),
+        nearestHit(floor, Vec3(0.2, 0, 0.205)), nearestHit(floor, Vec3(0.35, 0, 0.0))};
+    QTest::keyClick(&viewport, Qt::Key_N);
+    for (const auto& click : clicks)
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
+    ASSERT_EQ(viewport.pendingRoute().size(), clicks.size());
+    const std::vector<Vec3> clicked = viewport.pendingRoute();
+    takeKeys();
+    QTest::keyClick(&viewport, Qt::Key_Return);
+    settle();
+    ASSERT_EQ(document.hoseCount(), 3) << m_errors.join('\n').toStdString();
+    const std::string id = document.project().hoses.back().id;
+    const formats::HoseDefinition& definition = *document.hoseDefinition(id);
+    const Hose& hose = *document.hose(id);
+    // The clicked points are kept, in order; points were added between them.
+    std::vector<Vec3> kept;
+    for (const Vec3& p : definition.route)
+        if (std::find(clicked.begin(), clicked.end(), p) != clicked.end()) kept.push_back(p);
+    EXPECT_EQ(kept, clicked);
+    EXPECT_GT(definition.route.size(), clicks.size()) << "route points were added";
+    // Valid as laid: every segment in its band, every bend within the limit, clear of every
+    // part by the clearance, and no problem listed for it.
+    const HoseMetrics m = measure(hose);
+    EXPECT_TRUE(m.bendBelowMinimum.empty()) << m.smallestBendRadius;
+    EXPECT_LE(m.angleViolation, 1e-9);
+    for (int s = 0; s < hose.segmentCount(); ++s) {
+        const double length = (hose.point(s + 1) - hose.point(s)).norm();
+        EXPECT_GE(length, hose.minLength(s) * (1 - 1e-9)) << "segment " << s;
+        EXPECT_LE(length, hose.maxLength(s) * (1 + 1e-9)) << "segment " << s;
+    }
+    const double wanted = 0.5 * definition.outerDiameter +
+                          m_window->problems().clearanceThreshold()->value() / 1000.0;
+    ScenePicker picker;
+    picker.update(document);
+    double smallest = wanted;
+    for (int i = 0; i < hose.pointCount(); ++i) {
+        Vec3 onSurface;
+        if (picker.nearest(hose.point(i), wanted, &onSurface))
+            smallest = std::min(smallest, (hose.point(i) - onSurface).norm());
+    }
+    std::printf("route of %zu clicks laid with %zu points; the axis keeps %.3f mm from every "
+                "part (%.3f wanted)\n",
+                clicks.size(), definition.route.size(), smallest * 1000.0, wanted * 1000.0);
+    EXPECT_GE(smallest, wanted * (1 - 1e-3));
+    m_window->problems().refreshNow();
+    for (const Problem& problem : m_window->problems().problems())
+        EXPECT_NE(problem.hoseId, id) << problem.text.toStdString();
+    // One undo step removes it.
+    QTest::keyClick(m_window.get(), Qt::Key_Z, Qt::ControlModifier);
+    settle();
+    EXPECT_EQ(document.hoseCount(), 2);
+}
+
+TEST_F(MainWindowTest, ACornerTheClicksLeaveTooTightIsNamedByItsRoutePoint)
+{
+    ASSERT_TRUE(m_window->openFile(copyOfTestRig("route-tight-corner")));
+    Document& document = m_window->document();
+    Viewport& viewport = m_window->viewport();
+    settle();
+    // Along the floor in front of the valve, then 5 cm on and back: no 100 mm bend fits at the
+    // hairpin's two corners (route points 2 and 3).
+    const auto floor = topHits("/test-rig/floor_plate");
+    ASSERT_FALSE(floor.empty());
+    const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {
+        nearestHit(floor, Vec3(-0.3, 0, 0.22)), nearestHit(floor, Vec3(0.25, 0, 0.22)),
+        nearestHit(floor, Vec3(0.28, 0, 0.18)), nearestHit(floor, Vec3(-0.2, 0, 0.18))};
+    QTest::keyClick(&viewport, Qt::Key_N);
+    for (const auto& click : clicks)
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
+    takeKeys();
+    QTest::keyClick(&viewport, Qt::Key_Return);
+    settle();
+    ASSERT_EQ(document.hoseCount(), 3) << m_errors.join('\n').toStdString();
+    const std::string id = document.project().hoses.back().id;
+    m_window->problems().refreshNow();
+    QStringList named;
+    for (const Problem& problem : m_window->problems().problems())
+        if (problem.hoseId == id && problem.text.contains("kinked")) named << problem.text;
+    ASSERT_FALSE(named.isEmpty()) << "the hairpin is listed";
+    for (const QString& text : named) {
+        std::printf("%s\n", text.toStdString().c_str());
+        EXPECT_TRUE(text.contains("route point 2 is too tight") ||
+                    text.contains("route point 3 is too tight"))
+            << text.toStdString();
+    }
+}
+
 TEST_F(MainWindowTest, RoutePointsClickedNextToTheBracketsUprightKeepTheClearanceFromEveryFace)
 {
     std::shared_ptr<MeshCollider> bracketCollider;

@@ -335,5 +335,100 @@ TEST(KeepClearOfSurfaces, NothingNearOrNoQueryLeavesThePointWhereItIs)
     EXPECT_EQ(nan.position, placed.position);
 }
 
+/// The nearest point on the surface of an axis-aligned box (from inside too), when nearer than
+/// `within`.
+NearestSurfaceQuery boxSurface(const Vec3& lo, const Vec3& hi, int* queries = nullptr)
+{
+    return [=](const Vec3& at, double within) {
+        if (queries) ++*queries;
+        NearestSurface near;
+        Vec3 p = at.cwiseMax(lo).cwiseMin(hi);
+        if (p == at) { // inside: the nearest face
+            double best = std::numeric_limits<double>::infinity();
+            for (int axis = 0; axis < 3; ++axis)
+                for (const double face : {lo[axis], hi[axis]})
+                    if (std::abs(at[axis] - face) < best) {
+                        best = std::abs(at[axis] - face);
+                        p = at;
+                        p[axis] = face;
+                    }
+        }
+        near.found = (p - at).norm() < within;
+        near.point = p;
+        return near;
+    };
+}
+
+/// The polyline sampled at 5 mm: the hose "laid" along a route without rounding.
+std::vector<Vec3> sampled(const std::vector<Vec3>& route)
+{
+    std::vector<Vec3> axis;
+    for (size_t i = 0; i + 1 < route.size(); ++i) {
+        const int steps = std::max(1, int(std::ceil((route[i + 1] - route[i]).norm() / 0.005)));
+        for (int k = 0; k < steps; ++k)
+            axis.push_back(route[i] + (route[i + 1] - route[i]) * (double(k) / steps));
+    }
+    axis.push_back(route.back());
+    return axis;
+}
+
+TEST(KeepRouteClearOfSurfaces, ALegPastABoxGetsPointsThatTakeItRoundAndKeepsTheClickedOnes)
+{
+    // A 6 cm cube whose edge the straight leg passes 5 mm from; 15 mm wanted.
+    const Vec3 lo(-0.03, 0.0, -0.03), hi(0.03, 0.06, 0.03);
+    const std::vector<Vec3> route = {Vec3(-0.2, 0.03, 0.035), Vec3(0.2, 0.03, 0.035)};
+    int queries = 0;
+    const ClearedRoute cleared =
+        keepRouteClearOfSurfaces(route, 0.015, 0.1, sampled, boxSurface(lo, hi, &queries));
+    ASSERT_TRUE(cleared.clear);
+    EXPECT_GE(cleared.added, 1);
+    ASSERT_EQ(cleared.route.size(), cleared.given.size());
+    EXPECT_EQ(cleared.route.front(), route.front());
+    EXPECT_EQ(cleared.route.back(), route.back());
+    EXPECT_EQ(cleared.given.front(), 0);
+    EXPECT_EQ(cleared.given.back(), 1);
+    for (size_t i = 1; i + 1 < cleared.given.size(); ++i)
+        EXPECT_EQ(cleared.given[i], -1);
+    const NearestSurfaceQuery box = boxSurface(lo, hi);
+    const std::vector<Vec3> axis = sampled(cleared.route);
+    for (const Vec3& p : axis)
+        EXPECT_GE((box(p, 1.0).point - p).norm(), 0.015 * (1 - 1e-6)) << p.transpose();
+    EXPECT_GE(cleared.clearance, 0.015 * (1 - 1e-6));
+    // Bounded: at most kMaxAddedRoutePoints + 1 layouts, each a query per point and middle.
+    EXPECT_LE(queries,
+              (kMaxAddedRoutePoints + 1) * 2 * int(axis.size() + 8) * (kMaxClearingPushes + 2));
+}
+
+TEST(KeepRouteClearOfSurfaces, ARouteAlreadyClearIsLeftAsItIs)
+{
+    const std::vector<Vec3> route = {Vec3(-0.2, 0.03, 0.2), Vec3(0.2, 0.03, 0.2)};
+    const ClearedRoute cleared = keepRouteClearOfSurfaces(
+        route, 0.015, 0.1, sampled, boxSurface(Vec3(-0.03, 0, -0.03), Vec3(0.03, 0.06, 0.03)));
+    EXPECT_TRUE(cleared.clear);
+    EXPECT_EQ(cleared.added, 0);
+    EXPECT_EQ(cleared.route, route);
+    EXPECT_EQ(cleared.clearance, 0.015);
+    const ClearedRoute none = keepRouteClearOfSurfaces(route, 0.015, 0.1, sampled, nullptr);
+    EXPECT_EQ(none.route, route);
+}
+
+TEST(KeepRouteClearOfSurfaces, AGapNarrowerThanTheHoseIsReportedWithTheBestRouteFound)
+{
+    // Between two walls 2 cm apart (a 15 mm distance wants 3 cm): never clear, work bounded.
+    auto walls = [](const Vec3& at, double within) {
+        NearestSurface near;
+        const double wall = at.z() < 0.0 ? -0.01 : 0.01;
+        near.point = Vec3(at.x(), at.y(), wall);
+        near.found = std::abs(at.z() - wall) < within && std::abs(at.x()) < 0.1;
+        return near;
+    };
+    const std::vector<Vec3> route = {Vec3(-0.3, 0, 0.002), Vec3(0.3, 0, 0.002)};
+    const ClearedRoute cleared = keepRouteClearOfSurfaces(route, 0.015, 0.1, sampled, walls);
+    EXPECT_FALSE(cleared.clear);
+    EXPECT_LE(cleared.added, kMaxAddedRoutePoints);
+    EXPECT_LT(cleared.clearance, 0.015);
+    EXPECT_GE(cleared.clearance, 0.008 - 1e-9) << "the best found: the middle of the gap or near";
+}
+
 } // namespace
 } // namespace chaintube::editor

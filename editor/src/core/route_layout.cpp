@@ -1,8 +1,11 @@
 #include "chaintube/editor/route_layout.h"
 
+#include "chaintube/route.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace chaintube::editor {
 
@@ -95,6 +98,111 @@ ClearedRoutePoint keepClearOfSurfaces(const SurfaceOffset& placed, double distan
         previousPoint = near.point;
         previousDirection = direction;
         result.pushes = push + 1;
+    }
+}
+
+namespace {
+
+/// The route leg (index of its first point) nearest to `point`.
+size_t nearestLeg(const std::vector<Vec3>& route, const Vec3& point)
+{
+    size_t best = 0;
+    double bestDistance = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i + 1 < route.size(); ++i) {
+        const Vec3 leg = route[i + 1] - route[i];
+        const double t = std::clamp((point - route[i]).dot(leg) / leg.squaredNorm(), 0.0, 1.0);
+        const double d = (route[i] + t * leg - point).norm();
+        if (d < bestDistance) {
+            bestDistance = d;
+            best = i;
+        }
+    }
+    return best;
+}
+
+/// The axis point or segment middle nearest a surface within `distance`.
+struct Nearest
+{
+    double clearance = 0.0;
+    Vec3 at = Vec3::Zero();
+    Vec3 surface = Vec3::Zero();
+    bool found = false;
+};
+
+Nearest nearestToASurface(const std::vector<Vec3>& axis, double distance,
+                          const NearestSurfaceQuery& nearest)
+{
+    Nearest worst;
+    worst.clearance = distance;
+    auto look = [&](const Vec3& at) {
+        const NearestSurface near = nearest(at, distance);
+        if (!near.found || !near.point.allFinite()) return;
+        const double clearance = (at - near.point).norm();
+        if (clearance < worst.clearance) worst = {clearance, at, near.point, true};
+    };
+    // The end points are route points, cleared when they were placed.
+    for (size_t i = 1; i + 1 < axis.size(); ++i)
+        look(axis[i]);
+    for (size_t i = 0; i + 1 < axis.size(); ++i)
+        look(0.5 * (axis[i] + axis[i + 1]));
+    return worst;
+}
+
+/// How far the route's corners fall short of the bend radius: the sum over its tight corners
+/// of 1 − the radius reached / `radius` (0 when every corner gets its arc).
+double tightness(const std::vector<Vec3>& route, double radius)
+{
+    double sum = 0.0;
+    for (const TightCorner& corner : tightCorners(route, radius))
+        sum += 1.0 - corner.reachedRadius / radius;
+    return sum;
+}
+
+} // namespace
+
+ClearedRoute
+keepRouteClearOfSurfaces(const std::vector<Vec3>& route, double distance, double bendRadius,
+                         const std::function<std::vector<Vec3>(const std::vector<Vec3>&)>& axisOf,
+                         const NearestSurfaceQuery& nearest)
+{
+    ClearedRoute result;
+    result.route = route;
+    for (size_t i = 0; i < route.size(); ++i)
+        result.given.push_back(static_cast<int>(i));
+    result.clearance = std::isfinite(distance) ? std::max(0.0, distance) : 0.0;
+    result.clear = true;
+    if (!nearest || !axisOf || route.size() < 2 || !(distance > 0.0) || !std::isfinite(distance))
+        return result;
+    ClearedRoute current = result;
+    for (int round = 0;; ++round) {
+        const Nearest worst = nearestToASurface(axisOf(current.route), distance, nearest);
+        current.clearance = worst.found ? worst.clearance : distance;
+        current.clear = !worst.found || worst.clearance >= distance * (1.0 - 1e-6);
+        if (round == 0 || current.clearance > result.clearance) result = current;
+        if (current.clear || round == kMaxAddedRoutePoints) return result;
+        // A new route point there, pushed clear of the surface (and of any other near it).
+        SurfaceOffset placed;
+        placed.position = worst.at;
+        placed.direction = worst.clearance > 1e-12 * distance
+                               ? Vec3((worst.at - worst.surface) / worst.clearance)
+                               : Vec3::UnitY();
+        // With a margin: the legs to its neighbours cut the corner it goes round.
+        const ClearedRoutePoint cleared =
+            keepClearOfSurfaces(placed, kAddedRoutePointMargin * distance, nearest);
+        const size_t leg = nearestLeg(current.route, cleared.position);
+        const Vec3& a = current.route[leg];
+        const Vec3& b = current.route[leg + 1];
+        const double tooNear = 1e-3 * (b - a).norm();
+        if ((cleared.position - a).norm() < tooNear || (cleared.position - b).norm() < tooNear)
+            return result; // it would double a route point: nothing more to gain here
+        std::vector<Vec3> longer = current.route;
+        longer.insert(longer.begin() + std::ptrdiff_t(leg) + 1, cleared.position);
+        // A point that leaves a corner no room for the bend radius would trade the clearance
+        // for a kink: the clicks leave no room to go round here.
+        if (tightness(longer, bendRadius) > tightness(current.route, bendRadius)) return result;
+        current.route = std::move(longer);
+        current.given.insert(current.given.begin() + std::ptrdiff_t(leg) + 1, -1);
+        ++current.added;
     }
 }
 

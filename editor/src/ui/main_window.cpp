@@ -894,9 +894,31 @@ void MainWindow::onRouteFinished(const std::vector<Vec3>& route, double outerDia
     else
         definition.material = material.material;
     definition.colour = kHoseColours[size_t(m_document->hoseCount()) % std::size(kHoseColours)];
+    // The hose laid between the clicked points keeps the clearance too: where it passes nearer
+    // a part (a leg along an edge, an arc over a bracket), route points are added there.
+    const formats::Project& project = m_document->project();
+    const BendLimit& limit = material.material.bendLimit;
+    const double bendRadius =
+        limit.kind == BendLimit::Kind::MinBendRadius
+            ? limit.value
+            : bendRadiusOfTurn(routeLength / definition.segmentCount, limit.value);
+    const ClearedRoute cleared = keepRouteClearOfSurfaces(
+        route, routePointDistance(outerDiameter, m_viewport->routeClearance()), bendRadius,
+        [&](const std::vector<Vec3>& candidate) {
+            formats::HoseDefinition laid = definition;
+            laid.route = candidate;
+            try {
+                laid.length = formats::routeRestLength(project, laid);
+                return formats::buildHose(project, laid, m_document->scenes()).points();
+            } catch (const std::exception&) {
+                return std::vector<Vec3>{};
+            }
+        },
+        m_viewport->nearestSurfaceQuery());
+    definition.route = cleared.route;
     try {
         // As long as the route, from now on its own (route edits never change it).
-        definition.length = formats::routeRestLength(m_document->project(), definition);
+        definition.length = formats::routeRestLength(project, definition);
     } catch (const std::exception&) {
         // validateHoseDefinition says why below
     }
@@ -910,7 +932,18 @@ void MainWindow::onRouteFinished(const std::vector<Vec3>& route, double outerDia
     selection.hoseId = definition.id;
     selection.rangeFirst = selection.rangeLast = selection.routePoint = -1;
     m_document->setSelection(selection);
-    statusBar()->showMessage(tr("Added %1").arg(QString::fromStdString(definition.name)), 5000);
+    QString note;
+    if (cleared.added > 0)
+        note =
+            cleared.added == 1
+                ? tr(" (a route point added to keep it clear of the parts)")
+                : tr(" (%1 route points added to keep it clear of the parts)").arg(cleared.added);
+    if (!cleared.clear)
+        note += tr("; it passes %1 mm from a part, nearer than the %2 mm clearance")
+                    .arg((cleared.clearance - 0.5 * outerDiameter) * 1000.0, 0, 'f', 1)
+                    .arg(m_viewport->routeClearance() * 1000.0, 0, 'f', 1);
+    statusBar()->showMessage(tr("Added %1%2").arg(QString::fromStdString(definition.name), note),
+                             8000);
 }
 
 void MainWindow::deleteSelection()

@@ -5,6 +5,7 @@
 #include <QHBoxLayout>
 #include <QResizeEvent>
 #include <chaintube/export/clearance.h>
+#include <chaintube/route.h>
 #include <cmath>
 #include <limits>
 
@@ -33,6 +34,26 @@ double jointBendRadius(const Hose& hose, int j)
     const Vec3 out = hose.point(j + 1) - hose.point(j);
     const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
     return bendRadiusOfTurn(0.5 * (in.norm() + out.norm()), turn);
+}
+
+/// Where the clicks left a route corner too tight for its legs (no room for the bend radius),
+/// a kink of the hose is theirs: " — route point N is too tight for its legs (an arc of R mm
+/// fits)", naming the tightest such corner (1-based, as the route handles are counted), else
+/// empty.
+QString tightRoutePointNote(const Hose& hose, const formats::HoseDefinition& definition)
+{
+    const BendLimit& limit = hose.material().bendLimit;
+    if (limit.kind != BendLimit::Kind::MinBendRadius || !(limit.value > 0.0)) return {};
+    const TightCorner* tightest = nullptr;
+    const std::vector<TightCorner> tight = tightCorners(definition.route, limit.value);
+    for (const TightCorner& corner : tight)
+        if (corner.reachedRadius < limit.value * (1.0 - 1e-3) && // not rounding
+            (!tightest || corner.reachedRadius < tightest->reachedRadius))
+            tightest = &corner;
+    if (!tightest) return {};
+    return QObject::tr(" — route point %1 is too tight for its legs (an arc of %2 mm fits)")
+        .arg(tightest->routePoint + 1)
+        .arg(tightest->reachedRadius * 1000.0, 0, 'f', 1);
 }
 
 } // namespace
@@ -116,12 +137,13 @@ std::vector<Problem> findProblems(const Document& document)
                 problems.push_back(
                     {definition.id, first, last,
                      QObject::tr("%1: kinked: bend radius %2 mm, below the minimum %3 mm, at "
-                                 "joints %4–%5")
+                                 "joints %4–%5%6")
                          .arg(name)
                          .arg(smallest * 1000.0, 0, 'f', 1)
                          .arg(material.bendLimit.value * 1000.0, 0, 'f', 1)
                          .arg(first)
-                         .arg(last)});
+                         .arg(last)
+                         .arg(tightRoutePointNote(*hose, definition))});
             }
             if (metrics->bendBelowMinimum.empty() && metrics->angleViolation > 1e-6)
                 problems.push_back({definition.id, metrics->angleViolationJoint,

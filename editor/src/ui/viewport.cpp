@@ -80,6 +80,15 @@ double Viewport::routeSurfaceDistance() const
     return routePointDistance(m_newHoseDiameter, m_routeClearance);
 }
 
+NearestSurfaceQuery Viewport::nearestSurfaceQuery() const
+{
+    return [this](const Vec3& at, double within) {
+        NearestSurface near;
+        near.found = m_picker.nearest(at, within, &near.point);
+        return near;
+    };
+}
+
 void Viewport::finishRoute()
 {
     std::vector<Vec3> route = m_pendingRoute;
@@ -436,11 +445,7 @@ void Viewport::mousePressEvent(QMouseEvent* event)
                                   rayAt(position).direction, distance);
             // …and from every other surface near it (an inner corner, a groove, a neighbour).
             const ClearedRoutePoint cleared =
-                keepClearOfSurfaces(placed, distance, [this](const Vec3& at, double within) {
-                    NearestSurface near;
-                    near.found = m_picker.nearest(at, within, &near.point);
-                    return near;
-                });
+                keepClearOfSurfaces(placed, distance, nearestSurfaceQuery());
             m_pendingRoute.push_back(cleared.position);
             const QString part =
                 QString::fromStdString(m_document.scene(hit.sceneId)->nodes[size_t(hit.node)].name);

@@ -7,6 +7,7 @@
 #include "chaintube/editor/document.h"
 #include "chaintube/editor/picking.h"
 #include "chaintube/editor/renderer.h"
+#include "chaintube/editor/route_layout.h"
 
 #include <QElapsedTimer>
 #include <QOpenGLWidget>
@@ -45,6 +46,9 @@ public:
     double routeSurfaceDistance() const;
     /// Route points clicked so far in LayRoute mode (world metres), already out of the surface.
     const std::vector<Vec3>& pendingRoute() const { return m_pendingRoute; }
+    /// The nearest scene surface to a position (world metres) within a distance: what route
+    /// points are cleared against.
+    NearestSurfaceQuery nearestSurfaceQuery() const;
     /// Ends LayRoute mode; with ≥ 2 points emits routeFinished(points, newHoseDiameter()).
     void finishRoute();
     void cancelRoute();

@@ -8,6 +8,7 @@
 #include "chaintube/material.h"
 
 #include <functional>
+#include <vector>
 
 namespace chaintube::editor {
 
@@ -71,6 +72,43 @@ struct ClearedRoutePoint
 /// A null query, or a negative or non-finite distance, leaves the point where it is.
 ClearedRoutePoint keepClearOfSurfaces(const SurfaceOffset& placed, double distance,
                                       const NearestSurfaceQuery& nearest);
+
+/// Route points keepRouteClearOfSurfaces() adds at most.
+inline constexpr int kMaxAddedRoutePoints = 12;
+/// An added route point keeps this many times the distance from the surfaces near it, so that
+/// the legs to its neighbours, which cut the corner it goes round, keep the distance too.
+inline constexpr double kAddedRoutePointMargin = 1.25;
+
+/// A route whose hose keeps clear of every surface near it.
+struct ClearedRoute
+{
+    std::vector<Vec3> route;
+    /// For each point of `route`, the index of the point it was in the route given, or −1 for
+    /// a point added between two of them.
+    std::vector<int> given;
+    int added = 0;
+    /// The smallest distance from an axis point (or a segment's middle) to a surface, metres
+    /// (`distance` when no surface is within it).
+    double clearance = 0.0;
+    bool clear = false; ///< every axis point and segment middle keeps `distance`
+};
+
+/// A route's points keep `distance` from every surface (keepClearOfSurfaces), but the hose
+/// laid between them can pass nearer another part: a leg along a part's edge, an arc that cuts
+/// the corner over a bracket. This lays the hose (`axisOf`: the axis points of the hose laid
+/// along a route), finds the axis point or segment middle nearest a surface and, where it is
+/// nearer than `distance` (to 1e-6 of it), adds a route point there, pushed clear with
+/// keepClearOfSurfaces to kAddedRoutePointMargin × `distance`, between the two route points
+/// whose leg it lies on; then lays the hose again, at most kMaxAddedRoutePoints times. The given
+/// points are never moved, and no point is added that leaves the corners less room for arcs of
+/// `bendRadius` (metres, as tightCorners() shares the legs): there the clicks leave the hose no
+/// way round that keeps its bend radius. `clear` false: the hose could not be laid clear (a gap
+/// narrower than the hose, a way round too tight, or the budget spent); the route with the
+/// largest clearance found is returned. A null query or axisOf leaves the route.
+ClearedRoute
+keepRouteClearOfSurfaces(const std::vector<Vec3>& route, double distance, double bendRadius,
+                         const std::function<std::vector<Vec3>(const std::vector<Vec3>&)>& axisOf,
+                         const NearestSurfaceQuery& nearest);
 
 /// Added to the distance a clicked route point goes out (metres): a hose laid along a flat face
 /// then keeps at least the clearance after rounding, and a check at exactly that threshold
