@@ -9,4 +9,5 @@
 #include "chaintube/route.h"
 #include "chaintube/scene.h"
 #include "chaintube/surface.h"
+#include "chaintube/tension.h"
 #include "chaintube/types.h"
