@@ -1,6 +1,7 @@
 // ChainTube — umbrella header of the core library.
 #pragma once
 
+#include "chaintube/cut.h"
 #include "chaintube/hose.h"
 #include "chaintube/material.h"
 #include "chaintube/metrics.h"
