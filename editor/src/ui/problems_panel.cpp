@@ -39,11 +39,14 @@ double jointBendRadius(const Hose& hose, int j)
 /// Where the clicks left a route corner too tight for its legs (no room for the bend radius),
 /// a kink of the hose is theirs: " — route point N is too tight for its legs (an arc of R mm
 /// fits)", naming the tightest such corner (1-based, as the route handles are counted), else
-/// empty.
+/// empty. Only for a clicked route, not one that is the hose's axis.
 QString tightRoutePointNote(const Hose& hose, const formats::HoseDefinition& definition)
 {
     const BendLimit& limit = hose.material().bendLimit;
     if (limit.kind != BendLimit::Kind::MinBendRadius || !(limit.value > 0.0)) return {};
+    // A route that is the hose's own axis (a committed drag stores it so) has a corner at every
+    // joint: its kinks are the shape's, not the clicks'.
+    if (definition.route.size() == size_t(hose.pointCount())) return {};
     const TightCorner* tightest = nullptr;
     const std::vector<TightCorner> tight = tightCorners(definition.route, limit.value);
     for (const TightCorner& corner : tight)
