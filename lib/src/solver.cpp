@@ -1272,11 +1272,19 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
             place(fraction);
             // Where the ends leave no shape within the bend limits the bends give way (a kink).
             solved = spans.solveBowingOrKinking(result.iterations);
-            if (solved) {
-                if (measureViolation().status == Status::Ok)
-                    spans.relaxCompressedBends(result.iterations);
-                break;
+            if (!solved) continue;
+            // A segment between two pinned points (two clips slid next to each other) is
+            // placed by them alone: outside its band, no shape.
+            for (int seg = lo; solved && seg < hi; ++seg) {
+                const size_t k = static_cast<size_t>(seg);
+                const double l = (m_local[k + 1] - m_local[k]).norm();
+                solved =
+                    !(std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k]);
             }
+            if (!solved) continue;
+            if (measureViolation().status == Status::Ok)
+                spans.relaxCompressedBends(result.iterations);
+            break;
         }
         if (!solved) {
             // Nothing valid found: the hose stays (its attachments unmet), its clips where they
@@ -1284,8 +1292,10 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
             m_local = m_scratch;
             if (clips) restoreClips();
         }
+        // The tails beyond the pinned range as it is now (the clips restored or not).
+        const auto [tailsFrom, tailsTo] = pinnedRange(m_attachments, -1);
         Solver tails(*this);
-        tails.sweepTails(lo, hi, m_scratch, wasInvalid);
+        tails.sweepTails(tailsFrom, tailsTo, m_scratch, wasInvalid);
         violation = measureViolation();
         if (violation.status == Status::Ok) {
             if (solved || !clipMoved || attempt >= margins) break;
