@@ -734,7 +734,7 @@ public:
     /// start was not); where the projection leaves lengths outside their bands, the span solver
     /// closes from there within the turns it left (hardWithinTurns). Returns whether the
     /// lengths hold (the bends may not).
-    bool solveBowingOrKinking(int& iterations)
+    bool solveBowingOrKinking(int& iterations, bool closeWithinTurns = true)
     {
         Solver bow(h);
         bow.grabbed = held;
@@ -759,8 +759,10 @@ public:
         }
         // The projection did not bring the lengths into their bands: the span solver closes
         // the spans from where it left them, each joint allowed the turn it has there (the
-        // lengths hold by construction, and the ends are met wherever they are within reach).
-        return hardWithinTurns(iterations, 1.0);
+        // lengths hold by construction, and the ends are met wherever they are within reach;
+        // not tried for ends brought into reach, `closeWithinTurns` false, where the span is
+        // nearly taut and it does not close).
+        return closeWithinTurns && hardWithinTurns(iterations, 1.0);
     }
 
     /// hard() within limits widened as withinWidenedLimits() widens them: with `share` 1 the
@@ -1230,8 +1232,10 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         // Where each moved attachment's points go: at its frame, or, when that is beyond the
         // hose's reach from its neighbouring fixed points, moved straight towards where the
         // hose reaches (a gap, Hose::attachmentGap).
+        bool broughtIntoReach = false; // place(): some frame is beyond reach
         auto place = [&](double fraction) {
             m_local = slid;
+            broughtIntoReach = false;
             const double margin = 1.0 - kReachMargin;
             for (const Attachment* a : targets) {
                 const size_t first = static_cast<size_t>(a->first),
@@ -1256,6 +1260,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                         firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
                         margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
                 const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
+                broughtIntoReach = broughtIntoReach || shift.squaredNorm() > 0.0;
                 for (int j = a->first; j <= a->last; ++j)
                     m_local[static_cast<size_t>(j)] =
                         a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) -
@@ -1271,7 +1276,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         for (const double fraction : {1.0, 0.5}) {
             place(fraction);
             // Where the ends leave no shape within the bend limits the bends give way (a kink).
-            solved = spans.solveBowingOrKinking(result.iterations);
+            solved = spans.solveBowingOrKinking(result.iterations, !broughtIntoReach);
             if (!solved) continue;
             // A segment between two pinned points (two clips slid next to each other) is
             // placed by them alone: outside its band, no shape.
