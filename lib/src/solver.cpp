@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <tuple>
 
 namespace chaintube {
 
@@ -726,10 +728,13 @@ public:
     }
 
     /// Every span from the current positions: a straight span shorter than its hose bowed
-    /// first; if no valid shape is found, the bends give way and the span solver is tried once
-    /// more from that shape (its lengths hold and its ends are met: a start near a valid shape
-    /// where the warm start was not). Returns whether the lengths hold (the bends may not).
-    bool solveBowingOrKinking(int& iterations)
+    /// first; if no valid shape is found, a start with bends beyond their limits is repaired
+    /// (repairBends), else the bends give way and the span solver is tried once more from that
+    /// shape (its lengths hold and its ends are met: a start near a valid shape where the warm
+    /// start was not); where the projection leaves lengths outside their bands, the span solver
+    /// closes from there within the turns it left (hardWithinTurns). Returns whether the
+    /// lengths hold (the bends may not).
+    bool solveBowingOrKinking(int& iterations, bool closeWithinTurns = true)
     {
         Solver bow(h);
         bow.grabbed = held;
@@ -740,9 +745,147 @@ public:
             if (!solved) h.m_local = std::move(flat);
         }
         if (!solved) solved = hard(iterations);
-        if (!solved && (solved = bendsGiveWay(iterations))) {
+        if (solved) return true;
+        // A start with a joint beyond its limit (a kink left by an earlier update): the chain
+        // projection with hard bends onto the limits, else onto limits that allow half of each
+        // joint's excess (the span solver's clamp at its start turns the rest of the chain with
+        // each joint it clamps, so it rarely closes from a kink): a kink whose cause is gone
+        // straightens over the next updates.
+        if (repairBends(iterations, 0.0) || repairBends(iterations, 0.5)) return true;
+        if (bendsGiveWay(iterations)) {
             std::vector<Vec3> kinked = h.m_local;
             if (!hard(iterations)) h.m_local = std::move(kinked);
+            return true;
+        }
+        // The projection did not bring the lengths into their bands: the span solver closes
+        // the spans from where it left them, each joint allowed the turn it has there (the
+        // lengths hold by construction, and the ends are met wherever they are within reach;
+        // not tried for ends brought into reach, `closeWithinTurns` false, where the span is
+        // nearly taut and it does not close).
+        return closeWithinTurns && hardWithinTurns(iterations, 1.0);
+    }
+
+    /// hard() within limits widened as withinWidenedLimits() widens them: with `share` 1 the
+    /// bends give way no more than they do in the current shape. False at once when no joint
+    /// exceeds its limit (hard() then has nothing more to allow).
+    bool hardWithinTurns(int& iterations, double share)
+    {
+        return withinWidenedLimits(share, [&] { return hard(iterations); });
+    }
+
+    /// The chain projection with hard bends and lengths from the current shape, each joint
+    /// whose turn exceeds its limit allowed `share` of that excess (withinWidenedLimits); the
+    /// shape is kept only when it converges. False at once when no joint exceeds its limit.
+    bool repairBends(int& iterations, double share)
+    {
+        const std::vector<Vec3> start = h.m_local;
+        const bool converged = withinWidenedLimits(share, [&] {
+            projection.useMassesFromRestLengths(held);
+            projection.setBendCompliance(0.0);
+            projection.setBends(true);
+            const detail::ProjectionOutcome out = projection.run(kProjectionSteps, kConverged);
+            iterations += out.iterations;
+            return out.converged;
+        });
+        if (!converged) h.m_local = start;
+        return converged;
+    }
+
+    /// Marks in `tight` (per segment) the segments on either side of each joint of the range
+    /// that bends tighter than the material's minimum bend radius when its radius is taken from
+    /// its segments' current lengths (as measure() takes it): a joint on its limit (derived
+    /// from the rest lengths) between compressed segments. Returns whether there is one.
+    bool bendsBelowMinimumRadius()
+    {
+        const BendLimit& limit = h.m_spec.material.bendLimit;
+        if (limit.kind != BendLimit::Kind::MinBendRadius || !(limit.value > 0.0)) return false;
+        const int from = std::max(lo, 1), to = std::min(hi, h.pointCount() - 2);
+        tight.assign(h.m_restLength.size(), 0);
+        bool any = false;
+        for (int j = from; j <= to; ++j) {
+            const size_t k = static_cast<size_t>(j);
+            // A single free point between two pinned ones: its lengths alone place it.
+            if (h.m_fixed[k - 1] && h.m_fixed[k + 1]) continue;
+            const Vec3 in = h.m_local[k] - h.m_local[k - 1], out = h.m_local[k + 1] - h.m_local[k];
+            const double turn = std::atan2(in.cross(out).norm(), in.dot(out));
+            if (bendRadiusOfTurn(0.5 * (in.norm() + out.norm()), turn) <
+                limit.value * (1.0 - 1e-9)) {
+                tight[k - 1] = tight[k] = 1;
+                any = true;
+            }
+        }
+        return any;
+    }
+
+    /// A valid shape with a bend tighter than the minimum radius (bendsBelowMinimumRadius):
+    /// the spans solved again (hard()) with the band of each segment beside such a bend
+    /// narrowed to its rest length, else to half of its way there (its length may only come
+    /// nearer its rest length), the shape kept only when that is valid: the segments return to
+    /// their rest lengths over the next updates. Returns whether the shape changed.
+    bool relaxCompressedBends(int& iterations)
+    {
+        if (!bendsBelowMinimumRadius()) return false;
+        const std::vector<Vec3> start = h.m_local;
+        for (const double share : {0.0, 0.5}) {
+            bands.clear();
+            for (int seg = lo; seg < hi; ++seg) {
+                const size_t k = static_cast<size_t>(seg);
+                if (!tight[k] || (h.m_fixed[k] && h.m_fixed[k + 1])) continue;
+                bands.push_back({k, h.m_minLength[k], h.m_maxLength[k]});
+                const double l = (start[k + 1] - start[k]).norm(), rest = h.m_restLength[k];
+                h.m_minLength[k] =
+                    std::max(h.m_minLength[k], rest - share * std::max(0.0, rest - l));
+                h.m_maxLength[k] =
+                    std::min(h.m_maxLength[k], rest + share * std::max(0.0, l - rest));
+            }
+            const bool relaxed = hard(iterations);
+            for (const auto& [k, low, high] : bands) {
+                h.m_minLength[k] = low;
+                h.m_maxLength[k] = high;
+            }
+            if (relaxed) return true;
+            h.m_local = start;
+        }
+        return false;
+    }
+
+    /// Runs `solve` with each joint of the range whose turn in the current shape exceeds its
+    /// limit allowed `share` of that excess beyond the limit (share 1: its turn and 1e-9 rad,
+    /// so the shape starts inside every limit); the hose's own limits hold again on return,
+    /// bit for bit. Returns false without running it when no joint
+    /// exceeds its limit, else what `solve` returns.
+    template <class Solve> bool withinWidenedLimits(double share, Solve&& solve)
+    {
+        const int from = std::max(lo, 1), to = std::min(hi, h.pointCount() - 2);
+        widened.clear();
+        for (int j = from; j <= to; ++j) {
+            const size_t k = static_cast<size_t>(j);
+            const double excess = h.turnExcess(k, h.m_local);
+            if (excess > 0.0)
+                widened.push_back(
+                    {k, std::min(std::numbers::pi, h.m_limitAngle[k] + share * excess +
+                                                       (share >= 1.0 ? 1e-9 : 0.0))});
+        }
+        if (widened.empty()) return false;
+        // Each joint's six limit values as they were, restored exactly.
+        saved.clear();
+        for (const auto& [k, limit] : widened) {
+            saved.push_back({h.m_cosLimit[k], h.m_sinLimit[k], h.m_limitAngle[k],
+                             h.m_cosHalfLimit[k], h.m_sinHalfLimit[k], h.m_chordLimit2[k]});
+            h.m_cosLimit[k] = std::cos(limit);
+            h.m_sinLimit[k] = std::sin(limit);
+            h.m_limitAngle[k] = limit;
+            h.m_cosHalfLimit[k] = std::cos(0.5 * limit);
+            h.m_sinHalfLimit[k] = std::sin(0.5 * limit);
+            h.m_chordLimit2[k] =
+                4.0 * h.m_sinHalfLimit[k] * h.m_sinHalfLimit[k] + 2e-12 * limit + 1e-24;
+        }
+        const bool solved = solve();
+        for (size_t i = 0; i < widened.size(); ++i) {
+            const size_t k = widened[i].first;
+            const std::array<double, 6>& v = saved[i];
+            h.m_cosLimit[k] = v[0], h.m_sinLimit[k] = v[1], h.m_limitAngle[k] = v[2];
+            h.m_cosHalfLimit[k] = v[3], h.m_sinHalfLimit[k] = v[4], h.m_chordLimit2[k] = v[5];
         }
         return solved;
     }
@@ -771,6 +914,10 @@ public:
     int lo, hi, held;
     int spanSteps = kSpanSteps;      ///< Newton steps of the span solver per span
     const Vec3* requested = nullptr; ///< a grab's target when its goal is clamped into reach
+    std::vector<std::pair<size_t, double>> widened; ///< withinWidenedLimits(): joints, limits
+    std::vector<std::array<double, 6>> saved;       ///< withinWidenedLimits(): their own limits
+    std::vector<std::tuple<size_t, double, double>> bands; ///< relaxCompressedBends(): own bands
+    std::vector<unsigned char> tight; ///< bendsBelowMinimumRadius(): per segment
 };
 
 namespace {
@@ -971,15 +1118,21 @@ UpdateResult Hose::moveAttachmentsInSteps(const std::vector<int>& ids,
             longest = std::max(longest, (frames[i].apply(local) - a->frame.apply(local)).norm());
         }
     const bool wasValid = !m_dirtyViolation;
+    // A long move of a valid hose may be made again in halves from the hose as it is now.
+    const bool mayHalve = halvings > 0 && wasValid && from.size() == ids.size() &&
+                          longest > kHalvedMove * m_restLength.front();
+    std::optional<Hose> before;
+    if (mayHalve) before = *this;
     UpdateResult result = moveAttachmentsOnce(ids, frames);
-    // No shape found (the hose stayed where it was) for a long move of a valid hose: the move
-    // again as two halves from where the hose is, kept only when both find a shape.
-    if (halvings == 0 || result.status != Status::Infeasible || result.movedPoints != 0 ||
-        !wasValid || from.size() != ids.size() || !(longest > kHalvedMove * m_restLength.front()))
+    // No valid shape found (the hose stayed where it was, or its bends gave way) for a long
+    // move of a valid hose: the move again as two halves from where the hose is, kept only when
+    // both find a valid shape.
+    if (!mayHalve || result.status != Status::Infeasible ||
+        (result.movedPoints != 0 && !(result.angleViolation > 0.0)))
         return result;
     const Hose unmet = *this;
-    for (size_t i = 0; i < ids.size(); ++i) // back where they were: the hose has not moved
-        attachmentWithId(ids[i])->frame = from[i];
+    *this = std::move(*before); // back where it was before the move
+    const std::vector<Vec3> start = m_local;
     std::vector<Frame> halfway(frames.size());
     for (size_t i = 0; i < frames.size(); ++i) {
         halfway[i].rotation = from[i].rotation.slerp(0.5, frames[i].rotation);
@@ -992,7 +1145,7 @@ UpdateResult Hose::moveAttachmentsInSteps(const std::vector<int>& ids,
             second.iterations += first.iterations + result.iterations;
             second.movedPoints = 0;
             for (size_t i = 0; i < m_local.size(); ++i)
-                second.movedPoints += m_local[i] != unmet.m_local[i];
+                second.movedPoints += m_local[i] != start[i];
             return second;
         }
     }
@@ -1079,8 +1232,10 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         // Where each moved attachment's points go: at its frame, or, when that is beyond the
         // hose's reach from its neighbouring fixed points, moved straight towards where the
         // hose reaches (a gap, Hose::attachmentGap).
+        bool broughtIntoReach = false; // place(): some frame is beyond reach
         auto place = [&](double fraction) {
             m_local = slid;
+            broughtIntoReach = false;
             const double margin = 1.0 - kReachMargin;
             for (const Attachment* a : targets) {
                 const size_t first = static_cast<size_t>(a->first),
@@ -1105,6 +1260,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                         firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
                         margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
                 const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
+                broughtIntoReach = broughtIntoReach || shift.squaredNorm() > 0.0;
                 for (int j = a->first; j <= a->last; ++j)
                     m_local[static_cast<size_t>(j)] =
                         a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) -
@@ -1120,8 +1276,20 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         for (const double fraction : {1.0, 0.5}) {
             place(fraction);
             // Where the ends leave no shape within the bend limits the bends give way (a kink).
-            solved = spans.solveBowingOrKinking(result.iterations);
-            if (solved) break;
+            solved = spans.solveBowingOrKinking(result.iterations, !broughtIntoReach);
+            if (!solved) continue;
+            // A segment between two pinned points (two clips slid next to each other) is
+            // placed by them alone: outside its band, no shape.
+            for (int seg = lo; solved && seg < hi; ++seg) {
+                const size_t k = static_cast<size_t>(seg);
+                const double l = (m_local[k + 1] - m_local[k]).norm();
+                solved =
+                    !(std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k]);
+            }
+            if (!solved) continue;
+            if (measureViolation().status == Status::Ok)
+                spans.relaxCompressedBends(result.iterations);
+            break;
         }
         if (!solved) {
             // Nothing valid found: the hose stays (its attachments unmet), its clips where they
@@ -1129,8 +1297,10 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
             m_local = m_scratch;
             if (clips) restoreClips();
         }
+        // The tails beyond the pinned range as it is now (the clips restored or not).
+        const auto [tailsFrom, tailsTo] = pinnedRange(m_attachments, -1);
         Solver tails(*this);
-        tails.sweepTails(lo, hi, m_scratch, wasInvalid);
+        tails.sweepTails(tailsFrom, tailsTo, m_scratch, wasInvalid);
         violation = measureViolation();
         if (violation.status == Status::Ok) {
             if (solved || !clipMoved || attempt >= margins) break;
