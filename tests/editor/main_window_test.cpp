@@ -2127,9 +2127,10 @@ TEST_F(MainWindowTest, HistoryEntriesNameWhatAndWhich)
 }
 
 // (Needs the pinned-span solver, which gives up bends before lengths.) Where the fixed ends
-// and their tangents leave no valid shape (the valve turned half round: left-feed's fixed end
-// segment now points back), the hose keeps its lengths, gives up the bend limit, and the kink
-// is shown: a ring in the viewport and a Problems entry with the bend radius reached.
+// and their tangents leave no valid shape (the valve turned half round, its inlet pointing
+// back, and moved 20 cm towards the left bracket and 10 cm back), the hose keeps its lengths,
+// gives up the bend limit, and the kink is shown: a ring in the viewport and a Problems entry
+// with the bend radius reached.
 TEST_F(MainWindowTest, AKinkedHoseIsMarkedAndListedWithTheRadiusItReached)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("kink")));
@@ -2139,10 +2140,15 @@ TEST_F(MainWindowTest, AKinkedHoseIsMarkedAndListedWithTheRadiusItReached)
     auto* rotation = m_window->findChild<QDoubleSpinBox*>("partRotationY");
     ASSERT_TRUE(rotation);
     rotation->setValue(rotation->value() + 180.0);
+    auto* x = m_window->findChild<QDoubleSpinBox*>("partTranslationX");
+    auto* z = m_window->findChild<QDoubleSpinBox*>("partTranslationZ");
+    x->setValue(x->value() - 200.0);
+    z->setValue(z->value() - 100.0);
     settle();
     const HoseMetrics* metrics = document.hoseMetrics("left-feed");
     ASSERT_TRUE(metrics);
-    ASSERT_FALSE(metrics->bendBelowMinimum.empty()) << "the valve turned half round kinks it";
+    ASSERT_FALSE(metrics->bendBelowMinimum.empty()) << "the valve turned and moved kinks it";
+    EXPECT_EQ(document.lastUpdate("left-feed").status, Status::Infeasible);
     const double minimum = document.hose("left-feed")->material().bendLimit.value;
     m_window->problems().refreshNow();
     bool listed = false;
