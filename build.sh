@@ -31,6 +31,7 @@ debian_packages=(
   libocct-visualization-dev
   xvfb xauth libgl1-mesa-dri
   python3 python3-jsonschema
+  pybind11-dev python3-dev python3-pytest  # the Python module (exporters/bindings/python) and its tests
   clang-format-14  # the style check (tests/style): every tracked source as .clang-format says
   blender python3-numpy  # the exporter's Blender import test (python3-numpy: its glTF importer)
   mono-devel  # the C ABI's C# test (mcs, mono: P/Invoke into the library as a Unity script does)

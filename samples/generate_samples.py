@@ -37,7 +37,7 @@ def project(name, scenes, hoses, export_path):
 
 
 def hose(hose_id, name, route, material, diameter, colour, attachments=(), segments=None,
-         segment_length=None, profile=None, roughness=0.6):
+         segment_length=None, profile=None, roughness=0.6, fittings_allowance=0.0):
     h = {"id": hose_id, "name": name, "route": [[round(c, 7) for c in p] for p in route],
          "material": material, "profile": profile or {"shape": "circle", "sides": 16},
          "outerDiameter": diameter}
@@ -46,6 +46,8 @@ def hose(hose_id, name, route, material, diameter, colour, attachments=(), segme
     else:
         h["segmentLength"] = segment_length
     h.update({"colour": colour, "roughness": roughness, "attachments": list(attachments)})
+    if fittings_allowance:  # project format 1.6: the end fittings' share of the cut length
+        h["fittingsAllowance"] = fittings_allowance
     return h
 
 
@@ -255,12 +257,14 @@ write("test-rig.ctproj", project("Test rig: two brackets and a valve", RIG_SCENE
          "rubber hose", 0.02, [0.1, 0.1, 0.1, 1.0],
          [attachment("rig", "/test-rig/bracket_left", 0, 1,
                      {"translation": [0.0, 0.1, 0.0], "rotation": [0.0, 0.0, 0.0, 1.0]}),
-          attachment("rig", "/test-rig/valve/valve_inlet", 15, 16)], segments=16),
+          attachment("rig", "/test-rig/valve/valve_inlet", 15, 16)], segments=16,
+         fittings_allowance=0.06),
     hose("right-return", "right bracket to valve",
          arc_route([0.3, 0.21, 0.0], [0.0, 0.07, 0.15], 0.12, MIN_BEND_RADIUS["braided steel hose"], 21),
          "braided steel hose", 0.016, [0.75, 0.75, 0.78, 1.0],
          [attachment("rig", "/test-rig/bracket_right", 0, 0),
-          attachment("rig", "/test-rig/valve", 20, 20)], segments=20, roughness=0.3),
+          attachment("rig", "/test-rig/valve", 20, 20)], segments=20, roughness=0.3,
+         fittings_allowance=0.045),
 ], "test-rig.glb"))
 
 # --- motion-rig: a lever on a hinge and a carriage on a slider (project format 1.4 "motions") ----

@@ -64,7 +64,8 @@ bool HoseDefinition::operator==(const HoseDefinition& o) const
            sameResolution && colour == o.colour && roughness == o.roughness &&
            attachments == o.attachments && clips == o.clips &&
            gravity.enabled == o.gravity.enabled && gravity.direction == o.gravity.direction &&
-           torsion.enabled == o.torsion.enabled && torsion.twistLimit == o.torsion.twistLimit;
+           torsion.enabled == o.torsion.enabled && torsion.twistLimit == o.torsion.twistLimit &&
+           fittingsAllowance == o.fittingsAllowance;
 }
 
 bool PartMotion::operator==(const PartMotion& o) const

@@ -496,7 +496,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         const Cursor entry = hoses[i];
         entry.object({"id", "name", "route", "length", "material", "profile", "outerDiameter",
                       "segmentCount", "segmentLength", "colour", "roughness", "attachments",
-                      "clips", "gravity", "torsion"});
+                      "clips", "gravity", "torsion", "fittingsAllowance"});
         HoseDefinition hose;
         hose.id = entry.key("id").string();
         if (!hoseIds.insert(hose.id).second)
@@ -625,6 +625,8 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
             hose.torsion.twistLimit =
                 torsion->key("twistLimit").number(0, false, 3.141592653589793, true);
         }
+        if (const auto allowance = entry.optionalKey("fittingsAllowance")) // 1.6
+            hose.fittingsAllowance = allowance->number(0, true, HUGE_VAL, false);
         if (migrateLengths && !hose.length) {
             // The length the hose had when the file was written. A hose that cannot be laid
             // out (e.g. a profile out of range) stays without one: building it reports why.

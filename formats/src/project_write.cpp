@@ -214,6 +214,8 @@ std::string serialiseProject(const Project& project)
             hose.torsion.twistLimit != noTorsion.twistLimit)
             entry["torsion"] =
                 ordered{{"enabled", hose.torsion.enabled}, {"twistLimit", hose.torsion.twistLimit}};
+        if (hose.fittingsAllowance != 0.0) // 1.6
+            entry["fittingsAllowance"] = hose.fittingsAllowance;
         hoses.push_back(entry);
     }
     document["hoses"] = hoses;

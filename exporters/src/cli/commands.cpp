@@ -1,9 +1,12 @@
 #include "commands.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chaintube/export/batch.h>
 #include <chaintube/export/gltf_export.h>
 #include <chaintube/export/inspect.h>
+#include <chaintube/export/report.h>
+#include <chaintube/formats/atomic_file.h>
 #include <chaintube/formats/errors.h>
 #include <filesystem>
 #include <iomanip>
@@ -44,6 +47,20 @@ exporting::ExportOptions exportOptionsOf(const ExportCommand& command)
     return options;
 }
 
+/// Writes the length report of `project` beside its export `gltfFile`:
+/// <name>.report.<csv|json|md>. Returns the file written.
+std::filesystem::path writeReportBeside(const std::filesystem::path& project,
+                                        const std::filesystem::path& gltfFile,
+                                        const formats::NamedRoots& roots,
+                                        exporting::ReportFormat format)
+{
+    std::filesystem::path file = gltfFile;
+    file.replace_extension(std::string(".report.") + exporting::extensionOf(format));
+    const exporting::LengthReport report = exporting::reportProjects({project}, roots);
+    formats::writeFileAtomically(file, exporting::formatReport(report, format));
+    return file;
+}
+
 } // namespace
 
 void addCommands(CLI::App& app, ExportCommand& exportCommand, FileCommand& validateCommand,
@@ -75,6 +92,11 @@ void addCommands(CLI::App& app, ExportCommand& exportCommand, FileCommand& valid
                        "a scene node in a plain viewer no longer carries the hose)");
     exporter->add_flag("--uvs", exportCommand.textureCoordinates,
                        "Write the hoses' texture coordinates (TEXCOORD_0)");
+    exporter
+        ->add_option("--report", exportCommand.report,
+                     "Also write each project's length and bill-of-materials report beside its "
+                     "export, <name>.report.csv|json|md (as `chaintube report`)")
+        ->check(CLI::IsMember({"csv", "json", "md"}));
     addRootOption(*exporter, exportCommand.roots);
 
     CLI::App* validate = app.add_subcommand(
@@ -120,9 +142,11 @@ int runExport(const ExportCommand& command, std::ostream& out, std::ostream& err
         exporting::ExportOptions options = exportOptionsOf(command);
         options.container =
             command.format == "gltf" ? exporting::Container::Gltf : exporting::Container::Glb;
+        std::vector<std::pair<std::filesystem::path, std::filesystem::path>> exported;
         const exporting::BatchResult result = exporting::exportBatch(
             projects, command.output, roots, command.jobs,
             [&](const exporting::BatchEvent& event) {
+                if (event.ok) exported.emplace_back(event.project, event.report->gltfFile);
                 if (command.quiet && event.ok) return;
                 err << "[" << event.finished << "/" << event.total << "] "
                     << (event.ok ? "ok     " : "FAILED ") << event.message << "\n";
@@ -138,6 +162,15 @@ int runExport(const ExportCommand& command, std::ostream& out, std::ostream& err
             << std::defaultfloat;
         for (const exporting::BatchFailure& failure : result.failures)
             out << "failed: " << failure.message << "\n";
+        if (!command.report.empty()) {
+            std::sort(exported.begin(), exported.end());
+            for (const auto& [project, gltfFile] : exported)
+                out << "wrote "
+                    << writeReportBeside(project, gltfFile, roots,
+                                         exporting::reportFormatFromName(command.report))
+                           .string()
+                    << "\n";
+        }
         return result.ok() ? kExitOk : kExitFailed;
     }
     exporting::ExportOptions options = exportOptionsOf(command);
@@ -162,6 +195,81 @@ int runExport(const ExportCommand& command, std::ostream& out, std::ostream& err
         << report.sceneNodeCount << " scene nodes, " << report.bytesWritten / 1024 << " KiB in "
         << std::fixed << std::setprecision(3) << report.seconds << " s\n"
         << std::defaultfloat;
+    if (!command.report.empty())
+        out << "wrote "
+            << writeReportBeside(command.project, report.gltfFile, roots,
+                                 exporting::reportFormatFromName(command.report))
+                   .string()
+            << "\n";
+    return kExitOk;
+}
+
+void addReportCommand(CLI::App& app, ReportCommand& command)
+{
+    CLI::App* report = app.add_subcommand(
+        "report", "The length and bill-of-materials report of a project or of every project in a "
+                  "folder: per hose its material, cut length (rest length + fittings allowance), "
+                  "slack over the shortest valid length (as check --fit-length finds it, for "
+                  "hoses between fixed ends), smallest bend radius against the limit, smallest "
+                  "clearance to a scene object over the motions (as check --sweep), attachments "
+                  "and clips; then the totals per material");
+    report->footer(std::string("Examples:\n  chaintube report samples/test-rig.ctproj --format md\n"
+                               "  chaintube report samples --format csv -o bom.csv --root "
+                               "scenes=../shared/scenes\n"
+                               "Lengths in metres. Columns: exporters/README.md, \"Length and "
+                               "bill-of-materials reports\".\n") +
+                   kExitCodes);
+    report->add_option("source", command.source, "A project file (*.ctproj) or a folder of them")
+        ->required();
+    report->add_option("--format", command.format, "csv, json or md (default csv)")
+        ->check(CLI::IsMember({"csv", "json", "md"}));
+    report->add_option("-o,--output", command.output, "Write the report to FILE (default stdout)");
+    report->add_option("--steps", command.steps, "Sweep steps each way, 1 ... 100000 (default 20)")
+        ->check(CLI::Range(1, 100000));
+    report
+        ->add_option("--clearance", command.clearance,
+                     "Clearance threshold in metres for the length fit (default 0: collisions "
+                     "only)")
+        ->check(CLI::NonNegativeNumber);
+    report->add_flag("--no-fit", command.noFit,
+                     "Skip the length fit (no shortest valid length, no slack; much faster)");
+    report->add_flag("-q,--quiet", command.quiet, "No progress on stderr");
+    addRootOption(*report, command.roots);
+}
+
+int runReport(const ReportCommand& command, std::ostream& out, std::ostream& err)
+{
+    const formats::NamedRoots roots = parseRoots(command.roots);
+    const std::vector<std::filesystem::path> projects = exporting::reportSources(command.source);
+    exporting::ReportOptions options;
+    options.steps = command.steps;
+    options.clearanceThreshold = command.clearance;
+    options.fitLength = !command.noFit;
+    exporting::LengthReport report;
+    for (const std::filesystem::path& project : projects) {
+        int lastTenth = -1;
+        if (!command.quiet)
+            options.progress = [&](double fraction) {
+                const int tenth = static_cast<int>(fraction * 10.0);
+                if (tenth != lastTenth)
+                    err << "  " << project.string() << " " << 10 * tenth << " %\n";
+                lastTenth = tenth;
+                return true;
+            };
+        exporting::LengthReport one = exporting::reportProjects({project}, roots, options);
+        report.projects.push_back(project.string());
+        for (exporting::HoseReport& hose : one.hoses)
+            report.hoses.push_back(std::move(hose));
+    }
+    report.materials = exporting::materialTotals(report.hoses);
+    const std::string text =
+        exporting::formatReport(report, exporting::reportFormatFromName(command.format));
+    if (command.output.empty()) {
+        out << text;
+    } else {
+        formats::writeFileAtomically(command.output, text);
+        if (!command.quiet) err << "wrote " << command.output << "\n";
+    }
     return kExitOk;
 }
 

@@ -29,6 +29,20 @@ struct ExportCommand
     bool quiet = false;
     bool jointsAtRoot = false; ///< ExportOptions::jointsUnderAttachedNodes = false
     bool textureCoordinates = false;
+    std::string report; ///< --report csv|json|md: a length report beside each export ("": none)
+};
+
+/// `chaintube report PROJECT_OR_FOLDER --format csv|json|md [-o FILE]`.
+struct ReportCommand
+{
+    std::string source; ///< a project file or a folder of them
+    std::string format = "csv";
+    std::string output; ///< "": stdout
+    std::vector<std::string> roots;
+    int steps = 20;
+    double clearance = 0.0;
+    bool noFit = false;
+    bool quiet = false;
 };
 
 struct FileCommand
@@ -41,7 +55,11 @@ struct FileCommand
 void addCommands(CLI::App& app, ExportCommand& exportCommand, FileCommand& validateCommand,
                  FileCommand& infoCommand);
 
+/// Registers `report` on `app`.
+void addReportCommand(CLI::App& app, ReportCommand& command);
+
 int runExport(const ExportCommand& command, std::ostream& out, std::ostream& err);
+int runReport(const ReportCommand& command, std::ostream& out, std::ostream& err);
 int runValidate(const FileCommand& command, std::ostream& out, std::ostream& err);
 int runInfo(const FileCommand& command, std::ostream& out, std::ostream& err);
 

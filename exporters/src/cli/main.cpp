@@ -18,6 +18,8 @@ int main(int argc, char** argv)
     addCommands(app, exportCommand, validateCommand, infoCommand);
     CheckCommand checkCommand;
     addCheckCommand(app, checkCommand);
+    ReportCommand reportCommand;
+    addReportCommand(app, reportCommand);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {
@@ -30,6 +32,7 @@ int main(int argc, char** argv)
             return runValidate(validateCommand, std::cout, std::cerr);
         if (app.got_subcommand("info")) return runInfo(infoCommand, std::cout, std::cerr);
         if (app.got_subcommand("check")) return runCheck(checkCommand, std::cout, std::cerr);
+        if (app.got_subcommand("report")) return runReport(reportCommand, std::cout, std::cerr);
     } catch (const std::exception& error) {
         std::cerr << "chaintube: " << error.what() << "\n";
         return kExitFailed;

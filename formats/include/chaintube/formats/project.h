@@ -1,9 +1,9 @@
 // ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
 //
-// The file is JSON, schema in formats/schema/project.schema.json, version "1.5" (the format, its
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.6" (the format, its
 // versions and migrations: formats/README.md, "The project file"):
 //
-//   { "format": "chaintube-project", "version": "1.5", "name": "…",
+//   { "format": "chaintube-project", "version": "1.6", "name": "…",
 //     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
 //                            "chordalTolerance", "angularTolerance", "placement"? } } ],
 //     "materialPresets": [ { "name", "description", "expansionCoefficient",
@@ -18,7 +18,8 @@
 //                            "clips": [ { "scene", "node", "offset": {…}, "place",        (1.5)
 //                            "hold": "sliding"|"sliding-turning", "slideMin"?, "slideMax"? } ],
 //                            "gravity": { "enabled", "direction": [x,y,z] },   (1.2)
-//                            "torsion": { "enabled", "twistLimit" } } ],       (1.2)
+//                            "torsion": { "enabled", "twistLimit" },           (1.2)
+//                            "fittingsAllowance" } ],                           (1.6)
 //     "poses":           [ { "scene", "node", "matrix": [16 numbers] } ],      (1.1)
 //     "colliders":       [ { "scene", "node" } ],                               (1.2)
 //     "motions":         [ { "id", "scene", "node", "kind": "hinge"|"slider", "axis": [x,y,z],
@@ -32,7 +33,8 @@
 // no hose "length": each hose gets the length of the hose laid along its route
 // (routeRestLength()), so that it keeps that length when its route is edited later. Files before
 // 1.4 have no "motions" (read as none). Files before 1.5 have no hose "clips" (read as none; a
-// hose without clips is written without the key).
+// hose without clips is written without the key). Files before 1.6 have no hose
+// "fittingsAllowance" (read as 0; written only when not 0).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -57,10 +59,11 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 5; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+constexpr int kProjectFormatMinor = 6; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
                                        ///< "gravity" and "torsion", "colliders" (ColliderNode);
                                        ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion);
-                                       ///< 1.5 the hose's "clips" (HoseClip)
+                                       ///< 1.5 the hose's "clips" (HoseClip); 1.6 the hose's
+                                       ///< "fittingsAllowance"
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -208,6 +211,11 @@ struct HoseDefinition
     Gravity gravity;
     /// Torsion (HoseSpec::torsion): on/off and the twist limit, radians per joint in (0, π].
     Torsion torsion;
+    /// (1.6) The length the hose's end fittings take up beyond its rest length, both ends
+    /// together (metres ≥ 0, finite): the hose is cut to length + fittingsAllowance
+    /// (exporting::lengthReport). Not part of the model: building, export and the runtime
+    /// ignore it. Written only when not 0.
+    double fittingsAllowance = 0.0;
     bool operator==(const HoseDefinition& o) const;
     bool operator!=(const HoseDefinition& o) const { return !(*this == o); }
 };
