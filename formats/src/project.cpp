@@ -127,4 +127,16 @@ std::filesystem::path resolveScenePath(const SceneReference& scene,
                               roots);
 }
 
+Project rebaseProject(Project project, const std::filesystem::path& fromFile,
+                      const std::filesystem::path& toFile)
+{
+    const std::filesystem::path from = std::filesystem::absolute(fromFile).parent_path();
+    const std::filesystem::path to = std::filesystem::absolute(toFile).parent_path();
+    for (SceneReference& scene : project.scenes)
+        scene.path = rebaseProjectPath(scene.path, from, to);
+    if (!project.exportSettings.path.empty())
+        project.exportSettings.path = rebaseProjectPath(project.exportSettings.path, from, to);
+    return project;
+}
+
 } // namespace chaintube::formats

@@ -352,9 +352,20 @@ std::string serialiseProject(const Project& project);
 
 /// Writes the canonical text atomically (see writeFileAtomically). The project is validated
 /// first (as loadProject would, relative to the target's folder); an invalid project throws
-/// ProjectFormatError and nothing is written. Paths are written as they are, not rebased.
+/// ProjectFormatError and nothing is written. Paths are written as they are, not rebased: a
+/// project saved into another folder goes through rebaseProject() first.
 void saveProject(const Project& project, const std::filesystem::path& file,
                  const ProjectLoadOptions& validation = {}, const AtomicWriteOptions& write = {});
+
+/// The project as it must be written at `toFile` when it was read from (or last saved at)
+/// `fromFile` (Save As): every path it holds — each scene's "path" and the export target
+/// "export"/"path" ("" stays "": next to the project) — re-expressed with rebaseProjectPath(),
+/// so it names the same file from the new folder: relative when the file lies inside the new
+/// folder, else absolute; named-root paths unchanged. Textures are not project paths: a scene
+/// file names its own, relative to itself, and they move with it. The same folder gives the
+/// project back unchanged. Throws PathError for a relative path that leaves fromFile's folder.
+Project rebaseProject(Project project, const std::filesystem::path& fromFile,
+                      const std::filesystem::path& toFile);
 
 /// Absolute path of a project's scene file. Throws PathError (escaping path, unknown root).
 std::filesystem::path resolveScenePath(const SceneReference& scene,
