@@ -116,7 +116,7 @@ bool Project::operator==(const Project& o) const
 {
     return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
            hoses == o.hoses && poses == o.poses && colliders == o.colliders &&
-           motions == o.motions && exportSettings == o.exportSettings;
+           motions == o.motions && checks == o.checks && exportSettings == o.exportSettings;
 }
 
 std::filesystem::path resolveScenePath(const SceneReference& scene,

@@ -415,9 +415,9 @@ TEST(SweepCli, AProjectWithoutMotionsAndBadInputAreNamedWithTheirExitCodes)
     EXPECT_EQ(jsonAlone.exitCode, 2);
     EXPECT_NE(jsonAlone.output.find("--json requires --sweep"), std::string::npos)
         << jsonAlone.output;
-    const CliRun missing = runCli("check x.ctproj");
-    EXPECT_EQ(missing.exitCode, 2);
-    EXPECT_NE(missing.output.find("--clearance is required"), std::string::npos);
+    const CliRun missing = runCli("check /nonexistent/x.ctproj");
+    EXPECT_EQ(missing.exitCode, 1);
+    EXPECT_NE(missing.output.find("/nonexistent/x.ctproj"), std::string::npos);
     const CliRun help = runCli("check --help");
     EXPECT_EQ(help.exitCode, 0);
     EXPECT_NE(help.output.find("--sweep --steps 40"), std::string::npos) << help.output;

@@ -6,6 +6,7 @@
 #include <chaintube/export/clearance.h>
 #include <chaintube/export/fit_length.h>
 #include <chaintube/export/sweep.h>
+#include <chaintube/formats/project.h>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -207,7 +208,8 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
     check
         ->add_option("--clearance", command.clearance,
                      "Minimum distance in metres between a hose's surface and any scene object "
-                     "(e.g. 0.005); required without --sweep")
+                     "(e.g. 0.005); default: the project's threshold (\"checks\": "
+                     "{\"clearance\"}), else 0.005")
         ->check(distanceValidator());
     check->add_flag("--include-attached", command.includeAttached,
                     "Also check each hose against the nodes it is attached to (skipped by default: "
@@ -319,12 +321,19 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
             printSweep(report, command.project, out);
         return report.violations() ? kExitViolations : kExitOk;
     }
-    if (command.clearance < 0.0) {
-        err << "chaintube check: --clearance is required (or give --sweep or --fit-length)\n";
-        return kExitUsage;
+    // Without --clearance: the project's own threshold ("checks"/"clearance"), else the default.
+    double threshold = command.clearance;
+    std::string whose = "";
+    if (threshold < 0.0) {
+        formats::ProjectLoadOptions load;
+        load.roots = roots;
+        const formats::Project project = formats::loadProject(command.project, load);
+        threshold = project.checks.clearance.value_or(formats::kDefaultClearance);
+        whose = project.checks.clearance ? " (the project's threshold)"
+                                         : " (the default threshold: the project sets none)";
     }
     exporting::ClearanceOptions options;
-    options.threshold = command.clearance;
+    options.threshold = threshold;
     options.includeAttachedNodes = command.includeAttached;
     const std::vector<exporting::ClearanceFinding> violations =
         exporting::checkProjectClearance(command.project, roots, options);
@@ -334,7 +343,7 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
             << ", distance " << v.distance << " m, axis point " << v.axisPoint << ", at ("
             << v.onObject.x() << ", " << v.onObject.y() << ", " << v.onObject.z() << ") m\n";
     out << command.project << ": " << violations.size() << " clearance violation(s) below "
-        << command.clearance << " m\n";
+        << threshold << " m" << whose << "\n";
     return violations.empty() ? kExitOk : kExitViolations;
 }
 

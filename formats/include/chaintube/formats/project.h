@@ -23,6 +23,7 @@
 //     "colliders":       [ { "scene", "node" } ],                               (1.2)
 //     "motions":         [ { "id", "scene", "node", "kind": "hinge"|"slider", "axis": [x,y,z],
 //                            "point": [x,y,z] (hinge only), "min", "max" } ],     (1.4)
+//     "checks":          { "clearance"? },                                     (1.6)
 //     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
 //
 // Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated). Files before
@@ -32,7 +33,8 @@
 // no hose "length": each hose gets the length of the hose laid along its route
 // (routeRestLength()), so that it keeps that length when its route is edited later. Files before
 // 1.4 have no "motions" (read as none). Files before 1.5 have no hose "clips" (read as none; a
-// hose without clips is written without the key).
+// hose without clips is written without the key). Files before 1.6 have no "checks" (read as
+// none: the checks use their defaults; written only when a threshold is set).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -57,10 +59,11 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 5; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+constexpr int kProjectFormatMinor = 6; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
                                        ///< "gravity" and "torsion", "colliders" (ColliderNode);
                                        ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion);
-                                       ///< 1.5 the hose's "clips" (HoseClip)
+                                       ///< 1.5 the hose's "clips" (HoseClip); 1.6 "checks"
+                                       ///< (CheckSettings)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -272,6 +275,18 @@ struct PartMotion
 /// "hinge" or "slider", as written in the file.
 const char* toString(PartMotion::Kind kind);
 
+/// The project's own thresholds for its checks (format 1.6, "checks"): what `chaintube check`
+/// uses without options and the editor's Problems panel shows and edits.
+struct CheckSettings
+{
+    /// Clearance threshold, metres ≥ 0 (finite): a hose closer than this to a scene object is
+    /// a violation. Unset: kDefaultClearance.
+    std::optional<double> clearance;
+    bool operator==(const CheckSettings& o) const { return clearance == o.clearance; }
+};
+/// The clearance threshold of a project that sets none (metres): 5 mm.
+constexpr double kDefaultClearance = 0.005;
+
 struct ExportSettings
 {
     std::string format = "glb"; ///< "glb" or "gltf"
@@ -296,6 +311,7 @@ struct Project
     std::vector<ColliderNode> colliders;
     /// Moving parts (1.4), at most one per (scene, node), in the order written.
     std::vector<PartMotion> motions;
+    CheckSettings checks; ///< (1.6)
     ExportSettings exportSettings;
 
     /// An empty project with standardMaterialPresets().
@@ -325,7 +341,8 @@ struct ProjectLoadReport
                              ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none;
                              ///< before 1.2: gravity/torsion off, no colliders;
                              ///< before 1.3: each hose's length set to routeRestLength();
-                             ///< before 1.4: no "motions", read as none)
+                             ///< before 1.4: no "motions", read as none;
+                             ///< before 1.5: no clips; before 1.6: no "checks")
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };
