@@ -251,7 +251,6 @@ TEST_F(GesturesTest, TwoHosesShortAtTheSamePartGetLabelsThatDoNotOverlap)
         for (size_t b = a + 1; b < labels.size(); ++b)
             EXPECT_FALSE(labels[a].second.intersects(labels[b].second))
                 << labels[a].first.toStdString() << " overlaps " << labels[b].first.toStdString();
-    screenshot("editor-short-labels.png");
 }
 
 TEST_F(GesturesTest, AResolutionTypedWithEnterCarriesTheFixedPointsOverAndCtrlZRestoresIt)
