@@ -191,7 +191,8 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
         "  chaintube check samples/motion-rig.ctproj --fit-length --hose lever-feed\n"
         "Sweep: all motions are driven by one parameter t, each at min + t (max - min); t goes "
         "0 -> 1 -> 0 in --steps steps each way, after a lead-in from the project's pose "
-        "(every motion at 0) to t = 0. Without --clearance a sweep reports collisions only "
+        "(every motion at 0) to t = 0. Without --clearance a sweep uses the project's threshold "
+        "(\"checks\": {\"clearance\"}) or, when it sets none, reports collisions only "
         "(distance < 0).\n"
         "Fit length: for each hose with both ends fixed (or --hose), the shortest length that "
         "is never pulled taut between its held points, never stretched beyond its band, never "
@@ -267,10 +268,18 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
         }
     }
     const int steps = command.steps > 0 ? command.steps : 20;
+    // Sweep and fit length without --clearance: the project's threshold when it sets one, else
+    // 0 (collisions only).
+    const auto sweepClearance = [&] {
+        if (command.clearance >= 0.0) return command.clearance;
+        formats::ProjectLoadOptions load;
+        load.roots = roots;
+        return formats::loadProject(command.project, load).checks.clearance.value_or(0.0);
+    };
     if (command.fitLength) {
         exporting::LengthFitOptions options;
         options.steps = steps;
-        options.clearanceThreshold = std::max(0.0, command.clearance);
+        options.clearanceThreshold = sweepClearance();
         options.includeAttachedNodes = command.includeAttached;
         options.tolerance = command.tolerance;
         int lastTenth = -1;
@@ -297,7 +306,7 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
     if (command.sweep) {
         exporting::SweepOptions options;
         options.steps = steps;
-        options.clearanceThreshold = std::max(0.0, command.clearance);
+        options.clearanceThreshold = sweepClearance();
         options.includeAttachedNodes = command.includeAttached;
         int lastTenth = -1;
         if (!command.quiet)
