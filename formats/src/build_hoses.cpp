@@ -658,6 +658,77 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
     return hose;
 }
 
+namespace {
+
+/// The attachments of a hose of `before` segments carried over to `segments` (see
+/// withSegmentCount); false, with `clash` the indices of two that would share points, if they
+/// would.
+bool remapAttachments(std::vector<HoseAttachment>& attachments, int before, int segments,
+                      std::pair<size_t, size_t>* clash)
+{
+    const auto map = [&](int point) {
+        return static_cast<int>(std::lround(static_cast<double>(point) * segments / before));
+    };
+    for (HoseAttachment& attachment : attachments) {
+        const int width = attachment.lastPoint > attachment.firstPoint ? 1 : 0;
+        const bool atEnd = attachment.lastPoint >= before;
+        int first = std::clamp(map(attachment.firstPoint), 0, segments);
+        int last = std::clamp(map(attachment.lastPoint), 0, segments);
+        if (atEnd) last = segments;
+        if (last - first < width) {
+            if (last + width <= segments && !atEnd)
+                last = first + width;
+            else
+                first = last - width;
+        }
+        attachment.firstPoint = std::max(0, first);
+        attachment.lastPoint = last;
+    }
+    for (size_t a = 0; a < attachments.size(); ++a)
+        for (size_t b = a + 1; b < attachments.size(); ++b)
+            if (attachments[a].firstPoint <= attachments[b].lastPoint &&
+                attachments[b].firstPoint <= attachments[a].lastPoint) {
+                if (clash) *clash = {a, b};
+                return false;
+            }
+    return true;
+}
+
+} // namespace
+
+HoseDefinition withSegmentCount(const Project& project, const HoseDefinition& hose, int segments)
+{
+    if (segments < 1 || segments > 1000000)
+        throw InvalidArgument("hose '" + hose.id +
+                              "': resolution: expected 1 … 1,000,000 segments, got " +
+                              std::to_string(segments));
+    const int before = segmentsForLength(hose, hoseLength(project, hose));
+    HoseDefinition result = hose;
+    result.segmentCount = segments;
+    if (segments == before) return result;
+    std::pair<size_t, size_t> clash;
+    if (!remapAttachments(result.attachments, before, segments, &clash)) {
+        std::string fewest = "more";
+        for (int n = segments + 1; n <= std::max(before, segments + 1000); ++n) {
+            std::vector<HoseAttachment> trial = hose.attachments;
+            if (remapAttachments(trial, before, n, nullptr)) {
+                fewest = "at least " + std::to_string(n);
+                break;
+            }
+        }
+        const auto describe = [&](size_t i) {
+            const HoseAttachment& a = hose.attachments[i];
+            return "the fixed points " + std::to_string(a.firstPoint) + "–" +
+                   std::to_string(a.lastPoint) + " on " + a.node;
+        };
+        throw InvalidArgument("hose '" + hose.id + "': " + std::to_string(segments) +
+                              " segments are too few for its fixed points: " +
+                              describe(clash.first) + " and " + describe(clash.second) +
+                              " would share axis points; " + fewest + " segments keep them apart");
+    }
+    return result;
+}
+
 HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
                           const ImportedScenes& scenes, double length)
 {

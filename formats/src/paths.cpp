@@ -106,4 +106,62 @@ fs::path resolveProjectPath(std::string_view written, const fs::path& projectDir
     throw PathError(text, "unknown kind of path");
 }
 
+namespace {
+
+/// `file` (canonical) written relative to `folder` (canonical), which contains it.
+std::string relativeInside(const fs::path& file, const fs::path& folder)
+{
+    const fs::path relative = file.lexically_relative(folder);
+    return relative.empty() ? std::string(".") : relative.generic_string();
+}
+
+bool sameFolder(const fs::path& a, const fs::path& b)
+{
+    std::error_code error;
+    const fs::path ca = fs::weakly_canonical(fs::absolute(a), error);
+    if (error) return false;
+    const fs::path cb = fs::weakly_canonical(fs::absolute(b), error);
+    return !error && ca == cb;
+}
+
+} // namespace
+
+std::string projectPathFor(const fs::path& file, const fs::path& projectDirectory,
+                           const NamedRoots& roots)
+{
+    const fs::path absolute = fs::absolute(file);
+    std::error_code error;
+    const fs::path canonical = fs::weakly_canonical(absolute, error);
+    if (error) return absolute.lexically_normal().generic_string();
+    if (!projectDirectory.empty()) {
+        const fs::path canonicalFolder =
+            fs::weakly_canonical(fs::absolute(projectDirectory), error);
+        if (!error && isInsideFolder(canonical, canonicalFolder) && canonical != canonicalFolder)
+            return relativeInside(canonical, canonicalFolder);
+    }
+    for (const auto& [name, root] : roots) {
+        const fs::path canonicalRoot = fs::weakly_canonical(fs::absolute(root), error);
+        if (!error && isInsideFolder(canonical, canonicalRoot) && canonical != canonicalRoot)
+            return name + ":" + relativeInside(canonical, canonicalRoot);
+    }
+    return canonical.generic_string();
+}
+
+std::string rebaseProjectPath(std::string_view written, const fs::path& fromDirectory,
+                              const fs::path& toDirectory)
+{
+    const PathKind kind = classifyProjectPath(written);
+    if (kind == PathKind::NamedRoot || sameFolder(fromDirectory, toDirectory))
+        return std::string(written);
+    if (kind == PathKind::Absolute) {
+        const std::string relative =
+            projectPathFor(fs::path(std::string(written)), toDirectory, {});
+        // Kept as written unless the file lies in the new folder.
+        return classifyProjectPath(relative) == PathKind::Relative ? relative
+                                                                   : std::string(written);
+    }
+    const fs::path file = resolveProjectPath(written, fromDirectory, {});
+    return projectPathFor(file, toDirectory, {});
+}
+
 } // namespace chaintube::formats

@@ -117,7 +117,7 @@ bool Project::operator==(const Project& o) const
 {
     return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
            hoses == o.hoses && poses == o.poses && colliders == o.colliders &&
-           motions == o.motions && exportSettings == o.exportSettings;
+           motions == o.motions && checks == o.checks && exportSettings == o.exportSettings;
 }
 
 std::filesystem::path resolveScenePath(const SceneReference& scene,
@@ -126,6 +126,18 @@ std::filesystem::path resolveScenePath(const SceneReference& scene,
 {
     return resolveProjectPath(scene.path, std::filesystem::absolute(projectFile).parent_path(),
                               roots);
+}
+
+Project rebaseProject(Project project, const std::filesystem::path& fromFile,
+                      const std::filesystem::path& toFile)
+{
+    const std::filesystem::path from = std::filesystem::absolute(fromFile).parent_path();
+    const std::filesystem::path to = std::filesystem::absolute(toFile).parent_path();
+    for (SceneReference& scene : project.scenes)
+        scene.path = rebaseProjectPath(scene.path, from, to);
+    if (!project.exportSettings.path.empty())
+        project.exportSettings.path = rebaseProjectPath(project.exportSettings.path, from, to);
+    return project;
 }
 
 } // namespace chaintube::formats

@@ -434,7 +434,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     const bool migrateLengths = fileMinor < 3;
     const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
     root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "poses",
-                 "colliders", "motions", "export"});
+                 "colliders", "motions", "checks", "export"});
 
     Project project;
     project.name = root.key("name").string(true);
@@ -702,6 +702,13 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         std::set<std::pair<std::string, std::string>> moving;
         for (size_t i = 0, n = motions->arraySize(); i < n; ++i)
             project.motions.push_back(readMotion((*motions)[i], project, ids, moving));
+    }
+
+    // --- checks (1.6) -------------------------------------------------------------------------
+    if (const auto checks = root.optionalKey("checks")) {
+        checks->object({"clearance"});
+        if (const auto clearance = checks->optionalKey("clearance"))
+            project.checks.clearance = clearance->number(0, true, HUGE_VAL, false);
     }
 
     // --- export -------------------------------------------------------------------------------

@@ -249,6 +249,12 @@ std::string serialiseProject(const Project& project)
     }
     document["motions"] = motions;
 
+    if (project.checks.clearance) {
+        ordered checks = ordered::object();
+        checks["clearance"] = *project.checks.clearance;
+        document["checks"] = checks;
+    }
+
     ordered exportSettings = ordered::object();
     exportSettings["format"] = project.exportSettings.format;
     exportSettings["path"] = project.exportSettings.path;

@@ -347,5 +347,33 @@ TEST_F(MotionsTest, ASweepProblemNamesWhereTheBendBreaksAndAClickPreviewsThePart
     screenshot("editor-motion-problem.png");
 }
 
+// The plots' value labels and axis text are never cut off: each has room inside its plot, in
+// the window as it opens and in a narrow one.
+TEST_F(MotionsTest, ThePlotsAxisLabelsHaveRoomInThePlot)
+{
+    MotionsPanel& motions = m_window->motions();
+    waitForSweep([&] { return motions.report().has_value() && !motions.sweepRunning(); });
+    for (const QSize size : {QSize(1280, 800), QSize(1000, 700)}) {
+        m_window->resize(size);
+        settle();
+        const auto plots = m_window->findChildren<MotionPlot*>();
+        ASSERT_FALSE(plots.isEmpty());
+        for (MotionPlot* plot : plots) {
+            if (!plot->isVisible()) continue;
+            const QFontMetrics metrics = plot->fontMetrics();
+            const auto labels = plot->labels();
+            ASSERT_GE(labels.size(), 5u) << "two value axes and the motion axis";
+            for (const MotionPlot::Label& label : labels) {
+                EXPECT_TRUE(plot->rect().contains(label.rect))
+                    << label.text.toStdString() << " leaves the plot of "
+                    << plot->objectName().toStdString();
+                const QRect needs = metrics.boundingRect(label.rect, label.flags, label.text);
+                EXPECT_LE(needs.width(), label.rect.width()) << label.text.toStdString();
+                EXPECT_LE(needs.height(), label.rect.height()) << label.text.toStdString();
+            }
+        }
+    }
+}
+
 } // namespace
 } // namespace chaintube::editor

@@ -274,12 +274,45 @@ TEST(ClearanceCli, SampleTestRigSkipsThePartsTheHosesAreFittedToAndListsTheRest)
     EXPECT_NE(single.output.find("0 clearance violation(s)"), std::string::npos) << single.output;
 }
 
+// Without --clearance, check uses the project's own threshold ("checks"/"clearance"), and the
+// default 5 mm when the project sets none; --clearance still overrides it.
+TEST(ClearanceCli, WithoutOptionsTheProjectsOwnThresholdIsUsed)
+{
+    TemporaryFolder folder;
+    fs::create_directories(folder / "scenes");
+    fs::copy_file(fs::path(CHAINTUBE_SAMPLES_DIR) / "scenes/test-rig.gltf",
+                  folder / "scenes/test-rig.gltf");
+    formats::Project rig =
+        formats::loadProject(fs::path(CHAINTUBE_SAMPLES_DIR) / "test-rig.ctproj");
+    ASSERT_FALSE(rig.checks.clearance) << "the sample sets none";
+    rig.checks.clearance = 0.05;
+    const fs::path wide = folder / "wide.ctproj";
+    formats::saveProject(rig, wide);
+    const CliRun own = runCli("check \"" + wide.string() + "\"");
+    EXPECT_EQ(own.exitCode, 3) << own.output;
+    EXPECT_NE(own.output.find("violation: hose left-feed, object rig:/test-rig/floor_plate"),
+              std::string::npos)
+        << own.output;
+    EXPECT_NE(own.output.find("below 0.05 m (the project's threshold)"), std::string::npos)
+        << own.output;
+    const CliRun overridden = runCli("check \"" + wide.string() + "\" --clearance 0.0001");
+    EXPECT_EQ(overridden.exitCode, 0) << overridden.output;
+
+    const CliRun fallback = runCli(
+        "check \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() + "\"");
+    EXPECT_EQ(fallback.exitCode, 0) << fallback.output;
+    EXPECT_NE(fallback.output.find("0 clearance violation(s) below 0.005 m (the default "
+                                   "threshold: the project sets none)"),
+              std::string::npos)
+        << fallback.output;
+}
+
 TEST(ClearanceCli, BadInputIsNamedWithItsExitCode)
 {
     EXPECT_EQ(runCli("check --help").exitCode, 0);
-    const CliRun missing = runCli("check x.ctproj");
-    EXPECT_EQ(missing.exitCode, 2);
-    EXPECT_NE(missing.output.find("--clearance is required"), std::string::npos) << missing.output;
+    const CliRun missing = runCli("check /nonexistent/x.ctproj");
+    EXPECT_EQ(missing.exitCode, 1) << "no option: the project's threshold, read from the file";
+    EXPECT_NE(missing.output.find("/nonexistent/x.ctproj"), std::string::npos) << missing.output;
     const CliRun negative = runCli("check x.ctproj --clearance -0.1");
     EXPECT_EQ(negative.exitCode, 2);
     EXPECT_NE(negative.output.find("expected a distance >= 0 in metres"), std::string::npos)

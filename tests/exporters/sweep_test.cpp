@@ -398,6 +398,25 @@ TEST(SweepCli, TheMotionRigSamplePassesAndBreaksAFourCentimetreClearance)
     EXPECT_EQ(report["leadInSteps"], 10);
 }
 
+// Without --clearance a sweep checks the project's own threshold ("checks"/"clearance") when
+// it sets one: the motion rig with 40 mm breaks it as --clearance 0.04 does.
+TEST(SweepCli, WithoutClearanceTheProjectsThresholdIsSwept)
+{
+    TemporaryFolder folder;
+    fs::create_directories(folder / "scenes");
+    fs::copy_file(samplesDir() / "scenes/motion-rig.gltf", folder / "scenes/motion-rig.gltf");
+    formats::Project rig = formats::loadProject(samplesDir() / "motion-rig.ctproj");
+    rig.checks.clearance = 0.04;
+    const fs::path file = folder / "motion-rig.ctproj";
+    formats::saveProject(rig, file);
+    const CliRun own = runCli("check \"" + file.string() + "\" --sweep --json -q");
+    EXPECT_EQ(own.exitCode, 3) << own.output;
+    const Json report = Json::parse(own.output);
+    EXPECT_EQ(report["hoses"][1]["objects"][0]["stepsBelowThreshold"], 51);
+    const CliRun overridden = runCli("check \"" + file.string() + "\" --sweep -q --clearance 0");
+    EXPECT_EQ(overridden.exitCode, 0) << overridden.output;
+}
+
 TEST(SweepCli, AProjectWithoutMotionsAndBadInputAreNamedWithTheirExitCodes)
 {
     const fs::path single = samplesDir() / "single-hose.ctproj";
@@ -415,9 +434,9 @@ TEST(SweepCli, AProjectWithoutMotionsAndBadInputAreNamedWithTheirExitCodes)
     EXPECT_EQ(jsonAlone.exitCode, 2);
     EXPECT_NE(jsonAlone.output.find("--json requires --sweep"), std::string::npos)
         << jsonAlone.output;
-    const CliRun missing = runCli("check x.ctproj");
-    EXPECT_EQ(missing.exitCode, 2);
-    EXPECT_NE(missing.output.find("--clearance is required"), std::string::npos);
+    const CliRun missing = runCli("check /nonexistent/x.ctproj");
+    EXPECT_EQ(missing.exitCode, 1);
+    EXPECT_NE(missing.output.find("/nonexistent/x.ctproj"), std::string::npos);
     const CliRun help = runCli("check --help");
     EXPECT_EQ(help.exitCode, 0);
     EXPECT_NE(help.output.find("--sweep --steps 40"), std::string::npos) << help.output;

@@ -3,6 +3,7 @@
 #include "test_files.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 namespace chaintube::formats {
 namespace {
@@ -97,6 +98,69 @@ TEST_F(ProjectPaths, MalformedPathsAreRefused)
     EXPECT_THROW(classifyProjectPath(""), PathError);
     EXPECT_THROW(classifyProjectPath("scenes\\rig.gltf"), PathError);
     EXPECT_EQ(classifyProjectPath("a:b"), PathKind::Relative) << "one letter is not a root name";
+}
+
+TEST_F(ProjectPaths, AFileIsWrittenRelativeInsideTheProjectUnderARootOrElseAbsolute)
+{
+    EXPECT_EQ(projectPathFor(project() / "scenes/rig.gltf", project(), roots), "scenes/rig.gltf");
+    EXPECT_EQ(projectPathFor(folder / "library/cad/engine.glb", project(), roots),
+              "lib:cad/engine.glb");
+    const std::string outside = projectPathFor(folder / "outside/secret.glb", project(), roots);
+    EXPECT_EQ(classifyProjectPath(outside), PathKind::Absolute) << outside;
+    EXPECT_EQ(resolveProjectPath(outside, project(), roots),
+              fs::weakly_canonical(folder / "outside/secret.glb"));
+    // No project folder yet (an untitled project): absolute unless under a root.
+    EXPECT_EQ(classifyProjectPath(projectPathFor(project() / "scenes/rig.gltf", {}, roots)),
+              PathKind::Absolute);
+}
+
+TEST_F(ProjectPaths, RebasingKeepsNamingTheSameFileFromTheNewFolder)
+{
+    const fs::path original = fs::weakly_canonical(project() / "scenes/rig.gltf");
+    // Up one folder: still inside, so still relative.
+    EXPECT_EQ(rebaseProjectPath("scenes/rig.gltf", project(), folder.path()),
+              "project/scenes/rig.gltf");
+    // Into a sibling folder: outside it, so absolute.
+    const std::string sibling = rebaseProjectPath("scenes/rig.gltf", project(), folder / "outside");
+    EXPECT_EQ(classifyProjectPath(sibling), PathKind::Absolute) << sibling;
+    EXPECT_EQ(resolveProjectPath(sibling, folder / "outside", roots), original);
+    // And back: relative again, exactly as written.
+    EXPECT_EQ(rebaseProjectPath(sibling, folder / "outside", project()), "scenes/rig.gltf");
+    // Into a deeper folder of the project: the file is not inside it, so absolute.
+    fs::create_directories(project() / "deeper");
+    EXPECT_EQ(
+        classifyProjectPath(rebaseProjectPath("scenes/rig.gltf", project(), project() / "deeper")),
+        PathKind::Absolute);
+    // A file that does not exist (yet) is rebased the same way.
+    EXPECT_EQ(rebaseProjectPath("export/rig.glb", project(), folder.path()),
+              "project/export/rig.glb");
+}
+
+TEST_F(ProjectPaths, RebasingToAnotherRootAndBackGivesTheWrittenPathBack)
+{
+    // A folder outside the temporary folder's tree (the tests' working folder, in the build
+    // tree): the way a project moves to another disk.
+    const fs::path other = fs::current_path() / ("rebase-other-root-" + std::to_string(::getpid()));
+    fs::create_directories(other);
+    const std::string there = rebaseProjectPath("scenes/rig.gltf", project(), other);
+    EXPECT_EQ(classifyProjectPath(there), PathKind::Absolute) << there;
+    EXPECT_EQ(resolveProjectPath(there, other, roots),
+              fs::weakly_canonical(project() / "scenes/rig.gltf"));
+    EXPECT_EQ(rebaseProjectPath(there, other, project()), "scenes/rig.gltf");
+    fs::remove_all(other);
+}
+
+TEST_F(ProjectPaths, RebasingLeavesNamedRootsSameFolderAndForeignAbsolutePathsAlone)
+{
+    EXPECT_EQ(rebaseProjectPath("lib:cad/engine.glb", project(), folder / "outside"),
+              "lib:cad/engine.glb");
+    EXPECT_EQ(rebaseProjectPath("scenes/../scenes/rig.gltf", project(), project() / "."),
+              "scenes/../scenes/rig.gltf")
+        << "the same folder: nothing changes";
+    const std::string absolute = (folder / "library/cad/engine.glb").string();
+    EXPECT_EQ(rebaseProjectPath(absolute, project(), folder / "outside"), absolute);
+    EXPECT_THROW(rebaseProjectPath("../outside/secret.glb", project(), folder.path()), PathError)
+        << "a relative path that already leaves its folder is an error, not rebased";
 }
 
 } // namespace

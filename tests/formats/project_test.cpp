@@ -421,5 +421,35 @@ TEST(ProjectLoad, MissingAndEmptyFilesAreFileErrors)
     }
 }
 
+// "checks" (1.6): the project's clearance threshold, written only when set, read back exactly,
+// refused when negative; a 1.5 file has none.
+TEST(ProjectChecks, TheClearanceThresholdRoundTripsAndIsCheckedAtLoad)
+{
+    Project project = exampleProject();
+    EXPECT_EQ(serialiseProject(project).find("\"checks\""), std::string::npos)
+        << "not written when unset";
+    project.checks.clearance = 0.0125;
+    const std::string text = serialiseProject(project);
+    const json written = json::parse(text);
+    EXPECT_EQ(written["checks"]["clearance"], 0.0125);
+    const Project reread = parseProject(text, "checks.ctproj");
+    EXPECT_EQ(reread, project);
+    EXPECT_EQ(serialiseProject(reread), text);
+
+    json negative = written;
+    negative["checks"]["clearance"] = -0.001;
+    EXPECT_NE(loadError(negative).find("/checks/clearance"), std::string::npos)
+        << loadError(negative);
+    json unknown = written;
+    unknown["checks"]["bend"] = 1.0;
+    EXPECT_NE(loadError(unknown).find("/checks"), std::string::npos) << loadError(unknown);
+
+    json older = exampleJson();
+    older["version"] = "1.5";
+    ProjectLoadReport report;
+    EXPECT_FALSE(parseProject(older.dump(), "old.ctproj", {}, &report).checks.clearance);
+    EXPECT_TRUE(report.migrated);
+}
+
 } // namespace
 } // namespace chaintube::formats

@@ -81,6 +81,29 @@ void AddSceneCommand::undo()
     m_scene = std::move(removed.second);
 }
 
+RelinkSceneCommand::RelinkSceneCommand(Document& document, std::string sceneId, std::string newPath,
+                                       formats::ImportedScene scene)
+    : QUndoCommand(tr("Locate scene %1").arg(QString::fromStdString(sceneId))),
+      m_document(document), m_sceneId(std::move(sceneId)), m_newPath(std::move(newPath)),
+      m_held(std::move(scene))
+{
+    const formats::SceneReference* reference = document.project().findScene(m_sceneId);
+    if (!reference) throw InvalidArgument("no scene '" + m_sceneId + "' to locate");
+    m_oldPath = reference->path;
+    const auto missing = document.missingScenes().find(m_sceneId);
+    if (missing != document.missingScenes().end()) m_oldReason = missing->second;
+}
+
+void RelinkSceneCommand::redo()
+{
+    m_held = m_document.relinkScene(m_sceneId, m_newPath, std::move(m_held), {});
+}
+
+void RelinkSceneCommand::undo()
+{
+    m_held = m_document.relinkScene(m_sceneId, m_oldPath, std::move(m_held), m_oldReason);
+}
+
 QUndoCommand* makeSetHoseDefinition(Document& document, const std::string& hoseId,
                                     formats::HoseDefinition definition, MergeId mergeId,
                                     const QString& text)
@@ -262,6 +285,15 @@ QUndoCommand* makeSetExportSettings(Document& document, formats::ExportSettings 
         [](Document& d) { return &d.mutableProject().exportSettings; },
         [](Document& d) { d.projectSettingsChanged(); }, std::move(settings),
         MergeId::ExportSettings, "export");
+}
+
+QUndoCommand* makeSetCheckSettings(Document& document, formats::CheckSettings checks)
+{
+    return new ChangeValue<formats::CheckSettings>(
+        document, tr("Change clearance threshold"),
+        [](Document& d) { return &d.mutableProject().checks; },
+        [](Document& d) { d.projectSettingsChanged(); }, std::move(checks), MergeId::CheckSettings,
+        "checks");
 }
 
 } // namespace chaintube::editor

@@ -25,10 +25,27 @@ LoadedProject readProject(const fs::path& file, const formats::NamedRoots& roots
     loaded.project = textOverride ? formats::parseProject(*textOverride, file, options)
                                   : formats::loadProject(file, options);
     loaded.file = file;
-    loaded.scenes = formats::importProjectScenes(loaded.project, file, roots, progress);
+    // Scenes that cannot be found are left out and named, so that the project still opens.
+    formats::Project present = loaded.project;
+    present.scenes.clear();
+    for (const formats::SceneReference& reference : loaded.project.scenes) {
+        try {
+            const fs::path sceneFile = formats::resolveScenePath(reference, file, roots);
+            std::error_code error;
+            if (fs::exists(sceneFile, error))
+                present.scenes.push_back(reference);
+            else
+                loaded.missingScenes[reference.id] =
+                    reference.path + ": no such file (" + sceneFile.string() + ")";
+        } catch (const formats::PathError& error) {
+            loaded.missingScenes[reference.id] = error.what();
+        }
+    }
+    loaded.scenes = formats::importProjectScenes(present, file, roots, progress);
     // A saved pose must name a node the scene still has (the scene file may have changed).
     for (size_t i = 0; i < loaded.project.poses.size(); ++i) {
         const formats::NodePose& pose = loaded.project.poses[i];
+        if (loaded.missingScenes.count(pose.scene)) continue; // checked when it is located
         const auto imported = loaded.scenes.find(pose.scene);
         if (imported == loaded.scenes.end() || imported->second.findNode(pose.node) < 0)
             throw formats::ProjectFormatError(file, "/poses/" + std::to_string(i) + "/node",
@@ -68,6 +85,7 @@ void Document::adopt(LoadedProject loaded)
     m_project = std::move(loaded.project);
     m_file = std::move(loaded.file);
     m_scenes = std::move(loaded.scenes);
+    m_missingScenes = std::move(loaded.missingScenes);
     m_pose.clear();
     for (const formats::NodePose& pose : m_project.poses) {
         const formats::ImportedScene* imported = scene(pose.scene);
@@ -98,7 +116,11 @@ void Document::save(const fs::path& file)
     settleGravity();
     formats::ProjectLoadOptions validation;
     validation.roots = m_roots;
-    formats::saveProject(m_project, file, validation);
+    // Into another folder (Save As): every path the project holds is re-expressed from there.
+    formats::Project saved =
+        m_file.empty() ? m_project : formats::rebaseProject(m_project, m_file, file);
+    formats::saveProject(saved, file, validation);
+    m_project = std::move(saved);
     m_file = file;
     m_forcedModified = false;
     m_undoStack.setClean();
@@ -670,7 +692,11 @@ void Document::syncProjectPoses()
     std::vector<formats::NodePose> poses;
     for (const formats::SceneReference& reference : m_project.scenes) {
         const formats::ImportedScene* imported = scene(reference.id);
-        if (!imported) continue;
+        if (!imported) { // a missing scene keeps the poses written for it
+            for (const formats::NodePose& pose : m_project.poses)
+                if (pose.scene == reference.id) poses.push_back(pose);
+            continue;
+        }
         for (const auto& [key, transform] : m_pose)
             if (key.first == reference.id && transform && key.second >= 0 &&
                 key.second < static_cast<int>(imported->nodes.size()))
@@ -826,6 +852,45 @@ Document::removeScene(const std::string& id)
     return removed;
 }
 
+std::optional<formats::ImportedScene>
+Document::relinkScene(const std::string& id, std::string path,
+                      std::optional<formats::ImportedScene> imported, std::string missingReason)
+{
+    clearMotionPreview();
+    auto reference = std::find_if(m_project.scenes.begin(), m_project.scenes.end(),
+                                  [&](const formats::SceneReference& s) { return s.id == id; });
+    if (reference == m_project.scenes.end())
+        throw InvalidArgument("no scene '" + id + "' to locate");
+    reference->path = std::move(path);
+    std::optional<formats::ImportedScene> before;
+    if (auto it = m_scenes.find(id); it != m_scenes.end()) {
+        before = std::move(it->second);
+        m_scenes.erase(it);
+    }
+    for (auto pose = m_pose.begin(); pose != m_pose.end();)
+        pose = pose->first.first == id ? m_pose.erase(pose) : std::next(pose);
+    if (imported) {
+        m_missingScenes.erase(id);
+        m_scenes[id] = std::move(*imported);
+        const formats::ImportedScene& now = m_scenes.at(id);
+        for (const formats::NodePose& pose : m_project.poses)
+            if (pose.scene == id)
+                if (const int node = now.findNode(pose.node); node >= 0)
+                    m_pose[{id, node}] = pose.localTransform;
+    } else {
+        m_missingScenes[id] = std::move(missingReason);
+        if (m_selection.sceneId == id) {
+            m_selection.sceneId.clear();
+            m_selection.node = -1;
+        }
+    }
+    ++m_poseSerial;
+    m_meshBounds.clear();
+    rebuildAllHoses();
+    emitChanged(ChangeEvent::Kind::ScenesChanged);
+    return before;
+}
+
 void Document::presetsChanged()
 {
     // Hoses using a preset by name get the new values.
@@ -850,6 +915,19 @@ void Document::rebuildHose(const std::string& hoseId)
     LiveHose& live = m_live[hoseId];
     live.buildSerial = ++m_buildCounter;
     live.metrics.reset();
+    const auto missing = [&]() -> std::string {
+        for (const formats::HoseAttachment& attachment : definition->attachments)
+            if (m_missingScenes.count(attachment.scene)) return attachment.scene;
+        for (const formats::HoseClip& clip : definition->clips)
+            if (m_missingScenes.count(clip.scene)) return clip.scene;
+        return {};
+    }();
+    if (!missing.empty()) {
+        live.hose.reset();
+        live.error = "it is fixed to scene '" + missing + "', which is missing (" +
+                     m_missingScenes.at(missing) + "); locate the scene to build it";
+        return;
+    }
     try {
         // m_project.poses mirrors the overrides: buildHose builds at the file pose and moves
         // the attachments to the posed frames, exactly as the export and the CLI do.

@@ -52,7 +52,7 @@ void main()
         n = -n;
     vec3 key = normalize(vec3(0.35, 1.0, 0.45));
     vec3 base = colour.rgb;
-    base = mix(base, vec3(0.15, 0.7, 1.0), highlight * 0.6);
+    base = mix(base, vec3(0.15, 0.7, 1.0), highlight * 0.75);
     float red = clamp(problem, 0.0, 1.0);
     base = mix(base, vec3(0.95, 0.08, 0.05), red);
     float headlight = max(dot(n, toEye), 0.0);
@@ -356,6 +356,24 @@ std::vector<Vec3> Renderer::kinkRing(const Vec3& centre, const Vec3& normal, dou
     return ring;
 }
 
+QColor Renderer::partColour(const formats::ImportedScene& scene, int node)
+{
+    static const QColor palette[8] = {
+        QColor(150, 156, 166), // steel grey
+        QColor(214, 178, 112), // brass
+        QColor(118, 160, 112), // sage green
+        QColor(196, 132, 96),  // copper
+        QColor(170, 150, 200), // lavender
+        QColor(204, 196, 120), // olive yellow
+        QColor(112, 150, 150), // teal grey
+        QColor(190, 120, 150), // mauve
+    };
+    int k = 0;
+    for (int n = 0; n < node && n < static_cast<int>(scene.nodes.size()); ++n)
+        if (!scene.nodes[static_cast<size_t>(n)].meshes.empty()) ++k;
+    return palette[k % 8];
+}
+
 double Renderer::gizmoLength(const Camera& camera)
 {
     return 0.18 * camera.distance;
@@ -434,7 +452,7 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
                 world.block<3, 3>(0, 0).inverse().transpose().cast<float>();
             gl.glUniformMatrix4fv(modelLocation, 1, GL_FALSE, model.data());
             gl.glUniformMatrix3fv(normalLocation, 1, GL_FALSE, normalMatrix.data());
-            gl.surfaceProgram.setUniformValue("colour", QColor::fromRgbF(0.62f, 0.66f, 0.72f));
+            gl.surfaceProgram.setUniformValue("colour", partColour(scene, int(n)));
             gl.surfaceProgram.setUniformValue("highlight", selected[n] ? 1.0f : 0.0f);
             gl.surfaceProgram.setUniformValue("roughness", 0.6f);
             for (int meshIndex : node.meshes) {

@@ -3,6 +3,7 @@
 #include "chaintube/editor/commands.h"
 #include "chaintube/editor/route_layout.h"
 #include "chaintube/formats/atomic_file.h"
+#include "chaintube/formats/project_hoses.h"
 #include "chaintube/formats/scene_import.h"
 #include "chaintube/route.h"
 #include "export_dialog.h"
@@ -172,7 +173,7 @@ void MainWindow::createDocks()
     treeDock->setObjectName("sceneDock");
     treeDock->setWidget(m_sceneTree);
     addDockWidget(Qt::LeftDockWidgetArea, treeDock);
-    connect(m_sceneTree, &QTreeWidget::currentItemChanged, this, [this](QTreeWidgetItem* item) {
+    const auto selectTreeItem = [this](QTreeWidgetItem* item) {
         if (m_syncingTree || !item) return;
         Selection selection = m_document->selection();
         const int kind = item->data(0, KindRole).toInt();
@@ -188,9 +189,15 @@ void MainWindow::createDocks()
             return;
         }
         m_document->setSelection(selection);
-    });
+    };
+    connect(m_sceneTree, &QTreeWidget::currentItemChanged, this, selectTreeItem);
+    // A click on the row that is still current (the selection was cleared elsewhere) selects
+    // it again: Qt reports no change of the current item then.
+    connect(m_sceneTree, &QTreeWidget::itemClicked, this, selectTreeItem);
 
     m_properties = new PropertiesPanel(*m_document);
+    connect(m_properties, &PropertiesPanel::statusMessage, this,
+            [this](const QString& message) { statusBar()->showMessage(message, 10000); });
     auto* scroll = new QScrollArea;
     scroll->setWidget(m_properties);
     scroll->setWidgetResizable(true);
@@ -209,6 +216,8 @@ void MainWindow::createDocks()
     addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
 
     m_problems = new ProblemsPanel(*m_document);
+    connect(m_problems, &ProblemsPanel::locateSceneRequested, this,
+            [this](const std::string& sceneId) { locateScene(sceneId); });
     auto* problemsDock = new QDockWidget(tr("Problems"), this);
     problemsDock->setObjectName("problemsDock");
     problemsDock->setWidget(m_problems);
@@ -276,25 +285,33 @@ void MainWindow::createActions()
     file->addAction(make(tr("&New"), "actionNew", QKeySequence::New, [this] { newProject(); }));
     file->addAction(make(tr("&Open…"), "actionOpen", QKeySequence::Open, [this] {
         if (!maybeSave()) return;
-        const QString path = QFileDialog::getOpenFileName(this, tr("Open project"), QString(),
-                                                          tr("ChainTube projects (*.ctproj)"));
+        const QString path =
+            askFile("openDialog", tr("Open project"), tr("ChainTube projects (*.ctproj)"), false);
         if (!path.isEmpty()) openFile(path);
     }));
     m_recentMenu = file->addMenu(tr("Open &Recent"));
     m_recentMenu->setObjectName("recentMenu");
     file->addAction(make(tr("&Save"), "actionSave", QKeySequence::Save, [this] { save(); }));
-    file->addAction(make(tr("Save &As…"), "actionSaveAs", QKeySequence::SaveAs, [this] {
-        const QString path = QFileDialog::getSaveFileName(this, tr("Save project as"), QString(),
-                                                          tr("ChainTube projects (*.ctproj)"));
-        if (!path.isEmpty()) saveAs(path.endsWith(".ctproj") ? path : path + ".ctproj");
+    // Explicit: QKeySequence::SaveAs is empty on some platforms (then no key and no menu hint).
+    file->addAction(make(tr("Save &As…"), "actionSaveAs", QKeySequence(tr("Ctrl+Shift+S")), [this] {
+        const QString path = askFile("saveAsDialog", tr("Save project as"),
+                                     tr("ChainTube projects (*.ctproj)"), true);
+        if (!path.isEmpty()) saveAs(path);
     }));
     file->addSeparator();
     file->addAction(
         make(tr("&Import Scene…"), "actionImportScene", QKeySequence(tr("Ctrl+I")), [this] {
-            const QString path = QFileDialog::getOpenFileName(this, tr("Import scene"), QString(),
-                                                              sceneFileFilter());
+            const QString path =
+                askFile("importSceneDialog", tr("Import scene"), sceneFileFilter(), false);
             if (!path.isEmpty()) importSceneFile(path);
         }));
+    QAction* locate =
+        make(tr("&Locate Missing Scene…"), "actionLocateScene", QKeySequence(), [this] {
+            if (!m_document->missingScenes().empty())
+                locateScene(m_document->missingScenes().begin()->first);
+        });
+    locate->setEnabled(false);
+    file->addAction(locate);
     file->addAction(make(tr("&Export…"), "actionExport", QKeySequence(tr("Ctrl+E")), [this] {
         exportDialog().show();
         exportDialog().raise();
@@ -417,6 +434,8 @@ void MainWindow::onDocumentChanged(const ChangeEvent& event)
     case Kind::HoseAdded:
     case Kind::HoseRemoved:
         rebuildSceneTree();
+        if (QAction* locate = action("actionLocateScene"))
+            locate->setEnabled(!m_document->missingScenes().empty());
         if (event.kind == Kind::ProjectReplaced) {
             delete m_exportDialog; // its defaults come from the project
             m_exportDialog = nullptr;
@@ -528,6 +547,8 @@ void MainWindow::syncTreeSelection()
         m_sceneTree->setCurrentItem(wanted);
         m_sceneTree->scrollToItem(wanted);
     } else {
+        // Nothing selected: no row stays highlighted or current.
+        m_sceneTree->setCurrentItem(nullptr);
         m_sceneTree->clearSelection();
     }
     m_syncingTree = false;
@@ -552,8 +573,8 @@ bool MainWindow::maybeSave()
     if (answer == QMessageBox::Cancel) return false;
     if (answer == QMessageBox::Save) {
         if (m_document->fileName().empty()) {
-            const QString path = QFileDialog::getSaveFileName(
-                this, tr("Save project as"), QString(), tr("ChainTube projects (*.ctproj)"));
+            const QString path = askFile("saveAsDialog", tr("Save project as"),
+                                         tr("ChainTube projects (*.ctproj)"), true);
             return !path.isEmpty() && saveAs(path);
         }
         return save();
@@ -657,7 +678,14 @@ bool MainWindow::openFile(const QString& path)
     }
     m_document->adopt(std::move(loaded));
     addRecentFile(absolute);
-    statusBar()->showMessage(tr("Opened %1").arg(absolute), 5000);
+    if (m_document->missingScenes().empty())
+        statusBar()->showMessage(tr("Opened %1").arg(absolute), 5000);
+    else
+        statusBar()->showMessage(
+            tr("Opened %1; %n scene(s) missing: see Problems, or File ▸ Locate Missing Scene…",
+               nullptr, int(m_document->missingScenes().size()))
+                .arg(absolute),
+            15000);
     return true;
 }
 
@@ -706,6 +734,88 @@ bool MainWindow::resolveNamedRoots(const QString& projectPath)
     return answered;
 }
 
+bool MainWindow::locateScene(const std::string& sceneId, QString file)
+{
+    const formats::SceneReference* reference = m_document->project().findScene(sceneId);
+    if (!reference) return false;
+    if (file.isEmpty())
+        file = askFile(
+            "locateSceneDialog",
+            tr("Where is scene '%1'? (was %2)")
+                .arg(QString::fromStdString(sceneId), QString::fromStdString(reference->path)),
+            sceneFileFilter(), false);
+    if (file.isEmpty()) {
+        statusBar()->showMessage(
+            tr("Scene '%1' is still missing").arg(QString::fromStdString(sceneId)), 8000);
+        return false;
+    }
+    const std::filesystem::path chosen = QFileInfo(file).absoluteFilePath().toStdString();
+    // Read as the project would read it: its import settings and placement, from the path it
+    // will write.
+    formats::Project one = m_document->project();
+    one.scenes = {*reference};
+    one.scenes[0].path = formats::projectPathFor(chosen,
+                                                 m_document->fileName().empty()
+                                                     ? std::filesystem::path()
+                                                     : m_document->fileName().parent_path(),
+                                                 m_document->roots());
+    const std::filesystem::path projectFile = m_document->fileName().empty()
+                                                  ? std::filesystem::current_path() / "untitled"
+                                                  : m_document->fileName();
+    const formats::NamedRoots roots = m_document->roots();
+    formats::ImportedScenes imported;
+    QString error;
+    bool cancelled = false;
+    if (!runWithProgress(
+            this, tr("Reading %1…").arg(QFileInfo(file).fileName()),
+            [&](const std::function<bool(double)>& progress) {
+                imported = formats::importProjectScenes(one, projectFile, roots, progress);
+            },
+            &error, &cancelled)) {
+        if (!cancelled) showError(tr("Cannot read the scene"), error);
+        statusBar()->showMessage(
+            tr("Scene '%1' is still missing").arg(QString::fromStdString(sceneId)), 8000);
+        return false;
+    }
+    m_document->undoStack()->push(new RelinkSceneCommand(*m_document, sceneId, one.scenes[0].path,
+                                                         std::move(imported.at(sceneId))));
+    statusBar()->showMessage(
+        tr("Scene '%1' is now %2")
+            .arg(QString::fromStdString(sceneId), QString::fromStdString(one.scenes[0].path)),
+        8000);
+    return true;
+}
+
+QString MainWindow::dialogFolder() const
+{
+    if (!m_document->fileName().empty())
+        return QString::fromStdString(m_document->fileName().parent_path().string());
+    const QString last = QSettings().value("dialogs/lastFolder").toString();
+    return !last.isEmpty() && QFileInfo(last).isDir() ? last : QDir::currentPath();
+}
+
+QString MainWindow::askFile(const QString& name, const QString& title, const QString& filter,
+                            bool save)
+{
+    QFileDialog dialog(this, title, dialogFolder(), filter);
+    dialog.setObjectName(name);
+    // Qt's own dialog: the same on every desktop, and tests can drive it.
+    dialog.setOption(QFileDialog::DontUseNativeDialog);
+    if (save) {
+        dialog.setAcceptMode(QFileDialog::AcceptSave);
+        dialog.setFileMode(QFileDialog::AnyFile);
+        dialog.setDefaultSuffix("ctproj");
+        if (!m_document->fileName().empty())
+            dialog.selectFile(QString::fromStdString(m_document->fileName().filename().string()));
+    } else {
+        dialog.setFileMode(QFileDialog::ExistingFile);
+    }
+    if (dialog.exec() != QDialog::Accepted || dialog.selectedFiles().isEmpty()) return QString();
+    const QString chosen = dialog.selectedFiles().first();
+    QSettings().setValue("dialogs/lastFolder", QFileInfo(chosen).absolutePath());
+    return chosen;
+}
+
 QString MainWindow::askRootFolder(const QString& rootName, const QString& scenePath)
 {
     QFileDialog dialog(this,
@@ -723,8 +833,8 @@ QString MainWindow::askRootFolder(const QString& rootName, const QString& sceneP
 bool MainWindow::save()
 {
     if (m_document->fileName().empty()) {
-        const QString path = QFileDialog::getSaveFileName(this, tr("Save project as"), QString(),
-                                                          tr("ChainTube projects (*.ctproj)"));
+        const QString path = askFile("saveAsDialog", tr("Save project as"),
+                                     tr("ChainTube projects (*.ctproj)"), true);
         return !path.isEmpty() && saveAs(path);
     }
     return saveAs(QString::fromStdString(m_document->fileName().string()));
@@ -828,20 +938,15 @@ bool MainWindow::importSceneFile(const QString& path)
     for (char& c : base)
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '-';
     reference.id = base;
-    for (int n = 2; m_document->scene(reference.id); ++n)
+    for (int n = 2; m_document->project().findScene(reference.id); ++n)
         reference.id = base + "-" + std::to_string(n);
-    // The path as a project would write it: inside a named root → "root:rest"; inside the
-    // project's folder → relative; else absolute.
-    reference.path = file.generic_string();
-    for (const auto& [name, root] : m_document->roots())
-        if (formats::isInsideFolder(file, root)) {
-            reference.path = name + ":" + std::filesystem::relative(file, root).generic_string();
-            break;
-        }
-    if (!m_document->fileName().empty() &&
-        formats::isInsideFolder(file, m_document->fileName().parent_path()))
-        reference.path =
-            std::filesystem::relative(file, m_document->fileName().parent_path()).generic_string();
+    // The path as a project would write it: relative inside the project's folder, "root:rest"
+    // inside a named root, else absolute.
+    reference.path = formats::projectPathFor(file,
+                                             m_document->fileName().empty()
+                                                 ? std::filesystem::path()
+                                                 : m_document->fileName().parent_path(),
+                                             m_document->roots());
     m_document->undoStack()->push(new AddSceneCommand(*m_document, reference, std::move(scene)));
     m_viewport->frameAll();
     statusBar()->showMessage(tr("Imported %1").arg(path), 5000);

@@ -64,6 +64,11 @@ public:
     /// scene goes), reads it again if the author changed units or axis, and adds it placed
     /// (SceneImportSettings::placement) in one undo step.
     bool importSceneFile(const QString& path);
+    /// Locate… for a scene whose file is missing (Document::missingScenes): reads `file` (asked
+    /// for in the dialog "locateSceneDialog" when empty) with the scene's import settings and
+    /// points the scene at it, written as a project path (formats::projectPathFor), in one undo
+    /// step (RelinkSceneCommand). False, with a message, if cancelled or unreadable.
+    bool locateScene(const std::string& sceneId, QString file = {});
     /// Asks to save unsaved changes; false if the user cancelled.
     bool maybeSave();
     /// Writes the autosave now if the document is modified; returns its path ("" if none).
@@ -104,6 +109,13 @@ private:
     /// in the settings (roots/<name>) and in the document's roots. Returns false if the author
     /// cancelled a question.
     bool resolveNamedRoots(const QString& projectPath);
+    /// Where the Open, Save As and Import dialogs start: the project's folder, else (an
+    /// untitled project) the folder last used in one of them, else the working folder.
+    QString dialogFolder() const;
+    /// Qt's own file dialog (object name `name`) starting in dialogFolder(): an existing file
+    /// to open, or (`save`) a project file to write, ".ctproj" added when the name has no
+    /// extension. "" if cancelled.
+    QString askFile(const QString& name, const QString& title, const QString& filter, bool save);
     /// The folder dialog (object name "rootFolderDialog"); "" if cancelled.
     QString askRootFolder(const QString& rootName, const QString& scenePath);
     bool offerRecovery(const QString& projectPath, const QString& autosave);

@@ -54,6 +54,52 @@ double axisTop(const MotionPlotSeries::Line& out, const MotionPlotSeries::Line& 
 
 } // namespace
 
+MotionPlot::Layout MotionPlot::layout(const QFontMetrics& metrics) const
+{
+    Layout l;
+    const int line = metrics.height();
+    const double limits[2] = {m_series.minBendRadius, m_series.clearanceThreshold};
+    const double caps[2] = {std::max(4.0 * m_series.minBendRadius, 0.0), 0.0};
+    std::vector<double> MotionPlotSeries::Line::*values[2] = {&MotionPlotSeries::Line::bendRadius,
+                                                              &MotionPlotSeries::Line::clearance};
+    QString tops[2];
+    int widest = metrics.horizontalAdvance(tr("0"));
+    for (int p = 0; p < 2; ++p) {
+        l.ceiling[p] = axisTop(m_series.out, m_series.back, values[p], limits[p], caps[p]);
+        tops[p] = tr("%1 mm").arg(l.ceiling[p] * 1000.0, 0, 'f', 0);
+        widest = std::max(widest, metrics.horizontalAdvance(tops[p]));
+    }
+    // The value labels sit left of the panels, as wide as the widest of them.
+    l.left = widest + 10;
+    l.right = width() - 8;
+    l.top = line + 6;
+    // The axis text below the panels: one line, or more when it is wider than the plot.
+    const int axisWidth = std::max(1, l.right - l.left);
+    const QRect axisNeeds = metrics.boundingRect(QRect(0, 0, axisWidth, 10 * line),
+                                                 Qt::AlignHCenter | Qt::TextWordWrap, m_axisText);
+    const int axisLines =
+        m_axisText.isEmpty() ? 0 : std::clamp((axisNeeds.height() + line - 1) / line, 1, 3);
+    l.bottom = height() - axisLines * line - 6;
+    l.panelHeight = (l.bottom - l.top - l.gap) / 2;
+    for (int p = 0; p < 2; ++p) {
+        const int areaTop = l.top + p * (l.panelHeight + l.gap);
+        const int areaBottom = areaTop + l.panelHeight - 1;
+        l.labels.push_back(
+            {tops[p], QRect(4, areaTop - 2, l.left - 8, line), int(Qt::AlignRight | Qt::AlignTop)});
+        l.labels.push_back({tr("0"), QRect(4, areaBottom - line + 2, l.left - 8, line),
+                            int(Qt::AlignRight | Qt::AlignBottom)});
+    }
+    if (axisLines > 0)
+        l.labels.push_back({m_axisText, QRect(l.left, l.bottom + 2, axisWidth, axisLines * line),
+                            int(Qt::AlignHCenter | Qt::AlignTop | Qt::TextWordWrap)});
+    return l;
+}
+
+std::vector<MotionPlot::Label> MotionPlot::labels() const
+{
+    return layout(fontMetrics()).labels;
+}
+
 void MotionPlot::paintEvent(QPaintEvent*)
 {
     QPainter painter(this);
@@ -67,13 +113,15 @@ void MotionPlot::paintEvent(QPaintEvent*)
     painter.drawText(QRect(4, 2, width() - 8, line), Qt::AlignLeft | Qt::AlignVCenter,
                      QString::fromStdString(m_series.hoseName) +
                          (m_stale ? tr(" (out of date)") : QString()));
-    const int left = metrics.horizontalAdvance("888 mm") + 8;
-    const int right = width() - 8;
-    const int top = line + 6;
-    const int bottom = height() - line - 6;
-    const int gap = 6;
-    const int panelHeight = (bottom - top - gap) / 2;
+    const Layout l = layout(metrics);
+    const int left = l.left;
+    const int right = l.right;
+    const int top = l.top;
+    const int gap = l.gap;
+    const int panelHeight = l.panelHeight;
     if (right - left < 20 || panelHeight < 20) return;
+    for (const Label& label : l.labels)
+        painter.drawText(label.rect, label.flags, label.text);
 
     struct Panel
     {
@@ -94,17 +142,12 @@ void MotionPlot::paintEvent(QPaintEvent*)
         const QRect area(left, top + p * (panelHeight + gap), right - left, panelHeight);
         painter.setPen(QPen(palette().color(QPalette::Mid), 1));
         painter.drawRect(area);
-        const double ceiling =
-            axisTop(m_series.out, m_series.back, panel.values, panel.limit, panel.cap);
+        const double ceiling = l.ceiling[p];
         const auto x = [&](double t) { return area.left() + t * area.width(); };
         const auto y = [&](double v) {
             return area.bottom() - std::clamp(v / ceiling, 0.0, 1.0) * area.height();
         };
         painter.setPen(text);
-        painter.drawText(QRect(0, area.top() - 2, left - 4, line), Qt::AlignRight | Qt::AlignTop,
-                         tr("%1 mm").arg(ceiling * 1000.0, 0, 'f', 0));
-        painter.drawText(QRect(0, area.bottom() - line + 2, left - 4, line),
-                         Qt::AlignRight | Qt::AlignBottom, tr("0"));
         painter.drawText(area.adjusted(4, 1, -4, -1), Qt::AlignLeft | Qt::AlignTop, panel.title);
         // The limit: a red line with its value.
         if (panel.limit > 0.0) {
@@ -152,8 +195,6 @@ void MotionPlot::paintEvent(QPaintEvent*)
                              QPointF(x(*m_marker), area.bottom()));
         }
     }
-    painter.setPen(text);
-    painter.drawText(QRect(left, bottom + 2, right - left, line), Qt::AlignCenter, m_axisText);
 }
 
 } // namespace chaintube::editor

@@ -6,8 +6,10 @@
 
 #include "chaintube/editor/motion_sweep.h"
 
+#include <QRect>
 #include <QWidget>
 #include <optional>
+#include <vector>
 
 namespace chaintube::editor {
 
@@ -27,6 +29,18 @@ public:
     void setStale(bool stale);
     bool stale() const { return m_stale; }
 
+    /// A text the plot draws outside its panels (the value axes' top and 0, the horizontal
+    /// axis): where, in widget coordinates. The layout leaves room for each: its rectangle
+    /// lies inside the widget and is as wide as the text (the axis text wraps onto up to three
+    /// lines when it is wider than the plot).
+    struct Label
+    {
+        QString text;
+        QRect rect;
+        int flags = 0; ///< Qt::Alignment | Qt::TextFlag
+    };
+    std::vector<Label> labels() const;
+
     QSize sizeHint() const override { return {300, 220}; }
     QSize minimumSizeHint() const override { return {240, 200}; }
 
@@ -34,6 +48,13 @@ protected:
     void paintEvent(QPaintEvent* event) override;
 
 private:
+    struct Layout
+    {
+        int left = 0, right = 0, top = 0, bottom = 0, panelHeight = 0, gap = 6;
+        double ceiling[2] = {1.0, 1.0}; ///< metres at the top of each panel
+        std::vector<Label> labels;
+    };
+    Layout layout(const QFontMetrics& metrics) const;
     MotionPlotSeries m_series;
     QString m_axisText;
     std::optional<double> m_marker;

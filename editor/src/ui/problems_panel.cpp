@@ -1,5 +1,7 @@
 #include "problems_panel.h"
 
+#include "chaintube/editor/commands.h"
+
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QHBoxLayout>
@@ -64,6 +66,19 @@ QString tightRoutePointNote(const Hose& hose, const formats::HoseDefinition& def
 std::vector<Problem> findProblems(const Document& document)
 {
     std::vector<Problem> problems;
+    for (const formats::SceneReference& reference : document.project().scenes) {
+        const auto missing = document.missingScenes().find(reference.id);
+        if (missing == document.missingScenes().end()) continue;
+        Problem problem{{},
+                        -1,
+                        -1,
+                        QObject::tr("Scene '%1' is missing: %2 — click here to locate it "
+                                    "(File ▸ Locate Missing Scene…)")
+                            .arg(QString::fromStdString(reference.id),
+                                 QString::fromStdString(missing->second))};
+        problem.missingScene = reference.id;
+        problems.push_back(std::move(problem));
+    }
     for (const formats::HoseDefinition& definition : document.project().hoses) {
         const QString name =
             QString::fromStdString(definition.name.empty() ? definition.id : definition.name);
@@ -209,21 +224,35 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
     m_clearanceThreshold->setRange(0.0, 1000.0);
     m_clearanceThreshold->setDecimals(1);
     m_clearanceThreshold->setSuffix(tr(" mm"));
-    m_clearanceThreshold->setValue(5.0);
+    m_clearanceThreshold->setValue(formats::kDefaultClearance * 1000.0);
     m_clearanceThreshold->setToolTip(
         tr("Hoses closer than this to a scene object are listed and "
-           "marked in the viewport (nodes a hose is fixed to are skipped)"));
+           "marked in the viewport (nodes a hose is fixed to are skipped). The project's "
+           "threshold: saved with it, and what `chaintube check` uses without options"));
     bar->addWidget(m_clearanceEnabled);
     bar->addWidget(m_clearanceThreshold);
     bar->addStretch(1);
     setViewportMargins(0, m_clearanceBar->sizeHint().height(), 0, 0);
     connect(m_clearanceEnabled, &QCheckBox::toggled, this, &ProblemsPanel::refreshNow);
     connect(m_clearanceThreshold, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
-            [this] { m_throttle.start(); });
+            [this](double millimetres) {
+                m_throttle.start();
+                // The threshold is the project's ("checks"/"clearance"): saved with it, used
+                // by `chaintube check` without options, one undo step per edit.
+                if (m_syncingThreshold) return;
+                formats::CheckSettings checks = m_document.project().checks;
+                const double metres = millimetres / 1000.0;
+                if (checks.clearance.value_or(formats::kDefaultClearance) == metres) return;
+                checks.clearance = metres;
+                m_document.undoStack()->push(makeSetCheckSettings(m_document, checks));
+            });
     m_throttle.setSingleShot(true);
     m_throttle.setInterval(100);
     connect(&m_throttle, &QTimer::timeout, this, &ProblemsPanel::refreshNow);
     connect(&m_document, &Document::changed, this, [this](const ChangeEvent& event) {
+        if (event.kind == ChangeEvent::Kind::ProjectReplaced ||
+            event.kind == ChangeEvent::Kind::ProjectSettingsChanged)
+            showProjectThreshold();
         if (event.kind != ChangeEvent::Kind::SelectionChanged &&
             event.kind != ChangeEvent::Kind::FileStateChanged && !m_throttle.isActive())
             m_throttle.start();
@@ -232,6 +261,11 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
         const int index = row(item);
         if (index < 0 || index >= int(m_problems.size())) return;
         const Problem& problem = m_problems[size_t(index)];
+        if (!problem.missingScene.empty()) {
+            const std::string sceneId = problem.missingScene; // a refresh may follow
+            emit locateSceneRequested(sceneId);
+            return;
+        }
         Selection selection = m_document.selection();
         selection.hoseId = problem.hoseId;
         selection.rangeFirst = problem.firstPoint;
@@ -245,7 +279,16 @@ ProblemsPanel::ProblemsPanel(Document& document, QWidget* parent)
         m_document.setSelection(selection);
         if (!motionValues.empty()) m_document.setMotionPreview(motionValues);
     });
+    showProjectThreshold();
     refreshNow();
+}
+
+void ProblemsPanel::showProjectThreshold()
+{
+    m_syncingThreshold = true;
+    m_clearanceThreshold->setValue(
+        m_document.project().checks.clearance.value_or(formats::kDefaultClearance) * 1000.0);
+    m_syncingThreshold = false;
 }
 
 void ProblemsPanel::setSweepProblems(std::vector<Problem> problems)

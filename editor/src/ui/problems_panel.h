@@ -35,6 +35,9 @@ struct Problem
     /// A finding of the motion sweep: the motion values where it occurs (a click previews
     /// the parts there, Document::setMotionPreview); empty for a finding at the current pose.
     std::vector<double> motionValues;
+    /// A scene of the project whose file is missing (Document::missingScenes): its id. A click
+    /// asks where it is (ProblemsPanel::locateSceneRequested).
+    std::string missingScene;
 };
 
 /// All problems of a document, hose by hose (pure function; used by the panel and tests).
@@ -53,10 +56,16 @@ public:
     /// with meshes other than the ones the hose is attached to) are listed and marked in the
     /// viewport (Document::clearanceMarkers). The controls sit above the list.
     QCheckBox* clearanceEnabled() const { return m_clearanceEnabled; }
-    QDoubleSpinBox* clearanceThreshold() const { return m_clearanceThreshold; } ///< millimetres
+    /// Millimetres; the project's threshold (project().checks, saved with the project):
+    /// typing a value is an undoable edit of the project.
+    QDoubleSpinBox* clearanceThreshold() const { return m_clearanceThreshold; }
     /// Findings of the motion sweep (the Motions dock's), listed after the others until
     /// replaced.
     void setSweepProblems(std::vector<Problem> problems);
+
+signals:
+    /// A missing scene's entry was clicked: the main window asks for its file (Locate…).
+    void locateSceneRequested(const std::string& sceneId);
 
 protected:
     void resizeEvent(QResizeEvent* event) override;
@@ -69,6 +78,9 @@ private:
     QWidget* m_clearanceBar = nullptr;
     QCheckBox* m_clearanceEnabled = nullptr;
     QDoubleSpinBox* m_clearanceThreshold = nullptr;
+    bool m_syncingThreshold = false;
+    /// The threshold field shows project().checks (the default when unset).
+    void showProjectThreshold();
     struct ClearanceCache;
     std::unique_ptr<ClearanceCache> m_clearanceCache; ///< scene colliders, rebuilt on change
 };

@@ -1,9 +1,12 @@
 #include "properties_panel.h"
 
 #include "chaintube/editor/commands.h"
+#include "chaintube/formats/project_hoses.h"
 #include "chaintube/route.h"
 
 #include <QAbstractScrollArea>
+#include <QAbstractSpinBox>
+#include <QApplication>
 #include <QCheckBox>
 #include <QColorDialog>
 #include <QComboBox>
@@ -321,16 +324,25 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
             m_document.closeMerge();
         }
     });
-    connect(m_segments, &QSpinBox::valueChanged, this, [this, edit](int n) {
-        if (m_updating) return;
-        edit(MergeId::HoseSegments, tr("Change resolution"),
-             [n](formats::HoseDefinition& d) { d.segmentCount = n; });
+    // A new resolution carries the fixed points over by arc length (formats::withSegmentCount)
+    // in the same step, or is refused saying why.
+    const auto setResolution = [this](int n) {
+        if (m_updating || m_hoseId.empty()) return;
+        formats::HoseDefinition changed;
+        try {
+            changed = formats::withSegmentCount(m_document.project(), currentDefinition(), n);
+        } catch (const std::exception& error) {
+            refuse(tr("Refused: %1").arg(QString::fromStdString(error.what())));
+            refresh(); // the widgets go back to the document's values
+            return;
+        }
+        apply(changed, static_cast<int>(MergeId::HoseSegments), tr("Change resolution"));
+    };
+    connect(m_segments, &QSpinBox::valueChanged, this, [this, setResolution](int n) {
+        setResolution(n);
         m_document.closeMerge();
     });
-    connect(m_segmentsSlider, &QSlider::valueChanged, this, [edit](int n) {
-        edit(MergeId::HoseSegments, tr("Change resolution"),
-             [n](formats::HoseDefinition& d) { d.segmentCount = n; });
-    });
+    connect(m_segmentsSlider, &QSlider::valueChanged, this, setResolution);
     connect(m_gravity, &QCheckBox::toggled, this, [this, edit](bool on) {
         m_document.closeMerge();
         edit(MergeId::HoseDefinition, on ? tr("Gravity on") : tr("Gravity off"),
@@ -618,7 +630,7 @@ void PropertiesPanel::fixSelectionToPart()
         m_document.undoStack()->push(makeAttach(m_document, selection.hoseId, m_fixFirst->value(),
                                                 m_fixLast->value(), selection.sceneId,
                                                 selection.node));
-        m_message->clear();
+        clearRefusal();
     } catch (const std::exception& error) {
         refuse(QString::fromStdString(error.what()));
     }
@@ -672,11 +684,11 @@ bool PropertiesPanel::apply(const formats::HoseDefinition& changed, int mergeId,
     const std::string problem = changed.route.empty() ? std::string("invalid route")
                                                       : m_document.validateHoseDefinition(changed);
     if (!problem.empty()) {
-        if (!changed.route.empty()) refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+        refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
         refresh(); // the widgets go back to the document's values
         return false;
     }
-    m_message->clear();
+    clearRefusal();
     if (changed == currentDefinition()) return true;
     // The history says which hose: "Change diameter of left bracket to valve".
     m_document.undoStack()->push(makeSetHoseDefinition(m_document, m_hoseId, changed,
@@ -690,7 +702,7 @@ void PropertiesPanel::setHoseLength(double metres)
     if (m_hoseId.empty()) return;
     try {
         m_document.undoStack()->push(makeSetHoseLength(m_document, m_hoseId, metres));
-        m_message->clear();
+        clearRefusal();
     } catch (const std::exception& error) {
         refuse(tr("Refused: %1").arg(QString::fromStdString(error.what())));
         refresh(); // the field goes back to the document's value
@@ -700,6 +712,32 @@ void PropertiesPanel::setHoseLength(double metres)
 void PropertiesPanel::refuse(const QString& message)
 {
     m_message->setText(message);
+    // The field that was edited says it too (the widget whose signal led here, else the one
+    // with the keyboard focus), until the next accepted edit.
+    QWidget* field = qobject_cast<QWidget*>(sender());
+    if (!field || !isAncestorOf(field)) field = QApplication::focusWidget();
+    // A spin box's line edit has the focus: the tooltip goes on the spin box.
+    while (field && field->parentWidget() && qobject_cast<QAbstractSpinBox*>(field->parentWidget()))
+        field = field->parentWidget();
+    if (field && isAncestorOf(field)) {
+        if (!field->property("toolTipBeforeRefusal").isValid())
+            field->setProperty("toolTipBeforeRefusal", field->toolTip());
+        const QString before = field->property("toolTipBeforeRefusal").toString();
+        field->setToolTip(before.isEmpty() ? message : before + "\n\n" + message);
+        m_refusedFields.push_back(field);
+    }
+    emit statusMessage(message);
+}
+
+void PropertiesPanel::clearRefusal()
+{
+    m_message->clear();
+    for (const QPointer<QWidget>& field : m_refusedFields)
+        if (field && field->property("toolTipBeforeRefusal").isValid()) {
+            field->setToolTip(field->property("toolTipBeforeRefusal").toString());
+            field->setProperty("toolTipBeforeRefusal", QVariant());
+        }
+    m_refusedFields.clear();
 }
 
 void PropertiesPanel::sliderReleased()

@@ -9,6 +9,7 @@
 #include <QPointer>
 #include <QWidget>
 #include <functional>
+#include <vector>
 
 class QCheckBox;
 class QComboBox;
@@ -45,6 +46,9 @@ public:
 signals:
     /// "Fix to part…" pressed: the viewport should take the next click on a part.
     void fixToPartRequested();
+    /// An edit was refused: why (the main window shows it in the status bar; the panel's
+    /// message line and the edited field's tooltip say it too).
+    void statusMessage(const QString& message);
 
 protected:
     /// Wheel over a field without the keyboard focus scrolls the panel instead of changing
@@ -67,7 +71,12 @@ private:
     void setHoseLength(double metres);
     /// Validates `changed` and pushes it as a change of one field; refuses with a message.
     bool apply(const formats::HoseDefinition& changed, int mergeId, const QString& text);
+    /// Says why an edit was refused: the message line, the edited field's tooltip and the
+    /// status bar (statusMessage()).
     void refuse(const QString& message);
+    /// After an accepted edit: the message line cleared, the refused fields' tooltips back.
+    void clearRefusal();
+    std::vector<QPointer<QWidget>> m_refusedFields;
     void sliderReleased();
     formats::HoseDefinition currentDefinition() const;
     Material currentMaterial() const;

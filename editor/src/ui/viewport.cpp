@@ -279,11 +279,23 @@ void Viewport::drawProblemLabels()
     QFont font = painter.font();
     font.setBold(true);
     painter.setFont(font);
+    m_problemLabels.clear();
     const auto label = [&](const Vec3& at, const QString& text) {
         const QPoint p = toWidget(at);
         if (p.x() < 0) return;
         const QRect box = painter.fontMetrics().boundingRect(text).adjusted(-4, -2, 4, 2);
-        const QRect placed = box.translated(p + QPoint(12, -12) - box.bottomLeft());
+        QRect placed = box.translated(p + QPoint(12, -12) - box.bottomLeft());
+        // Labels never cover one another (two hoses short at the same part): a label that
+        // would is moved down below the one it meets, as often as needed.
+        for (bool moved = true; moved;) {
+            moved = false;
+            for (const auto& [otherText, other] : m_problemLabels)
+                if (placed.intersects(other)) {
+                    placed.moveTop(other.bottom() + 3);
+                    moved = true;
+                }
+        }
+        m_problemLabels.push_back({text, placed});
         painter.fillRect(placed, QColor(40, 10, 10, 200));
         painter.setPen(QColor(255, 110, 100));
         painter.drawText(placed, Qt::AlignCenter, text);
@@ -641,15 +653,25 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         const double b = ray.direction.dot(a);
         const double parameter = (a.dot(w) - b * ray.direction.dot(w)) / std::max(1e-9, 1 - b * b);
         Vec3 shift = (parameter - m_gizmoStartParameter) * a;
-        // Ctrl snaps the move to whole centimetres.
-        if (event->modifiers() & Qt::ControlModifier)
-            shift = a * (std::round(shift.dot(a) / kMoveSnapMetres) * kMoveSnapMetres);
-        // newLocal = parentWorld⁻¹ · T(shift) · parentWorld · startLocal.
         const formats::Mat4 world =
             m_document.nodeWorldTransform(selection.sceneId, selection.node);
         const formats::Mat4 current =
             m_document.nodeLocalTransform(selection.sceneId, selection.node);
         const formats::Mat4 parentWorld = world * current.inverse();
+        // Ctrl snaps the part's offset along the axis from where its scene file puts it to
+        // whole centimetres (not steps from where the drag began): a part moved by any amount
+        // snaps back onto its place.
+        if (event->modifiers() & Qt::ControlModifier) {
+            const formats::Mat4& fileLocal =
+                m_document.scene(selection.sceneId)->nodes[size_t(selection.node)].localTransform;
+            const Vec3 fromFile = (parentWorld * m_gizmoStartLocal).block<3, 1>(0, 3) -
+                                  (parentWorld * fileLocal).block<3, 1>(0, 3);
+            const double before = fromFile.dot(a);
+            const double snapped =
+                std::round((before + shift.dot(a)) / kMoveSnapMetres) * kMoveSnapMetres;
+            shift = a * (snapped - before);
+        }
+        // newLocal = parentWorld⁻¹ · T(shift) · parentWorld · startLocal.
         formats::Mat4 translation = formats::Mat4::Identity();
         translation.block<3, 1>(0, 3) = shift;
         const formats::Mat4 local =

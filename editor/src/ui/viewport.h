@@ -76,6 +76,9 @@ public:
     /// setFinishEachFrame(true) also until the GPU finished).
     double lastFrameMilliseconds() const { return m_lastFrameMilliseconds; }
     void setFinishEachFrame(bool finish) { m_finishEachFrame = finish; }
+    /// The problem labels of the last frame ("… mm short", "kink: R … mm"): text and where
+    /// (widget pixels). No two overlap.
+    const std::vector<std::pair<QString, QRect>>& problemLabels() const { return m_problemLabels; }
     /// Number of paintGL calls so far.
     long long paintCount() const { return m_paintCount; }
     const RenderStats& lastRenderStats() const { return m_renderer.lastStats(); }
@@ -149,6 +152,7 @@ private:
 
     double m_lastFrameMilliseconds = 0.0;
     bool m_finishEachFrame = false;
+    std::vector<std::pair<QString, QRect>> m_problemLabels;
     long long m_paintCount = 0;
 };
 

@@ -6,6 +6,7 @@
 #include <chaintube/export/clearance.h>
 #include <chaintube/export/fit_length.h>
 #include <chaintube/export/sweep.h>
+#include <chaintube/formats/project.h>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -190,7 +191,8 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
         "  chaintube check samples/motion-rig.ctproj --fit-length --hose lever-feed\n"
         "Sweep: all motions are driven by one parameter t, each at min + t (max - min); t goes "
         "0 -> 1 -> 0 in --steps steps each way, after a lead-in from the project's pose "
-        "(every motion at 0) to t = 0. Without --clearance a sweep reports collisions only "
+        "(every motion at 0) to t = 0. Without --clearance a sweep uses the project's threshold "
+        "(\"checks\": {\"clearance\"}) or, when it sets none, reports collisions only "
         "(distance < 0).\n"
         "Fit length: for each hose with both ends fixed (or --hose), the shortest length that "
         "is never pulled taut between its held points, never stretched beyond its band, never "
@@ -207,7 +209,8 @@ void addCheckCommand(CLI::App& app, CheckCommand& command)
     check
         ->add_option("--clearance", command.clearance,
                      "Minimum distance in metres between a hose's surface and any scene object "
-                     "(e.g. 0.005); required without --sweep")
+                     "(e.g. 0.005); default: the project's threshold (\"checks\": "
+                     "{\"clearance\"}), else 0.005")
         ->check(distanceValidator());
     check->add_flag("--include-attached", command.includeAttached,
                     "Also check each hose against the nodes it is attached to (skipped by default: "
@@ -265,10 +268,18 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
         }
     }
     const int steps = command.steps > 0 ? command.steps : 20;
+    // Sweep and fit length without --clearance: the project's threshold when it sets one, else
+    // 0 (collisions only).
+    const auto sweepClearance = [&] {
+        if (command.clearance >= 0.0) return command.clearance;
+        formats::ProjectLoadOptions load;
+        load.roots = roots;
+        return formats::loadProject(command.project, load).checks.clearance.value_or(0.0);
+    };
     if (command.fitLength) {
         exporting::LengthFitOptions options;
         options.steps = steps;
-        options.clearanceThreshold = std::max(0.0, command.clearance);
+        options.clearanceThreshold = sweepClearance();
         options.includeAttachedNodes = command.includeAttached;
         options.tolerance = command.tolerance;
         int lastTenth = -1;
@@ -295,7 +306,7 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
     if (command.sweep) {
         exporting::SweepOptions options;
         options.steps = steps;
-        options.clearanceThreshold = std::max(0.0, command.clearance);
+        options.clearanceThreshold = sweepClearance();
         options.includeAttachedNodes = command.includeAttached;
         int lastTenth = -1;
         if (!command.quiet)
@@ -319,12 +330,19 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
             printSweep(report, command.project, out);
         return report.violations() ? kExitViolations : kExitOk;
     }
-    if (command.clearance < 0.0) {
-        err << "chaintube check: --clearance is required (or give --sweep or --fit-length)\n";
-        return kExitUsage;
+    // Without --clearance: the project's own threshold ("checks"/"clearance"), else the default.
+    double threshold = command.clearance;
+    std::string whose = "";
+    if (threshold < 0.0) {
+        formats::ProjectLoadOptions load;
+        load.roots = roots;
+        const formats::Project project = formats::loadProject(command.project, load);
+        threshold = project.checks.clearance.value_or(formats::kDefaultClearance);
+        whose = project.checks.clearance ? " (the project's threshold)"
+                                         : " (the default threshold: the project sets none)";
     }
     exporting::ClearanceOptions options;
-    options.threshold = command.clearance;
+    options.threshold = threshold;
     options.includeAttachedNodes = command.includeAttached;
     const std::vector<exporting::ClearanceFinding> violations =
         exporting::checkProjectClearance(command.project, roots, options);
@@ -334,7 +352,7 @@ int runCheck(const CheckCommand& command, std::ostream& out, std::ostream& err)
             << ", distance " << v.distance << " m, axis point " << v.axisPoint << ", at ("
             << v.onObject.x() << ", " << v.onObject.y() << ", " << v.onObject.z() << ") m\n";
     out << command.project << ": " << violations.size() << " clearance violation(s) below "
-        << command.clearance << " m\n";
+        << threshold << " m" << whose << "\n";
     return violations.empty() ? kExitOk : kExitViolations;
 }
 

@@ -25,7 +25,7 @@ constexpr int kExitNoValidLength = 5;
 struct CheckCommand
 {
     std::string project;
-    double clearance = -1.0; ///< metres; required without --sweep (−1: not given)
+    double clearance = -1.0; ///< metres (−1: not given: the project's threshold, else 0.005)
     bool includeAttached = false;
     std::vector<std::string> roots; ///< NAME=DIR
     bool sweep = false;             ///< drive the project's motions (exporting::sweepProject)

@@ -11,6 +11,7 @@
 
 #include <QUndoCommand>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -33,6 +34,7 @@ enum class MergeId : int {
     Presets,
     ExportSettings,
     Colliders,
+    CheckSettings,
 };
 
 /// The generic value change. `access` finds the value in the document (nullptr if it no longer
@@ -127,6 +129,24 @@ private:
     formats::ImportedScene m_scene;
 };
 
+/// Points a scene at another file (Locate… for a missing scene): redo sets the new path and
+/// the scene read from it, undo the old path and the scene missing again (or the scene it had).
+class RelinkSceneCommand : public QUndoCommand
+{
+public:
+    RelinkSceneCommand(Document& document, std::string sceneId, std::string newPath,
+                       formats::ImportedScene scene);
+    void redo() override;
+    void undo() override;
+
+private:
+    Document& m_document;
+    std::string m_sceneId;
+    std::string m_oldPath, m_newPath;
+    std::string m_oldReason;                      ///< why it was missing ("" if it was not)
+    std::optional<formats::ImportedScene> m_held; ///< the scene the document does not hold
+};
+
 // --- the concrete edits (each is a ChangeValue) -----------------------------------------------
 
 /// Any hose field through a member pointer, e.g. &HoseDefinition::outerDiameter.
@@ -198,5 +218,8 @@ QUndoCommand* makeSetPresets(Document& document, std::vector<formats::MaterialPr
 
 /// Replaces the export settings.
 QUndoCommand* makeSetExportSettings(Document& document, formats::ExportSettings settings);
+/// The project's check thresholds (project().checks: the clearance threshold the Problems
+/// panel and `chaintube check` use); consecutive changes merge into one step.
+QUndoCommand* makeSetCheckSettings(Document& document, formats::CheckSettings checks);
 
 } // namespace chaintube::editor

@@ -115,12 +115,20 @@ struct LoadedProject
     formats::Project project;
     std::filesystem::path file; ///< empty for an untitled project
     formats::ImportedScenes scenes;
+    /// Scenes of the project whose file cannot be found (no such file, an unknown named
+    /// root): scene id → why, e.g. "scenes/rig.gltf: no such file (/work/p/scenes/rig.gltf)".
+    /// They are not in `scenes`; the project opens anyway (Document::missingScenes).
+    std::map<std::string, std::string> missingScenes;
 };
 
 /// Reads a project file and imports its scenes (thread-safe; touches no Document).
-/// progress(fraction) returning false cancels (throws formats::Cancelled). Throws what
-/// loadProject and importProjectScenes throw. `textOverride`, when given, is parsed instead of
-/// the file's contents (crash recovery: an autosave parsed as if it were `file`).
+/// progress(fraction) returning false cancels (throws formats::Cancelled). A scene whose file
+/// cannot be found (it does not exist, or its named root is unknown) is not imported but
+/// listed in LoadedProject::missingScenes, so that the project still opens; its poses are kept
+/// as written, hoses fixed to it cannot be built until it is located
+/// (RelinkSceneCommand). Throws what loadProject throws, and what importProjectScenes throws
+/// for a scene file that is there but cannot be read. `textOverride`, when given, is parsed instead
+/// of the file's contents (crash recovery: an autosave parsed as if it were `file`).
 LoadedProject readProject(const std::filesystem::path& file, const formats::NamedRoots& roots,
                           const std::function<bool(double)>& progress = {},
                           const std::optional<std::string>& textOverride = std::nullopt);
@@ -142,7 +150,10 @@ public:
     /// Hoses with gravity on are first settled (settleGravity()): the file holds the authored
     /// route and the gravity flag, a reload settles the hose again by the same deterministic
     /// steps, so what is on screen after saving is what the file reproduces.
-    /// Throws what saveProject throws; then nothing changed.
+    /// Saved into another folder than the project's (Save As), the project's paths (scenes,
+    /// export target) are first re-expressed from there (formats::rebaseProject: relative when
+    /// the file lies inside the new folder, else absolute), and the document keeps them so.
+    /// Throws what saveProject and rebaseProject throw; then nothing changed.
     void save(const std::filesystem::path& file);
     const std::filesystem::path& fileName() const { return m_file; }
     /// True if there are edits since the last adopt/reset/save.
@@ -158,6 +169,9 @@ public:
     const formats::Project& project() const { return m_project; }
     const formats::ImportedScenes& scenes() const { return m_scenes; }
     const formats::ImportedScene* scene(const std::string& sceneId) const;
+    /// Scenes of project() whose file was not found when the project was read: scene id → why
+    /// (see LoadedProject::missingScenes). Not in scenes(); RelinkSceneCommand locates one.
+    const std::map<std::string, std::string>& missingScenes() const { return m_missingScenes; }
 
     int hoseCount() const { return static_cast<int>(m_project.hoses.size()); }
     /// Index of the hose definition with this id, or −1.
@@ -324,6 +338,14 @@ public:
     /// Adds/removes an imported scene with its reference (import command).
     void insertScene(int index, formats::SceneReference reference, formats::ImportedScene scene);
     std::pair<formats::SceneReference, formats::ImportedScene> removeScene(const std::string& id);
+    /// Points scene `id` at `path` (as written in the project). With `imported`, the scene is
+    /// there: it is no longer missing, its poses of project().poses apply again; without, it
+    /// becomes missing for `missingReason` (its poses are kept in project().poses). Rebuilds
+    /// the colliders and every hose; emits ScenesChanged. Returns the imported scene it held
+    /// before (none when it was missing).
+    std::optional<formats::ImportedScene>
+    relinkScene(const std::string& id, std::string path,
+                std::optional<formats::ImportedScene> imported, std::string missingReason);
     void presetsChanged();
     void projectSettingsChanged();
     /// project().colliders changed (a node's flag); emits CollidersChanged for it.
@@ -393,6 +415,7 @@ private:
     formats::Project m_project;
     std::filesystem::path m_file;
     formats::ImportedScenes m_scenes;
+    std::map<std::string, std::string> m_missingScenes;
     std::map<std::string, LiveHose> m_live;
     struct LiveCollider
     {

@@ -65,6 +65,11 @@ public:
 
     /// Length (metres) of the gizmo arrows for a camera: a fixed fraction of the view.
     static double gizmoLength(const Camera& camera);
+    /// The colour a part (a scene node with meshes) is drawn in, sRGB: the k-th node with
+    /// meshes of its scene (file order) gets the k-th of eight muted colours (k mod 8), so
+    /// neighbouring parts of a small scene differ (the test rig's floor, brackets and valve
+    /// all do). None is azure (the selection tint) or red (problems).
+    static QColor partColour(const formats::ImportedScene& scene, int node);
     /// Radius (metres) of the rotate gizmo's rings: inside the arrows, so that the arrow tips
     /// stay apart from the rings.
     static double gizmoRingRadius(const Camera& camera);

@@ -52,6 +52,28 @@ std::filesystem::path resolveProjectPath(std::string_view written,
                                          const std::filesystem::path& projectDirectory,
                                          const NamedRoots& roots);
 
+/// How a project in `projectDirectory` writes the file `file`: a relative path when the file
+/// lies inside the project's folder, else "root:rest" when it lies inside a named root (the
+/// first in the map's order), else the absolute path (also when projectDirectory is empty: an
+/// untitled project has no folder yet). Always written with '/'. The inside tests are
+/// those of resolveProjectPath (weakly_canonical, links followed), so the written path resolves
+/// back to `file` with the same roots. A relative `file` is taken against the current directory.
+std::string projectPathFor(const std::filesystem::path& file,
+                           const std::filesystem::path& projectDirectory, const NamedRoots& roots);
+
+/// A written path re-expressed for a project file moving from `fromDirectory` to `toDirectory`
+/// (Save As), so that it names the same file:
+///  * relative: the file it names (resolved against fromDirectory) written relative to
+///    toDirectory when it lies inside it, else absolute (another folder, another root);
+///  * absolute: made relative when the file lies inside toDirectory (a project saved away and
+///    back gets its relative paths back), else kept as written;
+///  * named root: kept as written (the root is the caller's, not the folder's).
+/// The file need not exist. Returns `written` unchanged when both folders are the same folder.
+/// Throws PathError as classifyProjectPath(), and as resolveProjectPath() for a relative path
+/// that leaves fromDirectory.
+std::string rebaseProjectPath(std::string_view written, const std::filesystem::path& fromDirectory,
+                              const std::filesystem::path& toDirectory);
+
 /// True if `path` is `folder` or inside it, comparing weakly_canonical forms component-wise.
 bool isInsideFolder(const std::filesystem::path& path, const std::filesystem::path& folder);
 

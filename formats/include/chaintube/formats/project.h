@@ -24,6 +24,7 @@
 //     "colliders":       [ { "scene", "node" } ],                               (1.2)
 //     "motions":         [ { "id", "scene", "node", "kind": "hinge"|"slider", "axis": [x,y,z],
 //                            "point": [x,y,z] (hinge only), "min", "max" } ],     (1.4)
+//     "checks":          { "clearance"? },                                     (1.6)
 //     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
 //
 // Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated). Files before
@@ -34,7 +35,8 @@
 // (routeRestLength()), so that it keeps that length when its route is edited later. Files before
 // 1.4 have no "motions" (read as none). Files before 1.5 have no hose "clips" (read as none; a
 // hose without clips is written without the key). Files before 1.6 have no hose
-// "fittingsAllowance" (read as 0; written only when not 0).
+// "fittingsAllowance" (read as 0; written only when not 0) and no "checks" (read as none: the
+// checks use their defaults; written only when a threshold is set).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -63,7 +65,7 @@ constexpr int kProjectFormatMinor = 6; ///< 1.1 added "poses" (NodePose); 1.2 pe
                                        ///< "gravity" and "torsion", "colliders" (ColliderNode);
                                        ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion);
                                        ///< 1.5 the hose's "clips" (HoseClip); 1.6 the hose's
-                                       ///< "fittingsAllowance"
+                                       ///< "fittingsAllowance" and "checks" (CheckSettings)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -280,6 +282,18 @@ struct PartMotion
 /// "hinge" or "slider", as written in the file.
 const char* toString(PartMotion::Kind kind);
 
+/// The project's own thresholds for its checks (format 1.6, "checks"): what `chaintube check`
+/// uses without options and the editor's Problems panel shows and edits.
+struct CheckSettings
+{
+    /// Clearance threshold, metres ≥ 0 (finite): a hose closer than this to a scene object is
+    /// a violation. Unset: kDefaultClearance.
+    std::optional<double> clearance;
+    bool operator==(const CheckSettings& o) const { return clearance == o.clearance; }
+};
+/// The clearance threshold of a project that sets none (metres): 5 mm.
+constexpr double kDefaultClearance = 0.005;
+
 struct ExportSettings
 {
     std::string format = "glb"; ///< "glb" or "gltf"
@@ -304,6 +318,7 @@ struct Project
     std::vector<ColliderNode> colliders;
     /// Moving parts (1.4), at most one per (scene, node), in the order written.
     std::vector<PartMotion> motions;
+    CheckSettings checks; ///< (1.6)
     ExportSettings exportSettings;
 
     /// An empty project with standardMaterialPresets().
@@ -333,7 +348,8 @@ struct ProjectLoadReport
                              ///< (0.9 → 1.x; 1.0 → 1.1: no "poses", read as none;
                              ///< before 1.2: gravity/torsion off, no colliders;
                              ///< before 1.3: each hose's length set to routeRestLength();
-                             ///< before 1.4: no "motions", read as none)
+                             ///< before 1.4: no "motions", read as none;
+                             ///< before 1.5: no clips; before 1.6: no "checks")
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };
@@ -360,9 +376,20 @@ std::string serialiseProject(const Project& project);
 
 /// Writes the canonical text atomically (see writeFileAtomically). The project is validated
 /// first (as loadProject would, relative to the target's folder); an invalid project throws
-/// ProjectFormatError and nothing is written. Paths are written as they are, not rebased.
+/// ProjectFormatError and nothing is written. Paths are written as they are, not rebased: a
+/// project saved into another folder goes through rebaseProject() first.
 void saveProject(const Project& project, const std::filesystem::path& file,
                  const ProjectLoadOptions& validation = {}, const AtomicWriteOptions& write = {});
+
+/// The project as it must be written at `toFile` when it was read from (or last saved at)
+/// `fromFile` (Save As): every path it holds — each scene's "path" and the export target
+/// "export"/"path" ("" stays "": next to the project) — re-expressed with rebaseProjectPath(),
+/// so it names the same file from the new folder: relative when the file lies inside the new
+/// folder, else absolute; named-root paths unchanged. Textures are not project paths: a scene
+/// file names its own, relative to itself, and they move with it. The same folder gives the
+/// project back unchanged. Throws PathError for a relative path that leaves fromFile's folder.
+Project rebaseProject(Project project, const std::filesystem::path& fromFile,
+                      const std::filesystem::path& toFile);
 
 /// Absolute path of a project's scene file. Throws PathError (escaping path, unknown root).
 std::filesystem::path resolveScenePath(const SceneReference& scene,

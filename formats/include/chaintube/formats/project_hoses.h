@@ -86,6 +86,17 @@ Hose buildHose(const Project& project, const HoseDefinition& hose, const Importe
 HoseDefinition withLength(const Project& project, const HoseDefinition& hose,
                           const ImportedScenes& scenes, double length);
 
+/// `hose` with `segments` segments (segmentCount; the Resolution field), its fixed points
+/// carried over by arc length: the hose keeps its length, so axis point i of n segments lies
+/// where point i · segments / n (rounded) of the new hose lies. An attachment range keeps at
+/// least one segment when it had one (a fixed end keeps its direction), and a range that
+/// ended at the last point ends at the new last point. Clips are placed by arc length
+/// (HoseClip::place) and stay as they are. The same count gives the definition with only
+/// segmentCount set. Throws InvalidArgument naming the hose for a count outside
+/// 1 … 1,000,000, or when two attachments would share axis points at that resolution (the
+/// message names both and the fewest segments that keeps them apart).
+HoseDefinition withSegmentCount(const Project& project, const HoseDefinition& hose, int segments);
+
 /// world ← node transform of `node` of scene `sceneId` with project.poses applied along the
 /// parent chain (`scenes` at their file pose). Throws InvalidArgument for an unknown scene, a
 /// node index out of range, or a pose naming a node the scene does not have.
