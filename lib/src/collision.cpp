@@ -1469,6 +1469,17 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             if (grabbed >= 0)
                 result.grabError =
                     (m_local[static_cast<std::size_t>(grabbed)] - localTarget).norm();
+            // Held while a collider moved into it: the contact is not met (as in one step).
+            double penetration = 0.0;
+            for (const auto& collider : m_colliders)
+                for (std::size_t i = 0; i < n; ++i) {
+                    const MeshCollider::Closest c =
+                        collider->closestToPoint(m_local[i] + m_origin, radius);
+                    if (c.found) penetration = std::max(penetration, radius - c.distance);
+                }
+            result.penetration = penetration > tolerance ? penetration : 0.0;
+            if (result.penetration > 0.0 && result.status == Status::Ok)
+                result.status = Status::Infeasible;
             if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
             m_collisionStart = m_local;
             m_collisionFree.assign(n, -kInf);
