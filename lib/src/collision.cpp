@@ -28,12 +28,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// of the violation.
 constexpr int kContactProjectionSteps = 8;
 constexpr double kContactProjectionClose = 1e-5;
-/// Hose::applyCollisions: a move that carries a segment, relative to a collider, to within half
-/// the outer radius of it is resolved in sub-steps of at most half the radius each (the axis
-/// starts each at least radius − tolerance outside, so none can carry it through a wall or past
-/// an edge), at most this many: 2.2 cm a frame (2 m/s at 90 Hz) for radii from 1.4 mm. A faster
-/// move is split into this many equal sub-steps.
-constexpr int kMaxContactSubsteps = 32;
 
 double boxDistance2(const Aabb& box, const Vec3& p)
 {
@@ -775,59 +769,25 @@ bool sameFrame(const Frame& a, const Frame& b)
     return a.translation == b.translation && a.rotation.coeffs() == b.rotation.coeffs();
 }
 
-/// World box of a collider's triangles placed at `frame`.
-Aabb boundsAt(const MeshCollider& collider, const Frame& frame)
-{
-    Aabb out;
-    const Aabb& local = collider.localBounds();
-    if (local.empty()) return out;
-    for (int corner = 0; corner < 8; ++corner)
-        out.extend(frame.apply(Vec3((corner & 1) ? local.max.x() : local.min.x(),
-                                    (corner & 2) ? local.max.y() : local.min.y(),
-                                    (corner & 4) ? local.max.z() : local.min.z())));
-    return out;
-}
-
-/// A collider's frame a fraction of the way from `from` to `to` (translation in a straight
-/// line, rotation by slerp); exactly `to` at 1.
-Frame between(const Frame& from, const Frame& to, double fraction)
-{
-    if (fraction >= 1.0) return to;
-    Frame out;
-    out.translation = from.translation + fraction * (to.translation - from.translation);
-    out.rotation = from.rotation.slerp(fraction, to.rotation).normalized();
-    return out;
-}
-
-/// The colliders near one hose update, queried in world coordinates, each placed at the frame
-/// given for the step (its own frame, or one on the way there for a sub-step: queries are then
-/// mapped into its own frame and their answers back). A collider that moved since the last
-/// step carries the relative motion new ∘ old⁻¹: a sweep that starts from the hose's previous
-/// shape starts from where that shape sat relative to the collider, so a moving collider
-/// pushes the hose instead of jumping over it.
+/// The colliders near one hose update, queried in world coordinates. A collider that moved
+/// since the last update carries the relative motion new ∘ old⁻¹: a sweep that starts from the
+/// hose's previous shape starts from where that shape sat relative to the collider, so a
+/// moving collider pushes the hose instead of jumping over it.
 class ContactSet
 {
 public:
     ContactSet(const std::vector<std::shared_ptr<const MeshCollider>>& all,
-               const std::vector<Frame>& previousFrames, const std::vector<Frame>& frames,
-               const Aabb& region)
+               const std::vector<Frame>& previousFrames, const Aabb& region)
     {
         for (std::size_t c = 0; c < all.size(); ++c) {
             const MeshCollider& collider = *all[c];
-            const Frame& now = c < frames.size() ? frames[c] : collider.frame();
-            Entry entry{&collider,         Frame::identity(), false,
-                        Frame::identity(), Frame::identity(), false};
-            if (c < previousFrames.size() && !sameFrame(previousFrames[c], now)) {
-                entry.relative = now * previousFrames[c].inverse();
+            Entry entry{&collider, Frame::identity(), false};
+            if (c < previousFrames.size() && !sameFrame(previousFrames[c], collider.frame())) {
+                entry.relative = collider.frame() * previousFrames[c].inverse();
                 entry.moved = true;
             }
-            if (!sameFrame(now, collider.frame())) {
-                entry.posed = true;
-                entry.toOwn = collider.frame() * now.inverse();
-                entry.fromOwn = now * collider.frame().inverse();
-            }
             // A collider that moved is always checked (its relative sweep starts elsewhere).
-            if (entry.moved || boxBoxDistance2(boundsAt(collider, now), region) == 0.0)
+            if (entry.moved || boxBoxDistance2(collider.worldBounds(), region) == 0.0)
                 m_near.push_back(entry);
         }
     }
@@ -839,16 +799,13 @@ public:
         Vec3 start = Vec3::Zero(); ///< where the sweep began for the collider that was hit
     };
     /// First contact of a sphere moving from `from` to `to`; with relativeStart, `from` is a
-    /// position of the previous step (see the class comment).
+    /// position of the previous update (see the class comment).
     Hit sweep(const Vec3& from, const Vec3& to, double radius, bool relativeStart) const
     {
         Hit best;
         for (const Entry& e : m_near) {
             const Vec3 start = relativeStart && e.moved ? e.relative.apply(from) : from;
-            MeshCollider::Sweep s =
-                e.posed ? e.collider->sweepSphere(e.toOwn.apply(start), e.toOwn.apply(to), radius)
-                        : e.collider->sweepSphere(start, to, radius);
-            if (s.hit && e.posed) s.normal = e.fromOwn.rotation * s.normal;
+            const MeshCollider::Sweep s = e.collider->sweepSphere(start, to, radius);
             if (s.hit && (!best.sweep.hit || s.fraction < best.sweep.fraction)) {
                 best.sweep = s;
                 best.start = start;
@@ -860,9 +817,8 @@ public:
     {
         MeshCollider::Closest best;
         for (const Entry& e : m_near) {
-            MeshCollider::Closest q = e.collider->closestToPoint(
-                e.posed ? e.toOwn.apply(p) : p, best.found ? best.distance : maxDistance);
-            if (q.found && e.posed) back(e, q);
+            const MeshCollider::Closest q =
+                e.collider->closestToPoint(p, best.found ? best.distance : maxDistance);
             if (q.found && (!best.found || q.distance < best.distance)) best = q;
         }
         return best;
@@ -871,54 +827,11 @@ public:
     {
         MeshCollider::Closest best;
         for (const Entry& e : m_near) {
-            MeshCollider::Closest q =
-                e.posed
-                    ? e.collider->closestToSegment(e.toOwn.apply(a), e.toOwn.apply(b),
-                                                   best.found ? best.distance : maxDistance)
-                    : e.collider->closestToSegment(a, b, best.found ? best.distance : maxDistance);
-            if (q.found && e.posed) back(e, q);
+            const MeshCollider::Closest q =
+                e.collider->closestToSegment(a, b, best.found ? best.distance : maxDistance);
             if (q.found && (!best.found || q.distance < best.distance)) best = q;
         }
         return best;
-    }
-    /// The largest move relative to a collider of a segment a0–b0 → a1–b1 (a0, b0 of the
-    /// previous step: see the class comment) whose ends each move in a straight line, when the
-    /// quadrilateral it sweeps comes within `pad` of the collider; 0 when it does not, or when
-    /// its ends move at most `small`. The quadrilateral is tested as the paths of points along
-    /// the segment, close enough that a feature piercing it between two of them (a knife edge,
-    /// a plate narrower than the segment) is within `pad` of one: conservative, never missed.
-    double sweptSegmentMove(const Vec3& a0, const Vec3& b0, const Vec3& a1, const Vec3& b1,
-                            double pad, double small) const
-    {
-        double move = 0.0;
-        for (const Entry& e : m_near) {
-            Vec3 s0 = e.moved ? e.relative.apply(a0) : a0;
-            Vec3 t0 = e.moved ? e.relative.apply(b0) : b0;
-            const double m = std::max((a1 - s0).norm(), (b1 - t0).norm());
-            if (m <= std::max(small, move)) continue;
-            Vec3 s1 = a1, t1 = b1;
-            if (e.posed) {
-                s0 = e.toOwn.apply(s0);
-                t0 = e.toOwn.apply(t0);
-                s1 = e.toOwn.apply(s1);
-                t1 = e.toOwn.apply(t1);
-            }
-            // Paths at parameters i / lines along the segment: neighbours are at most
-            // `spacing` apart anywhere on the way, so a point of the quadrilateral is within
-            // spacing / 2 of one.
-            const double width = std::max((t0 - s0).norm(), (t1 - s1).norm());
-            const int lines = std::clamp(static_cast<int>(std::ceil(width / pad)), 1, 256);
-            const double reach = pad + 0.5 * width / lines;
-            for (int i = 0; i <= lines; ++i) {
-                const double f = double(i) / lines;
-                if (e.collider->closestToSegment(s0 + f * (t0 - s0), s1 + f * (t1 - s1), reach)
-                        .found) {
-                    move = m;
-                    break;
-                }
-            }
-        }
-        return move;
     }
 
 private:
@@ -927,52 +840,9 @@ private:
         const MeshCollider* collider;
         Frame relative;
         bool moved;
-        Frame toOwn, fromOwn; ///< the step's placement to the collider's own frame and back
-        bool posed;
     };
-    static void back(const Entry& e, MeshCollider::Closest& q)
-    {
-        q.onMesh = e.fromOwn.apply(q.onMesh);
-        q.onQuery = e.fromOwn.apply(q.onQuery);
-        q.normal = e.fromOwn.rotation * q.normal;
-    }
     std::vector<Entry> m_near;
 };
-
-/// Moves a sphere from `from` to `to` (world), stopping at the first contact and sliding along
-/// it (at most three contacts); `touched` says whether it met anything.
-Vec3 sweptMove(const ContactSet& contacts, const Vec3& from, const Vec3& goal, double radius,
-               bool relativeStart, bool& touched)
-{
-    Vec3 position = from;
-    touched = false;
-    for (int slide = 0; slide < 3; ++slide) {
-        if ((goal - position).norm() <= 1e-15 && !(relativeStart && slide == 0)) break;
-        const ContactSet::Hit h =
-            contacts.sweep(position, goal, radius, relativeStart && slide == 0);
-        if (!h.sweep.hit) {
-            position = goal;
-            break;
-        }
-        touched = true;
-        const Vec3 contact = h.start + h.sweep.fraction * (goal - h.start) + 1e-9 * h.sweep.normal;
-        Vec3 rest = goal - contact;
-        const double into = rest.dot(h.sweep.normal);
-        if (into < 0.0) rest -= into * h.sweep.normal;
-        position = contact;
-        if (slide == 2) break;
-        // Slide: the remaining move without its part into the surface.
-        const Vec3 slideGoal = contact + rest;
-        const ContactSet::Hit s2 = contacts.sweep(position, slideGoal, radius, false);
-        if (!s2.sweep.hit) {
-            position = slideGoal;
-            break;
-        }
-        position = s2.start + s2.sweep.fraction * (slideGoal - s2.start) + 1e-9 * s2.sweep.normal;
-        break;
-    }
-    return position;
-}
 
 } // namespace
 
@@ -983,422 +853,101 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     const double radius = outerRadius();
     const double tolerance = m_collisionOptions.tolerance;
     // The previous shape is exactly the one before this update when only this update changed
-    // the revision; a grab can then be redone from it (resolveStep).
+    // the revision; a grab can then be redone from it (below).
     const bool startIsPrevious =
         m_collisionStart.size() == n && m_revision == m_collisionRevision + 1;
     if (m_collisionStart.size() != n) m_collisionStart = m_local;
-    std::vector<Frame> frames;
-    for (const auto& c : m_colliders)
-        frames.push_back(c->frame());
-    if (m_colliderFrames.size() != m_colliders.size()) m_colliderFrames = frames;
 
-    // One collision step from m_collisionStart to m_local with the colliders at placedFrames
-    // (m_colliderFrames holding where they were before it); redoGrab: a grabbed point that a
-    // collider stopped may be grabbed again from the previous shape.
-    auto resolveStep = [&](UpdateResult& out, int held, const Vec3& heldTarget,
-                           const std::vector<Frame>& placedFrames, bool redoGrab) {
-        // Per-point lower bounds on the clearance (axis distance − radius) stay valid while no
-        // collider moved; a point that moved less than its bound cannot have touched anything.
-        bool collidersMoved =
-            m_colliderFrames.size() != m_colliders.size() || m_collisionFree.size() != n;
-        for (std::size_t c = 0; !collidersMoved && c < m_colliders.size(); ++c)
-            collidersMoved = !sameFrame(m_colliderFrames[c], placedFrames[c]);
-        if (collidersMoved) m_collisionFree.assign(n, -kInf); // unknown: query before trusting
-        auto finish = [&]() {
-            m_collisionStart = m_local;
-            m_colliderFrames = placedFrames;
-            m_collisionRevision = m_revision;
-        };
-
-        Aabb region;
-        for (std::size_t i = 0; i < n; ++i) {
-            region.extend(m_collisionStart[i] + m_origin);
-            region.extend(m_local[i] + m_origin);
-        }
-        double maxRest = 0.0;
-        for (double l : m_restLength)
-            maxRest = std::max(maxRest, l);
-        const double margin = radius + tolerance + maxRest;
-        region.min.array() -= margin;
-        region.max.array() += margin;
-        const ContactSet contacts(m_colliders, m_colliderFrames, placedFrames, region);
-        if (contacts.empty()) {
-            m_collisionFree.assign(n, margin - radius); // no collider within margin of any point
-            finish();
-            return;
-        }
-        const double queryReach = radius + 2.0 * maxRest + 0.05; // bound on one clearance query
-
-        std::vector<double>& freeBound = m_collisionFree;
-        std::vector<unsigned char> pinned(m_fixed.begin(), m_fixed.end());
-        if (held >= 0) pinned[static_cast<std::size_t>(held)] = 1;
-
-        // Moves point i from `from` to `to` (local), stopping at first contact and sliding along
-        // it (at most three contacts per move). Keeps freeBound[i] a lower bound.
-        auto moveSwept = [&](std::size_t i, const Vec3& from, const Vec3& to, bool relativeStart) {
-            const double length = (to - from).norm();
-            if (freeBound[i] > length) {
-                freeBound[i] -= length;
-                return to;
-            }
-            bool touched = false;
-            const Vec3 position =
-                sweptMove(contacts, from + m_origin, to + m_origin, radius, relativeStart, touched);
-            freeBound[i] = touched ? 0.0 : freeBound[i] - length;
-            return Vec3(position - m_origin);
-        };
-
-        std::vector<Vec3> solved = m_local; // where the collision-free solver put the points
-        bool changed = false;
-
-        // A grabbed point stopped by a collider: redo the grab from the previous shape towards
-        // where the point can go, so the rest of the hose follows it with the exact ChainTube
-        // propagation instead of being pushed into the obstacle after it.
-        if (held >= 0 && redoGrab) {
-            const std::size_t k = static_cast<std::size_t>(held);
-            const Vec3 reach = moveSwept(k, m_collisionStart[k], solved[k], true);
-            if ((reach - solved[k]).squaredNorm() > 1e-24) {
-                std::vector<std::shared_ptr<const MeshCollider>> colliders;
-                colliders.swap(m_colliders); // the redo itself must not recurse into collision
-                m_local = m_collisionStart;
-                const UpdateResult redo = grab(held, reach + m_origin);
-                m_colliders.swap(colliders);
-                out.status = redo.status;
-                out.lengthViolation = redo.lengthViolation;
-                out.angleViolation = redo.angleViolation;
-                out.movedPoints = redo.movedPoints;
-                out.iterations += redo.iterations;
-                solved = m_local;
-                changed = true;
-            }
-            freeBound[k] = -kInf;
-        }
-
-        // Every point travels from its last collision-free place to where the solver put it;
-        // fixed points are where their frames put them.
-        m_local = m_collisionStart;
-        for (std::size_t i = 0; i < n; ++i) {
-            if (m_fixed[i]) {
-                freeBound[i] -= (solved[i] - m_local[i]).norm();
-                m_local[i] = solved[i];
-                continue;
-            }
-            m_local[i] = moveSwept(i, m_local[i], solved[i], true);
-            changed |= (m_local[i] - solved[i]).squaredNorm() > 1e-24;
-        }
-
-        // Exact clearance where the bound does not exclude contact.
-        auto pointClearance = [&](std::size_t i, MeshCollider::Closest* closest) {
-            if (freeBound[i] >= tolerance) return freeBound[i];
-            const MeshCollider::Closest c =
-                contacts.closestToPoint(m_local[i] + m_origin, queryReach);
-            freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
-            if (closest) *closest = c;
-            return freeBound[i];
-        };
-        // Pushes penetrating points and segments out (with `move`; otherwise only measures);
-        // returns the deepest penetration found.
-        auto pushOut = [&](bool move = true) {
-            double deepest = 0.0;
-            for (std::size_t i = 0; i < n; ++i) {
-                MeshCollider::Closest c;
-                const double free = pointClearance(i, &c);
-                if (free >= -tolerance || !c.found) continue;
-                deepest = std::max(deepest, -free);
-                if (pinned[i] || !move) continue;
-                Vec3 normal = c.normal;
-                if (c.distance < 1e-12) { // centre on the surface: go back to the side it came from
-                    const Vec3 back = m_collisionStart[i] + m_origin - c.onMesh;
-                    if (back.dot(normal) < 0.0) normal = -normal;
-                }
-                m_local[i] = moveSwept(i, m_local[i], m_local[i] + normal * (-free), false);
-                changed = true;
-            }
-            for (std::size_t s = 0; s + 1 < n; ++s) {
-                const double length = (m_local[s + 1] - m_local[s]).norm();
-                if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + tolerance) continue;
-                const MeshCollider::Closest c = contacts.closestToSegment(
-                    m_local[s] + m_origin, m_local[s + 1] + m_origin, radius - tolerance);
-                if (!c.found || c.distance >= radius - tolerance) continue;
-                const double depth = radius - c.distance;
-                deepest = std::max(deepest, depth);
-                if (!move) continue;
-                Vec3 normal = c.normal;
-                if (c.distance < 1e-12) {
-                    const Vec3 mid =
-                        0.5 * (m_collisionStart[s] + m_collisionStart[s + 1]) + m_origin;
-                    if ((mid - c.onMesh).dot(normal) < 0.0) normal = -normal;
-                }
-                const double t = c.segmentParameter;
-                const double wa = pinned[s] ? 0.0 : 1.0 - t, wb = pinned[s + 1] ? 0.0 : t;
-                const double norm = wa * wa + wb * wb;
-                if (!(norm > 1e-6)) continue;
-                if (wa > 0.0)
-                    m_local[s] =
-                        moveSwept(s, m_local[s], m_local[s] + normal * (depth * wa / norm), false);
-                if (wb > 0.0)
-                    m_local[s + 1] =
-                        moveSwept(s + 1, m_local[s + 1],
-                                  m_local[s + 1] + normal * (depth * wb / norm), false);
-                changed = true;
-            }
-            return deepest;
-        };
-
-        // Places point i against its neighbour j = i ∓ 1: within the length band of their segment
-        // and within the deflection limit at j (turn from the segment before j). Swept.
-        auto project = [&](std::size_t i, std::size_t j) {
-            const std::size_t segment = std::min(i, j);
-            const Vec3 d = m_local[i] - m_local[j];
-            double length = d.norm();
-            Vec3 direction = Vec3::UnitX();
-            if (length > 1e-12 * m_restLength[segment]) {
-                direction = d / length;
-            } else { // on top of each other: towards i's other neighbour, else the previous shape
-                const long k = static_cast<long>(i) + (static_cast<long>(i) - static_cast<long>(j));
-                Vec3 fallback = m_collisionStart[i] - m_collisionStart[j];
-                if (k >= 0 && k < static_cast<long>(n))
-                    fallback = m_local[static_cast<std::size_t>(k)] - m_local[j];
-                if (fallback.norm() > 0.0) direction = fallback.normalized();
-            }
-            const long g = static_cast<long>(j) + (static_cast<long>(j) - static_cast<long>(i));
-            if (g >= 0 && g < static_cast<long>(n) && m_cosLimit[j] > -1.0 + 1e-12) {
-                Vec3 u = m_local[j] - m_local[static_cast<std::size_t>(g)];
-                const double uLength = u.norm();
-                if (uLength > 1e-300) {
-                    u /= uLength;
-                    const double c = direction.dot(u);
-                    if (c < m_cosLimit[j]) {
-                        Vec3 w = direction - c * u;
-                        if (w.norm() < 1e-12) w = u.unitOrthogonal();
-                        direction = m_cosLimit[j] * u + m_sinLimit[j] * w.normalized();
-                    }
-                }
-            }
-            length = std::clamp(length, m_minLength[segment], m_maxLength[segment]);
-            const Vec3 target = m_local[j] + length * direction;
-            if ((target - m_local[i]).squaredNorm() > 1e-26) {
-                m_local[i] = moveSwept(i, m_local[i], target, false);
-                changed = true;
-            }
-        };
-
-        double penetration = pushOut();
-        const double ctol = m_collisionOptions.constraintTolerance;
-        UpdateResult violation = changed ? measureViolation() : UpdateResult();
-        bool fixedMoved = false;
-        for (std::size_t i = 0; i < n && !fixedMoved; ++i)
-            fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
-        // The contacts as rows of the chain projection (the tangent plane at the closest point of
-        // each collider near a free point, which the axis keeps the outer radius and a tenth of the
-        // tolerance above) with every length and bend: at most kContactProjectionSteps Newton steps
-        // from the pushed-out shape, the rest closed by the span solver when they end near. The
-        // result is kept when the points get there swept without touching anything and nothing
-        // penetrates; otherwise the contact rounds below go on from the swept shape. When the steps
-        // end far off, the update is refused (below) unless a fixed point moved: then only the
-        // rounds are left.
-        bool projectionFailed = false;
-        if (changed && (violation.status != Status::Ok || penetration > tolerance)) {
-            const std::vector<Vec3> before = m_local;
-            detail::ChainProjection projection(*this);
-            projection.setRange(0, static_cast<int>(n) - 1);
-            projection.useMassesFromRestLengths(held);
-            const double reach = radius + tolerance + maxRest;
-            std::vector<unsigned char> hasContact(n, 0);
-            for (std::size_t i = 0; i < n; ++i) {
-                if (pinned[i]) continue;
-                const MeshCollider::Closest c =
-                    contacts.closestToPoint(m_local[i] + m_origin, reach);
-                if (c.found) {
-                    static_cast<void>(projection.setContact(static_cast<int>(i), c, m_origin,
-                                                            m_collisionStart[i],
-                                                            radius + 0.1 * tolerance, 1e-12));
-                    hasContact[i] = 1;
-                }
-            }
-            // A collider touching a segment between its points (a sharp edge, a plate's rim):
-            // the tangent plane at the touch becomes the contact of both points that have none
-            // of their own, so the whole segment keeps outside it (a point of the segment is a
-            // mix of its ends).
-            for (std::size_t s = 0; s + 1 < n; ++s) {
-                if ((pinned[s] || hasContact[s]) && (pinned[s + 1] || hasContact[s + 1])) continue;
-                const MeshCollider::Closest c = contacts.closestToSegment(
-                    m_local[s] + m_origin, m_local[s + 1] + m_origin, radius + tolerance);
-                if (!c.found || c.segmentParameter <= 0.0 || c.segmentParameter >= 1.0) continue;
-                Vec3 normal = c.normal;
-                const Vec3 onMesh = c.onMesh - m_origin;
-                if (c.distance < 1e-12 &&
-                    normal.dot(0.5 * (m_collisionStart[s] + m_collisionStart[s + 1]) - onMesh) <
-                        0.0)
-                    normal = -normal;
-                if (!normal.allFinite()) continue;
-                for (const std::size_t i : {s, s + 1})
-                    if (!pinned[i] && !hasContact[i])
-                        projection.setContact(static_cast<int>(i), normal, onMesh,
-                                              radius + 0.1 * tolerance);
-            }
-            const detail::ProjectionOutcome outcome =
-                projection.run(kContactProjectionSteps, kContactProjectionClose);
-            out.iterations += outcome.iterations;
-            if (outcome.converged && (measureViolation().status == Status::Ok ||
-                                      closeSpans(held, before, out.iterations))) {
-                const std::vector<Vec3> after = m_local;
-                m_local = before;
-                for (std::size_t i = 0; i < n; ++i)
-                    if (!pinned[i] && after[i] != before[i])
-                        m_local[i] = moveSwept(i, before[i], after[i], false);
-                penetration = pushOut(false);
-                violation = measureViolation();
-            } else {
-                m_local = before;
-                projectionFailed = true;
-            }
-        }
-        const bool runRounds = !projectionFailed || fixedMoved;
-        for (int round = 0; changed && runRounds && round < m_collisionOptions.maxRounds; ++round) {
-            if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol &&
-                penetration <= tolerance)
-                break;
-            for (std::size_t i = 1; i < n; ++i)
-                if (!pinned[i]) project(i, i - 1);
-            for (std::size_t i = n - 1; i-- > 0;)
-                if (!pinned[i]) project(i, i + 1);
-            penetration = pushOut();
-            violation = measureViolation();
-        }
-        // Lengths are never given up to contacts: when the rounds leave a segment outside its band,
-        // or the projection found no shape, and no fixed point moved (a grab, a gravity step), the
-        // hose stays at its last collision-resolved shape (if that one keeps its lengths) and the
-        // update is reported blocked. (Fixed points stay where their frames put them.)
-        bool refused = false;
-        if (changed && !fixedMoved && (violation.lengthViolation > ctol || !runRounds)) {
-            const std::vector<Vec3> rounds = m_local;
-            m_local = m_collisionStart;
-            const UpdateResult kept = measureViolation();
-            if (kept.lengthViolation <= ctol) {
-                refused = true;
-                violation = kept;
-                penetration = 0.0;
-                for (std::size_t i = 0; i < n; ++i) {
-                    const MeshCollider::Closest c =
-                        contacts.closestToPoint(m_local[i] + m_origin, queryReach);
-                    if (c.found) penetration = std::max(penetration, radius - c.distance);
-                    freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
-                }
-                if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
-            } else {
-                m_local = rounds;
-            }
-        }
-
-        // Report.
-        // Contacts: the points within two tolerances of a collider, and each segment touching
-        // one between two points that do not (a sharp edge under the middle of a segment).
-        int touching = 0;
-        std::vector<unsigned char> near(n, 0);
-        for (std::size_t i = 0; i < n; ++i)
-            if (pointClearance(i, nullptr) < 2.0 * tolerance) {
-                near[i] = 1;
-                ++touching;
-            }
-        for (std::size_t s = 0; s + 1 < n; ++s) {
-            if (near[s] || near[s + 1]) continue;
-            const double length = (m_local[s + 1] - m_local[s]).norm();
-            if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + 2.0 * tolerance)
-                continue;
-            touching += contacts
-                            .closestToSegment(m_local[s] + m_origin, m_local[s + 1] + m_origin,
-                                              radius + 2.0 * tolerance)
-                            .found;
-        }
-        out.contacts = touching;
-        out.penetration = penetration > tolerance ? penetration : 0.0;
-        bool blocked = out.penetration > 0.0 || refused;
-        if (held >= 0) {
-            const std::size_t k = static_cast<std::size_t>(held);
-            if ((m_local[k] - heldTarget).norm() > out.grabError + tolerance) {
-                blocked = true;
-                if (out.status == Status::Ok) out.status = Status::Clamped;
-            }
-            out.grabError = (m_local[k] - heldTarget).norm();
-        }
-        out.blocked = blocked;
-        // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
-        // not met, which the caller must not read as Ok.
-        if (refused && out.penetration > 0.0 && out.status == Status::Ok)
-            out.status = Status::Infeasible;
-        if (changed) {
-            out.lengthViolation = violation.lengthViolation;
-            out.angleViolation = violation.angleViolation;
-            m_dirtyViolation = violation.status != Status::Ok;
-            if ((violation.lengthViolation > ctol || violation.angleViolation > ctol) &&
-                out.status != Status::InvalidInput)
-                out.status = Status::Infeasible;
-            // Per-frame gravity (step()): a point a contact moved loses its velocity (the contact
-            // is inelastic), or the Verlet step would turn the push-back into a bounce.
-            if (m_gravityPrevious.size() == n)
-                for (std::size_t i = 0; i < n; ++i)
-                    if (m_local[i] != solved[i]) m_gravityPrevious[i] = m_local[i];
-            int moved = 0;
-            for (std::size_t i = 0; i < n; ++i)
-                moved += (m_local[i] - m_collisionStart[i]).squaredNorm() > 0.0;
-            out.movedPoints = moved;
-            ++m_revision;
-        }
-        finish();
+    // Per-point lower bounds on the clearance (axis distance − radius) stay valid while no
+    // collider moved; a point that moved less than its bound cannot have touched anything.
+    bool collidersMoved =
+        m_colliderFrames.size() != m_colliders.size() || m_collisionFree.size() != n;
+    for (std::size_t c = 0; !collidersMoved && c < m_colliders.size(); ++c)
+        collidersMoved = !sameFrame(m_colliderFrames[c], m_colliders[c]->frame());
+    if (collidersMoved) m_collisionFree.assign(n, -kInf); // unknown: query before trusting
+    auto finish = [&]() {
+        m_collisionStart = m_local;
+        m_colliderFrames.clear();
+        for (const auto& c : m_colliders)
+            m_colliderFrames.push_back(c->frame());
+        m_collisionRevision = m_revision;
     };
 
-    // Sub-steps: the largest move, relative to a collider, of a segment whose swept
-    // quadrilateral comes within half the radius of it (points alone are swept as spheres
-    // below, but a sharp edge or a plate can pass between two of them), in sub-steps of at most
-    // half the radius: the axis starts each at least radius − tolerance outside, so none can
-    // carry it through. Moves of at most one sub-step need none. (Sub-steps of 0.9 (radius −
-    // tolerance) cost less but leave RealTimeBudget's floor walk an Infeasible frame.)
-    const double pad = 0.5 * radius;
-    const double small = pad;
-    double move = 0.0;
-    {
-        Aabb region;
-        for (std::size_t i = 0; i < n; ++i) {
-            region.extend(m_collisionStart[i] + m_origin);
-            region.extend(m_local[i] + m_origin);
-        }
-        const double margin = radius + tolerance;
-        region.min.array() -= margin;
-        region.max.array() += margin;
-        const ContactSet sweep(m_colliders, m_colliderFrames, frames, region);
-        for (std::size_t s = 0; !sweep.empty() && s + 1 < n; ++s) {
-            // Fixed segments go where their frames put them; a collider in their way is an
-            // attachment driven into it, reported as penetration.
-            if (m_fixed[s] && m_fixed[s + 1]) continue;
-            move = std::max(move, sweep.sweptSegmentMove(m_collisionStart[s] + m_origin,
-                                                         m_collisionStart[s + 1] + m_origin,
-                                                         m_local[s] + m_origin,
-                                                         m_local[s + 1] + m_origin, pad, small));
-        }
+    Aabb region;
+    for (std::size_t i = 0; i < n; ++i) {
+        region.extend(m_collisionStart[i] + m_origin);
+        region.extend(m_local[i] + m_origin);
     }
-    const int steps = std::clamp(static_cast<int>(std::ceil(move / small)), 1, kMaxContactSubsteps);
-    if (steps == 1) {
-        resolveStep(result, grabbed, localTarget, frames, startIsPrevious);
+    double maxRest = 0.0;
+    for (double l : m_restLength)
+        maxRest = std::max(maxRest, l);
+    const double margin = radius + tolerance + maxRest;
+    region.min.array() -= margin;
+    region.max.array() += margin;
+    const ContactSet contacts(m_colliders, m_colliderFrames, region);
+    if (contacts.empty()) {
+        m_collisionFree.assign(n, margin - radius); // no collider within margin of any point
+        finish();
         return;
     }
+    const double queryReach = radius + 2.0 * maxRest + 0.05; // bound on one clearance query
 
-    // A grabbed point stopped by a collider on its whole way is first grabbed again towards
-    // where it can go (so the rest follows by the exact propagation), as in a single step.
+    std::vector<double>& freeBound = m_collisionFree;
+    std::vector<unsigned char> pinned(m_fixed.begin(), m_fixed.end());
+    if (grabbed >= 0) pinned[static_cast<std::size_t>(grabbed)] = 1;
+
+    // Moves point i from `from` to `to` (local), stopping at first contact and sliding along
+    // it (at most three contacts per move). Keeps freeBound[i] a lower bound.
+    auto moveSwept = [&](std::size_t i, const Vec3& from, const Vec3& to, bool relativeStart) {
+        const double length = (to - from).norm();
+        if (freeBound[i] > length) {
+            freeBound[i] -= length;
+            return to;
+        }
+        Vec3 position = from + m_origin;
+        const Vec3 goal = to + m_origin;
+        bool touched = false;
+        for (int slide = 0; slide < 3; ++slide) {
+            if ((goal - position).norm() <= 1e-15 && !(relativeStart && slide == 0)) break;
+            const ContactSet::Hit h =
+                contacts.sweep(position, goal, radius, relativeStart && slide == 0);
+            if (!h.sweep.hit) {
+                position = goal;
+                break;
+            }
+            touched = true;
+            const Vec3 contact =
+                h.start + h.sweep.fraction * (goal - h.start) + 1e-9 * h.sweep.normal;
+            Vec3 rest = goal - contact;
+            const double into = rest.dot(h.sweep.normal);
+            if (into < 0.0) rest -= into * h.sweep.normal;
+            position = contact;
+            if (slide == 2) break;
+            // Slide: the remaining move without its part into the surface.
+            const Vec3 slideGoal = contact + rest;
+            const ContactSet::Hit s2 = contacts.sweep(position, slideGoal, radius, false);
+            if (!s2.sweep.hit) {
+                position = slideGoal;
+                break;
+            }
+            position =
+                s2.start + s2.sweep.fraction * (slideGoal - s2.start) + 1e-9 * s2.sweep.normal;
+            break;
+        }
+        freeBound[i] = touched ? 0.0 : freeBound[i] - length;
+        return Vec3(position - m_origin);
+    };
+
+    std::vector<Vec3> solved = m_local; // where the collision-free solver put the points
+    bool changed = false;
+
+    // A grabbed point stopped by a collider: redo the grab from the previous shape towards
+    // where the point can go, so the rest of the hose follows it with the exact ChainTube
+    // propagation instead of being pushed into the obstacle after it.
     if (grabbed >= 0 && startIsPrevious) {
         const std::size_t k = static_cast<std::size_t>(grabbed);
-        Aabb region;
-        region.extend(m_collisionStart[k] + m_origin);
-        region.extend(m_local[k] + m_origin);
-        region.min.array() -= radius + tolerance;
-        region.max.array() += radius + tolerance;
-        const ContactSet contacts(m_colliders, m_colliderFrames, frames, region);
-        bool touched = false;
-        const Vec3 reach = Vec3(sweptMove(contacts, m_collisionStart[k] + m_origin,
-                                          m_local[k] + m_origin, radius, true, touched) -
-                                m_origin);
-        if ((reach - m_local[k]).squaredNorm() > 1e-24) {
-            const std::vector<Vec3> solved = m_local;
+        const Vec3 reach = moveSwept(k, m_collisionStart[k], solved[k], true);
+        if ((reach - solved[k]).squaredNorm() > 1e-24) {
             std::vector<std::shared_ptr<const MeshCollider>> colliders;
             colliders.swap(m_colliders); // the redo itself must not recurse into collision
             m_local = m_collisionStart;
@@ -1407,92 +956,242 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             result.status = redo.status;
             result.lengthViolation = redo.lengthViolation;
             result.angleViolation = redo.angleViolation;
+            result.movedPoints = redo.movedPoints;
             result.iterations += redo.iterations;
+            solved = m_local;
+            changed = true;
+        }
+        freeBound[k] = -kInf;
+    }
+
+    // Every point travels from its last collision-free place to where the solver put it;
+    // fixed points are where their frames put them.
+    m_local = m_collisionStart;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (m_fixed[i]) {
+            freeBound[i] -= (solved[i] - m_local[i]).norm();
+            m_local[i] = solved[i];
+            continue;
+        }
+        m_local[i] = moveSwept(i, m_local[i], solved[i], true);
+        changed |= (m_local[i] - solved[i]).squaredNorm() > 1e-24;
+    }
+
+    // Exact clearance where the bound does not exclude contact.
+    auto pointClearance = [&](std::size_t i, MeshCollider::Closest* closest) {
+        if (freeBound[i] >= tolerance) return freeBound[i];
+        const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, queryReach);
+        freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
+        if (closest) *closest = c;
+        return freeBound[i];
+    };
+    // Pushes penetrating points and segments out (with `move`; otherwise only measures);
+    // returns the deepest penetration found.
+    auto pushOut = [&](bool move = true) {
+        double deepest = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            MeshCollider::Closest c;
+            const double free = pointClearance(i, &c);
+            if (free >= -tolerance || !c.found) continue;
+            deepest = std::max(deepest, -free);
+            if (pinned[i] || !move) continue;
+            Vec3 normal = c.normal;
+            if (c.distance < 1e-12) { // centre on the surface: go back to the side it came from
+                const Vec3 back = m_collisionStart[i] + m_origin - c.onMesh;
+                if (back.dot(normal) < 0.0) normal = -normal;
+            }
+            m_local[i] = moveSwept(i, m_local[i], m_local[i] + normal * (-free), false);
+            changed = true;
+        }
+        for (std::size_t s = 0; s + 1 < n; ++s) {
+            const double length = (m_local[s + 1] - m_local[s]).norm();
+            if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + tolerance) continue;
+            const MeshCollider::Closest c = contacts.closestToSegment(
+                m_local[s] + m_origin, m_local[s + 1] + m_origin, radius - tolerance);
+            if (!c.found || c.distance >= radius - tolerance) continue;
+            const double depth = radius - c.distance;
+            deepest = std::max(deepest, depth);
+            if (!move) continue;
+            Vec3 normal = c.normal;
+            if (c.distance < 1e-12) {
+                const Vec3 mid = 0.5 * (m_collisionStart[s] + m_collisionStart[s + 1]) + m_origin;
+                if ((mid - c.onMesh).dot(normal) < 0.0) normal = -normal;
+            }
+            const double t = c.segmentParameter;
+            const double wa = pinned[s] ? 0.0 : 1.0 - t, wb = pinned[s + 1] ? 0.0 : t;
+            const double norm = wa * wa + wb * wb;
+            if (!(norm > 1e-6)) continue;
+            if (wa > 0.0)
+                m_local[s] =
+                    moveSwept(s, m_local[s], m_local[s] + normal * (depth * wa / norm), false);
+            if (wb > 0.0)
+                m_local[s + 1] = moveSwept(s + 1, m_local[s + 1],
+                                           m_local[s + 1] + normal * (depth * wb / norm), false);
+            changed = true;
+        }
+        return deepest;
+    };
+
+    // Places point i against its neighbour j = i ∓ 1: within the length band of their segment
+    // and within the deflection limit at j (turn from the segment before j). Swept.
+    auto project = [&](std::size_t i, std::size_t j) {
+        const std::size_t segment = std::min(i, j);
+        const Vec3 d = m_local[i] - m_local[j];
+        double length = d.norm();
+        Vec3 direction = Vec3::UnitX();
+        if (length > 1e-12 * m_restLength[segment]) {
+            direction = d / length;
+        } else { // on top of each other: towards i's other neighbour, else the previous shape
+            const long k = static_cast<long>(i) + (static_cast<long>(i) - static_cast<long>(j));
+            Vec3 fallback = m_collisionStart[i] - m_collisionStart[j];
+            if (k >= 0 && k < static_cast<long>(n))
+                fallback = m_local[static_cast<std::size_t>(k)] - m_local[j];
+            if (fallback.norm() > 0.0) direction = fallback.normalized();
+        }
+        const long g = static_cast<long>(j) + (static_cast<long>(j) - static_cast<long>(i));
+        if (g >= 0 && g < static_cast<long>(n) && m_cosLimit[j] > -1.0 + 1e-12) {
+            Vec3 u = m_local[j] - m_local[static_cast<std::size_t>(g)];
+            const double uLength = u.norm();
+            if (uLength > 1e-300) {
+                u /= uLength;
+                const double c = direction.dot(u);
+                if (c < m_cosLimit[j]) {
+                    Vec3 w = direction - c * u;
+                    if (w.norm() < 1e-12) w = u.unitOrthogonal();
+                    direction = m_cosLimit[j] * u + m_sinLimit[j] * w.normalized();
+                }
+            }
+        }
+        length = std::clamp(length, m_minLength[segment], m_maxLength[segment]);
+        const Vec3 target = m_local[j] + length * direction;
+        if ((target - m_local[i]).squaredNorm() > 1e-26) {
+            m_local[i] = moveSwept(i, m_local[i], target, false);
+            changed = true;
+        }
+    };
+
+    double penetration = pushOut();
+    const double ctol = m_collisionOptions.constraintTolerance;
+    UpdateResult violation = changed ? measureViolation() : UpdateResult();
+    bool fixedMoved = false;
+    for (std::size_t i = 0; i < n && !fixedMoved; ++i)
+        fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
+    // The contacts as rows of the chain projection (the tangent plane at the closest point of
+    // each collider near a free point, which the axis keeps the outer radius and a tenth of the
+    // tolerance above) with every length and bend: at most kContactProjectionSteps Newton steps
+    // from the pushed-out shape, the rest closed by the span solver when they end near. The
+    // result is kept when the points get there swept without touching anything and nothing
+    // penetrates; otherwise the contact rounds below go on from the swept shape. When the steps
+    // end far off, the update is refused (below) unless a fixed point moved: then only the
+    // rounds are left.
+    bool projectionFailed = false;
+    if (changed && (violation.status != Status::Ok || penetration > tolerance)) {
+        const std::vector<Vec3> before = m_local;
+        detail::ChainProjection projection(*this);
+        projection.setRange(0, static_cast<int>(n) - 1);
+        projection.useMassesFromRestLengths(grabbed);
+        const double reach = radius + tolerance + maxRest;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (pinned[i]) continue;
+            const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, reach);
+            if (c.found)
+                static_cast<void>(projection.setContact(static_cast<int>(i), c, m_origin,
+                                                        m_collisionStart[i],
+                                                        radius + 0.1 * tolerance, 1e-12));
+        }
+        const detail::ProjectionOutcome out =
+            projection.run(kContactProjectionSteps, kContactProjectionClose);
+        result.iterations += out.iterations;
+        if (out.converged && (measureViolation().status == Status::Ok ||
+                              closeSpans(grabbed, before, result.iterations))) {
+            const std::vector<Vec3> after = m_local;
+            m_local = before;
+            for (std::size_t i = 0; i < n; ++i)
+                if (!pinned[i] && after[i] != before[i])
+                    m_local[i] = moveSwept(i, before[i], after[i], false);
+            penetration = pushOut(false);
+            violation = measureViolation();
+        } else {
+            m_local = before;
+            projectionFailed = true;
+        }
+    }
+    const bool runRounds = !projectionFailed || fixedMoved;
+    for (int round = 0; changed && runRounds && round < m_collisionOptions.maxRounds; ++round) {
+        if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol &&
+            penetration <= tolerance)
+            break;
+        for (std::size_t i = 1; i < n; ++i)
+            if (!pinned[i]) project(i, i - 1);
+        for (std::size_t i = n - 1; i-- > 0;)
+            if (!pinned[i]) project(i, i + 1);
+        penetration = pushOut();
+        violation = measureViolation();
+    }
+    // Lengths are never given up to contacts: when the rounds leave a segment outside its band,
+    // or the projection found no shape, and no fixed point moved (a grab, a gravity step), the
+    // hose stays at its last collision-resolved shape (if that one keeps its lengths) and the
+    // update is reported blocked. (Fixed points stay where their frames put them.)
+    bool refused = false;
+    if (changed && !fixedMoved && (violation.lengthViolation > ctol || !runRounds)) {
+        const std::vector<Vec3> rounds = m_local;
+        m_local = m_collisionStart;
+        const UpdateResult kept = measureViolation();
+        if (kept.lengthViolation <= ctol) {
+            refused = true;
+            violation = kept;
+            penetration = 0.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                const MeshCollider::Closest c =
+                    contacts.closestToPoint(m_local[i] + m_origin, queryReach);
+                if (c.found) penetration = std::max(penetration, radius - c.distance);
+                freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
+            }
+            if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
+        } else {
+            m_local = rounds;
         }
     }
 
-    // The way in equal parts, the colliders placed on their way at each.
-    const std::vector<Vec3> start = m_collisionStart, solved = m_local;
-    const std::vector<Frame> previous = m_colliderFrames;
-    UpdateResult last = result;
-    int iterations = result.iterations;
-    bool blocked = false;
-    for (int step = 1; step <= steps; ++step) {
-        std::vector<Frame> placed(frames.size());
-        for (std::size_t c = 0; c < frames.size(); ++c)
-            placed[c] = between(previous[c], frames[c], double(step) / steps);
-        // Each point goes its own share of the way on from where the last sub-step left it
-        // (a point a collider pushed stays pushed); fixed points end exactly at their frames.
-        for (std::size_t i = 0; i < n; ++i)
-            m_local[i] = step == steps && m_fixed[i]
-                             ? solved[i]
-                             : Vec3(m_collisionStart[i] + (solved[i] - start[i]) / steps);
-        ++m_revision;
-        if (step == steps) {
-            last = result;
-            last.iterations = 0;
-            resolveStep(last, grabbed, localTarget, placed, false);
-        } else {
-            last = UpdateResult();
-            resolveStep(last, grabbed,
-                        grabbed >= 0 ? m_local[static_cast<std::size_t>(grabbed)] : localTarget,
-                        placed, false);
-            blocked |= last.blocked;
-        }
-        iterations += last.iterations;
-    }
-    result = last;
-    result.iterations = iterations;
-    result.blocked = result.blocked || blocked;
-    // Lengths are never given up to contacts (as in one step): sub-steps that end outside the
-    // band or a bend limit, when no fixed point moved, give the shape before the update back.
-    bool fixedMoved = false;
-    for (std::size_t i = 0; i < n && !fixedMoved; ++i)
-        fixedMoved = m_fixed[i] && solved[i] != start[i];
-    const double ctol = m_collisionOptions.constraintTolerance;
-    const UpdateResult ended = measureViolation();
-    result.lengthViolation = ended.lengthViolation;
-    result.angleViolation = ended.angleViolation;
-    if ((ended.lengthViolation > ctol || ended.angleViolation > ctol) &&
-        result.status != Status::InvalidInput)
-        result.status = Status::Infeasible;
-    if (!fixedMoved && (result.lengthViolation > ctol || result.angleViolation > ctol)) {
-        const std::vector<Vec3> shape = m_local;
-        m_local = start;
-        const UpdateResult kept = measureViolation();
-        if (kept.lengthViolation <= ctol && kept.angleViolation <= ctol) {
-            result.lengthViolation = kept.lengthViolation;
-            result.angleViolation = kept.angleViolation;
-            result.blocked = true;
-            if (result.status == Status::Infeasible)
-                result.status = grabbed >= 0 ? Status::Clamped : Status::Ok;
-            if (grabbed >= 0)
-                result.grabError =
-                    (m_local[static_cast<std::size_t>(grabbed)] - localTarget).norm();
-            // Held while a collider moved into it: the contact is not met (as in one step).
-            double penetration = 0.0;
-            for (const auto& collider : m_colliders)
-                for (std::size_t i = 0; i < n; ++i) {
-                    const MeshCollider::Closest c =
-                        collider->closestToPoint(m_local[i] + m_origin, radius);
-                    if (c.found) penetration = std::max(penetration, radius - c.distance);
-                }
-            result.penetration = penetration > tolerance ? penetration : 0.0;
-            if (result.penetration > 0.0 && result.status == Status::Ok)
-                result.status = Status::Infeasible;
-            if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
-            m_collisionStart = m_local;
-            m_collisionFree.assign(n, -kInf);
-            ++m_revision;
-            m_collisionRevision = m_revision;
-        } else {
-            m_local = shape;
-        }
-    }
-    int moved = 0;
+    // Report.
+    int touching = 0;
     for (std::size_t i = 0; i < n; ++i)
-        moved += (m_local[i] - start[i]).squaredNorm() > 0.0;
-    result.movedPoints = moved;
+        if (pointClearance(i, nullptr) < 2.0 * tolerance) ++touching;
+    result.contacts = touching;
+    result.penetration = penetration > tolerance ? penetration : 0.0;
+    bool blocked = result.penetration > 0.0 || refused;
+    if (grabbed >= 0) {
+        const std::size_t k = static_cast<std::size_t>(grabbed);
+        if ((m_local[k] - localTarget).norm() > result.grabError + tolerance) {
+            blocked = true;
+            if (result.status == Status::Ok) result.status = Status::Clamped;
+        }
+        result.grabError = (m_local[k] - localTarget).norm();
+    }
+    result.blocked = blocked;
+    // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
+    // not met, which the caller must not read as Ok.
+    if (refused && result.penetration > 0.0 && result.status == Status::Ok)
+        result.status = Status::Infeasible;
+    if (changed) {
+        result.lengthViolation = violation.lengthViolation;
+        result.angleViolation = violation.angleViolation;
+        m_dirtyViolation = violation.status != Status::Ok;
+        if ((violation.lengthViolation > ctol || violation.angleViolation > ctol) &&
+            result.status != Status::InvalidInput)
+            result.status = Status::Infeasible;
+        // Per-frame gravity (step()): a point a contact moved loses its velocity (the contact is
+        // inelastic), or the Verlet step would turn the push-back into a bounce.
+        if (m_gravityPrevious.size() == n)
+            for (std::size_t i = 0; i < n; ++i)
+                if (m_local[i] != solved[i]) m_gravityPrevious[i] = m_local[i];
+        int moved = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            moved += (m_local[i] - m_collisionStart[i]).squaredNorm() > 0.0;
+        result.movedPoints = moved;
+        ++m_revision;
+    }
+    finish();
 }
 
 } // namespace chaintube

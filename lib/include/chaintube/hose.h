@@ -82,8 +82,7 @@ struct [[nodiscard]] UpdateResult
     /// triangles, so at most outerRadius(). Collision works on surfaces: an axis point deep
     /// inside a closed object shows only where the hose crosses the object's surface.
     double penetration = 0.0;
-    /// Collision: axis points touching a collider after the update, and segments touching one
-    /// between two points that do not (a sharp edge under a segment's middle), one each.
+    /// Collision: axis points touching a collider after the update.
     int contacts = 0;
     /// Work done: Newton steps of the span solver and the chain projection (each O(points of
     /// the span or range it solves)); 0 for the paper's propagation alone. Bounded per update
@@ -390,12 +389,8 @@ public:
     const CollisionOptions& collisionOptions() const { return m_collisionOptions; }
     /// Push the hose out of its colliders now (after moving a collider's frame, or after
     /// setColliders on a shape that intersects): points inside are moved out on the side
-    /// their centre is on, then the contact rounds run. A collider that moved since the last
-    /// update is swept relative to the hose; a move that would carry a segment to within half
-    /// the outer radius of it is resolved in sub-steps of at most half the radius (at most 32;
-    /// lib/README.md, "Collision"). Where the hose cannot give way (its reach, its fixed
-    /// points) it is held and the update is blocked, with penetration where the collider is
-    /// inside it.
+    /// their centre is on, then the contact rounds run. A collider moving farther than the
+    /// hose radius in one step can pass through a hose (discrete for moving colliders).
     UpdateResult resolveCollisions();
 
     /// Largest violation of the length band (relative) and of the deflection limits (rad).
