@@ -26,21 +26,21 @@ std::vector<Vec3> distinctPoints(const std::vector<Vec3>& route)
 }
 
 /// A corner's turn (radians) and the tangent length an arc of `radius` needs there.
-struct Corner
+struct RouteCorner
 {
     double turn = 0.0;
     double wanted = 0.0; ///< radius · tan(turn / 2); 0 for a straight corner or a reversal
     bool roundable = false;
 };
 
-std::vector<Corner> cornersOf(const std::vector<Vec3>& points, double radius)
+std::vector<RouteCorner> cornersOf(const std::vector<Vec3>& points, double radius)
 {
-    std::vector<Corner> corners(points.size());
+    std::vector<RouteCorner> corners(points.size());
     for (size_t i = 1; i + 1 < points.size(); ++i) {
         const Vec3 d1 = (points[i] - points[i - 1]).normalized();
         const Vec3 d2 = (points[i + 1] - points[i]).normalized();
         const double cosTurn = std::clamp(d1.dot(d2), -1.0, 1.0);
-        Corner& corner = corners[i];
+        RouteCorner& corner = corners[i];
         corner.turn = std::acos(cosTurn);
         // Straight, or an exact reversal, which no arc can round.
         corner.roundable = corner.turn >= 1e-9 && (d2 - cosTurn * d1).norm() >= 1e-12;
@@ -53,7 +53,7 @@ std::vector<Corner> cornersOf(const std::vector<Vec3>& points, double radius)
 /// corners on them, else each leg shared in proportion to what its two corners want (an end
 /// leg belongs to its one corner whole).
 std::vector<double> tangentLengths(const std::vector<Vec3>& points,
-                                   const std::vector<Corner>& corners)
+                                   const std::vector<RouteCorner>& corners)
 {
     const size_t n = points.size();
     std::vector<double> tangent(n, 0.0);
@@ -81,7 +81,7 @@ std::vector<Vec3> filletRoute(const std::vector<Vec3>& route, double radius, dou
     const std::vector<Vec3> points = distinctPoints(route);
     if (points.size() < 3 || radius == 0.0) return points;
 
-    const std::vector<Corner> corners = cornersOf(points, radius);
+    const std::vector<RouteCorner> corners = cornersOf(points, radius);
     const std::vector<double> tangent = tangentLengths(points, corners);
     std::vector<Vec3> out{points.front()};
     for (size_t i = 1; i + 1 < points.size(); ++i) {
@@ -124,10 +124,10 @@ std::vector<TightCorner> tightCorners(const std::vector<Vec3>& route, double rad
             index.push_back(static_cast<int>(i));
         }
     if (points.size() < 3) return tight;
-    const std::vector<Corner> corners = cornersOf(points, radius);
+    const std::vector<RouteCorner> corners = cornersOf(points, radius);
     const std::vector<double> tangent = tangentLengths(points, corners);
     for (size_t i = 1; i + 1 < points.size(); ++i) {
-        const Corner& corner = corners[i];
+        const RouteCorner& corner = corners[i];
         if (corner.turn < 1e-9) continue;
         const double reached = corner.roundable ? tangent[i] / std::tan(0.5 * corner.turn) : 0.0;
         if (reached < radius * (1.0 - 1e-9)) tight.push_back({index[i], reached, corner.turn});

@@ -19,7 +19,7 @@ int nextPin(const Hose& hose, int from, int step, int ownId)
     return -1;
 }
 
-struct Side
+struct PullSide
 {
     Vec3 pull = Vec3::Zero(); ///< tautness · strain (floored) · unit direction
     double tautness = 0.0;
@@ -27,9 +27,9 @@ struct Side
     double forcePerStiffness = 0.0;
 };
 
-Side sideOf(const Hose& hose, const Hose::Attachment& own, int step)
+PullSide pullSideOf(const Hose& hose, const Hose::Attachment& own, int step)
 {
-    Side side;
+    PullSide side;
     const int start = step > 0 ? own.last : own.first;
     const int end = nextPin(hose, start, step, own.id);
     if (end < 0) return side; // a free end: slack
@@ -76,7 +76,7 @@ AttachmentPull attachmentPull(const Hose& hose, int id)
     for (const int step : {-1, +1}) {
         if ((step < 0 && own->first == 0) || (step > 0 && own->last == hose.pointCount() - 1))
             continue;
-        const Side side = sideOf(hose, *own, step);
+        const PullSide side = pullSideOf(hose, *own, step);
         pull += side.pull;
         result.tautness = std::max(result.tautness, side.tautness);
         if (side.tautness > 0.0) result.strain = std::max(result.strain, side.strain);
