@@ -198,6 +198,31 @@ protected:
         settle();
     }
 
+    /// Lays out a new hose by clicks on the floor plate nearest (in x and z) each of `spots`
+    /// (N, the clicks, Enter); returns the route points as the clicks placed them.
+    std::vector<Vec3> layRouteOnTheFloor(const std::vector<Vec3>& spots)
+    {
+        Viewport& viewport = m_window->viewport();
+        const auto floor = topHits("/test-rig/floor_plate");
+        EXPECT_FALSE(floor.empty());
+        if (floor.empty()) return {};
+        QTest::keyClick(&viewport, Qt::Key_N);
+        for (const Vec3& spot : spots) {
+            auto d = [&](const Vec3& p) { return std::hypot(p.x() - spot.x(), p.z() - spot.z()); };
+            const auto nearest =
+                std::min_element(floor.begin(), floor.end(), [&](const auto& a, const auto& b) {
+                    return d(a.second.point) < d(b.second.point);
+                });
+            QTest::mouseClick(&viewport, Qt::LeftButton, {}, nearest->first);
+        }
+        const std::vector<Vec3> clicked = viewport.pendingRoute();
+        EXPECT_EQ(clicked.size(), spots.size());
+        takeKeys();
+        QTest::keyClick(&viewport, Qt::Key_Return);
+        settle();
+        return clicked;
+    }
+
     std::unique_ptr<MainWindow> m_window;
     QMessageBox::StandardButton m_answer = QMessageBox::No;
     QStringList m_questions;
@@ -725,38 +750,16 @@ TEST_F(MainWindowTest, FourClicksOnTheStepBracketLayAHoseOutsideTheBracket)
 // Route points clicked on the bracket's flange next to its upright (where the flange's own
 // normal would leave the point nearer the upright than the hose's radius plus the clearance)
 // are moved on until every surface of the scene keeps that distance.
-/// The screen position whose upward hit on `path` lies nearest to the world point `wanted`
-/// (in x and z).
-std::pair<QPoint, ScenePickHit> nearestHit(const std::vector<std::pair<QPoint, ScenePickHit>>& hits,
-                                           const Vec3& wanted)
-{
-    return *std::min_element(hits.begin(), hits.end(), [&](const auto& a, const auto& b) {
-        auto d = [&](const Vec3& p) { return std::hypot(p.x() - wanted.x(), p.z() - wanted.z()); };
-        return d(a.second.point) < d(b.second.point);
-    });
-}
-
 TEST_F(MainWindowTest, ARouteClickedPastTheValveIsValidWhenLaid)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("route-valid-when-laid")));
     Document& document = m_window->document();
-    Viewport& viewport = m_window->viewport();
     settle();
     // Along the floor past the valve: the leg between the middle clicks passes 5.5 mm from the
     // valve's corner, which reaches to z = 0.1995 m (a hose of 10 mm radius would run into it).
-    const auto floor = topHits("/test-rig/floor_plate");
-    ASSERT_FALSE(floor.empty());
-    const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {
-        nearestHit(floor, Vec3(-0.35, 0, 0.0)), nearestHit(floor, Vec3(-0.2, 0, 0.205)),
-        nearestHit(floor, Vec3(0.2, 0, 0.205)), nearestHit(floor, Vec3(0.35, 0, 0.0))};
-    QTest::keyClick(&viewport, Qt::Key_N);
-    for (const auto& click : clicks)
-        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
-    ASSERT_EQ(viewport.pendingRoute().size(), clicks.size());
-    const std::vector<Vec3> clicked = viewport.pendingRoute();
-    takeKeys();
-    QTest::keyClick(&viewport, Qt::Key_Return);
-    settle();
+    const std::vector<Vec3> clicked = layRouteOnTheFloor(
+        {Vec3(-0.35, 0, 0.0), Vec3(-0.2, 0, 0.205), Vec3(0.2, 0, 0.205), Vec3(0.35, 0, 0.0)});
+    ASSERT_EQ(clicked.size(), 4u);
     ASSERT_EQ(document.hoseCount(), 3) << m_errors.join('\n').toStdString();
     const std::string id = document.project().hoses.back().id;
     const formats::HoseDefinition& definition = *document.hoseDefinition(id);
@@ -766,7 +769,7 @@ TEST_F(MainWindowTest, ARouteClickedPastTheValveIsValidWhenLaid)
     for (const Vec3& p : definition.route)
         if (std::find(clicked.begin(), clicked.end(), p) != clicked.end()) kept.push_back(p);
     EXPECT_EQ(kept, clicked);
-    EXPECT_GT(definition.route.size(), clicks.size()) << "route points were added";
+    EXPECT_GT(definition.route.size(), clicked.size()) << "route points were added";
     // Valid as laid: every segment in its band, every bend within the limit, clear of every
     // part by the clearance, and no problem listed for it.
     const HoseMetrics m = measure(hose);
@@ -789,7 +792,7 @@ TEST_F(MainWindowTest, ARouteClickedPastTheValveIsValidWhenLaid)
     }
     std::printf("route of %zu clicks laid with %zu points; the axis keeps %.3f mm from every "
                 "part (%.3f wanted)\n",
-                clicks.size(), definition.route.size(), smallest * 1000.0, wanted * 1000.0);
+                clicked.size(), definition.route.size(), smallest * 1000.0, wanted * 1000.0);
     EXPECT_GE(smallest, wanted * (1 - 1e-3));
     m_window->problems().refreshNow();
     for (const Problem& problem : m_window->problems().problems())
@@ -804,21 +807,13 @@ TEST_F(MainWindowTest, ACornerTheClicksLeaveTooTightIsNamedByItsRoutePoint)
 {
     ASSERT_TRUE(m_window->openFile(copyOfTestRig("route-tight-corner")));
     Document& document = m_window->document();
-    Viewport& viewport = m_window->viewport();
     settle();
     // Along the floor in front of the valve, then 5 cm on and back: no 100 mm bend fits at the
     // hairpin's two corners (route points 2 and 3).
-    const auto floor = topHits("/test-rig/floor_plate");
-    ASSERT_FALSE(floor.empty());
-    const std::vector<std::pair<QPoint, ScenePickHit>> clicks = {
-        nearestHit(floor, Vec3(-0.3, 0, 0.22)), nearestHit(floor, Vec3(0.25, 0, 0.22)),
-        nearestHit(floor, Vec3(0.28, 0, 0.18)), nearestHit(floor, Vec3(-0.2, 0, 0.18))};
-    QTest::keyClick(&viewport, Qt::Key_N);
-    for (const auto& click : clicks)
-        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click.first);
-    takeKeys();
-    QTest::keyClick(&viewport, Qt::Key_Return);
-    settle();
+    ASSERT_EQ(layRouteOnTheFloor({Vec3(-0.3, 0, 0.22), Vec3(0.25, 0, 0.22), Vec3(0.28, 0, 0.18),
+                                  Vec3(-0.2, 0, 0.18)})
+                  .size(),
+              4u);
     ASSERT_EQ(document.hoseCount(), 3) << m_errors.join('\n').toStdString();
     const std::string id = document.project().hoses.back().id;
     m_window->problems().refreshNow();

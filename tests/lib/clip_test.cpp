@@ -9,6 +9,7 @@
 namespace chaintube {
 namespace {
 
+using test::translated;
 using test::violation;
 
 /// 1 m, 50 segments, inextensible, minimum bend radius 0.1 m.
@@ -53,13 +54,6 @@ Through through(const Hose& hose, int id)
         t.arcLength += (hose.point(s + 1) - hose.point(s)).norm();
     t.arcLength += (centre - a).dot(d);
     return t;
-}
-
-Frame translated(const Vec3& by)
-{
-    Frame f;
-    f.translation = by;
-    return f;
 }
 
 TEST(Clip, AddedAtAPlaceHoldsTheHoseThereWithoutMovingIt)

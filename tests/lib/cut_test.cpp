@@ -6,13 +6,6 @@ using namespace chaintube::test;
 
 namespace {
 
-Frame at(const Vec3& translation)
-{
-    Frame frame = Frame::identity();
-    frame.translation = translation;
-    return frame;
-}
-
 HoseSpec cutSpec()
 {
     HoseSpec spec;
@@ -29,7 +22,7 @@ TEST(CutHose, BothPiecesKeepTheirPointsRestLengthsAndAttachmentsAndEndFreeAtTheC
     Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.4, 0.2, 0), Vec3(0.8, 0, 0)}, cutSpec());
     const int n = hose.pointCount() - 1;
     const int a = hose.attach(0, 1, Frame::identity());
-    const int b = hose.attach(n - 1, n, at(Vec3(0.8, 0, 0)));
+    const int b = hose.attach(n - 1, n, translated(Vec3(0.8, 0, 0)));
     const CutHose cut = cutHose(hose, 12);
     ASSERT_EQ(cut.before.pointCount(), 13);
     ASSERT_EQ(cut.after.pointCount(), n - 12 + 1);
@@ -60,7 +53,8 @@ TEST(CutHose, BothPiecesKeepTheirPointsRestLengthsAndAttachmentsAndEndFreeAtTheC
     // The pieces go on as hoses of their own: the part moved, its piece follows, the free end
     // trails; the other piece is untouched.
     Hose after = cut.after;
-    const UpdateResult moved = after.moveAttachment(cut.attachments[1].id, at(Vec3(0.9, 0.1, 0)));
+    const UpdateResult moved =
+        after.moveAttachment(cut.attachments[1].id, translated(Vec3(0.9, 0.1, 0)));
     EXPECT_EQ(moved.status, Status::Ok);
     EXPECT_CONSTRAINTS_HOLD(after, 1e-9);
     EXPECT_LE(after.attachmentGap(cut.attachments[1].id), 1e-9);

@@ -6,13 +6,6 @@ using namespace chaintube::test;
 
 namespace {
 
-Frame at(const Vec3& translation)
-{
-    Frame frame = Frame::identity();
-    frame.translation = translation;
-    return frame;
-}
-
 /// A 1 m hose laid as an arc between ends 0.8 m apart along x, one segment fixed at each end.
 struct Span
 {
@@ -62,7 +55,7 @@ TEST(AttachmentPull, AnEndPulledBeyondReachPullsBothPartsTowardsEachOtherAndRele
     // Out along +x in 1 cm steps to 0.3 m beyond the start: drawn straight, then beyond reach.
     double lastTautness = 0.0;
     for (int k = 1; k <= 30; ++k) {
-        static_cast<void>(span.hose.moveAttachment(span.far, at(Vec3(0.01 * k, 0, 0))));
+        static_cast<void>(span.hose.moveAttachment(span.far, translated(Vec3(0.01 * k, 0, 0))));
         const AttachmentPull pull = attachmentPull(span.hose, span.near);
         EXPECT_GE(pull.tautness, lastTautness - 1e-12) << "step " << k << ": never slackens";
         lastTautness = pull.tautness;
@@ -92,7 +85,7 @@ TEST(AttachmentPull, AnEndPulledBeyondReachPullsBothPartsTowardsEachOtherAndRele
     EXPECT_EQ(near.force(-1.0), Vec3::Zero());
     // Released: back to where it was, the hose is slack again and pulls nothing.
     for (int k = 29; k >= 0; --k)
-        static_cast<void>(span.hose.moveAttachment(span.far, at(Vec3(0.01 * k, 0, 0))));
+        static_cast<void>(span.hose.moveAttachment(span.far, translated(Vec3(0.01 * k, 0, 0))));
     EXPECT_LE(span.hose.attachmentGap(span.far), 1e-9);
     const AttachmentPull released = attachmentPull(span.hose, span.near);
     EXPECT_EQ(released.tautness, 0.0);
@@ -108,7 +101,8 @@ TEST(AttachmentPull, AStretchableHoseDrawnBeyondItsLengthPullsInProportionToItsS
     const double chordWanted = restFree * 1.03;
     const double move = chordWanted + span.hose.restLength(0) + span.hose.restLength(39) - 0.8;
     for (int k = 1; k <= 40; ++k)
-        static_cast<void>(span.hose.moveAttachment(span.far, at(Vec3(move * k / 40.0, 0, 0))));
+        static_cast<void>(
+            span.hose.moveAttachment(span.far, translated(Vec3(move * k / 40.0, 0, 0))));
     ASSERT_LE(span.hose.attachmentGap(span.far), 1e-9) << "within the stretch band: met";
     const AttachmentPull pull = attachmentPull(span.hose, span.near);
     const double chord = (span.hose.point(span.hose.pointCount() - 2) - span.hose.point(1)).norm();

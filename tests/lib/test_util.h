@@ -21,6 +21,14 @@ inline HoseSpec paperSpec(int segments = 12, double expansion = 0.2, double defl
     return spec;
 }
 
+/// A frame that only translates (world metres), as a part moved along a straight line.
+inline Frame translated(const Vec3& by)
+{
+    Frame frame = Frame::identity();
+    frame.translation = by;
+    return frame;
+}
+
 /// Half the angle subtended by a circular arc whose chord is `ratio` times its length (chord
 /// 2 R sin h, length 2 R h): the root of sin h = ratio · h, by Newton's method from 1.
 inline double arcHalfAngle(double ratio)
