@@ -329,7 +329,7 @@ UpdateResult Hose::step()
             result.angleViolation = after.angleViolation;
             for (size_t i = 0; i < n; ++i)
                 result.movedPoints += m_local[i] != start[i] ? 1 : 0;
-            if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
+            if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // hose_contact.cpp
             return result;
         }
         m_dirtyViolation = false;
@@ -452,7 +452,7 @@ UpdateResult Hose::step()
     const int iterations = result.iterations;
     result = engine.measuredValid && !tails ? engine.measured : measureViolation();
     result.iterations = iterations;
-    if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
+    if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // hose_contact.cpp
     double stepMotion = 0.0;
     for (size_t i = 0; i < n; ++i) {
         result.movedPoints += m_local[i] != start[i] ? 1 : 0;

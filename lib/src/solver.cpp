@@ -1090,7 +1090,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     result.movedPoints = moved;
     m_held = index;
     if (moved > 0 || m_attachments.empty()) ++m_revision;
-    if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // collision.cpp
+    if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // hose_contact.cpp
     // Remember a grab that moved nothing (on its target, or at the edge of its reach and no
     // nearer): the same target again, from the same shape, is answered at once.
     m_edgePoint = moved == 0 ? index : -1;
@@ -1318,7 +1318,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
     for (size_t i = 0; i < m_local.size(); ++i)
         result.movedPoints += m_local[i] != m_scratch[i];
     ++m_revision;
-    if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // collision.cpp
+    if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // hose_contact.cpp
     return result;
 }
 

@@ -38,6 +38,11 @@ struct Aabb
         min = min.cwiseMin(box.min);
         max = max.cwiseMax(box.max);
     }
+    /// Whether the two closed boxes share a point (boxes that only touch overlap).
+    bool overlaps(const Aabb& box) const
+    {
+        return (min.array() <= box.max.array()).all() && (box.min.array() <= max.array()).all();
+    }
 };
 
 /// A rigid triangle mesh that hoses stay outside of.
@@ -138,7 +143,7 @@ public:
 private:
     MeshCollider() = default;
     void build();
-    /// Depth-first traversal shared by every query (collision.cpp documents the visitor).
+    /// Depth-first traversal shared by every query (mesh_collider.cpp documents the visitor).
     template <class Visitor> void traverse(Visitor& visitor) const;
     std::vector<Triangle> m_triangles; ///< in the BVH's leaf order
     std::vector<int> m_originalIndex;  ///< triangle index as given, per stored triangle

@@ -496,7 +496,7 @@ private:
     };
     TrustCarry m_trustCarry;
 
-    /// Collision hook at the end of every update entry point (collision.cpp); no-op without
+    /// Collision hook at the end of every update entry point (hose_contact.cpp); no-op without
     /// colliders. `grabbed` is the grabbed point (−1 if none) and its requested local target.
     void applyCollisions(UpdateResult& result, int grabbed, const Vec3& localTarget);
     std::vector<std::shared_ptr<const MeshCollider>> m_colliders;

@@ -1,0 +1,496 @@
+// A hose staying outside its colliders: Hose::setColliders, resolveCollisions and
+// applyCollisions, the contact step every grab, attachment move and gravity step ends with.
+// The colliders' geometry and queries are in mesh_collider.cpp.
+#include "chaintube/collision.h"
+#include "chaintube/hose.h"
+#include "projection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace chaintube {
+
+namespace {
+
+/// Hose::applyCollisions: Newton steps of the chain projection with the contacts, and the
+/// largest violation it stops at (relative length, radians, contact depth over a segment), from
+/// which the span solver closes the rest exactly (Hose::closeSpans): its moves are of the order
+/// of the violation.
+constexpr int kContactProjectionSteps = 8;
+constexpr double kContactProjectionClose = 1e-5;
+/// A clearance bound not yet known (applyCollisions' per-point bounds).
+constexpr double kUnknownClearance = -std::numeric_limits<double>::infinity();
+
+} // namespace
+
+// --- Hose: staying outside the colliders ----------------------------------------------------
+
+void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> colliders,
+                        const CollisionOptions& options)
+{
+    for (std::size_t i = 0; i < colliders.size(); ++i)
+        if (!colliders[i])
+            throw InvalidArgument("colliders[" + std::to_string(i) +
+                                  "]: expected a collider, got null");
+    if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
+        throw InvalidArgument("collision tolerance: expected a finite value > 0 metres");
+    if (!(options.constraintTolerance > 0.0) || !std::isfinite(options.constraintTolerance))
+        throw InvalidArgument("collision constraintTolerance: expected a finite value > 0");
+    if (options.maxRounds < 1) throw InvalidArgument("collision maxRounds: expected ≥ 1");
+    m_colliders = std::move(colliders);
+    m_collisionOptions = options;
+    m_collisionStart.clear();
+    m_collisionFree.clear();
+    m_colliderFrames.clear();
+    for (const auto& c : m_colliders)
+        m_colliderFrames.push_back(c->frame());
+    if (!m_colliders.empty()) m_collisionStart = m_local;
+    m_collisionRevision = m_revision;
+    m_edgePoint = -1; // grab(): what was the edge of reach may no longer be
+}
+
+UpdateResult Hose::resolveCollisions()
+{
+    UpdateResult result = measureViolation();
+    result.status = Status::Ok;
+    if (m_colliders.empty()) return result;
+    if (m_collisionStart.size() != m_local.size()) m_collisionStart = m_local;
+    applyCollisions(result, -1, Vec3::Zero());
+    return result;
+}
+
+namespace {
+
+bool sameFrame(const Frame& a, const Frame& b)
+{
+    return a.translation == b.translation && a.rotation.coeffs() == b.rotation.coeffs();
+}
+
+/// The colliders near one hose update, queried in world coordinates. A collider that moved
+/// since the last update carries the relative motion new ∘ old⁻¹: a sweep that starts from the
+/// hose's previous shape starts from where that shape sat relative to the collider, so a
+/// moving collider pushes the hose instead of jumping over it.
+class ContactSet
+{
+public:
+    ContactSet(const std::vector<std::shared_ptr<const MeshCollider>>& all,
+               const std::vector<Frame>& previousFrames, const Aabb& region)
+    {
+        for (std::size_t c = 0; c < all.size(); ++c) {
+            const MeshCollider& collider = *all[c];
+            Entry entry{&collider, Frame::identity(), false};
+            if (c < previousFrames.size() && !sameFrame(previousFrames[c], collider.frame())) {
+                entry.relative = collider.frame() * previousFrames[c].inverse();
+                entry.moved = true;
+            }
+            // A collider that moved is always checked (its relative sweep starts elsewhere).
+            if (entry.moved || collider.worldBounds().overlaps(region)) m_near.push_back(entry);
+        }
+    }
+    bool empty() const { return m_near.empty(); }
+
+    struct Hit
+    {
+        MeshCollider::Sweep sweep;
+        Vec3 start = Vec3::Zero(); ///< where the sweep began for the collider that was hit
+    };
+    /// First contact of a sphere moving from `from` to `to`; with relativeStart, `from` is a
+    /// position of the previous update (see the class comment).
+    Hit sweep(const Vec3& from, const Vec3& to, double radius, bool relativeStart) const
+    {
+        Hit best;
+        for (const Entry& e : m_near) {
+            const Vec3 start = relativeStart && e.moved ? e.relative.apply(from) : from;
+            const MeshCollider::Sweep s = e.collider->sweepSphere(start, to, radius);
+            if (s.hit && (!best.sweep.hit || s.fraction < best.sweep.fraction)) {
+                best.sweep = s;
+                best.start = start;
+            }
+        }
+        return best;
+    }
+    MeshCollider::Closest closestToPoint(const Vec3& p, double maxDistance) const
+    {
+        MeshCollider::Closest best;
+        for (const Entry& e : m_near) {
+            const MeshCollider::Closest q =
+                e.collider->closestToPoint(p, best.found ? best.distance : maxDistance);
+            if (q.found && (!best.found || q.distance < best.distance)) best = q;
+        }
+        return best;
+    }
+    MeshCollider::Closest closestToSegment(const Vec3& a, const Vec3& b, double maxDistance) const
+    {
+        MeshCollider::Closest best;
+        for (const Entry& e : m_near) {
+            const MeshCollider::Closest q =
+                e.collider->closestToSegment(a, b, best.found ? best.distance : maxDistance);
+            if (q.found && (!best.found || q.distance < best.distance)) best = q;
+        }
+        return best;
+    }
+
+private:
+    struct Entry
+    {
+        const MeshCollider* collider;
+        Frame relative;
+        bool moved;
+    };
+    std::vector<Entry> m_near;
+};
+
+} // namespace
+
+void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localTarget)
+{
+    if (m_colliders.empty()) return;
+    const std::size_t n = m_local.size();
+    const double radius = outerRadius();
+    const double tolerance = m_collisionOptions.tolerance;
+    // The previous shape is exactly the one before this update when only this update changed
+    // the revision; a grab can then be redone from it (below).
+    const bool startIsPrevious =
+        m_collisionStart.size() == n && m_revision == m_collisionRevision + 1;
+    if (m_collisionStart.size() != n) m_collisionStart = m_local;
+
+    // Per-point lower bounds on the clearance (axis distance − radius) stay valid while no
+    // collider moved; a point that moved less than its bound cannot have touched anything.
+    bool collidersMoved =
+        m_colliderFrames.size() != m_colliders.size() || m_collisionFree.size() != n;
+    for (std::size_t c = 0; !collidersMoved && c < m_colliders.size(); ++c)
+        collidersMoved = !sameFrame(m_colliderFrames[c], m_colliders[c]->frame());
+    if (collidersMoved)
+        m_collisionFree.assign(n, kUnknownClearance); // unknown: query before trusting
+    auto finish = [&]() {
+        m_collisionStart = m_local;
+        m_colliderFrames.clear();
+        for (const auto& c : m_colliders)
+            m_colliderFrames.push_back(c->frame());
+        m_collisionRevision = m_revision;
+    };
+
+    Aabb region;
+    for (std::size_t i = 0; i < n; ++i) {
+        region.extend(m_collisionStart[i] + m_origin);
+        region.extend(m_local[i] + m_origin);
+    }
+    double maxRest = 0.0;
+    for (double l : m_restLength)
+        maxRest = std::max(maxRest, l);
+    const double margin = radius + tolerance + maxRest;
+    region.min.array() -= margin;
+    region.max.array() += margin;
+    const ContactSet contacts(m_colliders, m_colliderFrames, region);
+    if (contacts.empty()) {
+        m_collisionFree.assign(n, margin - radius); // no collider within margin of any point
+        finish();
+        return;
+    }
+    const double queryReach = radius + 2.0 * maxRest + 0.05; // bound on one clearance query
+
+    std::vector<double>& freeBound = m_collisionFree;
+    std::vector<unsigned char> pinned(m_fixed.begin(), m_fixed.end());
+    if (grabbed >= 0) pinned[static_cast<std::size_t>(grabbed)] = 1;
+
+    // Moves point i from `from` to `to` (local), stopping at first contact and sliding along
+    // it (at most three contacts per move). Keeps freeBound[i] a lower bound.
+    auto moveSwept = [&](std::size_t i, const Vec3& from, const Vec3& to, bool relativeStart) {
+        const double length = (to - from).norm();
+        if (freeBound[i] > length) {
+            freeBound[i] -= length;
+            return to;
+        }
+        Vec3 position = from + m_origin;
+        const Vec3 goal = to + m_origin;
+        bool touched = false;
+        for (int slide = 0; slide < 3; ++slide) {
+            if ((goal - position).norm() <= 1e-15 && !(relativeStart && slide == 0)) break;
+            const ContactSet::Hit h =
+                contacts.sweep(position, goal, radius, relativeStart && slide == 0);
+            if (!h.sweep.hit) {
+                position = goal;
+                break;
+            }
+            touched = true;
+            const Vec3 contact =
+                h.start + h.sweep.fraction * (goal - h.start) + 1e-9 * h.sweep.normal;
+            Vec3 rest = goal - contact;
+            const double into = rest.dot(h.sweep.normal);
+            if (into < 0.0) rest -= into * h.sweep.normal;
+            position = contact;
+            if (slide == 2) break;
+            // Slide: the remaining move without its part into the surface.
+            const Vec3 slideGoal = contact + rest;
+            const ContactSet::Hit s2 = contacts.sweep(position, slideGoal, radius, false);
+            if (!s2.sweep.hit) {
+                position = slideGoal;
+                break;
+            }
+            position =
+                s2.start + s2.sweep.fraction * (slideGoal - s2.start) + 1e-9 * s2.sweep.normal;
+            break;
+        }
+        freeBound[i] = touched ? 0.0 : freeBound[i] - length;
+        return Vec3(position - m_origin);
+    };
+
+    std::vector<Vec3> solved = m_local; // where the collision-free solver put the points
+    bool changed = false;
+
+    // A grabbed point stopped by a collider: redo the grab from the previous shape towards
+    // where the point can go, so the rest of the hose follows it with the exact ChainTube
+    // propagation instead of being pushed into the obstacle after it.
+    if (grabbed >= 0 && startIsPrevious) {
+        const std::size_t k = static_cast<std::size_t>(grabbed);
+        const Vec3 reach = moveSwept(k, m_collisionStart[k], solved[k], true);
+        if ((reach - solved[k]).squaredNorm() > 1e-24) {
+            std::vector<std::shared_ptr<const MeshCollider>> colliders;
+            colliders.swap(m_colliders); // the redo itself must not recurse into collision
+            m_local = m_collisionStart;
+            const UpdateResult redo = grab(grabbed, reach + m_origin);
+            m_colliders.swap(colliders);
+            result.status = redo.status;
+            result.lengthViolation = redo.lengthViolation;
+            result.angleViolation = redo.angleViolation;
+            result.movedPoints = redo.movedPoints;
+            result.iterations += redo.iterations;
+            solved = m_local;
+            changed = true;
+        }
+        freeBound[k] = kUnknownClearance;
+    }
+
+    // Every point travels from its last collision-free place to where the solver put it;
+    // fixed points are where their frames put them.
+    m_local = m_collisionStart;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (m_fixed[i]) {
+            freeBound[i] -= (solved[i] - m_local[i]).norm();
+            m_local[i] = solved[i];
+            continue;
+        }
+        m_local[i] = moveSwept(i, m_local[i], solved[i], true);
+        changed |= (m_local[i] - solved[i]).squaredNorm() > 1e-24;
+    }
+
+    // Exact clearance where the bound does not exclude contact.
+    auto pointClearance = [&](std::size_t i, MeshCollider::Closest* closest) {
+        if (freeBound[i] >= tolerance) return freeBound[i];
+        const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, queryReach);
+        freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
+        if (closest) *closest = c;
+        return freeBound[i];
+    };
+    // Pushes penetrating points and segments out (with `move`; otherwise only measures);
+    // returns the deepest penetration found.
+    auto pushOut = [&](bool move = true) {
+        double deepest = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            MeshCollider::Closest c;
+            const double free = pointClearance(i, &c);
+            if (free >= -tolerance || !c.found) continue;
+            deepest = std::max(deepest, -free);
+            if (pinned[i] || !move) continue;
+            Vec3 normal = c.normal;
+            if (c.distance < 1e-12) { // centre on the surface: go back to the side it came from
+                const Vec3 back = m_collisionStart[i] + m_origin - c.onMesh;
+                if (back.dot(normal) < 0.0) normal = -normal;
+            }
+            m_local[i] = moveSwept(i, m_local[i], m_local[i] + normal * (-free), false);
+            changed = true;
+        }
+        for (std::size_t s = 0; s + 1 < n; ++s) {
+            const double length = (m_local[s + 1] - m_local[s]).norm();
+            if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + tolerance) continue;
+            const MeshCollider::Closest c = contacts.closestToSegment(
+                m_local[s] + m_origin, m_local[s + 1] + m_origin, radius - tolerance);
+            if (!c.found || c.distance >= radius - tolerance) continue;
+            const double depth = radius - c.distance;
+            deepest = std::max(deepest, depth);
+            if (!move) continue;
+            Vec3 normal = c.normal;
+            if (c.distance < 1e-12) {
+                const Vec3 mid = 0.5 * (m_collisionStart[s] + m_collisionStart[s + 1]) + m_origin;
+                if ((mid - c.onMesh).dot(normal) < 0.0) normal = -normal;
+            }
+            const double t = c.segmentParameter;
+            const double wa = pinned[s] ? 0.0 : 1.0 - t, wb = pinned[s + 1] ? 0.0 : t;
+            const double norm = wa * wa + wb * wb;
+            if (!(norm > 1e-6)) continue;
+            if (wa > 0.0)
+                m_local[s] =
+                    moveSwept(s, m_local[s], m_local[s] + normal * (depth * wa / norm), false);
+            if (wb > 0.0)
+                m_local[s + 1] = moveSwept(s + 1, m_local[s + 1],
+                                           m_local[s + 1] + normal * (depth * wb / norm), false);
+            changed = true;
+        }
+        return deepest;
+    };
+
+    // Places point i against its neighbour j = i ∓ 1: within the length band of their segment
+    // and within the deflection limit at j (turn from the segment before j). Swept.
+    auto project = [&](std::size_t i, std::size_t j) {
+        const std::size_t segment = std::min(i, j);
+        const Vec3 d = m_local[i] - m_local[j];
+        double length = d.norm();
+        Vec3 direction = Vec3::UnitX();
+        if (length > 1e-12 * m_restLength[segment]) {
+            direction = d / length;
+        } else { // on top of each other: towards i's other neighbour, else the previous shape
+            const long k = static_cast<long>(i) + (static_cast<long>(i) - static_cast<long>(j));
+            Vec3 fallback = m_collisionStart[i] - m_collisionStart[j];
+            if (k >= 0 && k < static_cast<long>(n))
+                fallback = m_local[static_cast<std::size_t>(k)] - m_local[j];
+            if (fallback.norm() > 0.0) direction = fallback.normalized();
+        }
+        const long g = static_cast<long>(j) + (static_cast<long>(j) - static_cast<long>(i));
+        if (g >= 0 && g < static_cast<long>(n) && m_cosLimit[j] > -1.0 + 1e-12) {
+            Vec3 u = m_local[j] - m_local[static_cast<std::size_t>(g)];
+            const double uLength = u.norm();
+            if (uLength > 1e-300) {
+                u /= uLength;
+                const double c = direction.dot(u);
+                if (c < m_cosLimit[j]) {
+                    Vec3 w = direction - c * u;
+                    if (w.norm() < 1e-12) w = u.unitOrthogonal();
+                    direction = m_cosLimit[j] * u + m_sinLimit[j] * w.normalized();
+                }
+            }
+        }
+        length = std::clamp(length, m_minLength[segment], m_maxLength[segment]);
+        const Vec3 target = m_local[j] + length * direction;
+        if ((target - m_local[i]).squaredNorm() > 1e-26) {
+            m_local[i] = moveSwept(i, m_local[i], target, false);
+            changed = true;
+        }
+    };
+
+    double penetration = pushOut();
+    const double ctol = m_collisionOptions.constraintTolerance;
+    UpdateResult violation = changed ? measureViolation() : UpdateResult();
+    bool fixedMoved = false;
+    for (std::size_t i = 0; i < n && !fixedMoved; ++i)
+        fixedMoved = m_fixed[i] && m_local[i] != m_collisionStart[i];
+    // The contacts as rows of the chain projection (the tangent plane at the closest point of
+    // each collider near a free point, which the axis keeps the outer radius and a tenth of the
+    // tolerance above) with every length and bend: at most kContactProjectionSteps Newton steps
+    // from the pushed-out shape, the rest closed by the span solver when they end near. The
+    // result is kept when the points get there swept without touching anything and nothing
+    // penetrates; otherwise the contact rounds below go on from the swept shape. When the steps
+    // end far off, the update is refused (below) unless a fixed point moved: then only the
+    // rounds are left.
+    bool projectionFailed = false;
+    if (changed && (violation.status != Status::Ok || penetration > tolerance)) {
+        const std::vector<Vec3> before = m_local;
+        detail::ChainProjection projection(*this);
+        projection.setRange(0, static_cast<int>(n) - 1);
+        projection.useMassesFromRestLengths(grabbed);
+        const double reach = radius + tolerance + maxRest;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (pinned[i]) continue;
+            const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, reach);
+            if (c.found)
+                static_cast<void>(projection.setContact(static_cast<int>(i), c, m_origin,
+                                                        m_collisionStart[i],
+                                                        radius + 0.1 * tolerance, 1e-12));
+        }
+        const detail::ProjectionOutcome out =
+            projection.run(kContactProjectionSteps, kContactProjectionClose);
+        result.iterations += out.iterations;
+        if (out.converged && (measureViolation().status == Status::Ok ||
+                              closeSpans(grabbed, before, result.iterations))) {
+            const std::vector<Vec3> after = m_local;
+            m_local = before;
+            for (std::size_t i = 0; i < n; ++i)
+                if (!pinned[i] && after[i] != before[i])
+                    m_local[i] = moveSwept(i, before[i], after[i], false);
+            penetration = pushOut(false);
+            violation = measureViolation();
+        } else {
+            m_local = before;
+            projectionFailed = true;
+        }
+    }
+    const bool runRounds = !projectionFailed || fixedMoved;
+    for (int round = 0; changed && runRounds && round < m_collisionOptions.maxRounds; ++round) {
+        if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol &&
+            penetration <= tolerance)
+            break;
+        for (std::size_t i = 1; i < n; ++i)
+            if (!pinned[i]) project(i, i - 1);
+        for (std::size_t i = n - 1; i-- > 0;)
+            if (!pinned[i]) project(i, i + 1);
+        penetration = pushOut();
+        violation = measureViolation();
+    }
+    // Lengths are never given up to contacts: when the rounds leave a segment outside its band,
+    // or the projection found no shape, and no fixed point moved (a grab, a gravity step), the
+    // hose stays at its last collision-resolved shape (if that one keeps its lengths) and the
+    // update is reported blocked. (Fixed points stay where their frames put them.)
+    bool refused = false;
+    if (changed && !fixedMoved && (violation.lengthViolation > ctol || !runRounds)) {
+        const std::vector<Vec3> rounds = m_local;
+        m_local = m_collisionStart;
+        const UpdateResult kept = measureViolation();
+        if (kept.lengthViolation <= ctol) {
+            refused = true;
+            violation = kept;
+            penetration = 0.0;
+            for (std::size_t i = 0; i < n; ++i) {
+                const MeshCollider::Closest c =
+                    contacts.closestToPoint(m_local[i] + m_origin, queryReach);
+                if (c.found) penetration = std::max(penetration, radius - c.distance);
+                freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
+            }
+            if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
+        } else {
+            m_local = rounds;
+        }
+    }
+
+    // Report.
+    int touching = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (pointClearance(i, nullptr) < 2.0 * tolerance) ++touching;
+    result.contacts = touching;
+    result.penetration = penetration > tolerance ? penetration : 0.0;
+    bool blocked = result.penetration > 0.0 || refused;
+    if (grabbed >= 0) {
+        const std::size_t k = static_cast<std::size_t>(grabbed);
+        if ((m_local[k] - localTarget).norm() > result.grabError + tolerance) {
+            blocked = true;
+            if (result.status == Status::Ok) result.status = Status::Clamped;
+        }
+        result.grabError = (m_local[k] - localTarget).norm();
+    }
+    result.blocked = blocked;
+    // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
+    // not met, which the caller must not read as Ok.
+    if (refused && result.penetration > 0.0 && result.status == Status::Ok)
+        result.status = Status::Infeasible;
+    if (changed) {
+        result.lengthViolation = violation.lengthViolation;
+        result.angleViolation = violation.angleViolation;
+        m_dirtyViolation = violation.status != Status::Ok;
+        if ((violation.lengthViolation > ctol || violation.angleViolation > ctol) &&
+            result.status != Status::InvalidInput)
+            result.status = Status::Infeasible;
+        // Per-frame gravity (step()): a point a contact moved loses its velocity (the contact is
+        // inelastic), or the Verlet step would turn the push-back into a bounce.
+        if (m_gravityPrevious.size() == n)
+            for (std::size_t i = 0; i < n; ++i)
+                if (m_local[i] != solved[i]) m_gravityPrevious[i] = m_local[i];
+        int moved = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            moved += (m_local[i] - m_collisionStart[i]).squaredNorm() > 0.0;
+        result.movedPoints = moved;
+        ++m_revision;
+    }
+    finish();
+}
+
+} // namespace chaintube
