@@ -612,13 +612,46 @@ double hoseLength(const Project& project, const HoseDefinition& hose)
     return hose.length ? *hose.length : routeRestLength(project, hose);
 }
 
+UpdateResult moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
+                                  const std::vector<Frame>& frames)
+{
+    std::vector<Frame> from;
+    for (const int id : ids)
+        for (const Hose::Attachment& attachment : hose.attachments())
+            if (attachment.id == id) from.push_back(attachment.frame);
+    UpdateResult result = hose.moveAttachments(ids, frames);
+    const auto short_ = [&] {
+        double gap = 0.0;
+        for (const int id : ids)
+            gap = std::max(gap, hose.attachmentGap(id));
+        return gap > 1e-9;
+    };
+    if (result.status != Status::Infeasible || !short_() || from.size() != frames.size())
+        return result;
+    std::vector<Frame> step(frames.size());
+    for (int k = 1; k <= kPoseSubSteps; ++k) {
+        const double t = double(k) / kPoseSubSteps;
+        for (size_t i = 0; i < frames.size(); ++i) {
+            step[i].translation =
+                from[i].translation + t * (frames[i].translation - from[i].translation);
+            step[i].rotation = from[i].rotation.slerp(t, frames[i].rotation);
+        }
+        result = hose.moveAttachments(ids, step);
+    }
+    for (int again = 0; again < kPoseSubSteps && result.status == Status::Infeasible && short_() &&
+                        result.movedPoints > 0;
+         ++again)
+        result = hose.moveAttachments(ids, frames);
+    return result;
+}
+
 Hose buildHose(const Project& project, const HoseDefinition& definition,
                const ImportedScenes& scenes, UpdateResult* lastUpdate)
 {
     if (lastUpdate) *lastUpdate = UpdateResult();
     Hose hose = buildAtFilePose(project, definition, scenes, lastUpdate);
-    // Pose overrides: the attachments and clips go to the posed frames in one update (the
-    // editor's Document does the same when it rebuilds a hose). hose.attachments() holds the
+    // Pose overrides: the attachments and clips go to the posed frames from the file pose (the
+    // editor's Document builds a hose so whenever a part moves). hose.attachments() holds the
     // attachments, then the clips, in the definition's order.
     struct Held
     {
@@ -650,7 +683,7 @@ Hose buildHose(const Project& project, const HoseDefinition& definition,
             frames.push_back(rigidPart(posedWorldTransform(project, scenes, *held[a].scene, node)) *
                              offset);
         }
-        const UpdateResult moved = hose.moveAttachments(ids, frames);
+        const UpdateResult moved = moveAttachmentsFully(hose, ids, frames);
         // Without a caller that asks, the hose itself keeps what the move could not do:
         // measure() and Hose::attachmentGap report it to whoever draws or exports it.
         if (lastUpdate) *lastUpdate = moved;

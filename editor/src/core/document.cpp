@@ -709,38 +709,7 @@ void Document::syncProjectPoses()
 UpdateResult Document::moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
                                             const std::vector<Frame>& frames)
 {
-    std::vector<Frame> from;
-    for (const int id : ids)
-        for (const Hose::Attachment& attachment : hose.attachments())
-            if (attachment.id == id) from.push_back(attachment.frame);
-    UpdateResult result = hose.moveAttachments(ids, frames);
-    const auto short_ = [&] {
-        double gap = 0.0;
-        for (const int id : ids)
-            gap = std::max(gap, hose.attachmentGap(id));
-        return gap > 1e-9;
-    };
-    if (result.status != Status::Infeasible || !short_() || from.size() != frames.size())
-        return result;
-    // An update does bounded work: a long move in one go (a typed position, a large gizmo
-    // step) can stop short of what the hose reaches. The editor is not bound to a frame: the
-    // move again in kPoseSubSteps steps from where the attachments were, then the frames again
-    // until the hose gets no nearer.
-    std::vector<Frame> step(frames.size());
-    for (int k = 1; k <= kPoseSubSteps; ++k) {
-        const double t = double(k) / kPoseSubSteps;
-        for (size_t i = 0; i < frames.size(); ++i) {
-            step[i].translation =
-                from[i].translation + t * (frames[i].translation - from[i].translation);
-            step[i].rotation = from[i].rotation.slerp(t, frames[i].rotation);
-        }
-        result = hose.moveAttachments(ids, step);
-    }
-    for (int again = 0; again < kPoseSubSteps && result.status == Status::Infeasible && short_() &&
-                        result.movedPoints > 0;
-         ++again)
-        result = hose.moveAttachments(ids, frames);
-    return result;
+    return formats::moveAttachmentsFully(hose, ids, frames);
 }
 
 void Document::poseChanged(const NodeKey& node)
@@ -779,8 +748,14 @@ void Document::poseChanged(const NodeKey& node)
         if (!attachedHere) continue;
         auto live = m_live.find(definition.id);
         if (live == m_live.end() || !live->second.hose) continue;
-        if (!hoseAffectedByPose(definition)) {
-            rebuildHose(definition.id); // back at the file pose: exactly the built shape
+        // A hose without gravity is built again from its route at the file pose and moved
+        // straight to the posed frames (formats::buildHose, as the export and the CLI build
+        // it): its shape depends on where the parts are, not on the way they took, so a part
+        // moved out and back leaves it as it was, and bends a far pose forced to give way come
+        // back. A hose with gravity follows the move from its current sag (a rebuild would
+        // lift it to its route at every drag step) and live gravity then settles it.
+        if (!hoseAffectedByPose(definition) || !definition.gravity.enabled) {
+            rebuildHose(definition.id);
         } else {
             Hose& hoseObject = *live->second.hose;
             std::vector<int> ids;

@@ -259,9 +259,6 @@ public:
     /// the points moved and the iterations of all of them.
     UpdateResult dragHosePoint(const std::string& hoseId, int point, const Vec3& target);
     static constexpr int kDragGrabs = 16;
-    /// A part move that leaves a hose short of it is done again in this many steps
-    /// (moveAttachmentsFully).
-    static constexpr int kPoseSubSteps = 16;
     static constexpr double kDragSubStep = 0.5e-3; ///< metres
     static constexpr int kDragSubSteps = 64;
     /// Ends a drag: pushes a command that writes the live axis as the hose's route, its length
@@ -326,13 +323,14 @@ public:
     void insertHose(int index, formats::HoseDefinition definition);
     /// Removes the hose; returns its definition. Emits HoseRemoved.
     formats::HoseDefinition removeHose(const std::string& hoseId);
-    /// Moves the attachments of every hose fixed under the changed node to the posed frames
-    /// (the hoses follow live), or rebuilds a hose exactly when no override affects it any
-    /// more; emits PoseChanged and HoseShapeChanged.
+    /// Builds every hose fixed under the changed node again at the poses (formats::buildHose:
+    /// from its route at the file pose straight to the posed frames, so its shape is a function
+    /// of the poses, not of the way the parts took); a hose with gravity is instead moved from
+    /// its current shape to the posed frames (moveAttachmentsFully) and live gravity settles it
+    /// (rebuilt exactly when no override affects it any more). Emits PoseChanged and
+    /// HoseShapeChanged.
     void poseChanged(const NodeKey& node);
-    /// Hose::moveAttachments to `frames`; when that leaves an attachment short (a long move in
-    /// one update), the move again in kPoseSubSteps steps from the attachments' frames before,
-    /// then the frames until the hose gets no nearer. Returns the last update's result.
+    /// formats::moveAttachmentsFully: a part move as the editor makes it (not bound to a frame).
     static UpdateResult moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
                                              const std::vector<Frame>& frames);
     /// Adds/removes an imported scene with its reference (import command).

@@ -55,12 +55,25 @@ double hoseLength(const Project& project, const HoseDefinition& hose);
 ///     last route point); when it cannot reach, a free last point is let go.
 /// `scenes` must be at their file pose (as importProjectScenes gives them). If project.poses
 /// moves an attached node (or one of its ancestors), the attachments are then moved together
-/// to the posed frames (Hose::moveAttachments, one update): the hose follows the part, as in
-/// the editor. `lastUpdate`, when given, receives the result of the build's last update (the
-/// settling of step 3 or the posed move; a default Ok result when it made none): e.g.
-/// Status::Infeasible when a posed part is beyond the hose's reach (Hose::attachmentGap says
-/// how far). Throws InvalidArgument for an unknown scene id or node path (of an attachment or
-/// a pose), or a point range outside the built hose.
+/// to the posed frames (moveAttachmentsFully): the shape is a function of the poses, whatever
+/// way the parts took there, and the editor shows the same. `lastUpdate`, when given, receives the
+/// result of the build's last update (the settling of step 3 or the posed move; a default Ok result
+/// when it made none): e.g. Status::Infeasible when a posed part is beyond the hose's reach
+/// (Hose::attachmentGap says how far). Throws InvalidArgument for an unknown scene id or node path
+/// (of an attachment or a pose), or a point range outside the built hose. Steps
+/// moveAttachmentsFully() takes when one update leaves an attachment short.
+constexpr int kPoseSubSteps = 16;
+
+/// Hose::moveAttachments to `frames` (ids and frames of equal size); when that leaves an
+/// attachment short of its frame (a long move in one update does bounded work), the move again
+/// in kPoseSubSteps steps from the attachments' frames before (translations interpolated,
+/// rotations slerped), then the frames again until the hose gets no nearer (at most
+/// kPoseSubSteps more). Beyond the hose's reach the result stays Infeasible with the gap
+/// Hose::attachmentGap() reports. Returns the last update's result. Not for a frame loop: its
+/// work is up to 2 · kPoseSubSteps + 1 updates.
+UpdateResult moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
+                                  const std::vector<Frame>& frames);
+
 Hose buildHose(const Project& project, const HoseDefinition& hose, const ImportedScenes& scenes,
                UpdateResult* lastUpdate = nullptr);
 
