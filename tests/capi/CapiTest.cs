@@ -26,6 +26,8 @@ using ChainTube;
 static class CapiTest
 {
     const double Tolerance = 1e-9;
+    // The axial stiffness (EA, N per unit strain) capi_reference writes the pulls' forces for.
+    const double PullStiffness = 1e4;
     static int failures;
     static long compared;
     static double largestDifference;
@@ -233,6 +235,52 @@ static class CapiTest
                 }
                 break;
             }
+            case "attachments": {
+                var v = Numbers(words, 1, 2);
+                int count;
+                Ok(Native.chaintube_rig_attachment_count(rig, (int)v[0], out count), where, "attachment_count");
+                Same(count, (long)v[1], where, "attachment count");
+                break;
+            }
+            case "pull": {
+                var v = Numbers(words, 1, 13);
+                AttachmentPull pull;
+                Ok(Native.chaintube_rig_attachment_pull(rig, (int)v[0], (int)v[1], PullStiffness, out pull), where,
+                   "attachment_pull");
+                Same(pull.node, (long)v[2], where, "attachment node");
+                Same(pull.firstPoint, (long)v[3], where, "attachment first point");
+                Same(pull.lastPoint, (long)v[4], where, "attachment last point");
+                Near(pull.tautness, v[5], where, "tautness");
+                Near(pull.strain, v[6], where, "strain");
+                Near(pull.directionX, v[7], where, "pull direction x");
+                Near(pull.directionY, v[8], where, "pull direction y");
+                Near(pull.directionZ, v[9], where, "pull direction z");
+                Near(pull.forceX / PullStiffness, v[10] / PullStiffness, where, "pull force x / EA");
+                Near(pull.forceY / PullStiffness, v[11] / PullStiffness, where, "pull force y / EA");
+                Near(pull.forceZ / PullStiffness, v[12] / PullStiffness, where, "pull force z / EA");
+                break;
+            }
+            case "expect-taut":
+            case "expect-slack": {
+                bool taut = words[0] == "expect-taut";
+                int hose = int.Parse(words[1], CultureInfo.InvariantCulture), count;
+                double most = 0.0, largestForce = 0.0;
+                Ok(Native.chaintube_rig_attachment_count(rig, hose, out count), where, "attachment_count");
+                for (int a = 0; a < count; ++a) {
+                    AttachmentPull pull;
+                    Ok(Native.chaintube_rig_attachment_pull(rig, hose, a, PullStiffness, out pull), where,
+                       "attachment_pull");
+                    most = Math.Max(most, pull.tautness);
+                    largestForce = Math.Max(largestForce, Math.Max(Math.Abs(pull.forceX),
+                                            Math.Max(Math.Abs(pull.forceY), Math.Abs(pull.forceZ))));
+                }
+                ++compared;
+                if (taut ? !(most > 0.9) : !(most == 0.0 && largestForce == 0.0))
+                    Fail(where, (taut ? "pulled out of reach, expected taut (> 0.9)" : "released, expected slack (0)") +
+                         ": largest tautness " + most.ToString("R") + ", largest force component " +
+                         largestForce.ToString("R") + " N");
+                break;
+            }
             default:
                 Fail(where, "unknown reference line");
                 break;
@@ -287,7 +335,10 @@ static class CapiTest
         uint nextMajor = (Native.AbiVersion >> 16) + 1 << 16;
         Same(Native.chaintube_runtime_abi_version(), Native.AbiVersion, "abi", "the library's ABI version");
         Refused(Native.chaintube_rig_load_file(nextMajor, Native.Utf8(export), out rig), Status.AbiMismatch,
-                "wrong ABI major", "ABI 2.0", "ABI 1.1");
+                "wrong ABI major", "ABI 2.0", "ABI 1.2");
+        // A caller built against an older minor version (1.1: before the attachment pulls) still loads.
+        Ok(Native.chaintube_rig_load_file((1u << 16) | 1u, Native.Utf8(export), out rig), "abi 1.1", "load_file");
+        Ok(Native.chaintube_rig_destroy(rig), "abi 1.1", "destroy");
         Refused(Native.chaintube_rig_load_file(Native.AbiVersion, Native.Utf8("/nonexistent/rig.glb"), out rig),
                 Status.UnreadableFile, "unreadable file", "/nonexistent/rig.glb", "cannot be read");
         byte[] glb = File.ReadAllBytes(export);
@@ -342,6 +393,13 @@ static class CapiTest
             var shortSurface = new float[3 * info.vertexCount - 3];
             Refused(Native.chaintube_rig_surface(r, hose, shortSurface, shortSurface.Length, null, 0),
                     Status.BufferTooSmall, "short buffer", "positions has room for");
+            AttachmentPull unusedPull;
+            Refused(Native.chaintube_rig_attachment_pull(r, hose, 2, 1e4, out unusedPull), Status.OutOfRange,
+                    "attachment out of range", "attachment 2 is out of range", "left-feed");
+            Refused(Native.chaintube_rig_attachment_pull(r, hose, 0, double.NaN, out unusedPull),
+                    Status.InvalidArgument, "NaN axial stiffness", "axial_stiffness", "finite EA >= 0");
+            Refused(Native.chaintube_rig_attachment_pull(r, hose, 0, -5.0, out unusedPull), Status.InvalidArgument,
+                    "negative axial stiffness", "axial_stiffness");
             Same(shortLocal.Count(x => x != 0) + shortSurface.Count(x => x != 0), 0, "short buffer",
                  "floats written by refused calls");
             owned.Update();
@@ -356,6 +414,9 @@ static class CapiTest
             double[] moved = WorldPoses(r, hose, info.jointCount);
             for (int k = 0; k < 3; ++k) Near(moved[7 * point + k], target[k], "grab", "grabbed joint at the target");
             Same(owned.Result(hose).movedPoints > 0 ? 1 : 0, 1, "grab", "frame result counts moved points");
+            // The wrapper's pull: a hose nudged within reach stays slack at both ends.
+            Same(owned.AttachmentCount(hose), 2, "pull", "attachments of left-feed");
+            for (int a = 0; a < 2; ++a) Near(owned.Pull(hose, a, 1e4).tautness, 0.0, "pull", "tautness, slack hose");
         }
         Console.WriteLine("CapiTest errors: " + compared + " checks, " + failures + " failures");
         return failures == 0 ? 0 : 1;

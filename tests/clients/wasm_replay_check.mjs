@@ -21,6 +21,8 @@
 export const TOLERANCE = 1e-9;
 export const VERTEX_TOLERANCE = 1e-6;
 export const SUM_TOLERANCE = 1e-5;
+// The axial stiffness (EA, N per unit strain) capi_reference writes the pulls' forces for.
+export const PULL_STIFFNESS = 1e4;
 
 /**
  * api: the chaintube.mjs module; chaintube: a loaded ChainTube; bytes: the export (.glb);
@@ -175,6 +177,37 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
           }
           break;
         }
+        case 'attachments':
+          same(rig.attachmentCount(v[0]), v[1], line, 'attachment count');
+          break;
+        case 'pull': {
+          const pull = rig.attachmentPull(v[0], v[1], PULL_STIFFNESS);
+          same(pull.node, v[2], line, 'attachment node');
+          same(pull.firstPoint, v[3], line, 'attachment first point');
+          same(pull.lastPoint, v[4], line, 'attachment last point');
+          near(pull.tautness, v[5], line, 'tautness');
+          near(pull.strain, v[6], line, 'strain');
+          for (let k = 0; k < 3; ++k) {
+            near(pull.direction[k], v[7 + k], line, 'pull direction');
+            near(pull.force[k] / PULL_STIFFNESS, v[10 + k] / PULL_STIFFNESS, line, 'pull force / EA');
+          }
+          break;
+        }
+        case 'expect-taut':
+        case 'expect-slack': {
+          const taut = words[0] === 'expect-taut';
+          let most = 0, largestForce = 0;
+          for (let a = 0; a < rig.attachmentCount(v[0]); ++a) {
+            const pull = rig.attachmentPull(v[0], a, PULL_STIFFNESS);
+            most = Math.max(most, pull.tautness);
+            largestForce = Math.max(largestForce, ...pull.force.map(Math.abs));
+          }
+          ++compared;
+          if (taut ? !(most > 0.9) : !(most === 0 && largestForce === 0))
+            fail(line, `${taut ? 'pulled out of reach, expected taut (> 0.9)' : 'released, expected slack (0)'}: ` +
+              `largest tautness ${most}, largest force component ${largestForce} N`);
+          break;
+        }
         default:
           fail(line, `unknown reference line "${words[0]}"`);
       }
@@ -216,6 +249,10 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
   expectError('NaN target', api.Status.ERROR_INVALID_ARGUMENT, 'chaintube_rig_grab', () => rig.grab(deforming, point, [NaN, 0, 0]));
   expectError('a target of 2 numbers', api.Status.ERROR_INVALID_ARGUMENT, 'target has 2 numbers', () => rig.grab(deforming, point, [0, 0]));
   expectError('a fractional index', api.Status.ERROR_INVALID_ARGUMENT, 'hose is 0.5', () => rig.release(0.5));
+  expectError('attachment out of range', api.Status.ERROR_OUT_OF_RANGE, 'attachment 99 is out of range',
+    () => rig.attachmentPull(deforming, 99, 1e4));
+  expectError('negative axial stiffness', api.Status.ERROR_INVALID_ARGUMENT, 'axial_stiffness',
+    () => rig.attachmentPull(deforming, 0, -1));
   expectError('unknown hose id', api.Status.ERROR_NOT_FOUND, 'no-such-hose', () => rig.findHose('no-such-hose'));
   expectError('not a GLB', api.Status.ERROR_MALFORMED, 'junk.glb',
     () => chaintube.loadMemory('junk.glb', new Uint8Array([0x67, 0x6c, 0x54, 0x46, 9, 0, 0, 0])));

@@ -21,7 +21,8 @@
  *   rigs may run on different threads at once. The last-error text is per thread.
  * - A frame: chaintube_rig_set_node_transform for scene objects that moved, chaintube_rig_grab
  *   for held points, chaintube_rig_update, then chaintube_rig_joint_poses (skinned meshes) or
- *   chaintube_rig_surface (vertex buffers), and chaintube_rig_hose_result for each hose.
+ *   chaintube_rig_surface (vertex buffers), chaintube_rig_hose_result for each hose, and
+ *   chaintube_rig_attachment_pull for the parts the hoses hold back.
  */
 #ifndef CHAINTUBE_RUNTIME_C_H
 #define CHAINTUBE_RUNTIME_C_H
@@ -45,7 +46,7 @@
  * functions. A library of another major version, or of an older minor version than the
  * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add. */
 #define CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR 1
-#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 1
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 2
 #define CHAINTUBE_RUNTIME_ABI_VERSION                                                              \
     ((uint32_t)((CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | CHAINTUBE_RUNTIME_ABI_VERSION_MINOR))
 
@@ -143,6 +144,26 @@ typedef struct chaintube_clip_info
     int32_t turning; /* 1: sliding-turning (the hose may also turn about the clip's axis) */
 } chaintube_clip_info;
 
+/* A hose's pull on one of its attachments after the last chaintube_rig_update
+ * (chaintube_rig_attachment_pull). The model has no forces: the pull comes from the shape. Each
+ * side of the attachment whose free span ends at another pinned point (an attachment, a clip,
+ * the held point) is taut as its chord c nears its rest length L: tautness 0 while
+ * c <= 0.98 L, rising linearly to 1 at c = L (1 while an attachment is out of reach); a side
+ * ending at a free end is slack. Since ABI 1.2. */
+typedef struct chaintube_attachment_pull
+{
+    double direction[3]; /* world, unit: the way the hose draws the attachment's part (its taut
+                            sides along their first free segments); 0, 0, 0 when slack */
+    double tautness;     /* 0 (slack) ... 1 (drawn straight), the largest of its sides */
+    double strain;       /* >= 0: how far the taut span is stretched beyond its rest length,
+                            relative (0 for a hose drawn straight but not stretched) */
+    double force[3];     /* world newtons for the axial_stiffness passed: the sides'
+                            tautness * EA * strain along their pulls, summed; 0 when slack */
+    int32_t node;        /* glTF node the attachment is on, -1: fixed in the world */
+    int32_t first_point; /* the axis points it fixes, first ... last */
+    int32_t last_point;
+} chaintube_attachment_pull;
+
 /* The library's ABI version (CHAINTUBE_RUNTIME_ABI_VERSION of its build). */
 CHAINTUBE_API uint32_t chaintube_runtime_abi_version(void);
 
@@ -230,6 +251,19 @@ CHAINTUBE_API chaintube_status chaintube_rig_clip_count(const chaintube_rig* rig
                                                         int32_t* count);
 CHAINTUBE_API chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose,
                                                        int32_t clip, chaintube_clip_info* info);
+
+/* Number of attachments of a hose (the descriptor's, in its order; clips are not among them),
+ * and how hard the hose pulls on attachment `attachment` in [0, count) as of the last
+ * chaintube_rig_update. axial_stiffness: the hose's EA in newtons per unit strain (a rubber
+ * hose of 20 mm about 1e4, a steel-braided one 1e6), finite and >= 0; the descriptor does
+ * not carry one, so the platform states it (0 gives force 0 and the rest as usual). Since
+ * ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_attachment_count(const chaintube_rig* rig,
+                                                              int32_t hose, int32_t* count);
+CHAINTUBE_API chaintube_status chaintube_rig_attachment_pull(const chaintube_rig* rig, int32_t hose,
+                                                             int32_t attachment,
+                                                             double axial_stiffness,
+                                                             chaintube_attachment_pull* pull);
 
 /* A node's name and parent. */
 CHAINTUBE_API chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,

@@ -552,6 +552,55 @@ chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose,
     });
 }
 
+chaintube_status chaintube_rig_attachment_count(const chaintube_rig* rig, int32_t hose,
+                                                int32_t* count)
+{
+    constexpr const char* function = "chaintube_rig_attachment_count";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!count) return nullArgument(function, "count");
+        *count = rig->runtime.attachmentCount(hose);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_attachment_pull(const chaintube_rig* rig, int32_t hose,
+                                               int32_t attachment, double axial_stiffness,
+                                               chaintube_attachment_pull* pull)
+{
+    constexpr const char* function = "chaintube_rig_attachment_pull";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!std::isfinite(axial_stiffness) || axial_stiffness < 0.0)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "axial_stiffness is " + std::to_string(axial_stiffness) +
+                            ": expected a finite EA >= 0 (newtons per unit strain)");
+        const int count = rig->runtime.attachmentCount(hose);
+        if (attachment < 0 || attachment >= count)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "attachment " + std::to_string(attachment) + " is out of range: " +
+                            hoseName(rig, hose) + " has " + std::to_string(count) +
+                            " attachments (chaintube_rig_attachment_count)");
+        if (!pull) return nullArgument(function, "pull");
+        const chaintube::AttachmentPull& measured = rig->runtime.attachmentPull(hose, attachment);
+        const chaintube::Vec3 force = measured.force(axial_stiffness);
+        const chaintube::rig::RigAttachment& described =
+            rig->runtime.description(hose).attachments[static_cast<size_t>(attachment)];
+        chaintube_attachment_pull out{};
+        for (int k = 0; k < 3; ++k) {
+            out.direction[k] = measured.direction(k);
+            out.force[k] = force(k);
+        }
+        out.tautness = measured.tautness;
+        out.strain = measured.strain;
+        out.node = described.node;
+        out.first_point = described.firstPoint;
+        out.last_point = described.lastPoint;
+        *pull = out;
+        return CHAINTUBE_OK;
+    });
+}
+
 chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,
                                          chaintube_node_info* info)
 {

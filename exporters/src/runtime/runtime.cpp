@@ -269,8 +269,16 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                                             "exported rest lengths, so the hose starts "
                                             "overstretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
-        RunningHose running{
-            std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}, {}, {}};
+        RunningHose running{std::move(hose),
+                            std::move(surface),
+                            std::move(attachmentIds),
+                            {},
+                            {},
+                            true,
+                            0,
+                            {},
+                            {},
+                            {}};
         for (int joint : d.jointNodes)
             running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
         runtime.m_hoses.push_back(std::move(running));
@@ -444,6 +452,7 @@ bool HoseRuntime::release(int hose)
 {
     if (hose < 0 || hose >= hoseCount()) return false;
     m_hoses[static_cast<size_t>(hose)].hose.releaseGrab();
+    m_hoses[static_cast<size_t>(hose)].pullsStale = true; // the held point no longer pins a span
     return true;
 }
 
@@ -491,10 +500,15 @@ int HoseRuntime::refresh()
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
         const bool changed = running.surface.update(running.hose);
-        if (changed || m_nodesMoved || running.posedRevision != running.hose.revision()) {
+        const bool reshaped = changed || running.posedRevision != running.hose.revision();
+        if (reshaped || m_nodesMoved) {
             poseJoints(running, m_descriptor.hoses[h]);
             running.posedRevision = running.hose.revision();
             ++recomputed;
+        }
+        if (reshaped || running.pullsStale) {
+            measurePulls(running, m_descriptor.hoses[h]);
+            running.pullsStale = false;
         }
     }
     m_nodesMoved = false;
@@ -559,6 +573,28 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
         const detail::Affine local = parentInverse * detail::matrixOf(pose.world);
         detail::decompose(local, pose.local);
     }
+}
+
+void HoseRuntime::measurePulls(RunningHose& running, const RigHose& description)
+{
+    running.pulls.resize(description.attachments.size());
+    for (size_t k = 0; k < description.attachments.size(); ++k)
+        running.pulls[k] = chaintube::attachmentPull(running.hose, running.attachmentIds[k]);
+}
+
+int HoseRuntime::attachmentCount(int hose) const
+{
+    if (hose < 0 || hose >= hoseCount()) return 0;
+    return static_cast<int>(m_hoses[static_cast<size_t>(hose)].pulls.size());
+}
+
+const AttachmentPull& HoseRuntime::attachmentPull(int hose, int attachment) const
+{
+    const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.pulls.size())
+        throw std::out_of_range("hose " + std::to_string(hose) + ": attachment " +
+                                std::to_string(attachment) + " is out of range");
+    return running.pulls[static_cast<size_t>(attachment)];
 }
 
 std::vector<float> HoseRuntime::worldPositions(int hose) const

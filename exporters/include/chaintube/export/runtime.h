@@ -14,6 +14,7 @@
 #include "chaintube/export/rig_descriptor.h"
 #include "chaintube/hose.h"
 #include "chaintube/surface.h"
+#include "chaintube/tension.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -189,6 +190,18 @@ public:
         return m_hoses.at(static_cast<size_t>(hose)).poses;
     }
 
+    /// Attachments of a hose: the descriptor's (description(hose).attachments, in that order).
+    /// Clips are not among them. 0 for a hose index out of range.
+    int attachmentCount(int hose) const;
+
+    /// How hard the hose pulls on attachment `attachment` (0 … attachmentCount(hose) − 1) as of
+    /// the last update() (chaintube/tension.h): the world direction, tautness 0 … 1, strain and
+    /// the pull per unit axial stiffness. The descriptor carries no axial stiffness: a platform
+    /// that wants newtons passes its hose's EA (N per unit strain) to AttachmentPull::force().
+    /// All zero when the hose is slack on both sides of the attachment. Throws
+    /// std::out_of_range for an index out of range.
+    const AttachmentPull& attachmentPull(int hose, int attachment) const;
+
     /// Surface vertex positions in world metres (3 floats per vertex, vertex order of
     /// SurfaceTopology), as of the last update().
     std::vector<float> worldPositions(int hose) const;
@@ -200,6 +213,8 @@ private:
         HoseSurface surface;
         std::vector<int> attachmentIds; ///< per descriptor attachment
         std::vector<JointPose> poses;
+        std::vector<AttachmentPull> pulls; ///< per attachment, as of the last update()
+        bool pullsStale = true;            ///< the pins changed without a new shape (a release)
         std::uint64_t posedRevision = 0;
         std::vector<int> jointParents;
         UpdateResult pendingResult; ///< the frame being built, since the last update()
@@ -210,6 +225,7 @@ private:
     void recomputeWorld();
     int refresh(); ///< update() without the gravity step
     void poseJoints(RunningHose& running, const RigHose& description);
+    static void measurePulls(RunningHose& running, const RigHose& description);
 
     HoseRigDescriptor m_descriptor;
     std::vector<RigNode> m_nodes;
