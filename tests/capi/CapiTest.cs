@@ -557,13 +557,138 @@ static class CapiTest
         return failures == 0 ? 0 : 1;
     }
 
+    // The rigid part of a node's world transform (see capi_actions_test.c): unit axes (3 columns
+    // of 3) and origin, composed from the nodes' local T * R * S up to the root.
+    static void RigidWorld(Rig rig, int node, out double[] axes, out double[] origin)
+    {
+        var m = new double[16];
+        for (int k = 0; k < 16; ++k) m[k] = k % 5 == 0 ? 1.0 : 0.0;
+        for (int n = node; n >= 0;) {
+            double[] t = rig.NodeTransform(n);
+            double x = t[3], y = t[4], z = t[5], w = t[6];
+            var l = new double[] {
+                (1 - 2 * (y * y + z * z)) * t[7], 2 * (x * y + z * w) * t[7], 2 * (x * z - y * w) * t[7], 0,
+                2 * (x * y - z * w) * t[8], (1 - 2 * (x * x + z * z)) * t[8], 2 * (y * z + x * w) * t[8], 0,
+                2 * (x * z + y * w) * t[9], 2 * (y * z - x * w) * t[9], (1 - 2 * (x * x + y * y)) * t[9], 0,
+                t[0], t[1], t[2], 1 };
+            var product = new double[16];
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 4; ++r)
+                    for (int k = 0; k < 4; ++k) product[4 * c + r] += l[4 * k + r] * m[4 * c + k];
+            m = product;
+            NodeInfo info;
+            Ok(Native.chaintube_rig_node_info(rig.Handle, n, out info), "node", "node_info");
+            n = info.parent;
+        }
+        axes = new double[9];
+        origin = new[] { m[12], m[13], m[14] };
+        for (int c = 0; c < 3; ++c) {
+            double length = Math.Sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
+            for (int r = 0; r < 3; ++r) axes[3 * c + r] = m[4 * c + r] / length;
+        }
+    }
+
+    static void ExpectInBand(Rig rig, int hose, double[] rest, double band, string when)
+    {
+        double[] world = WorldPoses(rig.Handle, hose, rest.Length + 1);
+        for (int s = 0; s < rest.Length; ++s) {
+            double length = Distance(world, 7 * (s + 1), world, 7 * s);
+            Expect(Math.Abs(length / rest[s] - 1.0) <= band + 1e-9, when,
+                   "segment " + s + " is " + length.ToString("R") + " m, rest " + rest[s].ToString("R") + " m");
+        }
+    }
+
+    // An end unplugged and plugged into another part (see capi_actions_test.c), as a Unity
+    // script does it through the wrapper.
+    static int RunActions(string export)
+    {
+        using (Rig rig = Rig.LoadMemory(Path.GetFileName(export), File.ReadAllBytes(export))) {
+            int tail = rig.FindHose("valve-tail"), bracket = rig.FindNode("bracket_left");
+            int n = rig.Info(tail).pointCount;
+            double band;
+            double[] rest = rig.RestLengths(tail, out band);
+            Same(rig.AttachmentCount(tail), 1, "as loaded", "attachments of valve-tail");
+            double[] world = WorldPoses(rig.Handle, tail, n);
+            rig.Grab(tail, n - 1, world[7 * (n - 1)], world[7 * (n - 1) + 1], world[7 * (n - 1) + 2]);
+            rig.Update();
+            rig.DetachEnd(tail, 0);
+            Same(rig.Pull(tail, 0, 0.0).attached, 0, "unplugged", "attached");
+            Same(rig.Info(tail).grabbableCount, n, "unplugged", "grabbable points");
+            double startHeight = WorldPoses(rig.Handle, tail, n)[1];
+            for (int frame = 0; frame < 10; ++frame) {
+                rig.Update();
+                ExpectInBand(rig, tail, rest, band, "falling, frame " + frame);
+                Expect(rig.Result(tail).status != HoseStatus.Infeasible, "falling, frame " + frame, "infeasible");
+            }
+            world = WorldPoses(rig.Handle, tail, n);
+            double drop = startHeight - world[1];
+            Expect(drop > 1e-3, "fallen", "the unplugged end fell " + drop + " m");
+
+            // Refused: status and message, nothing changed.
+            HoseResult unused;
+            int unusedIndex;
+            var identity = new double[] { 0, 0, 0, 0, 0, 0, 1 };
+            Refused(Native.chaintube_rig_detach_end(rig.Handle, tail, 0, out unused), Status.InvalidArgument,
+                    "detach a detached end", "already detached");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 2, bracket, identity, out unusedIndex, out unused),
+                    Status.InvalidArgument, "end 2", "end 2: expected 0");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 0, rig.NodeCount, identity, out unusedIndex,
+                                                    out unused), Status.OutOfRange, "node out of range", "is out of range");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 0, bracket, new[] { 0, 0, double.NaN, 0, 0, 0, 1 },
+                                                    out unusedIndex, out unused),
+                    Status.InvalidArgument, "NaN pose", "pose[2] (translation z) is NaN");
+            Expect(WorldPoses(rig.Handle, tail, n).SequenceEqual(world), "refused", "a refused call moved the hose");
+
+            // Plug the end into the bracket 1 cm above where it hangs, along the bracket's +z.
+            double[] axes, origin;
+            RigidWorld(rig, bracket, out axes, out origin);
+            var socket = new[] { world[0], world[1] + 0.01, world[2] };
+            var pose = new double[] { 0, 0, 0, 0, 0, 0, 1 };
+            for (int c = 0; c < 3; ++c)
+                for (int r = 0; r < 3; ++r) pose[c] += axes[3 * c + r] * (socket[r] - origin[r]);
+            HoseResult plugged;
+            int index = rig.AttachEnd(tail, 0, bracket, pose, out plugged);
+            Same(index, 1, "plugged", "attachment index");
+            Same((int)plugged.status, (int)HoseStatus.Ok, "plugged", "status");
+            rig.Update();
+            world = WorldPoses(rig.Handle, tail, n);
+            Expect(Distance(world, 0, socket, 0) < 1e-9, "plugged", "the end is " + Distance(world, 0, socket, 0) + " m from the socket");
+            ExpectInBand(rig, tail, rest, band, "plugged");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 0, bracket, pose, out unusedIndex, out unused),
+                    Status.InvalidArgument, "plug the same end again", "already attached");
+
+            // The bracket moves; the end goes with it.
+            double[] trs = rig.NodeTransform(bracket);
+            for (int frame = 0; frame < 3; ++frame) {
+                trs[0] += 0.02;
+                rig.SetNodeTransform(bracket, trs);
+                rig.Update();
+                RigidWorld(rig, bracket, out axes, out origin);
+                var expected = new double[3];
+                for (int r = 0; r < 3; ++r)
+                    expected[r] = origin[r] + axes[r] * pose[0] + axes[3 + r] * pose[1] + axes[6 + r] * pose[2];
+                world = WorldPoses(rig.Handle, tail, n);
+                Expect(Distance(world, 0, expected, 0) < 1e-9, "bracket moved, frame " + frame,
+                       "the end is " + Distance(world, 0, expected, 0) + " m from its place on the bracket");
+                Same((int)rig.Result(tail).status, (int)HoseStatus.Ok, "bracket moved, frame " + frame, "status");
+                ExpectInBand(rig, tail, rest, band, "bracket moved, frame " + frame);
+            }
+            Console.WriteLine("CapiTest actions: " + export + ": valve-tail unplugged, fell " +
+                              drop.ToString("G4", CultureInfo.InvariantCulture) + " m in 10 updates, plugged into " +
+                              "bracket_left and followed it 0.06 m: " + compared + " checks, " + failures + " failures");
+        }
+        return failures == 0 ? 0 : 1;
+    }
+
     static int Main(string[] args)
     {
         try {
             if (args.Length == 3 && args[0] == "replay") return RunReplay(args[1], args[2]);
             if (args.Length == 2 && args[0] == "errors") return RunErrors(args[1]);
             if (args.Length == 2 && args[0] == "clip") return RunClip(args[1]);
-            Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | clip <motion-rig.glb>");
+            if (args.Length == 2 && args[0] == "actions") return RunActions(args[1]);
+            Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | " +
+                                    "clip <motion-rig.glb> | actions <rig-options.glb>");
             return 2;
         } catch (Exception error) {
             Console.Error.WriteLine("FAIL: " + error);

@@ -1,4 +1,5 @@
-// The runtime's scenario actions on an exported rig: each attachment's pull after an update.
+// The runtime's scenario actions on an exported rig: each attachment's pull after an update; an
+// end unplugged and plugged into another part.
 #include "export_test_support.h"
 
 #include <chaintube/export/runtime.h>
@@ -119,6 +120,118 @@ TEST(HoseRuntimeTension, AMovedPartThatDrawsTheHoseStraightIsHeldBackTowardsTheO
     EXPECT_GT(atBracket.direction.dot(bracketToValve), 0.95);
     std::cout << "[ tension ] valve moved " << 0.02 * frame << " m: tautness " << atValve.tautness
               << ", strain " << atValve.strain << "\n";
+}
+
+/// The rig-options sample exported to `folder`/options.glb: valve-tail hangs under gravity from
+/// the valve (its last point free), the floor plate and the valve are colliders.
+rig::HoseRuntime loadRigOptions(const TemporaryFolder& folder)
+{
+    const fs::path output = folder / "options.glb";
+    exportProjectFile(testDataDir() / "rig-options.ctproj", output, roots());
+    return rig::HoseRuntime::load(output);
+}
+
+/// Every segment of the hose is within its stretch band (1e-9 m of rounding).
+void expectInBand(const Hose& hose, const std::string& when)
+{
+    for (int s = 0; s + 1 < hose.pointCount(); ++s) {
+        const double length = (hose.point(s + 1) - hose.point(s)).norm();
+        EXPECT_GE(length, hose.minLength(s) - 1e-9) << when << ", segment " << s;
+        EXPECT_LE(length, hose.maxLength(s) + 1e-9) << when << ", segment " << s;
+    }
+}
+
+TEST(HoseRuntimeDetachAttach, AnUnpluggedEndFallsUnderGravityAndFollowsThePartItIsPluggedInto)
+{
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadRigOptions(folder);
+    const int tail = runtime.findHose("valve-tail");
+    const int valve = runtime.findNode("valve");
+    const int bracket = runtime.findNode("bracket_left");
+    ASSERT_GE(tail, 0);
+    ASSERT_GE(valve, 0);
+    ASSERT_GE(bracket, 0);
+    ASSERT_EQ(runtime.attachmentCount(tail), 1);
+    ASSERT_EQ(runtime.attachment(tail, 0).node, valve);
+    ASSERT_EQ(runtime.attachment(tail, 0).lastPoint, 1);
+    EXPECT_EQ(runtime.hose(tail).colliders().size(), 1u); // the floor plate, not the valve
+    const int n = runtime.hose(tail).pointCount();
+    EXPECT_EQ(runtime.grabbablePoints(tail).size(), static_cast<size_t>(n - 2));
+
+    // A hand holds the free end where it is; the valve end is unplugged and falls.
+    ASSERT_EQ(runtime.grab(tail, n - 1, runtime.hose(tail).point(n - 1)).status, Status::Ok);
+    runtime.update();
+    const UpdateResult detached = runtime.detachEnd(tail, 0);
+    EXPECT_NE(detached.status, Status::InvalidInput);
+    EXPECT_FALSE(runtime.attachment(tail, 0).attached);
+    EXPECT_EQ(runtime.hose(tail).colliders().size(), 2u); // the valve collides again
+    EXPECT_EQ(runtime.grabbablePoints(tail).size(), static_cast<size_t>(n));
+    const double startHeight = runtime.hose(tail).point(0).y();
+    for (int frame = 0; frame < 10; ++frame) {
+        runtime.update();
+        expectInBand(runtime.hose(tail), "falling, frame " + std::to_string(frame));
+        EXPECT_NE(runtime.frameResult(tail).status, Status::Infeasible) << frame;
+    }
+    const double drop = startHeight - runtime.hose(tail).point(0).y();
+    EXPECT_GT(drop, 1e-3) << "the unplugged end did not fall";
+    EXPECT_EQ(runtime.attachmentPull(tail, 0).tautness, 0.0);
+
+    // Refused, nothing changed.
+    const std::vector<Vec3> before = runtime.hose(tail).points();
+    const auto refusedWith = [&](const UpdateResult& result, const std::string& why,
+                                 const std::string& expected) {
+        EXPECT_EQ(result.status, Status::InvalidInput) << expected;
+        EXPECT_NE(why.find(expected), std::string::npos) << why;
+        EXPECT_EQ(runtime.hose(tail).points(), before) << expected;
+        EXPECT_EQ(runtime.attachmentCount(tail), 1) << expected;
+    };
+    std::string why;
+    refusedWith(runtime.detachEnd(tail, 0, &why), why, "already detached");
+    refusedWith(runtime.detachEnd(tail, 3, &why), why, "attachment 3 is out of range");
+    refusedWith(runtime.detachEnd(99, 0, &why), why, "hose 99 is out of range");
+    refusedWith(runtime.attachEnd(tail, 2, bracket, Frame(), nullptr, &why), why, "end 2");
+    refusedWith(runtime.attachEnd(tail, 0, 100000, Frame(), nullptr, &why), why,
+                "node 100000 is out of range");
+    Frame notFinite;
+    notFinite.translation.y() = std::nan("");
+    refusedWith(runtime.attachEnd(tail, 0, bracket, notFinite, nullptr, &why), why, "not finite");
+
+    // Plug the falling end into the left bracket, 1 cm above where it is, its segment pointing
+    // the way it points now.
+    const Vec3 outward = (runtime.hose(tail).point(0) - runtime.hose(tail).point(1)).normalized();
+    Frame socket;
+    socket.translation = runtime.hose(tail).point(0) + Vec3(0.0, 0.01, 0.0);
+    socket.rotation = Quat::FromTwoVectors(Vec3::UnitZ(), outward);
+    const Frame local = runtime.nodeWorldFrame(bracket).inverse() * socket;
+    int index = -1;
+    const UpdateResult plugged = runtime.attachEnd(tail, 0, bracket, local, &index);
+    EXPECT_EQ(plugged.status, Status::Ok);
+    EXPECT_EQ(index, 1);
+    ASSERT_EQ(runtime.attachmentCount(tail), 2);
+    EXPECT_TRUE(runtime.attachment(tail, 1).attached);
+    EXPECT_EQ(runtime.attachment(tail, 1).node, bracket);
+    EXPECT_LT((runtime.hose(tail).point(0) - socket.translation).norm(), 1e-9);
+    EXPECT_GT((runtime.hose(tail).point(0) - runtime.hose(tail).point(1)).normalized().dot(outward),
+              1.0 - 1e-9);
+    expectInBand(runtime.hose(tail), "plugged");
+    EXPECT_EQ(runtime.grabbablePoints(tail).front(), 2);
+    EXPECT_EQ(runtime.hose(tail).colliders().size(), 2u); // the bracket is no collider
+    refusedWith(runtime.attachEnd(tail, 0, valve, Frame(), nullptr, &why), why, "already attached");
+    runtime.update();
+
+    // The bracket moves: the plugged end goes with it, the hose within its band.
+    rig::NodeTransform moved = runtime.node(bracket).local;
+    for (int frame = 0; frame < 3; ++frame) {
+        moved.translation.x() += 0.02;
+        (void)runtime.setNodeTransform(bracket, moved);
+        runtime.update();
+        const Vec3 expected = (runtime.nodeWorldFrame(bracket) * local).translation;
+        EXPECT_LT((runtime.hose(tail).point(0) - expected).norm(), 1e-9) << frame;
+        expectInBand(runtime.hose(tail), "bracket moved, frame " + std::to_string(frame));
+        EXPECT_EQ(runtime.frameResult(tail).status, Status::Ok) << frame;
+    }
+    std::cout << "[ plug ] valve-tail: unplugged end fell " << drop
+              << " m in 10 updates; plugged into bracket_left, followed it 0.06 m\n";
 }
 
 } // namespace

@@ -101,6 +101,7 @@ namespace ChainTube
         public double forceX, forceY, forceZ;             // world newtons for the axial stiffness passed
         public int node;                                  // glTF node of the attachment, -1: the world
         public int firstPoint, lastPoint;                 // the axis points it fixes
+        public int attached;                              // 1 while attached, 0 once detached
     }
 
     [StructLayout(LayoutKind.Sequential)]
@@ -160,6 +161,11 @@ namespace ChainTube
         [DllImport(Library)]
         public static extern Status chaintube_rig_grab(IntPtr rig, int hose, int point, double[] target, out HoseResult result);
         [DllImport(Library)] public static extern Status chaintube_rig_release(IntPtr rig, int hose);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_detach_end(IntPtr rig, int hose, int attachment, out HoseResult result);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_attach_end(IntPtr rig, int hose, int end, int node, double[] pose,
+            out int attachment, out HoseResult result);
         [DllImport(Library)] public static extern Status chaintube_rig_update(IntPtr rig, out int recomputed);
         [DllImport(Library)]
         public static extern Status chaintube_rig_hose_result(IntPtr rig, int hose, out HoseResult result);
@@ -288,6 +294,25 @@ namespace ChainTube
         }
 
         public void Release(int hose) { Check(Native.chaintube_rig_release(Handle, hose)); }
+
+        /// <summary>Unplugs an end: lets go of attachment `attachment` (its points fall free, with
+        /// gravity from the next Update). Returns this call's outcome.</summary>
+        public HoseResult DetachEnd(int hose, int attachment)
+        {
+            HoseResult result;
+            Check(Native.chaintube_rig_detach_end(Handle, hose, attachment, out result));
+            return result;
+        }
+
+        /// <summary>Plugs end `end` (0: first point's, 1: last point's) into `node` (-1: the world)
+        /// at pose (7 numbers relative to the node: translation, rotation x y z w; the end segment
+        /// along its +z). Returns the new attachment's index; result: this call's outcome.</summary>
+        public int AttachEnd(int hose, int end, int node, double[] pose, out HoseResult result)
+        {
+            int attachment;
+            Check(Native.chaintube_rig_attach_end(Handle, hose, end, node, pose, out attachment, out result));
+            return attachment;
+        }
         public int Update() { int n; Check(Native.chaintube_rig_update(Handle, out n)); return n; }
         public HoseResult Result(int hose) { HoseResult r; Check(Native.chaintube_rig_hose_result(Handle, hose, out r)); return r; }
 

@@ -177,7 +177,7 @@ const CLIP_INFO_FIELDS = [
 const ATTACHMENT_PULL_FIELDS = [
   ['direction', 'direction', 'f64x3'], ['tautness', 'tautness', 'f64'], ['strain', 'strain', 'f64'],
   ['force', 'force', 'f64x3'], ['node', 'node', 'i32'], ['firstPoint', 'first_point', 'i32'],
-  ['lastPoint', 'last_point', 'i32'],
+  ['lastPoint', 'last_point', 'i32'], ['attached', 'attached', 'bool'],
 ];
 
 /** The runtime: version, status names, the last error and loading rigs. */
@@ -427,6 +427,31 @@ export class Rig {
     n.check(n.m._chaintube_rig_grab(rig, hose, point, n.doubles('target', target, 3), n.output));
     this.#inputs?.push({ op: 'grab', hose, point, target: Array.from(target, Number) });
     return n.hoseResult(n.output);
+  }
+
+  /** Unplugs an end: lets go of attachment `attachment` of a hose (chaintube_rig_detach_end): its
+   * points fall free (with gravity from the next update()) and become grabbable; it keeps its
+   * index, attached false. Returns this call's outcome, a HoseResult. */
+  detachEnd(hose, attachment) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_detach_end(this.#rig(), n.int32('hose', hose),
+      n.int32('attachment', attachment), n.output));
+    return n.hoseResult(n.output);
+  }
+
+  /** Plugs end `end` of a hose (0: the first point's, 1: the last point's) into `node` (-1: the
+   * world) at pose [tx, ty, tz, qx, qy, qz, qw], relative to the node; the end segment lies along
+   * the pose's +z (chaintube_rig_attach_end). Returns { attachment (its index), result (a
+   * HoseResult) }. */
+  attachEnd(hose, end, node, pose) {
+    const n = this.#native;
+    n.int32('hose', hose);
+    n.int32('end', end);
+    n.int32('node', node);
+    const result = n.output, index = n.output + 128;
+    n.check(n.m._chaintube_rig_attach_end(this.#rig(), hose, end, node, n.doubles('pose', pose, 7),
+      index, result));
+    return { attachment: n.i32[index >> 2], result: n.hoseResult(result) };
   }
 
   /** Lets go of the hose's held point. */

@@ -62,7 +62,8 @@ std::string makeLayout()
         CHAINTUBE_FIELD(chaintube_attachment_pull, force) +
         CHAINTUBE_FIELD(chaintube_attachment_pull, node) +
         CHAINTUBE_FIELD(chaintube_attachment_pull, first_point) +
-        CHAINTUBE_FIELD(chaintube_attachment_pull, last_point) + "}";
+        CHAINTUBE_FIELD(chaintube_attachment_pull, last_point) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, attached) + "}";
     const std::string bytes = "\"bytes\":{\"sizeof\":" + std::to_string(sizeof(chaintube_bytes)) +
                               CHAINTUBE_FIELD(chaintube_bytes, data) +
                               CHAINTUBE_FIELD(chaintube_bytes, size) + "}";

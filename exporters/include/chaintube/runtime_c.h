@@ -162,6 +162,7 @@ typedef struct chaintube_attachment_pull
     int32_t node;        /* glTF node the attachment is on, -1: fixed in the world */
     int32_t first_point; /* the axis points it fixes, first ... last */
     int32_t last_point;
+    int32_t attached; /* 1 while attached; 0 once chaintube_rig_detach_end let go of it */
 } chaintube_attachment_pull;
 
 /* The library's ABI version (CHAINTUBE_RUNTIME_ABI_VERSION of its build). */
@@ -225,7 +226,7 @@ CHAINTUBE_API chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig,
 /* The axis points chaintube_rig_grab accepts for a hose, ascending: every point no attachment
  * fixes (a point a clip holds is among them, refused only while the clip holds it: see
  * chaintube_rig_clip_info). Writes grabbable_count integers; capacity >= grabbable_count
- * (points may be NULL when it is 0). */
+ * (points may be NULL when it is 0). Detaching and attaching ends changes them. */
 CHAINTUBE_API chaintube_status chaintube_rig_grabbable_points(const chaintube_rig* rig,
                                                               int32_t hose, int32_t* points,
                                                               int32_t capacity);
@@ -252,7 +253,8 @@ CHAINTUBE_API chaintube_status chaintube_rig_clip_count(const chaintube_rig* rig
 CHAINTUBE_API chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose,
                                                        int32_t clip, chaintube_clip_info* info);
 
-/* Number of attachments of a hose (the descriptor's, in its order; clips are not among them),
+/* Number of attachments of a hose (the descriptor's, in its order, then those
+ * chaintube_rig_attach_end made; a detached one keeps its index; clips are not among them),
  * and how hard the hose pulls on attachment `attachment` in [0, count) as of the last
  * chaintube_rig_update. axial_stiffness: the hose's EA in newtons per unit strain (a rubber
  * hose of 20 mm about 1e4, a steel-braided one 1e6), finite and >= 0; the descriptor does
@@ -289,6 +291,33 @@ CHAINTUBE_API chaintube_status chaintube_rig_set_node_transform(chaintube_rig* r
 CHAINTUBE_API chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t point,
                                                   const double target[3],
                                                   chaintube_hose_result* result);
+
+/* Unplugs an end: lets go of attachment `attachment` of a hose (chaintube_rig_attachment_count).
+ * Its points become free and grabbable (chaintube_rig_grabbable_points, hose_info's
+ * grabbable_count); with gravity they fall from the next update (a hose with nothing fixed and
+ * nothing held stays where it is). It keeps its index, attached 0. The part it was fixed to
+ * collides with the hose again: the hose is pushed out of it now. result (may be NULL): this
+ * call's outcome. Refused (CHAINTUBE_ERROR_INVALID_ARGUMENT, nothing changed): an attachment
+ * already detached, a static hose. Since ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_detach_end(chaintube_rig* rig, int32_t hose,
+                                                        int32_t attachment,
+                                                        chaintube_hose_result* result);
+
+/* Plugs an end: fixes end `end` of a hose (0: points 0 and 1; 1: the last two) to `node` (-1:
+ * the world) at pose[7] (rigid pose relative to the node: translation, rotation x y z w): the
+ * end point goes to the pose's origin and the end segment along its +z, out of the hose (into
+ * the coupling). The end goes there in this call, every segment within its band (a long move
+ * is made in halves); a pose out of the hose's reach leaves the end short of it (status
+ * INFEASIBLE), met once the node brings it within reach. A held point on the end segment is let
+ * go. The new attachment follows chaintube_rig_set_node_transform of the node; *attachment
+ * (may be NULL) receives its index, the new chaintube_rig_attachment_count - 1. result (may be
+ * NULL): this call's outcome. Refused (nothing changed): end not 0 or 1, a non-finite pose, a
+ * rotation of length 0.5 or less (INVALID_ARGUMENT); a node out of range (OUT_OF_RANGE); an end
+ * an attachment or a clip holds now, a static hose (INVALID_ARGUMENT). Since ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int32_t hose,
+                                                        int32_t end, int32_t node,
+                                                        const double pose[7], int32_t* attachment,
+                                                        chaintube_hose_result* result);
 
 /* Lets go of the hose's held point; with gravity it falls again from the next update. */
 CHAINTUBE_API chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose);

@@ -432,7 +432,7 @@ chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig, int32_t hose,
         out.outer_radius = running.outerRadius();
         out.point_count = running.pointCount();
         out.joint_count = static_cast<int32_t>(rig->runtime.jointPoses(hose).size());
-        out.grabbable_count = static_cast<int32_t>(description.grabbablePoints.size());
+        out.grabbable_count = static_cast<int32_t>(rig->runtime.grabbablePoints(hose).size());
         out.vertex_count = static_cast<int32_t>(surface.vertexCount());
         out.index_count = static_cast<int32_t>(surface.topology().indices.size());
         out.mesh_node = description.meshNode;
@@ -451,7 +451,7 @@ chaintube_status chaintube_rig_grabbable_points(const chaintube_rig* rig, int32_
     constexpr const char* function = "chaintube_rig_grabbable_points";
     return guarded(function, [&]() -> chaintube_status {
         if (const chaintube_status status = checkHose(function, rig, hose)) return status;
-        const std::vector<int>& grabbable = rig->runtime.description(hose).grabbablePoints;
+        const std::vector<int>& grabbable = rig->runtime.grabbablePoints(hose);
         if (!points && !grabbable.empty()) return nullArgument(function, "points");
         if (const chaintube_status status =
                 checkCapacity(function, "points", capacity, grabbable.size(),
@@ -584,8 +584,7 @@ chaintube_status chaintube_rig_attachment_pull(const chaintube_rig* rig, int32_t
         if (!pull) return nullArgument(function, "pull");
         const chaintube::AttachmentPull& measured = rig->runtime.attachmentPull(hose, attachment);
         const chaintube::Vec3 force = measured.force(axial_stiffness);
-        const chaintube::rig::RigAttachment& described =
-            rig->runtime.description(hose).attachments[static_cast<size_t>(attachment)];
+        const chaintube::rig::LiveAttachment& described = rig->runtime.attachment(hose, attachment);
         chaintube_attachment_pull out{};
         for (int k = 0; k < 3; ++k) {
             out.direction[k] = measured.direction(k);
@@ -596,6 +595,7 @@ chaintube_status chaintube_rig_attachment_pull(const chaintube_rig* rig, int32_t
         out.node = described.node;
         out.first_point = described.firstPoint;
         out.last_point = described.lastPoint;
+        out.attached = described.attached ? 1 : 0;
         *pull = out;
         return CHAINTUBE_OK;
     });
@@ -685,7 +685,7 @@ chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t po
             return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
                         "point " + std::to_string(point) + " is out of range: " +
                             hoseName(rig, hose) + " has points 0 to " + std::to_string(points - 1));
-        const std::vector<int>& grabbable = rig->runtime.description(hose).grabbablePoints;
+        const std::vector<int>& grabbable = rig->runtime.grabbablePoints(hose);
         if (!std::binary_search(grabbable.begin(), grabbable.end(), point))
             return fail(CHAINTUBE_ERROR_NOT_GRABBABLE, function,
                         "point " + std::to_string(point) + " of " + hoseName(rig, hose) +
@@ -703,6 +703,67 @@ chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t po
             return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
                         "the runtime refused the grab of point " + std::to_string(point) + " of " +
                             hoseName(rig, hose));
+        if (result) *result = resultOf(outcome);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_detach_end(chaintube_rig* rig, int32_t hose, int32_t attachment,
+                                          chaintube_hose_result* result)
+{
+    constexpr const char* function = "chaintube_rig_detach_end";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        const int count = rig->runtime.attachmentCount(hose);
+        if (attachment < 0 || attachment >= count)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "attachment " + std::to_string(attachment) + " is out of range: " +
+                            hoseName(rig, hose) + " has " + std::to_string(count) +
+                            " attachments (chaintube_rig_attachment_count)");
+        std::string why;
+        const UpdateResult outcome = rig->runtime.detachEnd(hose, attachment, &why);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (result) *result = resultOf(outcome);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int32_t hose, int32_t end,
+                                          int32_t node, const double pose[7], int32_t* attachment,
+                                          chaintube_hose_result* result)
+{
+    constexpr const char* function = "chaintube_rig_attach_end";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (node != -1)
+            if (const chaintube_status status = checkNode(function, rig, node)) return status;
+        if (end != 0 && end != 1)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "end " + std::to_string(end) +
+                            ": expected 0 (the first point's end) or 1 (the last point's)");
+        if (!pose) return nullArgument(function, "pose");
+        static const char* const names[7] = {"translation x", "translation y", "translation z",
+                                             "rotation x",    "rotation y",    "rotation z",
+                                             "rotation w"};
+        for (int k = 0; k < 7; ++k)
+            if (!std::isfinite(pose[k]))
+                return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                            "pose[" + std::to_string(k) + "] (" + names[k] + ") is " +
+                                numberText(pose[k]) + ": expected a finite number");
+        chaintube::Frame local;
+        local.translation = chaintube::Vec3(pose[0], pose[1], pose[2]);
+        local.rotation = chaintube::Quat(pose[6], pose[3], pose[4], pose[5]);
+        if (!(local.rotation.norm() > 0.5))
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "the rotation pose[3..6] has length " + numberText(local.rotation.norm()) +
+                            ": expected a unit quaternion");
+        std::string why;
+        int index = -1;
+        const UpdateResult outcome = rig->runtime.attachEnd(hose, end, node, local, &index, &why);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (attachment) *attachment = index;
         if (result) *result = resultOf(outcome);
         return CHAINTUBE_OK;
     });

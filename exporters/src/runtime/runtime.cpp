@@ -274,11 +274,19 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                             std::move(attachmentIds),
                             {},
                             {},
+                            {},
+                            {},
                             true,
                             0,
                             {},
                             {},
                             {}};
+        for (size_t k = 0; k < d.attachments.size(); ++k) {
+            const RigAttachment& a = d.attachments[k];
+            running.live.push_back(
+                {a.node, a.offset, a.firstPoint, a.lastPoint, true, running.attachmentIds[k]});
+        }
+        running.grabbable = d.grabbablePoints;
         for (int joint : d.jointNodes)
             running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
         runtime.m_hoses.push_back(std::move(running));
@@ -293,31 +301,178 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                         std::to_string(node) + ": " + error.what());
         }
     }
-    // Every hose stays outside the colliders except the nodes it is attached to and their
-    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule).
-    const auto parentOf = [&](int n) { return runtime.m_nodes[static_cast<size_t>(n)].parent; };
-    for (size_t h = 0; h < runtime.m_hoses.size() && !runtime.m_colliders.empty(); ++h) {
-        const RigHose& d = runtime.m_descriptor.hoses[h];
-        std::vector<std::shared_ptr<const MeshCollider>> used;
-        for (size_t c = 0; c < runtime.m_colliders.size(); ++c)
-            if (std::none_of(d.attachments.begin(), d.attachments.end(),
-                             [&](const RigAttachment& a) {
-                                 return formats::attachmentExempts(
-                                     a.node, runtime.m_descriptor.colliders[c], parentOf);
-                             }) &&
-                std::none_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
-                    return formats::attachmentExempts(a.node, runtime.m_descriptor.colliders[c],
-                                                      parentOf);
-                }))
-                used.push_back(runtime.m_colliders[c]);
-        if (!used.empty()) runtime.m_hoses[h].hose.setColliders(std::move(used));
-    }
+    for (size_t h = 0; h < runtime.m_hoses.size() && !runtime.m_colliders.empty(); ++h)
+        runtime.chooseColliders(h);
     // A gravity hose is exported as it hangs (formats::settleUnderGravity): it starts at rest and
     // falls again once an input moves it, instead of re-settling (creeping) from the file.
     for (RunningHose& running : runtime.m_hoses)
         if (running.hose.spec().gravity.enabled) running.hose.markSettled();
     runtime.refresh(); // surfaces and poses as exported
     return runtime;
+}
+
+void HoseRuntime::chooseColliders(size_t hose)
+{
+    // Every hose stays outside the colliders except the nodes it is attached to and their
+    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule).
+    RunningHose& running = m_hoses[hose];
+    const RigHose& d = m_descriptor.hoses[hose];
+    const auto parentOf = [&](int n) { return m_nodes[static_cast<size_t>(n)].parent; };
+    std::vector<std::shared_ptr<const MeshCollider>> used;
+    for (size_t c = 0; c < m_colliders.size(); ++c) {
+        const int collider = m_descriptor.colliders[c];
+        const bool exempt = std::any_of(running.live.begin(), running.live.end(),
+                                        [&](const LiveAttachment& a) {
+                                            return a.attached && formats::attachmentExempts(
+                                                                     a.node, collider, parentOf);
+                                        }) ||
+                            std::any_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
+                                return formats::attachmentExempts(a.node, collider, parentOf);
+                            });
+        if (!exempt) used.push_back(m_colliders[c]);
+    }
+    if (used != running.hose.colliders()) running.hose.setColliders(std::move(used));
+}
+
+void HoseRuntime::findGrabbable(RunningHose& running, const RigHose& description)
+{
+    running.grabbable.clear();
+    if (description.isStatic) return;
+    std::vector<char> fixed(static_cast<size_t>(running.hose.pointCount()), 0);
+    for (const LiveAttachment& a : running.live)
+        if (a.attached)
+            for (int i = a.firstPoint; i <= a.lastPoint; ++i)
+                fixed[static_cast<size_t>(i)] = 1;
+    for (size_t i = 0; i < fixed.size(); ++i)
+        if (!fixed[i]) running.grabbable.push_back(static_cast<int>(i));
+}
+
+const LiveAttachment& HoseRuntime::attachment(int hose, int attachment) const
+{
+    const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
+        throw std::out_of_range("hose " + std::to_string(hose) + ": attachment " +
+                                std::to_string(attachment) + " is out of range");
+    return running.live[static_cast<size_t>(attachment)];
+}
+
+const std::vector<int>& HoseRuntime::grabbablePoints(int hose) const
+{
+    return m_hoses.at(static_cast<size_t>(hose)).grabbable;
+}
+
+namespace {
+UpdateResult refused(std::string* why, std::string text)
+{
+    if (why) *why = std::move(text);
+    UpdateResult result;
+    result.status = Status::InvalidInput;
+    return result;
+}
+} // namespace
+
+UpdateResult HoseRuntime::detachEnd(int hose, int attachment, std::string* why)
+{
+    if (hose < 0 || hose >= hoseCount())
+        return refused(why, "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                                std::to_string(hoseCount() - 1));
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
+        return refused(why, "attachment " + std::to_string(attachment) +
+                                " is out of range: " + name + " has " +
+                                std::to_string(running.live.size()) + " attachments");
+    if (d.isStatic) return refused(why, name + " is static: its attachments never change");
+    LiveAttachment& live = running.live[static_cast<size_t>(attachment)];
+    if (!live.attached)
+        return refused(why, "attachment " + std::to_string(attachment) + " of " + name +
+                                " is already detached");
+    running.hose.detach(live.id);
+    live.attached = false;
+    live.id = -1;
+    findGrabbable(running, d);
+    running.pullsStale = true;
+    UpdateResult result;
+    if (!m_colliders.empty()) {
+        const size_t before = running.hose.colliders().size();
+        chooseColliders(static_cast<size_t>(hose));
+        if (running.hose.colliders().size() > before) result = running.hose.resolveCollisions();
+    }
+    combine(running.pendingResult, result);
+    return result;
+}
+
+UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& localFrame,
+                                    int* attachment, std::string* why)
+{
+    if (hose < 0 || hose >= hoseCount())
+        return refused(why, "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                                std::to_string(hoseCount() - 1));
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (node < -1 || node >= nodeCount())
+        return refused(why, "node " + std::to_string(node) + " is out of range: expected -1 (the " +
+                                "world) or 0 to " + std::to_string(nodeCount() - 1));
+    if (d.isStatic) return refused(why, name + " is static: its attachments never change");
+    if (end != 0 && end != 1)
+        return refused(why, "end " + std::to_string(end) +
+                                ": expected 0 (the first point's end) or 1 (the last point's)");
+    if (!localFrame.translation.allFinite() || !localFrame.rotation.coeffs().allFinite() ||
+        localFrame.rotation.norm() <= 0.5)
+        return refused(why, "the local frame is not finite or its rotation is not a unit "
+                            "quaternion (length above 0.5, normalised)");
+    const int n = running.hose.pointCount();
+    const int first = end == 0 ? 0 : n - 2;
+    const int last = first + 1;
+    const auto overlaps = [&](int a, int b) { return a <= last && b >= first; };
+    for (size_t k = 0; k < running.live.size(); ++k)
+        if (running.live[k].attached &&
+            overlaps(running.live[k].firstPoint, running.live[k].lastPoint))
+            return refused(why, "end " + std::to_string(end) + " of " + name +
+                                    " is already attached (attachment " + std::to_string(k) +
+                                    " fixes points " + std::to_string(running.live[k].firstPoint) +
+                                    " to " + std::to_string(running.live[k].lastPoint) + ")");
+    for (size_t c = 0; c < d.clips.size(); ++c) {
+        const Hose::Attachment& held = clip(hose, static_cast<int>(c));
+        if (overlaps(held.first, held.first + 1))
+            return refused(why, "end " + std::to_string(end) + " of " + name + " is held by clip " +
+                                    std::to_string(c));
+    }
+
+    // The end's frame now: origin the end point, z out of the hose along the end segment, x the
+    // ring's alignment made perpendicular to z.
+    const Vec3 tip = running.hose.point(end == 0 ? 0 : n - 1);
+    const Vec3 inner = running.hose.point(end == 0 ? 1 : n - 2);
+    const Vec3 z = (tip - inner).normalized();
+    const std::vector<RingFrame>& rings = running.surface.frames();
+    Vec3 x = rings.empty() ? Vec3::UnitX() : rings[end == 0 ? 0 : rings.size() - 1].alignment;
+    x -= x.dot(z) * z;
+    if (x.norm() < 1e-6) x = z.unitOrthogonal();
+    x.normalize();
+    Eigen::Matrix3d axes;
+    axes.col(0) = x;
+    axes.col(1) = z.cross(x);
+    axes.col(2) = z;
+    Frame endFrame;
+    endFrame.translation = tip;
+    endFrame.rotation = Quat(axes).normalized();
+
+    Frame offset = localFrame;
+    offset.rotation.normalize();
+    const Frame target = (node >= 0 ? nodeWorldFrame(node) : Frame()) * offset;
+    if (running.hose.heldPoint() >= first && running.hose.heldPoint() <= last)
+        running.hose.releaseGrab(); // the hand hands the end over
+    const int id = running.hose.attach(first, last, endFrame);
+    running.live.push_back({node, offset, first, last, true, id});
+    if (attachment) *attachment = static_cast<int>(running.live.size()) - 1;
+    findGrabbable(running, d);
+    running.pullsStale = true;
+    if (!m_colliders.empty()) chooseColliders(static_cast<size_t>(hose));
+    const UpdateResult result = running.hose.moveAttachment(id, target);
+    combine(running.pendingResult, result);
+    return result;
 }
 
 const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
@@ -403,10 +558,10 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
         const RigHose& d = m_descriptor.hoses[h];
         std::vector<int> ids;
         std::vector<Frame> frames;
-        for (size_t k = 0; k < d.attachments.size(); ++k)
-            if (d.attachments[k].node >= 0 && isUnder(d.attachments[k].node)) {
-                ids.push_back(m_hoses[h].attachmentIds[k]);
-                frames.push_back(nodeWorldFrame(d.attachments[k].node) * d.attachments[k].offset);
+        for (const LiveAttachment& a : m_hoses[h].live)
+            if (a.attached && a.node >= 0 && isUnder(a.node)) {
+                ids.push_back(a.id);
+                frames.push_back(nodeWorldFrame(a.node) * a.offset);
             }
         for (size_t k = 0; k < d.clips.size(); ++k) // ids after the attachments' (rebuildHose)
             if (d.clips[k].node >= 0 && isUnder(d.clips[k].node)) {
@@ -439,10 +594,9 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
     UpdateResult rejected;
     rejected.status = Status::InvalidInput;
     if (hose < 0 || hose >= hoseCount()) return rejected;
-    const std::vector<int>& grabbable =
-        m_descriptor.hoses[static_cast<size_t>(hose)].grabbablePoints;
-    if (!std::binary_search(grabbable.begin(), grabbable.end(), point)) return rejected;
     RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const std::vector<int>& grabbable = running.grabbable;
+    if (!std::binary_search(grabbable.begin(), grabbable.end(), point)) return rejected;
     const UpdateResult result = running.hose.grab(point, target);
     combine(running.pendingResult, result);
     return result;
@@ -507,7 +661,7 @@ int HoseRuntime::refresh()
             ++recomputed;
         }
         if (reshaped || running.pullsStale) {
-            measurePulls(running, m_descriptor.hoses[h]);
+            measurePulls(running);
             running.pullsStale = false;
         }
     }
@@ -575,26 +729,31 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
     }
 }
 
-void HoseRuntime::measurePulls(RunningHose& running, const RigHose& description)
+void HoseRuntime::measurePulls(RunningHose& running)
 {
-    running.pulls.resize(description.attachments.size());
-    for (size_t k = 0; k < description.attachments.size(); ++k)
-        running.pulls[k] = chaintube::attachmentPull(running.hose, running.attachmentIds[k]);
+    running.pulls.resize(running.live.size());
+    for (size_t k = 0; k < running.live.size(); ++k)
+        running.pulls[k] = running.live[k].attached
+                               ? chaintube::attachmentPull(running.hose, running.live[k].id)
+                               : AttachmentPull();
 }
 
 int HoseRuntime::attachmentCount(int hose) const
 {
     if (hose < 0 || hose >= hoseCount()) return 0;
-    return static_cast<int>(m_hoses[static_cast<size_t>(hose)].pulls.size());
+    return static_cast<int>(m_hoses[static_cast<size_t>(hose)].live.size());
 }
 
 const AttachmentPull& HoseRuntime::attachmentPull(int hose, int attachment) const
 {
     const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
-    if (attachment < 0 || static_cast<size_t>(attachment) >= running.pulls.size())
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
         throw std::out_of_range("hose " + std::to_string(hose) + ": attachment " +
                                 std::to_string(attachment) + " is out of range");
-    return running.pulls[static_cast<size_t>(attachment)];
+    static const AttachmentPull unmeasured; // attached since the last update()
+    return static_cast<size_t>(attachment) < running.pulls.size()
+               ? running.pulls[static_cast<size_t>(attachment)]
+               : unmeasured;
 }
 
 std::vector<float> HoseRuntime::worldPositions(int hose) const
