@@ -477,6 +477,60 @@ static void per_frame(const char* rig_file)
           "the grabbed joint is at (%.12g, %.12g), the target at (%.12g, %.12g)",
           doubles[7 * point], doubles[7 * point + 1], target[0], target[1]);
     CHECK(chaintube_rig_release(rig, hose) == CHAINTUBE_OK, "%s", chaintube_last_error());
+
+    /* Tension: right-return drawn taut by its valve moved 10 cm away, slack once it goes back. */
+    {
+        int32_t right = -1, valve = -1;
+        chaintube_node_info valve_info;
+        chaintube_hose_info right_info;
+        chaintube_attachment_pull pulls[2];
+        double home[10], moved[10], parent[10], away[3], length = 0.0;
+        static double ends[7 * 256];
+        CHECK(chaintube_rig_find_hose(rig, "right-return", &right) == CHAINTUBE_OK &&
+                  chaintube_rig_find_node(rig, "valve", &valve) == CHAINTUBE_OK &&
+                  chaintube_rig_hose_info(rig, right, &right_info) == CHAINTUBE_OK &&
+                  chaintube_rig_node_info(rig, valve, &valve_info) == CHAINTUBE_OK &&
+                  chaintube_rig_node_transform(rig, valve, home) == CHAINTUBE_OK &&
+                  chaintube_rig_joint_poses_f64(rig, right, NULL, 0, ends, 7 * 256) == CHAINTUBE_OK,
+              "%s", chaintube_last_error());
+        /* The valve's parent has no rotation or scale: a move in its frame is one in world. */
+        CHECK(valve_info.parent < 0 ||
+                  (chaintube_rig_node_transform(rig, valve_info.parent, parent) == CHAINTUBE_OK &&
+                   parent[6] == 1.0 && parent[7] == 1.0 && parent[8] == 1.0 && parent[9] == 1.0),
+              "the valve's parent is rotated or scaled");
+        for (int k = 0; k < 3; ++k) {
+            away[k] = ends[7 * (right_info.point_count - 1) + k] - ends[k];
+            length += away[k] * away[k];
+        }
+        memcpy(moved, home, sizeof moved);
+        for (int frame = 0; frame < 5; ++frame) {
+            for (int k = 0; k < 3; ++k)
+                moved[k] += 0.02 * away[k] / sqrt(length);
+            CHECK(chaintube_rig_set_node_transform(rig, valve, moved) == CHAINTUBE_OK &&
+                      chaintube_rig_update(rig, NULL) == CHAINTUBE_OK,
+                  "%s", chaintube_last_error());
+        }
+        for (int32_t a = 0; a < 2; ++a) {
+            double along = 0.0;
+            CHECK(chaintube_rig_attachment_pull(rig, right, a, 1e4, &pulls[a]) == CHAINTUBE_OK,
+                  "%s", chaintube_last_error());
+            for (int k = 0; k < 3; ++k)
+                along += pulls[a].force[k] * pulls[a].direction[k];
+            CHECK(pulls[a].tautness > 0.9 && pulls[a].strain > 0.0 && along > 0.0,
+                  "drawn taut, attachment %d: tautness %g, strain %g, force along the pull %g N",
+                  (int)a, pulls[a].tautness, pulls[a].strain, along);
+        }
+        CHECK(chaintube_rig_set_node_transform(rig, valve, home) == CHAINTUBE_OK &&
+                  chaintube_rig_update(rig, NULL) == CHAINTUBE_OK,
+              "%s", chaintube_last_error());
+        for (int32_t a = 0; a < 2; ++a) {
+            CHECK(chaintube_rig_attachment_pull(rig, right, a, 1e4, &pulls[a]) == CHAINTUBE_OK,
+                  "%s", chaintube_last_error());
+            CHECK(pulls[a].tautness == 0.0 && pulls[a].force[0] == 0.0 &&
+                      pulls[a].force[1] == 0.0 && pulls[a].force[2] == 0.0,
+                  "released, attachment %d: tautness %g", (int)a, pulls[a].tautness);
+        }
+    }
     CHECK(strcmp(chaintube_status_name(CHAINTUBE_ERROR_BUFFER_TOO_SMALL),
                  "CHAINTUBE_ERROR_BUFFER_TOO_SMALL") == 0 &&
               strcmp(chaintube_status_name((chaintube_status)99), "unknown status") == 0,

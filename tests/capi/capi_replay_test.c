@@ -364,38 +364,6 @@ static void replay(chaintube_rig* rig, const char* reference, const char* where)
                 expect_near(pull.force[k] / PULL_STIFFNESS, v[10 + k] / PULL_STIFFNESS, where,
                             line_number, "pull force / EA");
             }
-        } else if (strcmp(word, "expect-taut") == 0 || strcmp(word, "expect-slack") == 0) {
-            const int taut = strcmp(word, "expect-taut") == 0;
-            int32_t count = 0;
-            double most = 0.0, largest_force = 0.0;
-            read_numbers(numbers, v, 1);
-            if (!call_ok(chaintube_rig_attachment_count(rig, (int32_t)v[0], &count), where,
-                         line_number, "attachment_count"))
-                continue;
-            for (int32_t a = 0; a < count; ++a) {
-                chaintube_attachment_pull pull;
-                if (!call_ok(
-                        chaintube_rig_attachment_pull(rig, (int32_t)v[0], a, PULL_STIFFNESS, &pull),
-                        where, line_number, "attachment_pull"))
-                    continue;
-                if (pull.tautness > most) most = pull.tautness;
-                for (int k = 0; k < 3; ++k)
-                    if (fabs(pull.force[k]) > largest_force) largest_force = fabs(pull.force[k]);
-            }
-            ++compared;
-            if (taut ? !(most > 0.9) : !(most == 0.0 && largest_force == 0.0)) {
-                char text[256];
-                snprintf(text, sizeof text,
-                         "%s: the largest tautness of the hose's %d attachments is %.17g, "
-                         "largest force component %.17g N",
-                         taut ? "pulled out of reach, expected taut (> 0.9)"
-                              : "released, expected slack (0)",
-                         (int)count, most, largest_force);
-                fail_at(where, line_number, text);
-            } else {
-                printf("%s: hose %d %s: largest tautness %.6g\n", where, (int)v[0],
-                       taut ? "pulled out of reach" : "released", most);
-            }
         } else {
             fail_at(where, line_number, "unknown reference line");
         }

@@ -193,21 +193,6 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
           }
           break;
         }
-        case 'expect-taut':
-        case 'expect-slack': {
-          const taut = words[0] === 'expect-taut';
-          let most = 0, largestForce = 0;
-          for (let a = 0; a < rig.attachmentCount(v[0]); ++a) {
-            const pull = rig.attachmentPull(v[0], a, PULL_STIFFNESS);
-            most = Math.max(most, pull.tautness);
-            largestForce = Math.max(largestForce, ...pull.force.map(Math.abs));
-          }
-          ++compared;
-          if (taut ? !(most > 0.9) : !(most === 0 && largestForce === 0))
-            fail(line, `${taut ? 'pulled out of reach, expected taut (> 0.9)' : 'released, expected slack (0)'}: ` +
-              `largest tautness ${most}, largest force component ${largestForce} N`);
-          break;
-        }
         default:
           fail(line, `unknown reference line "${words[0]}"`);
       }

@@ -162,6 +162,8 @@ namespace ChainTube
         public static extern Status chaintube_rig_grab(IntPtr rig, int hose, int point, double[] target, out HoseResult result);
         [DllImport(Library)] public static extern Status chaintube_rig_release(IntPtr rig, int hose);
         [DllImport(Library)]
+        public static extern Status chaintube_rig_cut(IntPtr rig, int hose, int point, out int newHose);
+        [DllImport(Library)]
         public static extern Status chaintube_rig_detach_end(IntPtr rig, int hose, int attachment, out HoseResult result);
         [DllImport(Library)]
         public static extern Status chaintube_rig_attach_end(IntPtr rig, int hose, int end, int node, double[] pose,
@@ -294,6 +296,11 @@ namespace ChainTube
         }
 
         public void Release(int hose) { Check(Native.chaintube_rig_release(Handle, hose)); }
+
+        /// <summary>Cuts a hose in two at axis point `point` (1 ... pointCount - 2): the hose keeps
+        /// points 0 ... point, the returned new hose the rest. The skin keeps its joints: the new
+        /// hose poses those beyond the cut (its JointNodes start with -1).</summary>
+        public int Cut(int hose, int point) { int h; Check(Native.chaintube_rig_cut(Handle, hose, point, out h)); return h; }
 
         /// <summary>Unplugs an end: lets go of attachment `attachment` (its points fall free, with
         /// gravity from the next Update). Returns this call's outcome.</summary>

@@ -454,6 +454,16 @@ export class Rig {
     return { attachment: n.i32[index >> 2], result: n.hoseResult(result) };
   }
 
+  /** Cuts a hose in two at axis point `point` (1 ... pointCount - 2; chaintube_rig_cut): the
+   * hose keeps points 0 ... point, the returned new hose index gets the rest; the skin stays the
+   * same, the new hose poses the joints beyond the cut (its jointNodes() start with -1). */
+  cut(hose, point) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_cut(this.#rig(), n.int32('hose', hose), n.int32('point', point),
+      n.output));
+    return n.outputInt32();
+  }
+
   /** Lets go of the hose's held point. */
   release(hose) {
     const n = this.#native;

@@ -232,7 +232,8 @@ CHAINTUBE_API chaintube_status chaintube_rig_grabbable_points(const chaintube_ri
                                                               int32_t capacity);
 
 /* The glTF node of each joint of a hose, in axis order: joint_count integers (none for a
- * static hose); capacity >= joint_count. */
+ * static hose); capacity >= joint_count. -1 for a joint no node takes (the first of a hose cut
+ * off by chaintube_rig_cut). */
 CHAINTUBE_API chaintube_status chaintube_rig_joint_nodes(const chaintube_rig* rig, int32_t hose,
                                                          int32_t* nodes, int32_t capacity);
 
@@ -296,7 +297,7 @@ CHAINTUBE_API chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t ho
  * Its points become free and grabbable (chaintube_rig_grabbable_points, hose_info's
  * grabbable_count); with gravity they fall from the next update (a hose with nothing fixed and
  * nothing held stays where it is). It keeps its index, attached 0. The part it was fixed to
- * collides with the hose again: the hose is pushed out of it now. result (may be NULL): this
+ * stays exempt from collision with the hose (the end starts inside it). result (may be NULL): this
  * call's outcome. Refused (CHAINTUBE_ERROR_INVALID_ARGUMENT, nothing changed): an attachment
  * already detached, a static hose. Since ABI 1.2. */
 CHAINTUBE_API chaintube_status chaintube_rig_detach_end(chaintube_rig* rig, int32_t hose,
@@ -318,6 +319,22 @@ CHAINTUBE_API chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int3
                                                         int32_t end, int32_t node,
                                                         const double pose[7], int32_t* attachment,
                                                         chaintube_hose_result* result);
+
+/* Cuts a hose in two at axis point `point` (1 ... point_count - 2): the hose keeps its index
+ * and points 0 ... point; a new hose, *new_hose (may be NULL; the hose count before the call),
+ * gets points point ... point_count - 1 (id "<id>~<index>"). Each piece has a free end at the cut
+ * and starts at rest (with gravity it falls from the next update); each attachment and clip goes
+ * with the piece it lies on (renumbered in its piece); no point is held. The skinned mesh stays
+ * valid with the same skin and joint list: the hose cut poses joints 0 ... point, the new hose
+ * the joints beyond (chaintube_rig_joint_nodes of the new hose starts with -1, the cut point's
+ * joint staying with the first piece: write the poses of the joints whose node is not -1). The
+ * mesh's segment across the cut stretches between the two cut ends; a platform wanting two clean
+ * ends draws each piece's own surface (chaintube_rig_surface, closed with caps). Joint poses,
+ * surfaces and pulls are up to date at once. Refused (nothing changed): a point out of range
+ * (OUT_OF_RANGE); a point at an end, one an attachment fixes or on a clip's segment, a static
+ * hose (INVALID_ARGUMENT). Hose ids and names returned before stay valid. Since ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_cut(chaintube_rig* rig, int32_t hose, int32_t point,
+                                                 int32_t* new_hose);
 
 /* Lets go of the hose's held point; with gravity it falls again from the next update. */
 CHAINTUBE_API chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose);

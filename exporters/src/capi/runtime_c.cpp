@@ -11,6 +11,7 @@
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <set>
 #include <span>
 #include <string>
 #include <utility>
@@ -20,6 +21,10 @@ struct chaintube_rig
 {
     chaintube::rig::HoseRuntime runtime;
     std::vector<std::string> warnings;
+    /// Hose ids and names as returned: a cut renames hoses and grows the runtime's list, and a
+    /// returned string lives as long as the rig (a std::set never moves its strings).
+    mutable std::set<std::string> strings;
+    const char* keep(const std::string& text) const { return strings.insert(text).first->c_str(); }
 };
 
 namespace {
@@ -223,7 +228,7 @@ chaintube_status jointPoses(const char* function, const chaintube_rig* rig, int3
 chaintube_status adopt(chaintube::rig::HoseRuntime&& runtime,
                        chaintube::rig::RuntimeLoadReport&& report, chaintube_rig** rig)
 {
-    *rig = new chaintube_rig{std::move(runtime), std::move(report.warnings)};
+    *rig = new chaintube_rig{std::move(runtime), std::move(report.warnings), {}};
     return CHAINTUBE_OK;
 }
 
@@ -426,8 +431,8 @@ chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig, int32_t hose,
         const chaintube::Hose& running = rig->runtime.hose(hose);
         const chaintube::HoseSurface& surface = rig->runtime.surface(hose);
         chaintube_hose_info out{};
-        out.id = description.id.c_str();
-        out.name = description.name.c_str();
+        out.id = rig->keep(description.id);
+        out.name = rig->keep(description.name);
         out.rest_length = running.restLengthTotal();
         out.outer_radius = running.outerRadius();
         out.point_count = running.pointCount();
@@ -765,6 +770,26 @@ chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int32_t hose, int3
             return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
         if (attachment) *attachment = index;
         if (result) *result = resultOf(outcome);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_cut(chaintube_rig* rig, int32_t hose, int32_t point,
+                                   int32_t* new_hose)
+{
+    constexpr const char* function = "chaintube_rig_cut";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        const int points = rig->runtime.hose(hose).pointCount();
+        if (point < 0 || point >= points)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "point " + std::to_string(point) + " is out of range: " +
+                            hoseName(rig, hose) + " has points 0 to " + std::to_string(points - 1));
+        std::string why;
+        const chaintube::rig::CutResult outcome = rig->runtime.cut(hose, point, &why);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (new_hose) *new_hose = outcome.newHose;
         return CHAINTUBE_OK;
     });
 }

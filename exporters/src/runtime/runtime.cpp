@@ -1,5 +1,6 @@
 #include "chaintube/export/runtime.h"
 
+#include "chaintube/cut.h"
 #include "chaintube/formats/collider_exemption.h"
 #include "gltf_container.h"
 #include "transform_math.h"
@@ -9,7 +10,10 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -269,9 +273,13 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                                             "exported rest lengths, so the hose starts "
                                             "overstretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
+        // Ids: the descriptor's attachments', then its clips' (rebuildHose).
+        std::vector<int> clipIds(attachmentIds.begin() +
+                                     static_cast<std::ptrdiff_t>(d.attachments.size()),
+                                 attachmentIds.end());
         RunningHose running{std::move(hose),
                             std::move(surface),
-                            std::move(attachmentIds),
+                            std::move(clipIds),
                             {},
                             {},
                             {},
@@ -284,7 +292,7 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         for (size_t k = 0; k < d.attachments.size(); ++k) {
             const RigAttachment& a = d.attachments[k];
             running.live.push_back(
-                {a.node, a.offset, a.firstPoint, a.lastPoint, true, running.attachmentIds[k]});
+                {a.node, a.offset, a.firstPoint, a.lastPoint, true, attachmentIds[k]});
         }
         running.grabbable = d.grabbablePoints;
         for (int joint : d.jointNodes)
@@ -314,21 +322,22 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
 void HoseRuntime::chooseColliders(size_t hose)
 {
     // Every hose stays outside the colliders except the nodes it is attached to and their
-    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule).
+    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule),
+    // and those it was unplugged from (the end starts inside the part, and would stick there).
     RunningHose& running = m_hoses[hose];
     const RigHose& d = m_descriptor.hoses[hose];
     const auto parentOf = [&](int n) { return m_nodes[static_cast<size_t>(n)].parent; };
     std::vector<std::shared_ptr<const MeshCollider>> used;
     for (size_t c = 0; c < m_colliders.size(); ++c) {
         const int collider = m_descriptor.colliders[c];
-        const bool exempt = std::any_of(running.live.begin(), running.live.end(),
-                                        [&](const LiveAttachment& a) {
-                                            return a.attached && formats::attachmentExempts(
-                                                                     a.node, collider, parentOf);
-                                        }) ||
-                            std::any_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
-                                return formats::attachmentExempts(a.node, collider, parentOf);
-                            });
+        const bool exempt =
+            std::any_of(running.live.begin(), running.live.end(),
+                        [&](const LiveAttachment& a) {
+                            return formats::attachmentExempts(a.node, collider, parentOf);
+                        }) ||
+            std::any_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
+                return formats::attachmentExempts(a.node, collider, parentOf);
+            });
         if (!exempt) used.push_back(m_colliders[c]);
     }
     if (used != running.hose.colliders()) running.hose.setColliders(std::move(used));
@@ -393,14 +402,7 @@ UpdateResult HoseRuntime::detachEnd(int hose, int attachment, std::string* why)
     live.id = -1;
     findGrabbable(running, d);
     running.pullsStale = true;
-    UpdateResult result;
-    if (!m_colliders.empty()) {
-        const size_t before = running.hose.colliders().size();
-        chooseColliders(static_cast<size_t>(hose));
-        if (running.hose.colliders().size() > before) result = running.hose.resolveCollisions();
-    }
-    combine(running.pendingResult, result);
-    return result;
+    return UpdateResult(); // nothing moved yet: the freed points fall from the next update()
 }
 
 UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& localFrame,
@@ -475,6 +477,153 @@ UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& lo
     return result;
 }
 
+namespace {
+template <class T> std::vector<T> slice(const std::vector<T>& values, size_t from, size_t to)
+{
+    from = std::min(from, values.size());
+    to = std::min(std::max(to, from), values.size());
+    return std::vector<T>(values.begin() + static_cast<std::ptrdiff_t>(from),
+                          values.begin() + static_cast<std::ptrdiff_t>(to));
+}
+} // namespace
+
+CutResult HoseRuntime::cut(int hose, int point, std::string* why)
+{
+    CutResult out;
+    const auto refuse = [&](std::string text) {
+        if (why) *why = std::move(text);
+        return out;
+    };
+    if (hose < 0 || hose >= hoseCount())
+        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                      std::to_string(hoseCount() - 1));
+    const size_t h = static_cast<size_t>(hose);
+    const RigHose d = m_descriptor.hoses[h]; // a copy: the list grows below
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (d.isStatic) return refuse(name + " is static: it is never cut");
+    const int n = m_hoses[h].hose.pointCount();
+    if (point <= 0 || point >= n - 1)
+        return refuse("point " + std::to_string(point) + " of " + name +
+                      ": expected an interior point, 1 to " + std::to_string(n - 2) +
+                      " (a cut at an end or beyond cuts nothing off)");
+    std::optional<CutHose> pieces;
+    try {
+        pieces.emplace(cutHose(m_hoses[h].hose, point));
+    } catch (const InvalidArgument& error) {
+        return refuse(name + ": " + error.what());
+    }
+    // Where each Hose attachment id of the hose cut went: its piece and its id there.
+    std::map<int, CutHose::Moved> moved;
+    const std::vector<Hose::Attachment>& old = m_hoses[h].hose.attachments();
+    for (size_t k = 0; k < old.size() && k < pieces->attachments.size(); ++k)
+        moved[old[k].id] = pieces->attachments[k];
+
+    const size_t p = static_cast<size_t>(point), count = static_cast<size_t>(n);
+    double restBefore = 0.0; // rest arc length from point 0 to the cut
+    for (size_t s = 0; s < p; ++s)
+        restBefore += d.restLengths[s];
+    RigHose descriptions[2] = {d, d};
+    HoseSurface beforeSurface(pieces->before), afterSurface(pieces->after);
+    const std::uint64_t unposed = std::numeric_limits<std::uint64_t>::max();
+    RunningHose runnings[2] = {{std::move(pieces->before),
+                                std::move(beforeSurface),
+                                {},
+                                {},
+                                {},
+                                {},
+                                {},
+                                true,
+                                unposed,
+                                {},
+                                m_hoses[h].pendingResult,
+                                {}},
+                               {std::move(pieces->after),
+                                std::move(afterSurface),
+                                {},
+                                {},
+                                {},
+                                {},
+                                {},
+                                true,
+                                unposed,
+                                {},
+                                {},
+                                {}}};
+    const size_t from[2] = {0, p}, until[2] = {p + 1, count};
+    for (int piece = 0; piece < 2; ++piece) {
+        RigHose& part = descriptions[piece];
+        RunningHose& running = runnings[piece];
+        const int shift = piece == 0 ? 0 : point;
+        part.axis = running.hose.points();
+        part.restLengths = slice(d.restLengths, from[piece], until[piece] - 1);
+        // Interior joint j of the hose cut is entry j − 1; the piece's are from + 1 … until − 2.
+        part.jointBendLimits = slice(d.jointBendLimits, from[piece], until[piece] - 2);
+        part.jointMinBendRadii = slice(d.jointMinBendRadii, from[piece], until[piece] - 2);
+        part.jointNodes = slice(d.jointNodes, from[piece], until[piece]);
+        if (piece == 1 && !part.jointNodes.empty()) part.jointNodes.front() = -1;
+        part.attachments.clear();
+        for (const LiveAttachment& a : m_hoses[h].live) {
+            LiveAttachment kept = a;
+            if (a.attached) {
+                const CutHose::Moved& target = moved.at(a.id);
+                if (target.piece != piece) continue;
+                kept.id = target.id;
+            } else if ((a.firstPoint >= point) != (piece == 1)) {
+                continue;
+            }
+            kept.firstPoint -= shift;
+            kept.lastPoint -= shift;
+            running.live.push_back(kept);
+            if (kept.attached) {
+                RigAttachment described;
+                described.node = kept.node;
+                described.offset = kept.offset;
+                described.frame =
+                    (kept.node >= 0 ? nodeWorldFrame(kept.node) : Frame()) * kept.offset;
+                described.firstPoint = kept.firstPoint;
+                described.lastPoint = kept.lastPoint;
+                part.attachments.push_back(described);
+            }
+        }
+        part.clips.clear();
+        for (size_t c = 0; c < d.clips.size(); ++c) {
+            const CutHose::Moved& target = moved.at(m_hoses[h].clipIds[c]);
+            if (target.piece != piece) continue;
+            RigClip clip = d.clips[c];
+            if (piece == 1) {
+                clip.place -= restBefore;
+                clip.slideMin = std::max(0.0, clip.slideMin - restBefore);
+                clip.slideMax -= restBefore;
+            }
+            part.clips.push_back(clip);
+            running.clipIds.push_back(target.id);
+        }
+        findGrabbable(running, part);
+        part.grabbablePoints = running.grabbable;
+        for (int joint : part.jointNodes)
+            running.jointParents.push_back(joint >= 0 ? m_nodes[static_cast<size_t>(joint)].parent
+                                                      : -1);
+    }
+    std::string id = d.id + "~" + std::to_string(m_hoses.size());
+    while (findHose(id) >= 0)
+        id += "~";
+    descriptions[1].id = id;
+    descriptions[1].name = d.name + " (cut)";
+
+    m_descriptor.hoses[h] = std::move(descriptions[0]);
+    m_descriptor.hoses.push_back(std::move(descriptions[1]));
+    m_hoses[h] = std::move(runnings[0]);
+    m_hoses.push_back(std::move(runnings[1]));
+    out.newHose = hoseCount() - 1;
+    for (const size_t piece : {h, static_cast<size_t>(out.newHose)}) {
+        m_hoses[piece].hose.setColliders({});
+        if (!m_colliders.empty()) chooseColliders(piece);
+    }
+    refresh();
+    out.status = Status::Ok;
+    return out;
+}
+
 const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
 {
     const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
@@ -482,8 +631,8 @@ const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
     if (clip < 0 || static_cast<size_t>(clip) >= d.clips.size())
         throw std::out_of_range("hose " + std::to_string(hose) + ": clip " + std::to_string(clip) +
                                 " is out of range");
-    // Ids after the attachments' (rebuildHose); a clip is never detached at run time.
-    const int id = running.attachmentIds.at(d.attachments.size() + static_cast<size_t>(clip));
+    // A clip is never detached at run time.
+    const int id = running.clipIds.at(static_cast<size_t>(clip));
     for (const Hose::Attachment& attachment : running.hose.attachments())
         if (attachment.id == id) return attachment;
     throw std::logic_error("hose " + std::to_string(hose) + ": clip " + std::to_string(clip) +
@@ -563,9 +712,9 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
                 ids.push_back(a.id);
                 frames.push_back(nodeWorldFrame(a.node) * a.offset);
             }
-        for (size_t k = 0; k < d.clips.size(); ++k) // ids after the attachments' (rebuildHose)
+        for (size_t k = 0; k < d.clips.size(); ++k)
             if (d.clips[k].node >= 0 && isUnder(d.clips[k].node)) {
-                ids.push_back(m_hoses[h].attachmentIds[d.attachments.size() + k]);
+                ids.push_back(m_hoses[h].clipIds[k]);
                 frames.push_back(nodeWorldFrame(d.clips[k].node) * d.clips[k].offset);
             }
         if (ids.empty()) {

@@ -61,6 +61,16 @@ struct LiveAttachment
     int id = -1;          ///< its Hose attachment id while attached
 };
 
+/// What HoseRuntime::cut() did.
+struct CutResult
+{
+    /// Ok, or InvalidInput: refused, nothing changed.
+    Status status = Status::InvalidInput;
+    /// The hose index of the piece beyond the cut (the hose cut keeps its index and the piece
+    /// before the cut).
+    int newHose = -1;
+};
+
 /// What changed for one hose in a call.
 struct HoseUpdate
 {
@@ -175,6 +185,23 @@ public:
     /// that is not in grabbablePoints or that a clip holds now.
     UpdateResult grab(int hose, int point, const Vec3& target);
 
+    /// Cuts a running hose in two at axis point `point` (1 … pointCount − 2; chaintube/cut.h):
+    /// the hose keeps its index and points 0 … point, a new hose (index hoseCount() before the
+    /// call, its descriptor id "<id>~<index>") gets points point … n − 1; each starts at rest with
+    /// a free end at the cut (with gravity it falls from the next update()). Each attachment and
+    /// clip goes with the piece it lies on (renumbered in its piece, in the order they had; a
+    /// detached one with the piece its points are on); no point is held after the cut. The
+    /// skinned mesh stays one mesh with the same joints: the hose cut poses joints 0 … point, the
+    /// new hose points point + 1 … n − 1 (description(newHose).jointNodes starts with −1: the
+    /// cut point's joint stays with the first piece). The mesh's segment across the cut then
+    /// stretches between the two cut ends; a platform that wants two clean ends draws the two
+    /// pieces' own surfaces (surface(), each closed with its caps) instead, or hides that
+    /// segment. Surfaces, joint poses and pulls are brought up to date at once. Refused with
+    /// Status::InvalidInput, nothing changed and *why saying why: a hose index out of range, a
+    /// static hose, a point at an end or out of range, a point an attachment fixes or on a
+    /// clip's segment.
+    CutResult cut(int hose, int point, std::string* why = nullptr);
+
     /// Lets go of the hose's held point (Hose::releaseGrab): with gravity it falls again on the
     /// next update(). False (and nothing changes) for a hose index out of range.
     bool release(int hose);
@@ -217,11 +244,10 @@ public:
     /// Lets go of attachment `attachment` of a hose (an end unplugged): its points become free
     /// and grabbable; with gravity they fall from the next update() (a hose with nothing fixed
     /// and nothing held stays where it is). The attachment keeps its index (attached false, its
-    /// pull zero). The hose's colliders follow its attachments (formats/collider_exemption.h):
-    /// the part it was fixed to collides again, and the hose is pushed out of it now
-    /// (Hose::resolveCollisions; the result says how). Refused with Status::InvalidInput,
-    /// nothing changed and *why (when given) saying why: a hose or attachment index out of
-    /// range, an attachment already detached, a static hose.
+    /// pull zero). The part it was fixed to stays exempt from collision with the hose (the end
+    /// starts inside it; formats/collider_exemption.h), as every part it is attached to.
+    /// Refused with Status::InvalidInput, nothing changed and *why (when given) saying why: a
+    /// hose or attachment index out of range, an attachment already detached, a static hose.
     UpdateResult detachEnd(int hose, int attachment, std::string* why = nullptr);
 
     /// Fixes an end segment of a hose (end 0: points 0 and 1; end 1: the last two) to `node`
@@ -259,7 +285,7 @@ private:
     {
         Hose hose;
         HoseSurface surface;
-        std::vector<int> attachmentIds;   ///< per descriptor attachment, then per clip
+        std::vector<int> clipIds;         ///< the Hose attachment id per clip
         std::vector<LiveAttachment> live; ///< the attachments now (attachment())
         std::vector<int> grabbable;       ///< grabbablePoints()
         std::vector<JointPose> poses;
@@ -276,8 +302,8 @@ private:
     int refresh(); ///< update() without the gravity step
     void poseJoints(RunningHose& running, const RigHose& description);
     static void measurePulls(RunningHose& running);
-    /// The hose's colliders: every descriptor collider that none of its attached attachments'
-    /// or clips' nodes exempts (formats/collider_exemption.h).
+    /// The hose's colliders: every descriptor collider that none of its attachments' (attached
+    /// or not) or clips' nodes exempts (formats/collider_exemption.h).
     void chooseColliders(size_t hose);
     static void findGrabbable(RunningHose& running, const RigHose& description);
 
