@@ -675,6 +675,20 @@ static class CapiTest
                 Same((int)rig.Result(tail).status, (int)HoseStatus.Ok, "bracket moved, frame " + frame, "status");
                 ExpectInBand(rig, tail, rest, band, "bracket moved, frame " + frame);
             }
+            // Cut bracket-loop at its middle: the new hose is the next index and poses the joints
+            // beyond the cut (its first joint node -1); a cut at an end is refused.
+            int loop = rig.FindHose("bracket-loop"), hoses = rig.HoseCount;
+            int points = rig.Info(loop).pointCount, middle = points / 2;
+            Refused(Native.chaintube_rig_cut(rig.Handle, loop, 0, out unusedIndex), Status.InvalidArgument,
+                    "cut at an end", "expected an interior point");
+            Same(rig.HoseCount, hoses, "refused cut", "hose count");
+            int piece = rig.Cut(loop, middle);
+            Same(piece, hoses, "cut", "new hose index");
+            Same(rig.Info(loop).pointCount, middle + 1, "cut", "points of the hose cut");
+            Same(rig.Info(piece).pointCount, points - middle, "cut", "points of the new hose");
+            var pieceNodes = new int[rig.Info(piece).jointCount];
+            Ok(Native.chaintube_rig_joint_nodes(rig.Handle, piece, pieceNodes, pieceNodes.Length), "cut", "joint_nodes");
+            Same(pieceNodes[0], -1, "cut", "the new hose's first joint node");
             Console.WriteLine("CapiTest actions: " + export + ": valve-tail unplugged, fell " +
                               drop.ToString("G4", CultureInfo.InvariantCulture) + " m in 10 updates, plugged into " +
                               "bracket_left and followed it 0.06 m: " + compared + " checks, " + failures + " failures");
