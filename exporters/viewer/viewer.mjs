@@ -215,7 +215,7 @@ function show(name, rig, gltf) {
     const jointNodes = rig.jointNodes(h);
     const grabbable = new Set(rig.grabbablePoints(h));
     const bones = Array.from(jointNodes, (node) => nodes[node]);
-    const hose = { index: h, info, grabbable, bones, clips: [], clipHeld: new Set(), row: null, shown: null, shownText: '' };
+    const hose = { index: h, info, grabbable, bones, clips: [], clipHeld: new Set(), row: null, shown: null, shownText: '', tension: '' };
     for (let c = 0, clips = rig.clipCount(h); c < clips; ++c) {
       // A ring 1.6 hose radii wide (TorusGeometry turns about its z axis), drawn over the hose.
       const r = info.outerRadius;
@@ -279,11 +279,13 @@ function buildPanel() {
     const name = document.createElement('td');
     name.textContent = hose.info.name || hose.info.id;
     name.title = hose.info.id;
-    row.append(name, document.createElement('td'), document.createElement('td'));
+    row.append(name, document.createElement('td'), document.createElement('td'),
+      document.createElement('td'));
     hoseTable.append(row);
     hose.row = row;
     hose.shown = null;
     hose.shownText = '';
+    hose.tension = '';
     renderRow(hose);
   }
   selectionLabel.textContent = '';
@@ -312,13 +314,26 @@ function statusWords(hose) {
   return [status, css, flags.join(', ')];
 }
 
+// Each attachment's tautness after the last update, 0 (slack) … 1 (drawn straight), in the
+// descriptor's order ("–" for one unplugged): "0.00 0.97".
+function tensionText(rig, hose) {
+  const words = [];
+  for (let a = 0; a < rig.attachmentCount(hose.index); ++a) {
+    const pull = rig.attachmentPull(hose.index, a);
+    words.push(pull.attached ? pull.tautness.toFixed(2) : '–');
+  }
+  return words.join(' ');
+}
+
 function renderRow(hose) {
   const [status, css, flags] = statusWords(hose);
   const held = drag?.hose === hose.index;
-  const text = `${status}|${flags}|${held}`;
+  const text = `${status}|${flags}|${held}|${hose.tension}`;
   if (text === hose.shownText) return;
   hose.shownText = text;
-  const [, statusCell, flagsCell] = hose.row.children;
+  const [, statusCell, flagsCell, tensionCell] = hose.row.children;
+  tensionCell.textContent = hose.tension;
+  tensionCell.title = 'tautness of each attachment: 0 slack … 1 drawn straight';
   statusCell.textContent = status;
   statusCell.className = `status-${css}`;
   flagsCell.textContent = flags;
@@ -536,6 +551,7 @@ function step(view) {
     placeClipRings(rig, hose);
     const result = rig.hoseResult(hose.index);
     if (touched(result) || hose.shown === null) hose.shown = result;
+    hose.tension = tensionText(rig, hose);
     renderRow(hose);
   }
   ++view.frames;
@@ -612,10 +628,11 @@ window.chaintubeViewer = {
   get gizmoAxis() { return gizmo.axis; },
   get gizmoDragging() { return gizmo.dragging; },
   open: openUrl,
-  /** The panel's rows: [{ id, status, flags }]. */
+  /** The panel's rows: [{ id, status, flags, tension (each attachment's tautness) }]. */
   panel() {
     return [...hoseTable.children].map((row) => ({
       id: row.dataset.hose, status: row.children[1].textContent, flags: row.children[2].textContent,
+      tension: row.children[3].textContent,
     }));
   },
   /** The recorded inputs (record=1) and every joint's bone world position in the rig's frame. */

@@ -26,6 +26,8 @@ using ChainTube;
 static class CapiTest
 {
     const double Tolerance = 1e-9;
+    // The axial stiffness (EA, N per unit strain) capi_reference writes the pulls' forces for.
+    const double PullStiffness = 1e4;
     static int failures;
     static long compared;
     static double largestDifference;
@@ -233,6 +235,31 @@ static class CapiTest
                 }
                 break;
             }
+            case "attachments": {
+                var v = Numbers(words, 1, 2);
+                int count;
+                Ok(Native.chaintube_rig_attachment_count(rig, (int)v[0], out count), where, "attachment_count");
+                Same(count, (long)v[1], where, "attachment count");
+                break;
+            }
+            case "pull": {
+                var v = Numbers(words, 1, 13);
+                AttachmentPull pull;
+                Ok(Native.chaintube_rig_attachment_pull(rig, (int)v[0], (int)v[1], PullStiffness, out pull), where,
+                   "attachment_pull");
+                Same(pull.node, (long)v[2], where, "attachment node");
+                Same(pull.firstPoint, (long)v[3], where, "attachment first point");
+                Same(pull.lastPoint, (long)v[4], where, "attachment last point");
+                Near(pull.tautness, v[5], where, "tautness");
+                Near(pull.strain, v[6], where, "strain");
+                Near(pull.directionX, v[7], where, "pull direction x");
+                Near(pull.directionY, v[8], where, "pull direction y");
+                Near(pull.directionZ, v[9], where, "pull direction z");
+                Near(pull.forceX / PullStiffness, v[10] / PullStiffness, where, "pull force x / EA");
+                Near(pull.forceY / PullStiffness, v[11] / PullStiffness, where, "pull force y / EA");
+                Near(pull.forceZ / PullStiffness, v[12] / PullStiffness, where, "pull force z / EA");
+                break;
+            }
             default:
                 Fail(where, "unknown reference line");
                 break;
@@ -287,7 +314,10 @@ static class CapiTest
         uint nextMajor = (Native.AbiVersion >> 16) + 1 << 16;
         Same(Native.chaintube_runtime_abi_version(), Native.AbiVersion, "abi", "the library's ABI version");
         Refused(Native.chaintube_rig_load_file(nextMajor, Native.Utf8(export), out rig), Status.AbiMismatch,
-                "wrong ABI major", "ABI 2.0", "ABI 1.1");
+                "wrong ABI major", "ABI 2.0", "ABI 1.2");
+        // A caller built against an older minor version (1.1: before the attachment pulls) still loads.
+        Ok(Native.chaintube_rig_load_file((1u << 16) | 1u, Native.Utf8(export), out rig), "abi 1.1", "load_file");
+        Ok(Native.chaintube_rig_destroy(rig), "abi 1.1", "destroy");
         Refused(Native.chaintube_rig_load_file(Native.AbiVersion, Native.Utf8("/nonexistent/rig.glb"), out rig),
                 Status.UnreadableFile, "unreadable file", "/nonexistent/rig.glb", "cannot be read");
         byte[] glb = File.ReadAllBytes(export);
@@ -342,6 +372,13 @@ static class CapiTest
             var shortSurface = new float[3 * info.vertexCount - 3];
             Refused(Native.chaintube_rig_surface(r, hose, shortSurface, shortSurface.Length, null, 0),
                     Status.BufferTooSmall, "short buffer", "positions has room for");
+            AttachmentPull unusedPull;
+            Refused(Native.chaintube_rig_attachment_pull(r, hose, 2, 1e4, out unusedPull), Status.OutOfRange,
+                    "attachment out of range", "attachment 2 is out of range", "left-feed");
+            Refused(Native.chaintube_rig_attachment_pull(r, hose, 0, double.NaN, out unusedPull),
+                    Status.InvalidArgument, "NaN axial stiffness", "axial_stiffness", "finite EA >= 0");
+            Refused(Native.chaintube_rig_attachment_pull(r, hose, 0, -5.0, out unusedPull), Status.InvalidArgument,
+                    "negative axial stiffness", "axial_stiffness");
             Same(shortLocal.Count(x => x != 0) + shortSurface.Count(x => x != 0), 0, "short buffer",
                  "floats written by refused calls");
             owned.Update();
@@ -356,6 +393,32 @@ static class CapiTest
             double[] moved = WorldPoses(r, hose, info.jointCount);
             for (int k = 0; k < 3; ++k) Near(moved[7 * point + k], target[k], "grab", "grabbed joint at the target");
             Same(owned.Result(hose).movedPoints > 0 ? 1 : 0, 1, "grab", "frame result counts moved points");
+            // Tension: right-return drawn taut by its valve moved 10 cm away, slack once it goes
+            // back (the valve's parent has no rotation or scale: see capi_errors_test.c).
+            int right = owned.FindHose("right-return"), valve = owned.FindNode("valve");
+            Same(owned.AttachmentCount(right), 2, "pull", "attachments of right-return");
+            double[] ends = WorldPoses(r, right, owned.Info(right).jointCount);
+            int last = 7 * (owned.Info(right).jointCount - 1);
+            var away = new[] { ends[last] - ends[0], ends[last + 1] - ends[1], ends[last + 2] - ends[2] };
+            double length = Math.Sqrt(away.Sum(x => x * x));
+            double[] home = owned.NodeTransform(valve), away10 = (double[])home.Clone();
+            for (int frame = 0; frame < 5; ++frame) {
+                for (int k = 0; k < 3; ++k) away10[k] += 0.02 * away[k] / length;
+                owned.SetNodeTransform(valve, away10);
+                owned.Update();
+            }
+            for (int a = 0; a < 2; ++a) {
+                AttachmentPull pull = owned.Pull(right, a, 1e4);
+                Expect(pull.tautness > 0.9 && pull.strain > 0.0, "drawn taut",
+                       "attachment " + a + ": tautness " + pull.tautness + ", strain " + pull.strain);
+            }
+            owned.SetNodeTransform(valve, home);
+            owned.Update();
+            for (int a = 0; a < 2; ++a) {
+                AttachmentPull pull = owned.Pull(right, a, 1e4);
+                Expect(pull.tautness == 0.0 && pull.forceX == 0.0 && pull.forceY == 0.0 && pull.forceZ == 0.0,
+                       "released", "attachment " + a + ": tautness " + pull.tautness);
+            }
         }
         Console.WriteLine("CapiTest errors: " + compared + " checks, " + failures + " failures");
         return failures == 0 ? 0 : 1;
@@ -496,13 +559,152 @@ static class CapiTest
         return failures == 0 ? 0 : 1;
     }
 
+    // The rigid part of a node's world transform (see capi_actions_test.c): unit axes (3 columns
+    // of 3) and origin, composed from the nodes' local T * R * S up to the root.
+    static void RigidWorld(Rig rig, int node, out double[] axes, out double[] origin)
+    {
+        var m = new double[16];
+        for (int k = 0; k < 16; ++k) m[k] = k % 5 == 0 ? 1.0 : 0.0;
+        for (int n = node; n >= 0;) {
+            double[] t = rig.NodeTransform(n);
+            double x = t[3], y = t[4], z = t[5], w = t[6];
+            var l = new double[] {
+                (1 - 2 * (y * y + z * z)) * t[7], 2 * (x * y + z * w) * t[7], 2 * (x * z - y * w) * t[7], 0,
+                2 * (x * y - z * w) * t[8], (1 - 2 * (x * x + z * z)) * t[8], 2 * (y * z + x * w) * t[8], 0,
+                2 * (x * z + y * w) * t[9], 2 * (y * z - x * w) * t[9], (1 - 2 * (x * x + y * y)) * t[9], 0,
+                t[0], t[1], t[2], 1 };
+            var product = new double[16];
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 4; ++r)
+                    for (int k = 0; k < 4; ++k) product[4 * c + r] += l[4 * k + r] * m[4 * c + k];
+            m = product;
+            NodeInfo info;
+            Ok(Native.chaintube_rig_node_info(rig.Handle, n, out info), "node", "node_info");
+            n = info.parent;
+        }
+        axes = new double[9];
+        origin = new[] { m[12], m[13], m[14] };
+        for (int c = 0; c < 3; ++c) {
+            double length = Math.Sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
+            for (int r = 0; r < 3; ++r) axes[3 * c + r] = m[4 * c + r] / length;
+        }
+    }
+
+    static void ExpectInBand(Rig rig, int hose, double[] rest, double band, string when)
+    {
+        double[] world = WorldPoses(rig.Handle, hose, rest.Length + 1);
+        for (int s = 0; s < rest.Length; ++s) {
+            double length = Distance(world, 7 * (s + 1), world, 7 * s);
+            Expect(Math.Abs(length / rest[s] - 1.0) <= band + 1e-9, when,
+                   "segment " + s + " is " + length.ToString("R") + " m, rest " + rest[s].ToString("R") + " m");
+        }
+    }
+
+    // An end unplugged and plugged into another part (see capi_actions_test.c), as a Unity
+    // script does it through the wrapper.
+    static int RunActions(string export)
+    {
+        using (Rig rig = Rig.LoadMemory(Path.GetFileName(export), File.ReadAllBytes(export))) {
+            int tail = rig.FindHose("valve-tail"), bracket = rig.FindNode("bracket_left");
+            int n = rig.Info(tail).pointCount;
+            double band;
+            double[] rest = rig.RestLengths(tail, out band);
+            Same(rig.AttachmentCount(tail), 1, "as loaded", "attachments of valve-tail");
+            double[] world = WorldPoses(rig.Handle, tail, n);
+            rig.Grab(tail, n - 1, world[7 * (n - 1)], world[7 * (n - 1) + 1], world[7 * (n - 1) + 2]);
+            rig.Update();
+            rig.DetachEnd(tail, 0);
+            Same(rig.Pull(tail, 0, 0.0).attached, 0, "unplugged", "attached");
+            Same(rig.Info(tail).grabbableCount, n, "unplugged", "grabbable points");
+            double startHeight = WorldPoses(rig.Handle, tail, n)[1];
+            for (int frame = 0; frame < 10; ++frame) {
+                rig.Update();
+                ExpectInBand(rig, tail, rest, band, "falling, frame " + frame);
+                Expect(rig.Result(tail).status != HoseStatus.Infeasible, "falling, frame " + frame, "infeasible");
+            }
+            world = WorldPoses(rig.Handle, tail, n);
+            double drop = startHeight - world[1];
+            Expect(drop > 1e-3, "fallen", "the unplugged end fell " + drop + " m");
+
+            // Refused: status and message, nothing changed.
+            HoseResult unused;
+            int unusedIndex;
+            var identity = new double[] { 0, 0, 0, 0, 0, 0, 1 };
+            Refused(Native.chaintube_rig_detach_end(rig.Handle, tail, 0, out unused), Status.InvalidArgument,
+                    "detach a detached end", "already detached");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 2, bracket, identity, out unusedIndex, out unused),
+                    Status.InvalidArgument, "end 2", "end 2: expected 0");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 0, rig.NodeCount, identity, out unusedIndex,
+                                                    out unused), Status.OutOfRange, "node out of range", "is out of range");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 0, bracket, new[] { 0, 0, double.NaN, 0, 0, 0, 1 },
+                                                    out unusedIndex, out unused),
+                    Status.InvalidArgument, "NaN pose", "pose[2] (translation z) is NaN");
+            Expect(WorldPoses(rig.Handle, tail, n).SequenceEqual(world), "refused", "a refused call moved the hose");
+
+            // Plug the end into the bracket 1 cm above where it hangs, along the bracket's +z.
+            double[] axes, origin;
+            RigidWorld(rig, bracket, out axes, out origin);
+            var socket = new[] { world[0], world[1] + 0.01, world[2] };
+            var pose = new double[] { 0, 0, 0, 0, 0, 0, 1 };
+            for (int c = 0; c < 3; ++c)
+                for (int r = 0; r < 3; ++r) pose[c] += axes[3 * c + r] * (socket[r] - origin[r]);
+            HoseResult plugged;
+            int index = rig.AttachEnd(tail, 0, bracket, pose, out plugged);
+            Same(index, 1, "plugged", "attachment index");
+            Same((int)plugged.status, (int)HoseStatus.Ok, "plugged", "status");
+            rig.Update();
+            world = WorldPoses(rig.Handle, tail, n);
+            Expect(Distance(world, 0, socket, 0) < 1e-9, "plugged", "the end is " + Distance(world, 0, socket, 0) + " m from the socket");
+            ExpectInBand(rig, tail, rest, band, "plugged");
+            Refused(Native.chaintube_rig_attach_end(rig.Handle, tail, 0, bracket, pose, out unusedIndex, out unused),
+                    Status.InvalidArgument, "plug the same end again", "already attached");
+
+            // The bracket moves; the end goes with it.
+            double[] trs = rig.NodeTransform(bracket);
+            for (int frame = 0; frame < 3; ++frame) {
+                trs[0] += 0.02;
+                rig.SetNodeTransform(bracket, trs);
+                rig.Update();
+                RigidWorld(rig, bracket, out axes, out origin);
+                var expected = new double[3];
+                for (int r = 0; r < 3; ++r)
+                    expected[r] = origin[r] + axes[r] * pose[0] + axes[3 + r] * pose[1] + axes[6 + r] * pose[2];
+                world = WorldPoses(rig.Handle, tail, n);
+                Expect(Distance(world, 0, expected, 0) < 1e-9, "bracket moved, frame " + frame,
+                       "the end is " + Distance(world, 0, expected, 0) + " m from its place on the bracket");
+                Same((int)rig.Result(tail).status, (int)HoseStatus.Ok, "bracket moved, frame " + frame, "status");
+                ExpectInBand(rig, tail, rest, band, "bracket moved, frame " + frame);
+            }
+            // Cut bracket-loop at its middle: the new hose is the next index and poses the joints
+            // beyond the cut (its first joint node -1); a cut at an end is refused.
+            int loop = rig.FindHose("bracket-loop"), hoses = rig.HoseCount;
+            int points = rig.Info(loop).pointCount, middle = points / 2;
+            Refused(Native.chaintube_rig_cut(rig.Handle, loop, 0, out unusedIndex), Status.InvalidArgument,
+                    "cut at an end", "expected an interior point");
+            Same(rig.HoseCount, hoses, "refused cut", "hose count");
+            int piece = rig.Cut(loop, middle);
+            Same(piece, hoses, "cut", "new hose index");
+            Same(rig.Info(loop).pointCount, middle + 1, "cut", "points of the hose cut");
+            Same(rig.Info(piece).pointCount, points - middle, "cut", "points of the new hose");
+            var pieceNodes = new int[rig.Info(piece).jointCount];
+            Ok(Native.chaintube_rig_joint_nodes(rig.Handle, piece, pieceNodes, pieceNodes.Length), "cut", "joint_nodes");
+            Same(pieceNodes[0], -1, "cut", "the new hose's first joint node");
+            Console.WriteLine("CapiTest actions: " + export + ": valve-tail unplugged, fell " +
+                              drop.ToString("G4", CultureInfo.InvariantCulture) + " m in 10 updates, plugged into " +
+                              "bracket_left and followed it 0.06 m: " + compared + " checks, " + failures + " failures");
+        }
+        return failures == 0 ? 0 : 1;
+    }
+
     static int Main(string[] args)
     {
         try {
             if (args.Length == 3 && args[0] == "replay") return RunReplay(args[1], args[2]);
             if (args.Length == 2 && args[0] == "errors") return RunErrors(args[1]);
             if (args.Length == 2 && args[0] == "clip") return RunClip(args[1]);
-            Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | clip <motion-rig.glb>");
+            if (args.Length == 2 && args[0] == "actions") return RunActions(args[1]);
+            Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | " +
+                                    "clip <motion-rig.glb> | actions <rig-options.glb>");
             return 2;
         } catch (Exception error) {
             Console.Error.WriteLine("FAIL: " + error);

@@ -140,13 +140,21 @@ static void loading(const char* rig_file, const char* split_gltf, const char* sc
 
     /* A caller built against another major version, or a newer minor, is refused. */
     EXPECT_ERROR(chaintube_rig_load_file(next_major, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
-                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.1");
+                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.2");
     EXPECT_ERROR(
         chaintube_rig_load_memory(next_major, "rig.glb", bytes, size, NULL, 0, NULL, 0, &rig),
         CHAINTUBE_ERROR_ABI_MISMATCH, "chaintube_rig_load_memory", "ABI 2.0");
     EXPECT_ERROR(chaintube_rig_load_file(newer_minor, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
-                 "ABI 1.2", "minor");
+                 "ABI 1.3", "minor");
     CHECK(rig == untouched, "a refused load wrote the rig");
+    /* A caller built against an older minor version (1.0, 1.1) still loads. */
+    for (uint32_t minor = 0; minor < CHAINTUBE_RUNTIME_ABI_VERSION_MINOR; ++minor) {
+        chaintube_rig* older = NULL;
+        const uint32_t version = ((uint32_t)CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | minor;
+        CHECK(chaintube_rig_load_file(version, rig_file, &older) == CHAINTUBE_OK && older != NULL,
+              "a caller of ABI 1.%u was refused: %s", (unsigned)minor, chaintube_last_error());
+        CHECK(chaintube_rig_destroy(older) == CHAINTUBE_OK, "%s", chaintube_last_error());
+    }
 
     /* Null pointers. */
     EXPECT_ERROR(chaintube_rig_load_file(CHAINTUBE_RUNTIME_ABI_VERSION, NULL, &rig),
@@ -251,6 +259,7 @@ static void null_handles(void)
     chaintube_hose_info info;
     chaintube_node_info node;
     chaintube_hose_result result;
+    chaintube_attachment_pull pull;
     EXPECT_ERROR(chaintube_rig_hose_count(NULL, &count), CHAINTUBE_ERROR_INVALID_ARGUMENT,
                  "chaintube_rig_hose_count", "rig is NULL");
     EXPECT_ERROR(chaintube_rig_node_count(NULL, &count), CHAINTUBE_ERROR_INVALID_ARGUMENT, "rig");
@@ -286,6 +295,10 @@ static void null_handles(void)
                  CHAINTUBE_ERROR_INVALID_ARGUMENT, "rig");
     EXPECT_ERROR(chaintube_rig_surface_topology(NULL, 0, indices, 16, NULL, 0),
                  CHAINTUBE_ERROR_INVALID_ARGUMENT, "rig");
+    EXPECT_ERROR(chaintube_rig_attachment_count(NULL, 0, &count), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                 "chaintube_rig_attachment_count", "rig is NULL");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(NULL, 0, 0, 1e4, &pull),
+                 CHAINTUBE_ERROR_INVALID_ARGUMENT, "chaintube_rig_attachment_pull", "rig is NULL");
     CHECK(count == 7 && index == 7 && strcmp(text, "untouched") == 0,
           "a refused call wrote an output");
     CHECK(chaintube_rig_destroy(NULL) == CHAINTUBE_OK, "destroy(NULL) is a no-op");
@@ -296,6 +309,7 @@ static void per_frame(const char* rig_file)
     chaintube_rig* rig = NULL;
     chaintube_hose_info info;
     chaintube_hose_result result;
+    chaintube_attachment_pull pull;
     static snapshot before;
     static float floats[3 * 8192];
     static double doubles[10 * 256];
@@ -414,6 +428,27 @@ static void per_frame(const char* rig_file)
                  CHAINTUBE_ERROR_BUFFER_TOO_SMALL, "nodes has room for 2");
     CHECK(floats[0] == 42.0f, "a refused call wrote the buffer");
 
+    /* Attachment pulls: an attachment out of range, a bad axial stiffness, no output. */
+    pull.tautness = 42.0;
+    EXPECT_ERROR(chaintube_rig_attachment_count(rig, hoses, &index), CHAINTUBE_ERROR_OUT_OF_RANGE,
+                 "chaintube_rig_attachment_count", "hose 2");
+    EXPECT_ERROR(chaintube_rig_attachment_count(rig, hose, NULL), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                 "count is NULL");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, 2, 1e4, &pull),
+                 CHAINTUBE_ERROR_OUT_OF_RANGE, "attachment 2 is out of range", "left-feed",
+                 "has 2 attachments");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, -1, 1e4, &pull),
+                 CHAINTUBE_ERROR_OUT_OF_RANGE, "attachment -1");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, 0, -1.0, &pull),
+                 CHAINTUBE_ERROR_INVALID_ARGUMENT, "axial_stiffness", "expected a finite EA >= 0");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, 0, not_a_number, &pull),
+                 CHAINTUBE_ERROR_INVALID_ARGUMENT, "axial_stiffness");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, 0, HUGE_VAL, &pull),
+                 CHAINTUBE_ERROR_INVALID_ARGUMENT, "axial_stiffness");
+    EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, 0, 1e4, NULL),
+                 CHAINTUBE_ERROR_INVALID_ARGUMENT, "pull is NULL");
+    CHECK(pull.tautness == 42.0 && index == 12345, "a refused call wrote an output");
+
     /* None of the above changed anything, even after an update. */
     expect_unchanged(__LINE__, rig, node, &before);
     CHECK(chaintube_rig_update(rig, NULL) == CHAINTUBE_OK, "%s", chaintube_last_error());
@@ -442,6 +477,60 @@ static void per_frame(const char* rig_file)
           "the grabbed joint is at (%.12g, %.12g), the target at (%.12g, %.12g)",
           doubles[7 * point], doubles[7 * point + 1], target[0], target[1]);
     CHECK(chaintube_rig_release(rig, hose) == CHAINTUBE_OK, "%s", chaintube_last_error());
+
+    /* Tension: right-return drawn taut by its valve moved 10 cm away, slack once it goes back. */
+    {
+        int32_t right = -1, valve = -1;
+        chaintube_node_info valve_info;
+        chaintube_hose_info right_info;
+        chaintube_attachment_pull pulls[2];
+        double home[10], moved[10], parent[10], away[3], length = 0.0;
+        static double ends[7 * 256];
+        CHECK(chaintube_rig_find_hose(rig, "right-return", &right) == CHAINTUBE_OK &&
+                  chaintube_rig_find_node(rig, "valve", &valve) == CHAINTUBE_OK &&
+                  chaintube_rig_hose_info(rig, right, &right_info) == CHAINTUBE_OK &&
+                  chaintube_rig_node_info(rig, valve, &valve_info) == CHAINTUBE_OK &&
+                  chaintube_rig_node_transform(rig, valve, home) == CHAINTUBE_OK &&
+                  chaintube_rig_joint_poses_f64(rig, right, NULL, 0, ends, 7 * 256) == CHAINTUBE_OK,
+              "%s", chaintube_last_error());
+        /* The valve's parent has no rotation or scale: a move in its frame is one in world. */
+        CHECK(valve_info.parent < 0 ||
+                  (chaintube_rig_node_transform(rig, valve_info.parent, parent) == CHAINTUBE_OK &&
+                   parent[6] == 1.0 && parent[7] == 1.0 && parent[8] == 1.0 && parent[9] == 1.0),
+              "the valve's parent is rotated or scaled");
+        for (int k = 0; k < 3; ++k) {
+            away[k] = ends[7 * (right_info.point_count - 1) + k] - ends[k];
+            length += away[k] * away[k];
+        }
+        memcpy(moved, home, sizeof moved);
+        for (int frame = 0; frame < 5; ++frame) {
+            for (int k = 0; k < 3; ++k)
+                moved[k] += 0.02 * away[k] / sqrt(length);
+            CHECK(chaintube_rig_set_node_transform(rig, valve, moved) == CHAINTUBE_OK &&
+                      chaintube_rig_update(rig, NULL) == CHAINTUBE_OK,
+                  "%s", chaintube_last_error());
+        }
+        for (int32_t a = 0; a < 2; ++a) {
+            double along = 0.0;
+            CHECK(chaintube_rig_attachment_pull(rig, right, a, 1e4, &pulls[a]) == CHAINTUBE_OK,
+                  "%s", chaintube_last_error());
+            for (int k = 0; k < 3; ++k)
+                along += pulls[a].force[k] * pulls[a].direction[k];
+            CHECK(pulls[a].tautness > 0.9 && pulls[a].strain > 0.0 && along > 0.0,
+                  "drawn taut, attachment %d: tautness %g, strain %g, force along the pull %g N",
+                  (int)a, pulls[a].tautness, pulls[a].strain, along);
+        }
+        CHECK(chaintube_rig_set_node_transform(rig, valve, home) == CHAINTUBE_OK &&
+                  chaintube_rig_update(rig, NULL) == CHAINTUBE_OK,
+              "%s", chaintube_last_error());
+        for (int32_t a = 0; a < 2; ++a) {
+            CHECK(chaintube_rig_attachment_pull(rig, right, a, 1e4, &pulls[a]) == CHAINTUBE_OK,
+                  "%s", chaintube_last_error());
+            CHECK(pulls[a].tautness == 0.0 && pulls[a].force[0] == 0.0 &&
+                      pulls[a].force[1] == 0.0 && pulls[a].force[2] == 0.0,
+                  "released, attachment %d: tautness %g", (int)a, pulls[a].tautness);
+        }
+    }
     CHECK(strcmp(chaintube_status_name(CHAINTUBE_ERROR_BUFFER_TOO_SMALL),
                  "CHAINTUBE_ERROR_BUFFER_TOO_SMALL") == 0 &&
               strcmp(chaintube_status_name((chaintube_status)99), "unknown status") == 0,

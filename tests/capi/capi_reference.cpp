@@ -20,6 +20,10 @@
 //   pose <hose> <joint> <node> <10 local> <7 world>
 //   surface <hose> <vertices> <sum of positions> <sum of normals> <sum of indices> <sum of uvs>
 //   vertex <hose> <vertex> <px> <py> <pz> <nx> <ny> <nz>   every 7th vertex
+//   attachments <hose> <count>                  chaintube_rig_attachment_count
+//   pull <hose> <attachment> <node> <first> <last> <tautness> <strain> <3 direction> <3 force>
+//                                               chaintube_rig_attachment_pull, force at
+//                                               kPullStiffness (EA, N per unit strain)
 // where <result> is: status blocked movedPoints contacts lengthViolation angleViolation
 // grabError penetration (status 0 Ok, 1 Clamped, 2 Infeasible).
 #include <chaintube/export/runtime.h>
@@ -31,6 +35,10 @@
 namespace {
 
 using namespace chaintube;
+
+/// The axial stiffness the pulls' forces are written for (newtons per unit strain; the C and C#
+/// replays pass the same).
+constexpr double kPullStiffness = 1e4;
 
 int statusCode(Status status)
 {
@@ -71,6 +79,16 @@ void writeState(std::FILE* out, const rig::HoseRuntime& runtime)
                          p.local.scale.y(), p.local.scale.z(), p.world.translation.x(),
                          p.world.translation.y(), p.world.translation.z(), p.world.rotation.x(),
                          p.world.rotation.y(), p.world.rotation.z(), p.world.rotation.w());
+        }
+        for (int a = 0; a < runtime.attachmentCount(h); ++a) {
+            const AttachmentPull& pull = runtime.attachmentPull(h, a);
+            const rig::RigAttachment& d =
+                runtime.description(h).attachments[static_cast<size_t>(a)];
+            const Vec3 force = pull.force(kPullStiffness);
+            std::fprintf(
+                out, "pull %d %d %d %d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", h, a,
+                d.node, d.firstPoint, d.lastPoint, pull.tautness, pull.strain, pull.direction.x(),
+                pull.direction.y(), pull.direction.z(), force.x(), force.y(), force.z());
         }
         const std::vector<float> positions = runtime.worldPositions(h);
         const std::span<const float> normals = runtime.surface(h).normals();
@@ -150,6 +168,7 @@ int main(int argc, char** argv)
                          runtime.surface(h).topology().indices.size(), d.isStatic ? 1 : 0,
                          runtime.hose(h).restLengthTotal(), runtime.hose(h).outerRadius(),
                          d.id.c_str());
+            std::fprintf(out, "attachments %d %d\n", h, runtime.attachmentCount(h));
         }
         // The part to move: the first attachment node of a hose that deforms; the point to
         // grab: the middle free point of the first hose that has free points.

@@ -16,6 +16,8 @@
 #include <string.h>
 
 #define TOLERANCE 1e-9
+/* The axial stiffness (EA, N per unit strain) capi_reference writes the pulls' forces for. */
+#define PULL_STIFFNESS 1e4
 
 static int failures = 0;
 static long compared = 0;
@@ -337,6 +339,30 @@ static void replay(chaintube_rig* rig, const char* reference, const char* where)
                                   line_number, "surface position");
                 expect_same_float(state.normals[3 * vertex + k], (float)v[5 + k], where,
                                   line_number, "surface normal");
+            }
+        } else if (strcmp(word, "attachments") == 0) {
+            int32_t count = -1;
+            read_numbers(numbers, v, 2);
+            if (call_ok(chaintube_rig_attachment_count(rig, (int32_t)v[0], &count), where,
+                        line_number, "attachment_count"))
+                expect_int(count, (long)v[1], where, line_number, "attachment count");
+        } else if (strcmp(word, "pull") == 0) {
+            chaintube_attachment_pull pull;
+            read_numbers(numbers, v, 13);
+            if (!call_ok(chaintube_rig_attachment_pull(rig, (int32_t)v[0], (int32_t)v[1],
+                                                       PULL_STIFFNESS, &pull),
+                         where, line_number, "attachment_pull"))
+                continue;
+            expect_int(pull.node, (long)v[2], where, line_number, "attachment node");
+            expect_int(pull.first_point, (long)v[3], where, line_number, "attachment first point");
+            expect_int(pull.last_point, (long)v[4], where, line_number, "attachment last point");
+            expect_near(pull.tautness, v[5], where, line_number, "tautness");
+            expect_near(pull.strain, v[6], where, line_number, "strain");
+            for (int k = 0; k < 3; ++k) {
+                expect_near(pull.direction[k], v[7 + k], where, line_number, "pull direction");
+                /* newtons: the same relative tolerance as metres at 1 m */
+                expect_near(pull.force[k] / PULL_STIFFNESS, v[10 + k] / PULL_STIFFNESS, where,
+                            line_number, "pull force / EA");
             }
         } else {
             fail_at(where, line_number, "unknown reference line");

@@ -120,6 +120,10 @@ try {
       `the panel lists every hose (${panel.length} rows, ${first.hoses.length} hoses)`);
     check(panel.every((row) => ['ok', 'clamped', 'infeasible', 'static'].includes(row.status)),
       'every row has a status');
+    check(panel.every((row) => row.tension.split(' ').filter(Boolean)
+      .every((word) => Number(word) >= 0 && Number(word) <= 1)) &&
+      panel.some((row) => row.tension !== ''),
+    `the panel shows each attachment's tension, 0 ... 1 (${panel.map((row) => `${row.id}: ${row.tension}`).join('; ')})`);
     const vrButton = await page.$eval('#VRButton', (button) => button.textContent).catch(() => null);
     check(vrButton !== null, `three.js's VR button is on the page ("${vrButton}": no headset here)`);
     await page.screenshot({ path: join(options.out, `${stem}-before-drag.png`) });

@@ -21,6 +21,8 @@
 export const TOLERANCE = 1e-9;
 export const VERTEX_TOLERANCE = 1e-6;
 export const SUM_TOLERANCE = 1e-5;
+// The axial stiffness (EA, N per unit strain) capi_reference writes the pulls' forces for.
+export const PULL_STIFFNESS = 1e4;
 
 /**
  * api: the chaintube.mjs module; chaintube: a loaded ChainTube; bytes: the export (.glb);
@@ -175,6 +177,22 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
           }
           break;
         }
+        case 'attachments':
+          same(rig.attachmentCount(v[0]), v[1], line, 'attachment count');
+          break;
+        case 'pull': {
+          const pull = rig.attachmentPull(v[0], v[1], PULL_STIFFNESS);
+          same(pull.node, v[2], line, 'attachment node');
+          same(pull.firstPoint, v[3], line, 'attachment first point');
+          same(pull.lastPoint, v[4], line, 'attachment last point');
+          near(pull.tautness, v[5], line, 'tautness');
+          near(pull.strain, v[6], line, 'strain');
+          for (let k = 0; k < 3; ++k) {
+            near(pull.direction[k], v[7 + k], line, 'pull direction');
+            near(pull.force[k] / PULL_STIFFNESS, v[10 + k] / PULL_STIFFNESS, line, 'pull force / EA');
+          }
+          break;
+        }
         default:
           fail(line, `unknown reference line "${words[0]}"`);
       }
@@ -199,6 +217,49 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
   if (after.every((x, k) => x === beforeValues[k])) fail(0, 'the view did not change after a grab and an update');
   if (!(after.buffer.byteLength >= 16 << 20)) fail(0, 'the view is not a view of the module\'s memory');
 
+  // Unplug, plug and cut through the JavaScript API on the fresh rig (the C and C# tests check
+  // the figures; here each call's result and what it changes).
+  {
+    const attachments = fresh.attachmentCount(deforming);
+    const count = fresh.hoseInfo(deforming).pointCount;
+    // An attachment that holds an end: unplugged, then that end plugged 5 mm higher.
+    const which = [...Array(attachments).keys()].find((a) => {
+      const pull = fresh.attachmentPull(deforming, a);
+      return pull.firstPoint === 0 || pull.lastPoint === count - 1;
+    });
+    if (which === undefined) fail(0, `hose ${deforming} has no attachment at an end`);
+    else {
+      const end = fresh.attachmentPull(deforming, which).firstPoint === 0 ? 0 : 1;
+      fresh.release(deforming);
+      fresh.detachEnd(deforming, which);
+      if (fresh.attachmentPull(deforming, which).attached)
+        fail(0, `detachEnd: attachment ${which} still attached`);
+      if (fresh.grabbablePoints(deforming).length <= points.length)
+        fail(0, 'detachEnd: the freed points did not become grabbable');
+      fresh.update();
+      const tip = Float64Array.from(fresh.jointPosesF64(deforming).world); // a copy: the view changes
+      const at = end === 0 ? 0 : 7 * (count - 1), inner = end === 0 ? 7 : 7 * (count - 2);
+      // The pose's +z along the end segment as it points now, out of the hose: the shortest turn
+      // from +z, quaternion (z × d, 1 + z · d) normalised.
+      const d = [0, 1, 2].map((k) => tip[at + k] - tip[inner + k]);
+      const length = Math.hypot(...d);
+      const q = [-d[1] / length, d[0] / length, 0, 1 + d[2] / length];
+      const qLength = Math.hypot(...q);
+      const plugged = fresh.attachEnd(deforming, end, -1,
+        [tip[at], tip[at + 1] + 0.005, tip[at + 2], ...q.map((x) => x / qLength)]);
+      if (plugged.attachment !== attachments || fresh.attachmentCount(deforming) !== attachments + 1)
+        fail(0, `attachEnd: attachment ${plugged.attachment}, count ${fresh.attachmentCount(deforming)}`);
+      fresh.update();
+      const moved = fresh.jointPosesF64(deforming).world;
+      if (!(Math.abs(moved[at + 1] - (tip[at + 1] + 0.005)) <= 1e-9))
+        fail(0, `attachEnd: the end is at y ${moved[at + 1]}, expected ${tip[at + 1] + 0.005}`);
+    }
+    const hoses = fresh.hoseCount();
+    const piece = fresh.cut(deforming, count >> 1);
+    if (piece !== hoses || fresh.hoseCount() !== hoses + 1 || fresh.jointNodes(piece)[0] !== -1)
+      fail(0, `cut: new hose ${piece} of ${fresh.hoseCount()}, first joint node ${fresh.jointNodes(piece)[0]}`);
+  }
+
   gravityHose = false;
   // Refusals: a ChainTubeError with the status and the C ABI's message; nothing changed.
   function expectError(what, status, fragment, call) {
@@ -216,6 +277,14 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
   expectError('NaN target', api.Status.ERROR_INVALID_ARGUMENT, 'chaintube_rig_grab', () => rig.grab(deforming, point, [NaN, 0, 0]));
   expectError('a target of 2 numbers', api.Status.ERROR_INVALID_ARGUMENT, 'target has 2 numbers', () => rig.grab(deforming, point, [0, 0]));
   expectError('a fractional index', api.Status.ERROR_INVALID_ARGUMENT, 'hose is 0.5', () => rig.release(0.5));
+  expectError('attachment out of range', api.Status.ERROR_OUT_OF_RANGE, 'attachment 99 is out of range',
+    () => rig.attachmentPull(deforming, 99, 1e4));
+  expectError('negative axial stiffness', api.Status.ERROR_INVALID_ARGUMENT, 'axial_stiffness',
+    () => rig.attachmentPull(deforming, 0, -1));
+  expectError('a cut at an end', api.Status.ERROR_INVALID_ARGUMENT, 'expected an interior point',
+    () => fresh.cut(deforming, 0));
+  expectError('a plug of end 2', api.Status.ERROR_INVALID_ARGUMENT, 'end 2',
+    () => fresh.attachEnd(deforming, 2, -1, [0, 0, 0, 0, 0, 0, 1]));
   expectError('unknown hose id', api.Status.ERROR_NOT_FOUND, 'no-such-hose', () => rig.findHose('no-such-hose'));
   expectError('not a GLB', api.Status.ERROR_MALFORMED, 'junk.glb',
     () => chaintube.loadMemory('junk.glb', new Uint8Array([0x67, 0x6c, 0x54, 0x46, 9, 0, 0, 0])));

@@ -89,6 +89,21 @@ namespace ChainTube
         public int turning;                      // 1: sliding-turning
     }
 
+    /// <summary>A hose's pull on one of its attachments after the last update
+    /// (chaintube_attachment_pull): the way and how hard it draws the attachment's part, zero when
+    /// slack. Since ABI 1.2.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct AttachmentPull
+    {
+        public double directionX, directionY, directionZ; // world, unit; 0 when slack
+        public double tautness;                           // 0 (slack) ... 1 (drawn straight)
+        public double strain;                             // >= 0, stretch beyond the rest length
+        public double forceX, forceY, forceZ;             // world newtons for the axial stiffness passed
+        public int node;                                  // glTF node of the attachment, -1: the world
+        public int firstPoint, lastPoint;                 // the axis points it fixes
+        public int attached;                              // 1 while attached, 0 once detached
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct Bytes
     {
@@ -102,7 +117,7 @@ namespace ChainTube
         const string Library = "chaintube_runtime_c";
 
         /// <summary>CHAINTUBE_RUNTIME_ABI_VERSION of the header this binding was written for.</summary>
-        public const uint AbiVersion = (1u << 16) | 1u;
+        public const uint AbiVersion = (1u << 16) | 2u;
 
         [DllImport(Library)] public static extern uint chaintube_runtime_abi_version();
         [DllImport(Library)] public static extern IntPtr chaintube_status_name(Status status);
@@ -133,6 +148,11 @@ namespace ChainTube
         [DllImport(Library)] public static extern Status chaintube_rig_clip_count(IntPtr rig, int hose, out int count);
         [DllImport(Library)]
         public static extern Status chaintube_rig_clip_info(IntPtr rig, int hose, int clip, out ClipInfo info);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_attachment_count(IntPtr rig, int hose, out int count);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_attachment_pull(IntPtr rig, int hose, int attachment,
+            double axialStiffness, out AttachmentPull pull);
         [DllImport(Library)] public static extern Status chaintube_rig_node_info(IntPtr rig, int node, out NodeInfo info);
         [DllImport(Library)]
         public static extern Status chaintube_rig_node_transform(IntPtr rig, int node, [Out] double[] trs);
@@ -141,6 +161,13 @@ namespace ChainTube
         [DllImport(Library)]
         public static extern Status chaintube_rig_grab(IntPtr rig, int hose, int point, double[] target, out HoseResult result);
         [DllImport(Library)] public static extern Status chaintube_rig_release(IntPtr rig, int hose);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_cut(IntPtr rig, int hose, int point, out int newHose);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_detach_end(IntPtr rig, int hose, int attachment, out HoseResult result);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_attach_end(IntPtr rig, int hose, int end, int node, double[] pose,
+            out int attachment, out HoseResult result);
         [DllImport(Library)] public static extern Status chaintube_rig_update(IntPtr rig, out int recomputed);
         [DllImport(Library)]
         public static extern Status chaintube_rig_hose_result(IntPtr rig, int hose, out HoseResult result);
@@ -238,6 +265,18 @@ namespace ChainTube
         /// <summary>Clip `clip` as the hose holds it now (moves and grabs slide the hose at once).</summary>
         public ClipInfo Clip(int hose, int clip) { ClipInfo c; Check(Native.chaintube_rig_clip_info(Handle, hose, clip, out c)); return c; }
 
+        public int AttachmentCount(int hose) { int n; Check(Native.chaintube_rig_attachment_count(Handle, hose, out n)); return n; }
+
+        /// <summary>How hard the hose pulls on attachment `attachment` after the last Update: a
+        /// direction, tautness 0 ... 1, and a force in newtons for the hose's axial stiffness EA
+        /// (newtons per unit strain; the descriptor carries none: the platform states it).</summary>
+        public AttachmentPull Pull(int hose, int attachment, double axialStiffness)
+        {
+            AttachmentPull pull;
+            Check(Native.chaintube_rig_attachment_pull(Handle, hose, attachment, axialStiffness, out pull));
+            return pull;
+        }
+
         /// <summary>A node's current local transform: translation, rotation x y z w, scale (10 numbers).</summary>
         public double[] NodeTransform(int node)
         {
@@ -257,6 +296,30 @@ namespace ChainTube
         }
 
         public void Release(int hose) { Check(Native.chaintube_rig_release(Handle, hose)); }
+
+        /// <summary>Cuts a hose in two at axis point `point` (1 ... pointCount - 2): the hose keeps
+        /// points 0 ... point, the returned new hose the rest. The skin keeps its joints: the new
+        /// hose poses those beyond the cut (its JointNodes start with -1).</summary>
+        public int Cut(int hose, int point) { int h; Check(Native.chaintube_rig_cut(Handle, hose, point, out h)); return h; }
+
+        /// <summary>Unplugs an end: lets go of attachment `attachment` (its points fall free, with
+        /// gravity from the next Update). Returns this call's outcome.</summary>
+        public HoseResult DetachEnd(int hose, int attachment)
+        {
+            HoseResult result;
+            Check(Native.chaintube_rig_detach_end(Handle, hose, attachment, out result));
+            return result;
+        }
+
+        /// <summary>Plugs end `end` (0: first point's, 1: last point's) into `node` (-1: the world)
+        /// at pose (7 numbers relative to the node: translation, rotation x y z w; the end segment
+        /// along its +z). Returns the new attachment's index; result: this call's outcome.</summary>
+        public int AttachEnd(int hose, int end, int node, double[] pose, out HoseResult result)
+        {
+            int attachment;
+            Check(Native.chaintube_rig_attach_end(Handle, hose, end, node, pose, out attachment, out result));
+            return attachment;
+        }
         public int Update() { int n; Check(Native.chaintube_rig_update(Handle, out n)); return n; }
         public HoseResult Result(int hose) { HoseResult r; Check(Native.chaintube_rig_hose_result(Handle, hose, out r)); return r; }
 

@@ -15,7 +15,7 @@
 import createChainTubeRuntime from './chaintube_runtime.mjs';
 
 /** CHAINTUBE_RUNTIME_ABI_VERSION of the header this API was written against (major << 16 | minor). */
-export const ABI_VERSION = (1 << 16) | 1;
+export const ABI_VERSION = (1 << 16) | 2;
 
 /** chaintube_status: what a call returned. */
 export const Status = Object.freeze({
@@ -172,6 +172,12 @@ const CLIP_INFO_FIELDS = [
   ['centre', 'centre', 'f64x3'], ['axis', 'axis', 'f64x3'], ['slide', 'slide', 'f64'],
   ['slideMin', 'slide_min', 'f64'], ['slideMax', 'slide_max', 'f64'], ['gap', 'gap', 'f64'],
   ['node', 'node', 'i32'], ['segment', 'segment', 'i32'], ['turning', 'turning', 'bool'],
+];
+
+const ATTACHMENT_PULL_FIELDS = [
+  ['direction', 'direction', 'f64x3'], ['tautness', 'tautness', 'f64'], ['strain', 'strain', 'f64'],
+  ['force', 'force', 'f64x3'], ['node', 'node', 'i32'], ['firstPoint', 'first_point', 'i32'],
+  ['lastPoint', 'last_point', 'i32'], ['attached', 'attached', 'bool'],
 ];
 
 /** The runtime: version, status names, the last error and loading rigs. */
@@ -368,6 +374,25 @@ export class Rig {
     return n.readStruct('clip_info', n.output, CLIP_INFO_FIELDS);
   }
 
+  /** Number of attachments of a hose (chaintube_rig_attachment_count; clips are not among them). */
+  attachmentCount(hose) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_attachment_count(this.#rig(), n.int32('hose', hose), n.output));
+    return n.outputInt32();
+  }
+
+  /** How hard a hose pulls on its attachment `attachment` after the last update()
+   * (chaintube_rig_attachment_pull): { direction [x, y, z] (world, unit; zeros when slack),
+   * tautness (0 slack ... 1 drawn straight), strain (>= 0), force [x, y, z] (world newtons for
+   * axialStiffness, the hose's EA in newtons per unit strain: the platform states it), node (-1:
+   * the world), firstPoint, lastPoint }. */
+  attachmentPull(hose, attachment, axialStiffness = 0) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_attachment_pull(this.#rig(), n.int32('hose', hose),
+      n.int32('attachment', attachment), Number(axialStiffness), n.output));
+    return n.readStruct('attachment_pull', n.output, ATTACHMENT_PULL_FIELDS);
+  }
+
   /** A node's { name, parent } (parent -1 at the scene root). */
   nodeInfo(node) {
     const n = this.#native;
@@ -402,6 +427,41 @@ export class Rig {
     n.check(n.m._chaintube_rig_grab(rig, hose, point, n.doubles('target', target, 3), n.output));
     this.#inputs?.push({ op: 'grab', hose, point, target: Array.from(target, Number) });
     return n.hoseResult(n.output);
+  }
+
+  /** Unplugs an end: lets go of attachment `attachment` of a hose (chaintube_rig_detach_end): its
+   * points fall free (with gravity from the next update()) and become grabbable; it keeps its
+   * index, attached false. Returns this call's outcome, a HoseResult. */
+  detachEnd(hose, attachment) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_detach_end(this.#rig(), n.int32('hose', hose),
+      n.int32('attachment', attachment), n.output));
+    return n.hoseResult(n.output);
+  }
+
+  /** Plugs end `end` of a hose (0: the first point's, 1: the last point's) into `node` (-1: the
+   * world) at pose [tx, ty, tz, qx, qy, qz, qw], relative to the node; the end segment lies along
+   * the pose's +z (chaintube_rig_attach_end). Returns { attachment (its index), result (a
+   * HoseResult) }. */
+  attachEnd(hose, end, node, pose) {
+    const n = this.#native;
+    n.int32('hose', hose);
+    n.int32('end', end);
+    n.int32('node', node);
+    const result = n.output, index = n.output + 128;
+    n.check(n.m._chaintube_rig_attach_end(this.#rig(), hose, end, node, n.doubles('pose', pose, 7),
+      index, result));
+    return { attachment: n.i32[index >> 2], result: n.hoseResult(result) };
+  }
+
+  /** Cuts a hose in two at axis point `point` (1 ... pointCount - 2; chaintube_rig_cut): the
+   * hose keeps points 0 ... point, the returned new hose index gets the rest; the skin stays the
+   * same, the new hose poses the joints beyond the cut (its jointNodes() start with -1). */
+  cut(hose, point) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_cut(this.#rig(), n.int32('hose', hose), n.int32('point', point),
+      n.output));
+    return n.outputInt32();
   }
 
   /** Lets go of the hose's held point. */

@@ -54,17 +54,28 @@ std::string makeLayout()
         CHAINTUBE_FIELD(chaintube_clip_info, gap) + CHAINTUBE_FIELD(chaintube_clip_info, node) +
         CHAINTUBE_FIELD(chaintube_clip_info, segment) +
         CHAINTUBE_FIELD(chaintube_clip_info, turning) + "}";
+    const std::string attachmentPull =
+        "\"attachment_pull\":{\"sizeof\":" + std::to_string(sizeof(chaintube_attachment_pull)) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, direction) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, tautness) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, strain) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, force) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, node) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, first_point) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, last_point) +
+        CHAINTUBE_FIELD(chaintube_attachment_pull, attached) + "}";
     const std::string bytes = "\"bytes\":{\"sizeof\":" + std::to_string(sizeof(chaintube_bytes)) +
                               CHAINTUBE_FIELD(chaintube_bytes, data) +
                               CHAINTUBE_FIELD(chaintube_bytes, size) + "}";
 #undef CHAINTUBE_FIELD
-    return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + clipInfo + "," + bytes + "}";
+    return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + clipInfo + "," +
+           attachmentPull + "," + bytes + "}";
 }
 
 } // namespace
 
 /// The layout as JSON text, e.g. {"hose_info":{"sizeof":64,"id":0,…},"node_info":{…},
-/// "hose_result":{…},"clip_info":{…},"bytes":{…}}: a static string.
+/// "hose_result":{…},"clip_info":{…},"attachment_pull":{…},"bytes":{…}}: a static string.
 extern "C" const char* chaintube_wasm_struct_layout(void)
 {
     static const std::string layout = makeLayout();

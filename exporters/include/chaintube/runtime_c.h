@@ -21,7 +21,8 @@
  *   rigs may run on different threads at once. The last-error text is per thread.
  * - A frame: chaintube_rig_set_node_transform for scene objects that moved, chaintube_rig_grab
  *   for held points, chaintube_rig_update, then chaintube_rig_joint_poses (skinned meshes) or
- *   chaintube_rig_surface (vertex buffers), and chaintube_rig_hose_result for each hose.
+ *   chaintube_rig_surface (vertex buffers), chaintube_rig_hose_result for each hose, and
+ *   chaintube_rig_attachment_pull for the parts the hoses hold back.
  */
 #ifndef CHAINTUBE_RUNTIME_C_H
 #define CHAINTUBE_RUNTIME_C_H
@@ -45,7 +46,7 @@
  * functions. A library of another major version, or of an older minor version than the
  * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add. */
 #define CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR 1
-#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 1
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 2
 #define CHAINTUBE_RUNTIME_ABI_VERSION                                                              \
     ((uint32_t)((CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | CHAINTUBE_RUNTIME_ABI_VERSION_MINOR))
 
@@ -143,6 +144,27 @@ typedef struct chaintube_clip_info
     int32_t turning; /* 1: sliding-turning (the hose may also turn about the clip's axis) */
 } chaintube_clip_info;
 
+/* A hose's pull on one of its attachments after the last chaintube_rig_update
+ * (chaintube_rig_attachment_pull). The model has no forces: the pull comes from the shape. Each
+ * side of the attachment whose free span ends at another pinned point (an attachment, a clip,
+ * the held point) is taut as its chord c nears its rest length L: tautness 0 while
+ * c <= 0.98 L, rising linearly to 1 at c = L (1 while an attachment is out of reach); a side
+ * ending at a free end is slack. Since ABI 1.2. */
+typedef struct chaintube_attachment_pull
+{
+    double direction[3]; /* world, unit: the way the hose draws the attachment's part (its taut
+                            sides along their first free segments); 0, 0, 0 when slack */
+    double tautness;     /* 0 (slack) ... 1 (drawn straight), the largest of its sides */
+    double strain;       /* >= 0: how far the taut span is stretched beyond its rest length,
+                            relative (0 for a hose drawn straight but not stretched) */
+    double force[3];     /* world newtons for the axial_stiffness passed: the sides'
+                            tautness * EA * strain along their pulls, summed; 0 when slack */
+    int32_t node;        /* glTF node the attachment is on, -1: fixed in the world */
+    int32_t first_point; /* the axis points it fixes, first ... last */
+    int32_t last_point;
+    int32_t attached; /* 1 while attached; 0 once chaintube_rig_detach_end let go of it */
+} chaintube_attachment_pull;
+
 /* The library's ABI version (CHAINTUBE_RUNTIME_ABI_VERSION of its build). */
 CHAINTUBE_API uint32_t chaintube_runtime_abi_version(void);
 
@@ -204,13 +226,14 @@ CHAINTUBE_API chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig,
 /* The axis points chaintube_rig_grab accepts for a hose, ascending: every point no attachment
  * fixes (a point a clip holds is among them, refused only while the clip holds it: see
  * chaintube_rig_clip_info). Writes grabbable_count integers; capacity >= grabbable_count
- * (points may be NULL when it is 0). */
+ * (points may be NULL when it is 0). Detaching and attaching ends changes them. */
 CHAINTUBE_API chaintube_status chaintube_rig_grabbable_points(const chaintube_rig* rig,
                                                               int32_t hose, int32_t* points,
                                                               int32_t capacity);
 
 /* The glTF node of each joint of a hose, in axis order: joint_count integers (none for a
- * static hose); capacity >= joint_count. */
+ * static hose); capacity >= joint_count. -1 for a joint no node takes (the first of a hose cut
+ * off by chaintube_rig_cut). */
 CHAINTUBE_API chaintube_status chaintube_rig_joint_nodes(const chaintube_rig* rig, int32_t hose,
                                                          int32_t* nodes, int32_t capacity);
 
@@ -230,6 +253,20 @@ CHAINTUBE_API chaintube_status chaintube_rig_clip_count(const chaintube_rig* rig
                                                         int32_t* count);
 CHAINTUBE_API chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose,
                                                        int32_t clip, chaintube_clip_info* info);
+
+/* Number of attachments of a hose (the descriptor's, in its order, then those
+ * chaintube_rig_attach_end made; a detached one keeps its index; clips are not among them),
+ * and how hard the hose pulls on attachment `attachment` in [0, count) as of the last
+ * chaintube_rig_update. axial_stiffness: the hose's EA in newtons per unit strain (a rubber
+ * hose of 20 mm about 1e4, a steel-braided one 1e6), finite and >= 0; the descriptor does
+ * not carry one, so the platform states it (0 gives force 0 and the rest as usual). Since
+ * ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_attachment_count(const chaintube_rig* rig,
+                                                              int32_t hose, int32_t* count);
+CHAINTUBE_API chaintube_status chaintube_rig_attachment_pull(const chaintube_rig* rig, int32_t hose,
+                                                             int32_t attachment,
+                                                             double axial_stiffness,
+                                                             chaintube_attachment_pull* pull);
 
 /* A node's name and parent. */
 CHAINTUBE_API chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,
@@ -255,6 +292,49 @@ CHAINTUBE_API chaintube_status chaintube_rig_set_node_transform(chaintube_rig* r
 CHAINTUBE_API chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t point,
                                                   const double target[3],
                                                   chaintube_hose_result* result);
+
+/* Unplugs an end: lets go of attachment `attachment` of a hose (chaintube_rig_attachment_count).
+ * Its points become free and grabbable (chaintube_rig_grabbable_points, hose_info's
+ * grabbable_count); with gravity they fall from the next update (a hose with nothing fixed and
+ * nothing held stays where it is). It keeps its index, attached 0. The part it was fixed to
+ * stays exempt from collision with the hose (the end starts inside it). result (may be NULL): this
+ * call's outcome. Refused (CHAINTUBE_ERROR_INVALID_ARGUMENT, nothing changed): an attachment
+ * already detached, a static hose. Since ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_detach_end(chaintube_rig* rig, int32_t hose,
+                                                        int32_t attachment,
+                                                        chaintube_hose_result* result);
+
+/* Plugs an end: fixes end `end` of a hose (0: points 0 and 1; 1: the last two) to `node` (-1:
+ * the world) at pose[7] (rigid pose relative to the node: translation, rotation x y z w): the
+ * end point goes to the pose's origin and the end segment along its +z, out of the hose (into
+ * the coupling). The end goes there in this call, every segment within its band (a long move
+ * is made in halves); a pose out of the hose's reach leaves the end short of it (status
+ * INFEASIBLE), met once the node brings it within reach. A held point on the end segment is let
+ * go. The new attachment follows chaintube_rig_set_node_transform of the node; *attachment
+ * (may be NULL) receives its index, the new chaintube_rig_attachment_count - 1. result (may be
+ * NULL): this call's outcome. Refused (nothing changed): end not 0 or 1, a non-finite pose, a
+ * rotation of length 0.5 or less (INVALID_ARGUMENT); a node out of range (OUT_OF_RANGE); an end
+ * an attachment or a clip holds now, a static hose (INVALID_ARGUMENT). Since ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int32_t hose,
+                                                        int32_t end, int32_t node,
+                                                        const double pose[7], int32_t* attachment,
+                                                        chaintube_hose_result* result);
+
+/* Cuts a hose in two at axis point `point` (1 ... point_count - 2): the hose keeps its index
+ * and points 0 ... point; a new hose, *new_hose (may be NULL; the hose count before the call),
+ * gets points point ... point_count - 1 (id "<id>~<index>"). Each piece has a free end at the cut
+ * and starts at rest (with gravity it falls from the next update); each attachment and clip goes
+ * with the piece it lies on (renumbered in its piece); no point is held. The skinned mesh stays
+ * valid with the same skin and joint list: the hose cut poses joints 0 ... point, the new hose
+ * the joints beyond (chaintube_rig_joint_nodes of the new hose starts with -1, the cut point's
+ * joint staying with the first piece: write the poses of the joints whose node is not -1). The
+ * mesh's segment across the cut stretches between the two cut ends; a platform wanting two clean
+ * ends draws each piece's own surface (chaintube_rig_surface, closed with caps). Joint poses,
+ * surfaces and pulls are up to date at once. Refused (nothing changed): a point out of range
+ * (OUT_OF_RANGE); a point at an end, one an attachment fixes or on a clip's segment, a static
+ * hose (INVALID_ARGUMENT). Hose ids and names returned before stay valid. Since ABI 1.2. */
+CHAINTUBE_API chaintube_status chaintube_rig_cut(chaintube_rig* rig, int32_t hose, int32_t point,
+                                                 int32_t* new_hose);
 
 /* Lets go of the hose's held point; with gravity it falls again from the next update. */
 CHAINTUBE_API chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose);

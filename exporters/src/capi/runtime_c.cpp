@@ -11,6 +11,7 @@
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <set>
 #include <span>
 #include <string>
 #include <utility>
@@ -20,6 +21,10 @@ struct chaintube_rig
 {
     chaintube::rig::HoseRuntime runtime;
     std::vector<std::string> warnings;
+    /// Hose ids and names as returned: a cut renames hoses and grows the runtime's list, and a
+    /// returned string lives as long as the rig (a std::set never moves its strings).
+    mutable std::set<std::string> strings;
+    const char* keep(const std::string& text) const { return strings.insert(text).first->c_str(); }
 };
 
 namespace {
@@ -223,7 +228,7 @@ chaintube_status jointPoses(const char* function, const chaintube_rig* rig, int3
 chaintube_status adopt(chaintube::rig::HoseRuntime&& runtime,
                        chaintube::rig::RuntimeLoadReport&& report, chaintube_rig** rig)
 {
-    *rig = new chaintube_rig{std::move(runtime), std::move(report.warnings)};
+    *rig = new chaintube_rig{std::move(runtime), std::move(report.warnings), {}};
     return CHAINTUBE_OK;
 }
 
@@ -426,13 +431,13 @@ chaintube_status chaintube_rig_hose_info(const chaintube_rig* rig, int32_t hose,
         const chaintube::Hose& running = rig->runtime.hose(hose);
         const chaintube::HoseSurface& surface = rig->runtime.surface(hose);
         chaintube_hose_info out{};
-        out.id = description.id.c_str();
-        out.name = description.name.c_str();
+        out.id = rig->keep(description.id);
+        out.name = rig->keep(description.name);
         out.rest_length = running.restLengthTotal();
         out.outer_radius = running.outerRadius();
         out.point_count = running.pointCount();
         out.joint_count = static_cast<int32_t>(rig->runtime.jointPoses(hose).size());
-        out.grabbable_count = static_cast<int32_t>(description.grabbablePoints.size());
+        out.grabbable_count = static_cast<int32_t>(rig->runtime.grabbablePoints(hose).size());
         out.vertex_count = static_cast<int32_t>(surface.vertexCount());
         out.index_count = static_cast<int32_t>(surface.topology().indices.size());
         out.mesh_node = description.meshNode;
@@ -451,7 +456,7 @@ chaintube_status chaintube_rig_grabbable_points(const chaintube_rig* rig, int32_
     constexpr const char* function = "chaintube_rig_grabbable_points";
     return guarded(function, [&]() -> chaintube_status {
         if (const chaintube_status status = checkHose(function, rig, hose)) return status;
-        const std::vector<int>& grabbable = rig->runtime.description(hose).grabbablePoints;
+        const std::vector<int>& grabbable = rig->runtime.grabbablePoints(hose);
         if (!points && !grabbable.empty()) return nullArgument(function, "points");
         if (const chaintube_status status =
                 checkCapacity(function, "points", capacity, grabbable.size(),
@@ -552,6 +557,55 @@ chaintube_status chaintube_rig_clip_info(const chaintube_rig* rig, int32_t hose,
     });
 }
 
+chaintube_status chaintube_rig_attachment_count(const chaintube_rig* rig, int32_t hose,
+                                                int32_t* count)
+{
+    constexpr const char* function = "chaintube_rig_attachment_count";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!count) return nullArgument(function, "count");
+        *count = rig->runtime.attachmentCount(hose);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_attachment_pull(const chaintube_rig* rig, int32_t hose,
+                                               int32_t attachment, double axial_stiffness,
+                                               chaintube_attachment_pull* pull)
+{
+    constexpr const char* function = "chaintube_rig_attachment_pull";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!std::isfinite(axial_stiffness) || axial_stiffness < 0.0)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "axial_stiffness is " + std::to_string(axial_stiffness) +
+                            ": expected a finite EA >= 0 (newtons per unit strain)");
+        const int count = rig->runtime.attachmentCount(hose);
+        if (attachment < 0 || attachment >= count)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "attachment " + std::to_string(attachment) + " is out of range: " +
+                            hoseName(rig, hose) + " has " + std::to_string(count) +
+                            " attachments (chaintube_rig_attachment_count)");
+        if (!pull) return nullArgument(function, "pull");
+        const chaintube::AttachmentPull& measured = rig->runtime.attachmentPull(hose, attachment);
+        const chaintube::Vec3 force = measured.force(axial_stiffness);
+        const chaintube::rig::LiveAttachment& described = rig->runtime.attachment(hose, attachment);
+        chaintube_attachment_pull out{};
+        for (int k = 0; k < 3; ++k) {
+            out.direction[k] = measured.direction(k);
+            out.force[k] = force(k);
+        }
+        out.tautness = measured.tautness;
+        out.strain = measured.strain;
+        out.node = described.node;
+        out.first_point = described.firstPoint;
+        out.last_point = described.lastPoint;
+        out.attached = described.attached ? 1 : 0;
+        *pull = out;
+        return CHAINTUBE_OK;
+    });
+}
+
 chaintube_status chaintube_rig_node_info(const chaintube_rig* rig, int32_t node,
                                          chaintube_node_info* info)
 {
@@ -636,7 +690,7 @@ chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t po
             return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
                         "point " + std::to_string(point) + " is out of range: " +
                             hoseName(rig, hose) + " has points 0 to " + std::to_string(points - 1));
-        const std::vector<int>& grabbable = rig->runtime.description(hose).grabbablePoints;
+        const std::vector<int>& grabbable = rig->runtime.grabbablePoints(hose);
         if (!std::binary_search(grabbable.begin(), grabbable.end(), point))
             return fail(CHAINTUBE_ERROR_NOT_GRABBABLE, function,
                         "point " + std::to_string(point) + " of " + hoseName(rig, hose) +
@@ -655,6 +709,87 @@ chaintube_status chaintube_rig_grab(chaintube_rig* rig, int32_t hose, int32_t po
                         "the runtime refused the grab of point " + std::to_string(point) + " of " +
                             hoseName(rig, hose));
         if (result) *result = resultOf(outcome);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_detach_end(chaintube_rig* rig, int32_t hose, int32_t attachment,
+                                          chaintube_hose_result* result)
+{
+    constexpr const char* function = "chaintube_rig_detach_end";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        const int count = rig->runtime.attachmentCount(hose);
+        if (attachment < 0 || attachment >= count)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "attachment " + std::to_string(attachment) + " is out of range: " +
+                            hoseName(rig, hose) + " has " + std::to_string(count) +
+                            " attachments (chaintube_rig_attachment_count)");
+        std::string why;
+        const UpdateResult outcome = rig->runtime.detachEnd(hose, attachment, &why);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (result) *result = resultOf(outcome);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int32_t hose, int32_t end,
+                                          int32_t node, const double pose[7], int32_t* attachment,
+                                          chaintube_hose_result* result)
+{
+    constexpr const char* function = "chaintube_rig_attach_end";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (node != -1)
+            if (const chaintube_status status = checkNode(function, rig, node)) return status;
+        if (end != 0 && end != 1)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "end " + std::to_string(end) +
+                            ": expected 0 (the first point's end) or 1 (the last point's)");
+        if (!pose) return nullArgument(function, "pose");
+        static const char* const names[7] = {"translation x", "translation y", "translation z",
+                                             "rotation x",    "rotation y",    "rotation z",
+                                             "rotation w"};
+        for (int k = 0; k < 7; ++k)
+            if (!std::isfinite(pose[k]))
+                return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                            "pose[" + std::to_string(k) + "] (" + names[k] + ") is " +
+                                numberText(pose[k]) + ": expected a finite number");
+        chaintube::Frame local;
+        local.translation = chaintube::Vec3(pose[0], pose[1], pose[2]);
+        local.rotation = chaintube::Quat(pose[6], pose[3], pose[4], pose[5]);
+        if (!(local.rotation.norm() > 0.5))
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "the rotation pose[3..6] has length " + numberText(local.rotation.norm()) +
+                            ": expected a unit quaternion");
+        std::string why;
+        int index = -1;
+        const UpdateResult outcome = rig->runtime.attachEnd(hose, end, node, local, &index, &why);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (attachment) *attachment = index;
+        if (result) *result = resultOf(outcome);
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_cut(chaintube_rig* rig, int32_t hose, int32_t point,
+                                   int32_t* new_hose)
+{
+    constexpr const char* function = "chaintube_rig_cut";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        const int points = rig->runtime.hose(hose).pointCount();
+        if (point < 0 || point >= points)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "point " + std::to_string(point) + " is out of range: " +
+                            hoseName(rig, hose) + " has points 0 to " + std::to_string(points - 1));
+        std::string why;
+        const chaintube::rig::CutResult outcome = rig->runtime.cut(hose, point, &why);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (new_hose) *new_hose = outcome.newHose;
         return CHAINTUBE_OK;
     });
 }

@@ -1,5 +1,6 @@
 #include "chaintube/export/runtime.h"
 
+#include "chaintube/cut.h"
 #include "chaintube/formats/collider_exemption.h"
 #include "gltf_container.h"
 #include "transform_math.h"
@@ -9,7 +10,10 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -269,8 +273,28 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                                             "exported rest lengths, so the hose starts "
                                             "overstretched or compressed");
         HoseSurface surface(hose); // as the library does after building: same twist seed
-        RunningHose running{
-            std::move(hose), std::move(surface), std::move(attachmentIds), {}, 0, {}, {}, {}};
+        // Ids: the descriptor's attachments', then its clips' (rebuildHose).
+        std::vector<int> clipIds(attachmentIds.begin() +
+                                     static_cast<std::ptrdiff_t>(d.attachments.size()),
+                                 attachmentIds.end());
+        RunningHose running{std::move(hose),
+                            std::move(surface),
+                            std::move(clipIds),
+                            {},
+                            {},
+                            {},
+                            {},
+                            true,
+                            0,
+                            {},
+                            {},
+                            {}};
+        for (size_t k = 0; k < d.attachments.size(); ++k) {
+            const RigAttachment& a = d.attachments[k];
+            running.live.push_back(
+                {a.node, a.offset, a.firstPoint, a.lastPoint, true, attachmentIds[k]});
+        }
+        running.grabbable = d.grabbablePoints;
         for (int joint : d.jointNodes)
             running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
         runtime.m_hoses.push_back(std::move(running));
@@ -285,31 +309,319 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                         std::to_string(node) + ": " + error.what());
         }
     }
-    // Every hose stays outside the colliders except the nodes it is attached to and their
-    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule).
-    const auto parentOf = [&](int n) { return runtime.m_nodes[static_cast<size_t>(n)].parent; };
-    for (size_t h = 0; h < runtime.m_hoses.size() && !runtime.m_colliders.empty(); ++h) {
-        const RigHose& d = runtime.m_descriptor.hoses[h];
-        std::vector<std::shared_ptr<const MeshCollider>> used;
-        for (size_t c = 0; c < runtime.m_colliders.size(); ++c)
-            if (std::none_of(d.attachments.begin(), d.attachments.end(),
-                             [&](const RigAttachment& a) {
-                                 return formats::attachmentExempts(
-                                     a.node, runtime.m_descriptor.colliders[c], parentOf);
-                             }) &&
-                std::none_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
-                    return formats::attachmentExempts(a.node, runtime.m_descriptor.colliders[c],
-                                                      parentOf);
-                }))
-                used.push_back(runtime.m_colliders[c]);
-        if (!used.empty()) runtime.m_hoses[h].hose.setColliders(std::move(used));
-    }
+    for (size_t h = 0; h < runtime.m_hoses.size() && !runtime.m_colliders.empty(); ++h)
+        runtime.chooseColliders(h);
     // A gravity hose is exported as it hangs (formats::settleUnderGravity): it starts at rest and
     // falls again once an input moves it, instead of re-settling (creeping) from the file.
     for (RunningHose& running : runtime.m_hoses)
         if (running.hose.spec().gravity.enabled) running.hose.markSettled();
     runtime.refresh(); // surfaces and poses as exported
     return runtime;
+}
+
+void HoseRuntime::chooseColliders(size_t hose)
+{
+    // Every hose stays outside the colliders except the nodes it is attached to and their
+    // ancestors (its ends sit in those: formats/collider_exemption.h, the clearance check's rule),
+    // and those it was unplugged from (the end starts inside the part, and would stick there).
+    RunningHose& running = m_hoses[hose];
+    const RigHose& d = m_descriptor.hoses[hose];
+    const auto parentOf = [&](int n) { return m_nodes[static_cast<size_t>(n)].parent; };
+    std::vector<std::shared_ptr<const MeshCollider>> used;
+    for (size_t c = 0; c < m_colliders.size(); ++c) {
+        const int collider = m_descriptor.colliders[c];
+        const bool exempt =
+            std::any_of(running.live.begin(), running.live.end(),
+                        [&](const LiveAttachment& a) {
+                            return formats::attachmentExempts(a.node, collider, parentOf);
+                        }) ||
+            std::any_of(d.clips.begin(), d.clips.end(), [&](const RigClip& a) {
+                return formats::attachmentExempts(a.node, collider, parentOf);
+            });
+        if (!exempt) used.push_back(m_colliders[c]);
+    }
+    if (used != running.hose.colliders()) running.hose.setColliders(std::move(used));
+}
+
+void HoseRuntime::findGrabbable(RunningHose& running, const RigHose& description)
+{
+    running.grabbable.clear();
+    if (description.isStatic) return;
+    std::vector<char> fixed(static_cast<size_t>(running.hose.pointCount()), 0);
+    for (const LiveAttachment& a : running.live)
+        if (a.attached)
+            for (int i = a.firstPoint; i <= a.lastPoint; ++i)
+                fixed[static_cast<size_t>(i)] = 1;
+    for (size_t i = 0; i < fixed.size(); ++i)
+        if (!fixed[i]) running.grabbable.push_back(static_cast<int>(i));
+}
+
+const LiveAttachment& HoseRuntime::attachment(int hose, int attachment) const
+{
+    const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
+        throw std::out_of_range("hose " + std::to_string(hose) + ": attachment " +
+                                std::to_string(attachment) + " is out of range");
+    return running.live[static_cast<size_t>(attachment)];
+}
+
+const std::vector<int>& HoseRuntime::grabbablePoints(int hose) const
+{
+    return m_hoses.at(static_cast<size_t>(hose)).grabbable;
+}
+
+namespace {
+UpdateResult refused(std::string* why, std::string text)
+{
+    if (why) *why = std::move(text);
+    UpdateResult result;
+    result.status = Status::InvalidInput;
+    return result;
+}
+} // namespace
+
+UpdateResult HoseRuntime::detachEnd(int hose, int attachment, std::string* why)
+{
+    if (hose < 0 || hose >= hoseCount())
+        return refused(why, "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                                std::to_string(hoseCount() - 1));
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
+        return refused(why, "attachment " + std::to_string(attachment) +
+                                " is out of range: " + name + " has " +
+                                std::to_string(running.live.size()) + " attachments");
+    if (d.isStatic) return refused(why, name + " is static: its attachments never change");
+    LiveAttachment& live = running.live[static_cast<size_t>(attachment)];
+    if (!live.attached)
+        return refused(why, "attachment " + std::to_string(attachment) + " of " + name +
+                                " is already detached");
+    running.hose.detach(live.id);
+    live.attached = false;
+    live.id = -1;
+    findGrabbable(running, d);
+    running.pullsStale = true;
+    return UpdateResult(); // nothing moved yet: the freed points fall from the next update()
+}
+
+UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& localFrame,
+                                    int* attachment, std::string* why)
+{
+    if (hose < 0 || hose >= hoseCount())
+        return refused(why, "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                                std::to_string(hoseCount() - 1));
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (node < -1 || node >= nodeCount())
+        return refused(why, "node " + std::to_string(node) + " is out of range: expected -1 (the " +
+                                "world) or 0 to " + std::to_string(nodeCount() - 1));
+    if (d.isStatic) return refused(why, name + " is static: its attachments never change");
+    if (end != 0 && end != 1)
+        return refused(why, "end " + std::to_string(end) +
+                                ": expected 0 (the first point's end) or 1 (the last point's)");
+    if (!localFrame.translation.allFinite() || !localFrame.rotation.coeffs().allFinite() ||
+        localFrame.rotation.norm() <= 0.5)
+        return refused(why, "the local frame is not finite or its rotation is not a unit "
+                            "quaternion (length above 0.5, normalised)");
+    const int n = running.hose.pointCount();
+    const int first = end == 0 ? 0 : n - 2;
+    const int last = first + 1;
+    const auto overlaps = [&](int a, int b) { return a <= last && b >= first; };
+    for (size_t k = 0; k < running.live.size(); ++k)
+        if (running.live[k].attached &&
+            overlaps(running.live[k].firstPoint, running.live[k].lastPoint))
+            return refused(why, "end " + std::to_string(end) + " of " + name +
+                                    " is already attached (attachment " + std::to_string(k) +
+                                    " fixes points " + std::to_string(running.live[k].firstPoint) +
+                                    " to " + std::to_string(running.live[k].lastPoint) + ")");
+    for (size_t c = 0; c < d.clips.size(); ++c) {
+        const Hose::Attachment& held = clip(hose, static_cast<int>(c));
+        if (overlaps(held.first, held.first + 1))
+            return refused(why, "end " + std::to_string(end) + " of " + name + " is held by clip " +
+                                    std::to_string(c));
+    }
+
+    // The end's frame now: origin the end point, z out of the hose along the end segment, x the
+    // ring's alignment made perpendicular to z.
+    const Vec3 tip = running.hose.point(end == 0 ? 0 : n - 1);
+    const Vec3 inner = running.hose.point(end == 0 ? 1 : n - 2);
+    const Vec3 z = (tip - inner).normalized();
+    const std::vector<RingFrame>& rings = running.surface.frames();
+    Vec3 x = rings.empty() ? Vec3::UnitX() : rings[end == 0 ? 0 : rings.size() - 1].alignment;
+    x -= x.dot(z) * z;
+    if (x.norm() < 1e-6) x = z.unitOrthogonal();
+    x.normalize();
+    Eigen::Matrix3d axes;
+    axes.col(0) = x;
+    axes.col(1) = z.cross(x);
+    axes.col(2) = z;
+    Frame endFrame;
+    endFrame.translation = tip;
+    endFrame.rotation = Quat(axes).normalized();
+
+    Frame offset = localFrame;
+    offset.rotation.normalize();
+    const Frame target = (node >= 0 ? nodeWorldFrame(node) : Frame()) * offset;
+    if (running.hose.heldPoint() >= first && running.hose.heldPoint() <= last)
+        running.hose.releaseGrab(); // the hand hands the end over
+    const int id = running.hose.attach(first, last, endFrame);
+    running.live.push_back({node, offset, first, last, true, id});
+    if (attachment) *attachment = static_cast<int>(running.live.size()) - 1;
+    findGrabbable(running, d);
+    running.pullsStale = true;
+    if (!m_colliders.empty()) chooseColliders(static_cast<size_t>(hose));
+    const UpdateResult result = running.hose.moveAttachment(id, target);
+    combine(running.pendingResult, result);
+    return result;
+}
+
+namespace {
+template <class T> std::vector<T> slice(const std::vector<T>& values, size_t from, size_t to)
+{
+    from = std::min(from, values.size());
+    to = std::min(std::max(to, from), values.size());
+    return std::vector<T>(values.begin() + static_cast<std::ptrdiff_t>(from),
+                          values.begin() + static_cast<std::ptrdiff_t>(to));
+}
+} // namespace
+
+CutResult HoseRuntime::cut(int hose, int point, std::string* why)
+{
+    CutResult out;
+    const auto refuse = [&](std::string text) {
+        if (why) *why = std::move(text);
+        return out;
+    };
+    if (hose < 0 || hose >= hoseCount())
+        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                      std::to_string(hoseCount() - 1));
+    const size_t h = static_cast<size_t>(hose);
+    const RigHose d = m_descriptor.hoses[h]; // a copy: the list grows below
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (d.isStatic) return refuse(name + " is static: it is never cut");
+    const int n = m_hoses[h].hose.pointCount();
+    if (point <= 0 || point >= n - 1)
+        return refuse("point " + std::to_string(point) + " of " + name +
+                      ": expected an interior point, 1 to " + std::to_string(n - 2) +
+                      " (a cut at an end or beyond cuts nothing off)");
+    std::optional<CutHose> pieces;
+    try {
+        pieces.emplace(cutHose(m_hoses[h].hose, point));
+    } catch (const InvalidArgument& error) {
+        return refuse(name + ": " + error.what());
+    }
+    // Where each Hose attachment id of the hose cut went: its piece and its id there.
+    std::map<int, CutHose::Moved> moved;
+    const std::vector<Hose::Attachment>& old = m_hoses[h].hose.attachments();
+    for (size_t k = 0; k < old.size() && k < pieces->attachments.size(); ++k)
+        moved[old[k].id] = pieces->attachments[k];
+
+    const size_t p = static_cast<size_t>(point), count = static_cast<size_t>(n);
+    double restBefore = 0.0; // rest arc length from point 0 to the cut
+    for (size_t s = 0; s < p; ++s)
+        restBefore += d.restLengths[s];
+    RigHose descriptions[2] = {d, d};
+    HoseSurface beforeSurface(pieces->before), afterSurface(pieces->after);
+    const std::uint64_t unposed = std::numeric_limits<std::uint64_t>::max();
+    RunningHose runnings[2] = {{std::move(pieces->before),
+                                std::move(beforeSurface),
+                                {},
+                                {},
+                                {},
+                                {},
+                                {},
+                                true,
+                                unposed,
+                                {},
+                                m_hoses[h].pendingResult,
+                                {}},
+                               {std::move(pieces->after),
+                                std::move(afterSurface),
+                                {},
+                                {},
+                                {},
+                                {},
+                                {},
+                                true,
+                                unposed,
+                                {},
+                                {},
+                                {}}};
+    const size_t from[2] = {0, p}, until[2] = {p + 1, count};
+    for (int piece = 0; piece < 2; ++piece) {
+        RigHose& part = descriptions[piece];
+        RunningHose& running = runnings[piece];
+        const int shift = piece == 0 ? 0 : point;
+        part.axis = running.hose.points();
+        part.restLengths = slice(d.restLengths, from[piece], until[piece] - 1);
+        // Interior joint j of the hose cut is entry j − 1; the piece's are from + 1 … until − 2.
+        part.jointBendLimits = slice(d.jointBendLimits, from[piece], until[piece] - 2);
+        part.jointMinBendRadii = slice(d.jointMinBendRadii, from[piece], until[piece] - 2);
+        part.jointNodes = slice(d.jointNodes, from[piece], until[piece]);
+        if (piece == 1 && !part.jointNodes.empty()) part.jointNodes.front() = -1;
+        part.attachments.clear();
+        for (const LiveAttachment& a : m_hoses[h].live) {
+            LiveAttachment kept = a;
+            if (a.attached) {
+                const CutHose::Moved& target = moved.at(a.id);
+                if (target.piece != piece) continue;
+                kept.id = target.id;
+            } else if ((a.firstPoint >= point) != (piece == 1)) {
+                continue;
+            }
+            kept.firstPoint -= shift;
+            kept.lastPoint -= shift;
+            running.live.push_back(kept);
+            if (kept.attached) {
+                RigAttachment described;
+                described.node = kept.node;
+                described.offset = kept.offset;
+                described.frame =
+                    (kept.node >= 0 ? nodeWorldFrame(kept.node) : Frame()) * kept.offset;
+                described.firstPoint = kept.firstPoint;
+                described.lastPoint = kept.lastPoint;
+                part.attachments.push_back(described);
+            }
+        }
+        part.clips.clear();
+        for (size_t c = 0; c < d.clips.size(); ++c) {
+            const CutHose::Moved& target = moved.at(m_hoses[h].clipIds[c]);
+            if (target.piece != piece) continue;
+            RigClip clip = d.clips[c];
+            if (piece == 1) {
+                clip.place -= restBefore;
+                clip.slideMin = std::max(0.0, clip.slideMin - restBefore);
+                clip.slideMax -= restBefore;
+            }
+            part.clips.push_back(clip);
+            running.clipIds.push_back(target.id);
+        }
+        findGrabbable(running, part);
+        part.grabbablePoints = running.grabbable;
+        for (int joint : part.jointNodes)
+            running.jointParents.push_back(joint >= 0 ? m_nodes[static_cast<size_t>(joint)].parent
+                                                      : -1);
+    }
+    std::string id = d.id + "~" + std::to_string(m_hoses.size());
+    while (findHose(id) >= 0)
+        id += "~";
+    descriptions[1].id = id;
+    descriptions[1].name = d.name + " (cut)";
+
+    m_descriptor.hoses[h] = std::move(descriptions[0]);
+    m_descriptor.hoses.push_back(std::move(descriptions[1]));
+    m_hoses[h] = std::move(runnings[0]);
+    m_hoses.push_back(std::move(runnings[1]));
+    out.newHose = hoseCount() - 1;
+    for (const size_t piece : {h, static_cast<size_t>(out.newHose)}) {
+        m_hoses[piece].hose.setColliders({});
+        if (!m_colliders.empty()) chooseColliders(piece);
+    }
+    refresh();
+    out.status = Status::Ok;
+    return out;
 }
 
 const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
@@ -319,8 +631,8 @@ const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
     if (clip < 0 || static_cast<size_t>(clip) >= d.clips.size())
         throw std::out_of_range("hose " + std::to_string(hose) + ": clip " + std::to_string(clip) +
                                 " is out of range");
-    // Ids after the attachments' (rebuildHose); a clip is never detached at run time.
-    const int id = running.attachmentIds.at(d.attachments.size() + static_cast<size_t>(clip));
+    // A clip is never detached at run time.
+    const int id = running.clipIds.at(static_cast<size_t>(clip));
     for (const Hose::Attachment& attachment : running.hose.attachments())
         if (attachment.id == id) return attachment;
     throw std::logic_error("hose " + std::to_string(hose) + ": clip " + std::to_string(clip) +
@@ -395,14 +707,14 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
         const RigHose& d = m_descriptor.hoses[h];
         std::vector<int> ids;
         std::vector<Frame> frames;
-        for (size_t k = 0; k < d.attachments.size(); ++k)
-            if (d.attachments[k].node >= 0 && isUnder(d.attachments[k].node)) {
-                ids.push_back(m_hoses[h].attachmentIds[k]);
-                frames.push_back(nodeWorldFrame(d.attachments[k].node) * d.attachments[k].offset);
+        for (const LiveAttachment& a : m_hoses[h].live)
+            if (a.attached && a.node >= 0 && isUnder(a.node)) {
+                ids.push_back(a.id);
+                frames.push_back(nodeWorldFrame(a.node) * a.offset);
             }
-        for (size_t k = 0; k < d.clips.size(); ++k) // ids after the attachments' (rebuildHose)
+        for (size_t k = 0; k < d.clips.size(); ++k)
             if (d.clips[k].node >= 0 && isUnder(d.clips[k].node)) {
-                ids.push_back(m_hoses[h].attachmentIds[d.attachments.size() + k]);
+                ids.push_back(m_hoses[h].clipIds[k]);
                 frames.push_back(nodeWorldFrame(d.clips[k].node) * d.clips[k].offset);
             }
         if (ids.empty()) {
@@ -431,10 +743,9 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
     UpdateResult rejected;
     rejected.status = Status::InvalidInput;
     if (hose < 0 || hose >= hoseCount()) return rejected;
-    const std::vector<int>& grabbable =
-        m_descriptor.hoses[static_cast<size_t>(hose)].grabbablePoints;
-    if (!std::binary_search(grabbable.begin(), grabbable.end(), point)) return rejected;
     RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const std::vector<int>& grabbable = running.grabbable;
+    if (!std::binary_search(grabbable.begin(), grabbable.end(), point)) return rejected;
     const UpdateResult result = running.hose.grab(point, target);
     combine(running.pendingResult, result);
     return result;
@@ -444,6 +755,7 @@ bool HoseRuntime::release(int hose)
 {
     if (hose < 0 || hose >= hoseCount()) return false;
     m_hoses[static_cast<size_t>(hose)].hose.releaseGrab();
+    m_hoses[static_cast<size_t>(hose)].pullsStale = true; // the held point no longer pins a span
     return true;
 }
 
@@ -491,10 +803,15 @@ int HoseRuntime::refresh()
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
         const bool changed = running.surface.update(running.hose);
-        if (changed || m_nodesMoved || running.posedRevision != running.hose.revision()) {
+        const bool reshaped = changed || running.posedRevision != running.hose.revision();
+        if (reshaped || m_nodesMoved) {
             poseJoints(running, m_descriptor.hoses[h]);
             running.posedRevision = running.hose.revision();
             ++recomputed;
+        }
+        if (reshaped || running.pullsStale) {
+            measurePulls(running);
+            running.pullsStale = false;
         }
     }
     m_nodesMoved = false;
@@ -559,6 +876,33 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
         const detail::Affine local = parentInverse * detail::matrixOf(pose.world);
         detail::decompose(local, pose.local);
     }
+}
+
+void HoseRuntime::measurePulls(RunningHose& running)
+{
+    running.pulls.resize(running.live.size());
+    for (size_t k = 0; k < running.live.size(); ++k)
+        running.pulls[k] = running.live[k].attached
+                               ? chaintube::attachmentPull(running.hose, running.live[k].id)
+                               : AttachmentPull();
+}
+
+int HoseRuntime::attachmentCount(int hose) const
+{
+    if (hose < 0 || hose >= hoseCount()) return 0;
+    return static_cast<int>(m_hoses[static_cast<size_t>(hose)].live.size());
+}
+
+const AttachmentPull& HoseRuntime::attachmentPull(int hose, int attachment) const
+{
+    const RunningHose& running = m_hoses.at(static_cast<size_t>(hose));
+    if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
+        throw std::out_of_range("hose " + std::to_string(hose) + ": attachment " +
+                                std::to_string(attachment) + " is out of range");
+    static const AttachmentPull unmeasured; // attached since the last update()
+    return static_cast<size_t>(attachment) < running.pulls.size()
+               ? running.pulls[static_cast<size_t>(attachment)]
+               : unmeasured;
 }
 
 std::vector<float> HoseRuntime::worldPositions(int hose) const

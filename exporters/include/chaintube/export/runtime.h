@@ -14,6 +14,7 @@
 #include "chaintube/export/rig_descriptor.h"
 #include "chaintube/hose.h"
 #include "chaintube/surface.h"
+#include "chaintube/tension.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -46,6 +47,28 @@ struct JointPose
     int node = -1;
     NodeTransform local;
     Frame world;
+};
+
+/// An attachment of a running hose: the descriptor's as exported (in its order), then each one
+/// HoseRuntime::attachEnd() made.
+struct LiveAttachment
+{
+    int node = -1;        ///< glTF node it is on; −1: fixed in the world
+    Frame offset;         ///< attachment frame = rigid(world(node)) · offset
+    int firstPoint = 0;   ///< the axis points it fixes, first … last
+    int lastPoint = 0;    ///<
+    bool attached = true; ///< false once detachEnd() let go of it (its index stays)
+    int id = -1;          ///< its Hose attachment id while attached
+};
+
+/// What HoseRuntime::cut() did.
+struct CutResult
+{
+    /// Ok, or InvalidInput: refused, nothing changed.
+    Status status = Status::InvalidInput;
+    /// The hose index of the piece beyond the cut (the hose cut keeps its index and the piece
+    /// before the cut).
+    int newHose = -1;
 };
 
 /// What changed for one hose in a call.
@@ -162,6 +185,23 @@ public:
     /// that is not in grabbablePoints or that a clip holds now.
     UpdateResult grab(int hose, int point, const Vec3& target);
 
+    /// Cuts a running hose in two at axis point `point` (1 … pointCount − 2; chaintube/cut.h):
+    /// the hose keeps its index and points 0 … point, a new hose (index hoseCount() before the
+    /// call, its descriptor id "<id>~<index>") gets points point … n − 1; each starts at rest with
+    /// a free end at the cut (with gravity it falls from the next update()). Each attachment and
+    /// clip goes with the piece it lies on (renumbered in its piece, in the order they had; a
+    /// detached one with the piece its points are on); no point is held after the cut. The
+    /// skinned mesh stays one mesh with the same joints: the hose cut poses joints 0 … point, the
+    /// new hose points point + 1 … n − 1 (description(newHose).jointNodes starts with −1: the
+    /// cut point's joint stays with the first piece). The mesh's segment across the cut then
+    /// stretches between the two cut ends; a platform that wants two clean ends draws the two
+    /// pieces' own surfaces (surface(), each closed with its caps) instead, or hides that
+    /// segment. Surfaces, joint poses and pulls are brought up to date at once. Refused with
+    /// Status::InvalidInput, nothing changed and *why saying why: a hose index out of range, a
+    /// static hose, a point at an end or out of range, a point an attachment fixes or on a
+    /// clip's segment.
+    CutResult cut(int hose, int point, std::string* why = nullptr);
+
     /// Lets go of the hose's held point (Hose::releaseGrab): with gravity it falls again on the
     /// next update(). False (and nothing changes) for a hose index out of range.
     bool release(int hose);
@@ -189,6 +229,53 @@ public:
         return m_hoses.at(static_cast<size_t>(hose)).poses;
     }
 
+    /// Attachments of a hose: the descriptor's (description(hose).attachments, in that order),
+    /// then those attachEnd() made; a detached one keeps its index. Clips are not among them.
+    /// 0 for a hose index out of range.
+    int attachmentCount(int hose) const;
+    /// Attachment `attachment` of a hose (0 … attachmentCount(hose) − 1) as it is now. Throws
+    /// std::out_of_range for an index out of range.
+    const LiveAttachment& attachment(int hose, int attachment) const;
+    /// The axis points grab() accepts now, ascending: every point no attachment fixes (none for
+    /// a static hose); description(hose).grabbablePoints until an end is detached or attached.
+    /// Throws std::out_of_range for a hose index out of range.
+    const std::vector<int>& grabbablePoints(int hose) const;
+
+    /// Lets go of attachment `attachment` of a hose (an end unplugged): its points become free
+    /// and grabbable; with gravity they fall from the next update() (a hose with nothing fixed
+    /// and nothing held stays where it is). The attachment keeps its index (attached false, its
+    /// pull zero). The part it was fixed to stays exempt from collision with the hose (the end
+    /// starts inside it; formats/collider_exemption.h), as every part it is attached to.
+    /// Refused with Status::InvalidInput, nothing changed and *why (when given) saying why: a
+    /// hose or attachment index out of range, an attachment already detached, a static hose.
+    UpdateResult detachEnd(int hose, int attachment, std::string* why = nullptr);
+
+    /// Fixes an end segment of a hose (end 0: points 0 and 1; end 1: the last two) to `node`
+    /// (−1: the world) at `localFrame`, relative to the rigid part of the node's world
+    /// transform: the end point goes to the frame's origin and the end segment along its +z,
+    /// pointing out of the hose (into the coupling); the frame's turn about z is the ring's
+    /// alignment (only torsion sees it). The end goes there in this call as a moved attachment
+    /// does (Hose::moveAttachment: a long move is made in halves and every segment stays in its
+    /// band); a frame beyond the hose's reach leaves the end short of it (Status::Infeasible,
+    /// Hose::attachmentGap), met once the node brings it within reach. A held point on the end
+    /// segment is let go (the hand hands the end over). The new attachment follows
+    /// setNodeTransform of the node; its index, attachmentCount(hose) − 1, goes to *attachment.
+    /// Refused with Status::InvalidInput, nothing changed and *why saying why: a hose or node
+    /// index out of range, a static hose, an end other than 0 or 1, a non-finite frame or a
+    /// rotation of length 0.5 or less (it is normalised), an end segment that an attachment or
+    /// a clip holds now.
+    UpdateResult attachEnd(int hose, int end, int node, const Frame& localFrame,
+                           int* attachment = nullptr, std::string* why = nullptr);
+
+    /// How hard the hose pulls on attachment `attachment` (0 … attachmentCount(hose) − 1) as of
+    /// the last update() (chaintube/tension.h): the world direction, tautness 0 … 1, strain and
+    /// the pull per unit axial stiffness. The descriptor carries no axial stiffness: a platform
+    /// that wants newtons passes its hose's EA (N per unit strain) to AttachmentPull::force().
+    /// All zero when the hose is slack on both sides of the attachment, for a detached one, and
+    /// for one attached since the last update(). Throws std::out_of_range for an index out of
+    /// range.
+    const AttachmentPull& attachmentPull(int hose, int attachment) const;
+
     /// Surface vertex positions in world metres (3 floats per vertex, vertex order of
     /// SurfaceTopology), as of the last update().
     std::vector<float> worldPositions(int hose) const;
@@ -198,8 +285,12 @@ private:
     {
         Hose hose;
         HoseSurface surface;
-        std::vector<int> attachmentIds; ///< per descriptor attachment
+        std::vector<int> clipIds;         ///< the Hose attachment id per clip
+        std::vector<LiveAttachment> live; ///< the attachments now (attachment())
+        std::vector<int> grabbable;       ///< grabbablePoints()
         std::vector<JointPose> poses;
+        std::vector<AttachmentPull> pulls; ///< per attachment, as of the last update()
+        bool pullsStale = true;            ///< the pins changed without a new shape (a release)
         std::uint64_t posedRevision = 0;
         std::vector<int> jointParents;
         UpdateResult pendingResult; ///< the frame being built, since the last update()
@@ -210,6 +301,11 @@ private:
     void recomputeWorld();
     int refresh(); ///< update() without the gravity step
     void poseJoints(RunningHose& running, const RigHose& description);
+    static void measurePulls(RunningHose& running);
+    /// The hose's colliders: every descriptor collider that none of its attachments' (attached
+    /// or not) or clips' nodes exempts (formats/collider_exemption.h).
+    void chooseColliders(size_t hose);
+    static void findGrabbable(RunningHose& running, const RigHose& description);
 
     HoseRigDescriptor m_descriptor;
     std::vector<RigNode> m_nodes;
