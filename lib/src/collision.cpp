@@ -728,6 +728,12 @@ Clearance clearance(const Hose& hose, const MeshCollider& collider, double searc
 
 // --- Hose: staying outside the colliders ----------------------------------------------------
 
+} // namespace chaintube
+
+#include "budget.h" // (the Hose half of this file alone uses it)
+
+namespace chaintube {
+
 void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> colliders,
                         const CollisionOptions& options)
 {
@@ -754,6 +760,7 @@ void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> collide
 
 UpdateResult Hose::resolveCollisions()
 {
+    BudgetScope scope(*this);
     UpdateResult result = measureViolation();
     result.status = Status::Ok;
     if (m_colliders.empty()) return result;
