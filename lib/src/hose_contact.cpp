@@ -2,6 +2,7 @@
 // applyCollisions, the contact step every grab, attachment move and gravity step ends with.
 // The colliders' geometry and queries are in mesh_collider.cpp.
 #include "chaintube/collision.h"
+#include "budget.h"
 #include "chaintube/hose.h"
 #include "projection.h"
 
@@ -53,6 +54,7 @@ void Hose::setColliders(std::vector<std::shared_ptr<const MeshCollider>> collide
 
 UpdateResult Hose::resolveCollisions()
 {
+    BudgetScope scope(*this);
     UpdateResult result = measureViolation();
     result.status = Status::Ok;
     if (m_colliders.empty()) return result;

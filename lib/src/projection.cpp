@@ -408,6 +408,9 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
     std::vector<Vec3>& p = h.m_local;
     const std::vector<double>& w = m_inverseMass;
     ProjectionOutcome out;
+    // Within the update's budget (Hose::setBudget): fewer steps, the points as the last one left.
+    const int wantedIterations = maxIterations;
+    maxIterations = h.budgetedSteps(maxIterations);
     m_joinMargin = std::min(kActiveMargin, kJoinShare * tolerance);
     const bool lengths = lengthsOnly();
     if (lengths) m_rows.clear();
@@ -455,6 +458,7 @@ ProjectionOutcome ChainProjection::run(int maxIterations, double tolerance)
     }
     out.violation = worst;
     out.converged = worst <= tolerance;
+    h.spendSteps(out.iterations, maxIterations, out.converged ? maxIterations : wantedIterations);
     return out;
 }
 

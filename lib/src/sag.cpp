@@ -1,5 +1,6 @@
 // Gravity (beyond the paper): one implicit step per frame through the chain projection, and
 // sag(), which steps until the hose is at rest.
+#include "budget.h"
 #include "chaintube/hose.h"
 #include "projection.h"
 #include "workspace.h"
@@ -210,6 +211,7 @@ SagResult Hose::sag(const SagOptions& options)
         result.update.status = Status::InvalidInput;
         return result;
     }
+    BudgetScope unbounded(*this, false); // sag() settles fully, whatever the budget
     const Gravity gravity = m_spec.gravity;
     const int held = m_held;
     m_spec.gravity.enabled = true;
@@ -238,6 +240,7 @@ void Hose::releaseGrab()
     if (m_held < 0) return;
     m_held = -1;
     m_trustCarry = TrustCarry{};
+    m_pendingGrab = false;
     m_settledRevision = 0; // step(): the released point may fall
 }
 
@@ -256,6 +259,30 @@ void Hose::markSettled()
 
 UpdateResult Hose::step()
 {
+    BudgetScope scope(*this);
+    // A grab or attachment move cut short by the budget goes on, unless a new one came in since
+    // the last step (the same frame's work).
+    UpdateResult pending;
+    if ((m_pendingGrab || m_pendingMove) && !m_updatedSinceStep) pending = continuePending();
+    m_updatedSinceStep = false;
+    UpdateResult gravity = stepGravity();
+    if (gravity.iterations == 0 && gravity.movedPoints == 0 && !gravity.pending) {
+        if (pending.iterations > 0 || pending.movedPoints > 0 || pending.pending) return pending;
+        return gravity;
+    }
+    gravity.status = std::max(gravity.status, pending.status);
+    gravity.grabError = pending.grabError;
+    gravity.movedPoints = std::max(gravity.movedPoints, pending.movedPoints);
+    gravity.iterations += pending.iterations;
+    gravity.pending = gravity.pending || pending.pending;
+    gravity.remaining = std::max(gravity.remaining, pending.remaining);
+    return gravity;
+}
+
+UpdateResult Hose::stepGravity()
+{
+    BudgetScope scope(*this);
+    m_pendingFall = false;
     UpdateResult result;
     if (!m_spec.gravity.enabled || m_settledRevision == m_revision) return result;
     const size_t n = m_local.size();
@@ -316,8 +343,14 @@ UpdateResult Hose::step()
                 m_local = start; // no nearer within the budget: it stays until an input changes
                 m_gravityPrevious = start;
                 m_gravityLast = start;
+                UpdateResult stayed = before;
+                stayed.iterations = result.iterations;
+                if (scope.cut()) { // (the update's budget ran out: the next step goes on)
+                    m_pendingFall = stayed.pending = true;
+                    return stayed;
+                }
                 m_settledRevision = m_revision;
-                return before;
+                return stayed;
             }
             ++m_revision;
             m_dirtyViolation = after.status != Status::Ok;
@@ -377,7 +410,13 @@ UpdateResult Hose::step()
             predicted[i] =
                 w[i] != 0.0 ? Vec3(start[i] + velocity * (start[i] - m_gravityPrevious[i]) + move)
                             : start[i];
-        valid = engine.project(predicted, start, result.iterations);
+        {
+            // Under a budget, half of what is left for each attempt but the last.
+            const bool lastAttempt =
+                attempt + 1 == std::size(factors) || !(factors[attempt + 1] > 0.0);
+            BudgetShare share(*this, BudgetShare::half(*this, lastAttempt));
+            valid = engine.project(predicted, start, result.iterations);
+        }
         if (attempt == 0) {
             m_gravityFullFailed = !valid;
             m_gravitySkippedFull = 0;
@@ -423,6 +462,10 @@ UpdateResult Hose::step()
         const int iterations = result.iterations;
         result = measureViolation();
         result.iterations = iterations;
+        if (scope.cut()) { // the update's budget ran out: not at rest, the next step goes on
+            m_pendingFall = result.pending = true;
+            return result;
+        }
         m_settledRevision = m_revision;
         return result;
     }
@@ -480,9 +523,13 @@ UpdateResult Hose::step()
     } else {
         ++m_gravityStallSteps;
     }
-    if (std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest ||
-        (m_gravityStallSteps >= kStallSteps &&
-         energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
+    // A step cut short by the budget decides nothing about rest.
+    m_pendingFall = result.pending = scope.cut();
+    if (scope.cut()) {
+        // (no rest decision)
+    } else if (std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest ||
+               (m_gravityStallSteps >= kStallSteps &&
+                energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }

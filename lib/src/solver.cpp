@@ -1,5 +1,6 @@
 // The axis solver: the paper's outward propagation for free ends, and for the spans between
 // pinned points (attachments, a held point) the bounded chain projection (projection.h).
+#include "budget.h"
 #include "chaintube/hose.h"
 #include "projection.h"
 #include "span_solver.h"
@@ -10,6 +11,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <tuple>
 
 namespace chaintube {
@@ -48,6 +50,10 @@ constexpr double kClipMargins[] = {0.01, 0.05, 0.15};
 /// halved (at most 2 + 4 + … more updates).
 constexpr double kHalvedMove = 2.0;
 constexpr int kMoveHalvings = 2;
+// moveAttachments: the fractions of the way the attachments are placed at, one try each; under
+// a budget (Hose::setBudget) more and shorter ones, each within a share of it.
+constexpr double kFractions[] = {1.0, 0.5};
+constexpr double kBudgetFractions[] = {1.0, 0.5, 0.25, 0.125};
 /// Solver::bowFlatCompressedSpans: samples of the buckling mode along its chord, and at most
 /// this many Newton steps for its amplitude (from above it takes 3–8; each is one pass over
 /// the samples).
@@ -958,6 +964,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         result.status = Status::InvalidInput;
         return result;
     }
+    BudgetScope scope(*this);
+    m_updatedSinceStep = true;
     const Vec3 localTarget = target - m_origin;
     const size_t k = static_cast<size_t>(index);
     // The same target again, nothing changed since a grab of this point moved nothing (its point
@@ -995,6 +1003,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     }
     m_scratch = m_local;
     const Vec3 start = m_local[k];
+    Vec3 goal = localTarget; // where the point goes: the target, or the nearest point in reach
     if (m_attachments.empty()) {
         // Nothing fixed: the paper's propagation alone.
         Solver solver(*this);
@@ -1007,7 +1016,6 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         // both pins' reach, less a margin that keeps the span off the singular taut state).
         const int left = nearestFixed(*this, index, -1), right = nearestFixed(*this, index, +1);
         const double margin = 1.0 - kReachMargin;
-        Vec3 goal = localTarget;
         if (left >= 0 && right >= 0)
             goal = closestInTwoBalls(localTarget, m_local[static_cast<size_t>(left)],
                                      margin * reachBetween(*this, left, index),
@@ -1091,9 +1099,16 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     m_held = index;
     if (moved > 0 || m_attachments.empty()) ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // hose_contact.cpp
+    // Cut short by the budget: step() goes on towards the same target.
+    const double remaining = (m_local[k] - goal).norm();
+    result.pending = scope.cut() && remaining > 0.0;
+    result.remaining = result.pending ? remaining : 0.0;
+    m_pendingGrab = result.pending;
+    m_pendingGrabTarget = target;
     // Remember a grab that moved nothing (on its target, or at the edge of its reach and no
-    // nearer): the same target again, from the same shape, is answered at once.
-    m_edgePoint = moved == 0 ? index : -1;
+    // nearer): the same target again, from the same shape, is answered at once. Not one that ran
+    // out of budget: the same target again goes on.
+    m_edgePoint = moved == 0 && !result.pending ? index : -1;
     m_edgeRevision = m_revision;
     m_edgeTarget = localTarget;
     m_edgeResult = result;
@@ -1102,7 +1117,57 @@ UpdateResult Hose::grab(int index, const Vec3& target)
 
 UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vector<Frame>& frames)
 {
-    return moveAttachmentsInSteps(ids, frames, kMoveHalvings);
+    BudgetScope scope(*this);
+    m_updatedSinceStep = true;
+    // Under a budget the move is not halved: the budget's own partial moves go on next frame.
+    UpdateResult result = moveAttachmentsInSteps(ids, frames, scope.bounded() ? 0 : kMoveHalvings);
+    m_pendingMove = result.pending;
+    return result;
+}
+
+void Hose::setBudget(const UpdateBudget& budget)
+{
+    if (budget.newtonSteps < 0)
+        throw InvalidArgument("budget.newtonSteps: expected a number of steps >= 0 (0: no bound), "
+                              "got " +
+                              std::to_string(budget.newtonSteps));
+    m_budget = budget;
+}
+
+UpdateResult Hose::finishPending()
+{
+    BudgetScope unbounded(*this, false);
+    return continuePending();
+}
+
+UpdateResult Hose::continuePending()
+{
+    UpdateResult result;
+    if (m_pendingGrab && m_held >= 0 && !m_fixed[static_cast<size_t>(m_held)])
+        result = grab(m_held, m_pendingGrabTarget);
+    m_pendingGrab = result.pending;
+    if (!m_pendingMove) return result;
+    std::vector<int> ids;
+    std::vector<Frame> frames;
+    for (const Attachment& a : m_attachments)
+        if (attachmentGap(a.id) > 0.0) {
+            ids.push_back(a.id);
+            frames.push_back(a.frame);
+        }
+    if (ids.empty()) {
+        m_pendingMove = false;
+        return result;
+    }
+    const UpdateResult move = moveAttachments(ids, frames);
+    if (result.iterations == 0 && result.movedPoints == 0 && !result.pending) return move;
+    UpdateResult both = move;
+    both.status = std::max(result.status, move.status);
+    both.grabError = result.grabError;
+    both.movedPoints = std::max(result.movedPoints, move.movedPoints);
+    both.iterations += result.iterations;
+    both.pending = result.pending || move.pending;
+    both.remaining = std::max(result.remaining, move.remaining);
+    return both;
 }
 
 UpdateResult Hose::moveAttachmentsInSteps(const std::vector<int>& ids,
@@ -1193,6 +1258,8 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         clips ? m_attachments : std::vector<Attachment>();
     const std::vector<unsigned char> fixedBefore = clips ? m_fixed : std::vector<unsigned char>();
     const std::vector<Attachment*> moved = targets;
+    bool partialMove = false; // under a budget: the attachments moved part of the way
+    bool beyondReach = false; // some frame is beyond the hose's reach
     const auto restoreClips = [&] {
         for (size_t i = 0; i < m_attachments.size(); ++i)
             if (m_attachments[i].isClip()) m_attachments[i] = attachmentsBefore[i];
@@ -1273,24 +1340,40 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         const auto [lo, hi] = pinnedRange(m_attachments, -1);
         PinnedSpans spans(*this, lo, hi, -1);
         bool solved = false;
-        for (const double fraction : {1.0, 0.5}) {
-            place(fraction);
-            // Where the ends leave no shape within the bend limits the bends give way (a kink).
-            solved = spans.solveBowingOrKinking(result.iterations, !broughtIntoReach);
-            if (!solved) continue;
-            // A segment between two pinned points (two clips slid next to each other) is
-            // placed by them alone: outside its band, no shape.
-            for (int seg = lo; solved && seg < hi; ++seg) {
-                const size_t k = static_cast<size_t>(seg);
-                const double l = (m_local[k + 1] - m_local[k]).norm();
-                solved =
-                    !(std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k]);
+        // Under a budget, each try may take half of what is left (the last all of it), and a
+        // try cut short by it is kept only when valid: nearer fractions of the way take fewer
+        // steps, and the rest of the way follows in the next updates.
+        const bool bounded = m_budgetLeft >= 0;
+        const std::span<const double> fractions = bounded
+                                                      ? std::span<const double>(kBudgetFractions)
+                                                      : std::span<const double>(kFractions);
+        for (size_t f = 0; f < fractions.size(); ++f) {
+            place(fractions[f]);
+            const bool cutBefore = m_budgetCut;
+            m_budgetCut = false;
+            {
+                BudgetShare share(*this, BudgetShare::half(*this, f + 1 == fractions.size()));
+                // Where the ends leave no shape within the bend limits the bends give way (a
+                // kink).
+                solved = spans.solveBowingOrKinking(result.iterations, !broughtIntoReach);
+                // A segment between two pinned points (two clips slid next to each other) is
+                // placed by them alone: outside its band, no shape.
+                for (int seg = lo; solved && seg < hi; ++seg) {
+                    const size_t k = static_cast<size_t>(seg);
+                    const double l = (m_local[k + 1] - m_local[k]).norm();
+                    solved = !(std::max(l - m_maxLength[k], m_minLength[k] - l) >
+                               1e-9 * m_restLength[k]);
+                }
+                const bool cutHere = m_budgetCut;
+                const bool holds = solved && measureViolation().status == Status::Ok;
+                if (cutHere && !holds) solved = false;
+                if (holds) spans.relaxCompressedBends(result.iterations);
+                m_budgetCut = cutBefore || m_budgetCut;
+                if (fractions[f] < 1.0 && solved) partialMove = true;
             }
-            if (!solved) continue;
-            if (measureViolation().status == Status::Ok)
-                spans.relaxCompressedBends(result.iterations);
-            break;
+            if (solved) break;
         }
+        beyondReach = broughtIntoReach;
         if (!solved) {
             // Nothing valid found: the hose stays (its attachments unmet), its clips where they
             // were.
@@ -1314,6 +1397,13 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         gap = std::max(gap, attachmentGap(a->id));
     result.status =
         (violation.status != Status::Ok || gap > 1e-9) ? Status::Infeasible : Status::Ok;
+    // Under a budget: short of frames within reach only for want of steps, pending (Ok while
+    // the hose is valid); step() goes on with it.
+    if (m_budgetLeft >= 0 && gap > 1e-9 && (m_budgetCut || partialMove)) {
+        result.pending = true;
+        result.remaining = gap;
+        if (violation.status == Status::Ok && !beyondReach) result.status = Status::Ok;
+    }
     m_dirtyViolation = violation.status != Status::Ok;
     for (size_t i = 0; i < m_local.size(); ++i)
         result.movedPoints += m_local[i] != m_scratch[i];
@@ -1324,6 +1414,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
 
 UpdateResult Hose::settle()
 {
+    BudgetScope unbounded(*this, false);
     return settleFrom(-1);
 }
 

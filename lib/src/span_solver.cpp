@@ -235,6 +235,9 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
     const int dir = end > root ? 1 : -1;
     const int m = (end - root) * dir; // segments
     if (m < 1) return out;
+    // Within the update's budget (Hose::setBudget): fewer steps, the span as the last one left it.
+    const int wantedIterations = maxIterations;
+    maxIterations = h.budgetedSteps(maxIterations);
     // Point s of the span and the hose segment between points s and s + 1 of the span.
     auto point = [&](int s) { return static_cast<size_t>(root + dir * s); };
     auto segment = [&](int s) { return static_cast<size_t>(dir > 0 ? root + s : root - s - 1); };
@@ -723,6 +726,7 @@ SpanSolver::Outcome SpanSolver::solve(int root, int end, bool endFixed, const Ve
         if (!endFixed) p[point(m)] = m_position[segments];
     }
     out.closure = current.closure;
+    h.spendSteps(out.iterations, maxIterations, out.goalsMet ? maxIterations : wantedIterations);
     return out;
 }
 
@@ -752,6 +756,10 @@ SpanSolver::Outcome SpanSolver::advance(int root, int end, const Vec3& endTarget
     int gained = 0;          // steps that brought the point nearer
     bool softFailed = false; // a soft try that brought it no nearer
     for (int step = 0; step < maxSteps && (held || gained < movingSteps); ++step) {
+        if (h.m_budgetLeft == 0) { // the update's budget is spent: the span stays valid as it is
+            h.m_budgetCut = true;
+            break;
+        }
         const Vec3 at = p[static_cast<size_t>(point)];
         const double error = (target - at).norm();
         // Nearer the target by `gain` (relative to a segment). Beyond reach, nearer the
@@ -955,12 +963,15 @@ SpanSolver::Outcome SpanSolver::reach(int root, int end, const Vec3& endTarget,
     double mu[kMaxRows] = {}; // the hard rows' multipliers (Lagrangian + μ·c)
     double error = distance();
     std::vector<Vec3> saved;
+    const int wantedIterations = maxIterations;
+    maxIterations = h.budgetedSteps(maxIterations); // the update's budget (Hose::setBudget)
     while (out.iterations + kReachCloseReserve < maxIterations) {
         if (error <= tolerance * rest) {
             out.goalsMet = true;
             break;
         }
         ++out.iterations;
+        h.spendSteps(1, 1, 1); // the closing solve() below spends its own
         // The state: positions, directions, lengths, a basis across each segment.
         for (int s = 0; s <= m; ++s)
             q[static_cast<size_t>(s)] = p[point(s)];
@@ -1269,6 +1280,9 @@ SpanSolver::Outcome SpanSolver::reach(int root, int end, const Vec3& endTarget,
             sigma = std::min(4.0 * sigma, 1e12);
         }
     }
+    if (maxIterations < wantedIterations && !out.goalsMet &&
+        out.iterations + kReachCloseReserve >= maxIterations)
+        h.m_budgetCut = true;
     return out;
 }
 

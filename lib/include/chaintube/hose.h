@@ -6,6 +6,7 @@
 #include "chaintube/profile.h"
 #include "chaintube/types.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -88,7 +89,31 @@ struct [[nodiscard]] UpdateResult
     /// the span or range it solves)); 0 for the paper's propagation alone. Bounded per update
     /// (lib/README.md, "Pinned spans, reach and gravity").
     int iterations = 0;
+    /// Under a budget (Hose::setBudget): the budget ran out before the update met its target
+    /// (the grab target, the attachments' frames) or finished its gravity step. The hose is
+    /// valid as the last whole step left it and goes on towards the same target in the next
+    /// updates (Hose::step()). Always false without a budget.
+    bool pending = false;
+    /// With `pending`: how far the hose still is from the target (metres): the grabbed point's
+    /// distance to where the grab goes (its target, or the nearest point within reach), the
+    /// largest attachmentGap() of a move; 0 for a gravity step cut short.
+    double remaining = 0.0;
     bool ok() const { return status == Status::Ok; }
+};
+
+/// A hard bound on the work of one update (Hose::setBudget), in Newton steps of the span solver
+/// and the chain projection (UpdateResult::iterations), each O(points of the span or range it
+/// solves). What an update cannot finish within it goes on in the next updates.
+struct UpdateBudget
+{
+    /// Newton steps an update may take, ≥ 1; 0: no bound (each update converges as far as its
+    /// own fixed limits take it, as in authoring: the editor's commit, `check`, the export).
+    int newtonSteps = 0;
+    /// The real-time default: the worst frame of the real-time benchmark's cases within about
+    /// 3× the median frame's work (tests/bench/realtime/README.md).
+    static UpdateBudget realtime() { return UpdateBudget{kRealtimeNewtonSteps}; }
+    static constexpr int kRealtimeNewtonSteps = 16;
+    bool bounded() const { return newtonSteps > 0; }
 };
 
 /// Per-frame gravity. When enabled, Hose::step() advances the hose by one implicit step of
@@ -351,8 +376,28 @@ public:
     /// moved more than 1e-6 of a mean segment in a step, or no lower by 1 % of a mean segment in
     /// 120 steps), with gravity off, or with nothing fixed and nothing held, a call costs one
     /// comparison until an input changes (any revision()). Deterministic. Returns the constraint
-    /// state; movedPoints is 0 when nothing was done, iterations the Newton steps.
+    /// state; movedPoints is 0 when nothing was done, iterations the Newton steps. Under a budget
+    /// (setBudget) it first goes on with a grab or attachment move that ran out of it, unless a
+    /// new one came in since the last step(), then steps within what is left; a gravity step cut
+    /// short by the budget is `pending` and never taken for rest. Call it once a frame.
     UpdateResult step();
+    /// Bounds the work of every later update (grab, attachment moves, step(), resolveCollisions(),
+    /// clip slides within them) to `budget` (UpdateBudget{} lifts the bound; sag() and settle()
+    /// are never bounded). An update that runs out of it stops at the last valid shape it reached
+    /// (every length and bend within 1e-9, no new penetration) and reports `pending`; each step()
+    /// after it then goes on towards the same target (the grab target, the attachments' frames)
+    /// within the budget, unless a grab or attachment move came in since the last step(), until
+    /// the target is met or the update ends as it would without a budget. Throws InvalidArgument
+    /// for newtonSteps < 0.
+    void setBudget(const UpdateBudget& budget);
+    const UpdateBudget& budget() const { return m_budget; }
+    /// An update ran out of its budget and step() will go on with it (UpdateResult::pending).
+    bool pending() const { return m_pendingGrab || m_pendingMove || m_pendingFall; }
+    /// Goes on now, without the budget, with a grab or attachment move that ran out of it (e.g.
+    /// an editor's live drag when the mouse is released): one unbounded update towards the same
+    /// target. Nothing pending: does nothing (movedPoints 0).
+    UpdateResult finishPending();
+
     /// The point held by the last grab (−1: none). A held point is fixed for step() and
     /// releaseGrab() frees it; a grab of another point moves the hold there.
     int heldPoint() const { return m_held; }
@@ -441,6 +486,26 @@ private:
     /// Turn at joint j of `points` beyond its limit (radians; negative: within it).
     double turnExcess(size_t j, const std::vector<Vec3>& points) const;
 
+    /// The bounded update (Hose::setBudget): Newton steps an update may still take (−1: no
+    /// bound), whether a solver stopped because of it, and the outermost update's scope.
+    friend class BudgetScope;
+    friend class BudgetShare;
+    int budgetedSteps(int wanted) const
+    {
+        return m_budgetLeft < 0 ? wanted : std::min(wanted, m_budgetLeft);
+    }
+    /// A solver took `steps` Newton steps out of `allowed` = budgetedSteps(`wanted`).
+    void spendSteps(int steps, int allowed, int wanted)
+    {
+        if (m_budgetLeft < 0) return;
+        m_budgetLeft = std::max(0, m_budgetLeft - steps);
+        if (steps >= allowed && allowed < wanted) m_budgetCut = true;
+    }
+    /// step(): the gravity step alone (sag.cpp).
+    UpdateResult stepGravity();
+    /// step(): goes on with a pending grab or attachment move (solver.cpp).
+    UpdateResult continuePending();
+
     friend class Solver;
     friend class GravityStep;
     friend class PinnedSpans;
@@ -495,6 +560,16 @@ private:
         double reachMetric = 0.0; ///< SpanSolver::reach's metric it ended with (0: none yet)
     };
     TrustCarry m_trustCarry;
+
+    UpdateBudget m_budget;      ///< see setBudget()
+    int m_budgetLeft = -1;      ///< Newton steps the current update may still take (−1: any)
+    bool m_budgetCut = false;   ///< a solver of the current update stopped for the budget
+    int m_updateDepth = 0;      ///< BudgetScope: nesting of update entry points
+    bool m_pendingGrab = false; ///< the last grab ran out of budget (its point m_held)
+    Vec3 m_pendingGrabTarget = Vec3::Zero(); ///< its target (world)
+    bool m_pendingMove = false;              ///< an attachment move ran out of budget
+    bool m_pendingFall = false;              ///< the last gravity step ran out of budget
+    bool m_updatedSinceStep = false;         ///< a grab or attachment move since the last step()
 
     /// Collision hook at the end of every update entry point (hose_contact.cpp); no-op without
     /// colliders. `grabbed` is the grabbed point (−1 if none) and its requested local target.

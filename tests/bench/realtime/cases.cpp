@@ -339,11 +339,18 @@ void checkChainTubeUpdate(FrameChecks& checks, const Hose& hose, const ChainLimi
         ++checks.statusContradicted;
 }
 
+UpdateBudget& benchBudget()
+{
+    static UpdateBudget budget = UpdateBudget::realtime();
+    return budget;
+}
+
 Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup)
 {
     const CaseSetup setup = caseSetup(hoseCase, points);
     {
         Hose hose = setup.makeHose();
+        hose.setBudget(benchBudget());
         RandomWalk walk = setup.walk();
         for (int f = 0; f < warmup; ++f) {
             static_cast<void>(hose.grab(setup.middle, walk.next())); // warm-up: results not needed
@@ -351,6 +358,7 @@ Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup)
         }
     }
     Hose hose = setup.makeHose();
+    hose.setBudget(benchBudget());
     const ChainLimits limits = ChainLimits::of(hose);
     RandomWalk walk = setup.walk();
     Row row{hoseCase.id, "ChainTube", points, 1, {}};
@@ -369,7 +377,17 @@ Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup)
         timer.stop(checks);
         checkChainTubeUpdate(checks, hose, limits, grabbed, hoseCase.gravity ? &stepped : nullptr,
                              setup.middle, target);
+        checks.frameWork.push_back(grabbed.iterations + stepped.iterations);
         if (hoseCase.floor) checkFloor(checks, hose.points(), setup.floorY, hose.outerRadius());
+        if (f + 1 < frames) continue;
+        // The last target held still (untimed): the frames until nothing is pending.
+        for (checks.heldFrames = 1; checks.heldFrames <= FrameChecks::kHeldFrameLimit;
+             ++checks.heldFrames) {
+            const UpdateResult held = hose.grab(setup.middle, target);
+            UpdateResult heldStep;
+            if (hoseCase.gravity) heldStep = hose.step();
+            if (!held.pending && !heldStep.pending) break;
+        }
     }
     return row;
 }

@@ -90,6 +90,13 @@ struct FrameChecks
     int budget = -1;
     /// ChainTube: updates that took more Newton steps than `budget`.
     int overBudget = 0;
+    /// ChainTube: per timed frame, the Newton steps of all its updates (the work of the frame).
+    std::vector<int> frameWork;
+    /// ChainTube: after the walk, the frames the last target held still took until no update
+    /// was pending (UpdateResult::pending), the first frame counted; kHeldFrameLimit + 1: not
+    /// within that many. −1: not measured.
+    int heldFrames = -1;
+    static constexpr int kHeldFrameLimit = 100;
     /// ChainTube: updates whose final status is Ok or Clamped (every constraint holds) while
     /// Hose::measureViolation() exceeds 1e-9 (with colliders: CollisionOptions::
     /// constraintTolerance). −1: not applicable.
@@ -187,6 +194,10 @@ CaseSetup caseSetup(const HoseCase& hoseCase, int points);
 /// Timed runs over a case: `warmup` frames on a separate hose first (discarded), then `frames`
 /// frames from the starting state, each timed and checked.
 Row runChainTube(const HoseCase& hoseCase, int points, int frames, int warmup);
+
+/// The per-update budget the ChainTube rows run under (Hose::setBudget; the runtime's for the
+/// engine sample): UpdateBudget::realtime() unless --budget says otherwise.
+UpdateBudget& benchBudget();
 Row runXpbd(const HoseCase& hoseCase, int points, int sweeps, int frames, int warmup);
 
 /// The machine's floor: `frames` frames of the same fixed arithmetic (a chain of dependent

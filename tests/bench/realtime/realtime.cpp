@@ -51,6 +51,8 @@ const char* const kUsage =
     "  --case ID      only this case (repeatable): free-drag, ends-fixed, ends-fixed-gravity,\n"
     "                 ends-fixed-floor, ends-fixed-gravity-floor, ends-fixed-clip,\n"
     "                 held-end-gravity, engine-50\n"
+    "  --budget N     Newton steps an update may take (Hose::setBudget; default: the real-time\n"
+    "                 default, UpdateBudget::realtime()); none: no bound\n"
     "  --cpu N        pin the process to CPU N (sched_setaffinity; or run under taskset -c N)\n"
     "  --commit TEXT  the commit to name in the header (default: git rev-parse in the source "
     "tree)\n"
@@ -235,7 +237,12 @@ int main(int argc, char** argv)
                 options.sweepsGiven = true;
             } else if (arg == "--case")
                 options.cases.push_back(value());
-            else if (arg == "--cpu")
+            else if (arg == "--budget") {
+                const std::string text = value();
+                benchBudget() = text == "none" ? UpdateBudget{} : UpdateBudget{std::stoi(text)};
+                if (benchBudget().newtonSteps < 0)
+                    throw std::invalid_argument("--budget: a number of Newton steps >= 0 or none");
+            } else if (arg == "--cpu")
                 options.cpu = parseCount(value(), 0);
             else if (arg == "--commit")
                 options.commit = value();

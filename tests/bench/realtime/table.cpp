@@ -40,6 +40,13 @@ int percentile(std::vector<int> values, double q)
     return values[k];
 }
 
+// A work percentile over the median work (a median of 0 counts as 1), one decimal.
+std::string ratio(const std::vector<int>& work, double q)
+{
+    return printf1("%.1f",
+                   static_cast<double>(percentile(work, q)) / std::max(1, percentile(work, 0.5)));
+}
+
 std::string statuses(const std::array<int, 4>& counts)
 {
     std::string text = std::to_string(counts[0]) + " / " + std::to_string(counts[1]) + " / " +
@@ -188,6 +195,30 @@ const std::vector<Column>& columns()
                                ? std::to_string(percentile(r.checks.iterations, 1.0))
                                : std::string();
                 }),
+        {"work p99 / median, worst / median", "work_p99_over_median",
+         [](R r, T) {
+             return r.checks.frameWork.empty()
+                        ? kNotApplicable
+                        : ratio(r.checks.frameWork, 0.99) + " / " + ratio(r.checks.frameWork, 1.0);
+         },
+         [](R r, T) {
+             return r.checks.frameWork.empty() ? std::string() : ratio(r.checks.frameWork, 0.99);
+         }},
+        csvOnly("work_worst_over_median",
+                [](R r, T) {
+                    return r.checks.frameWork.empty() ? std::string()
+                                                      : ratio(r.checks.frameWork, 1.0);
+                }),
+        {"frames to meet a held target", "held_target_frames",
+         [](R r, T) {
+             if (r.checks.heldFrames < 0) return std::string(kNotApplicable);
+             if (r.checks.heldFrames > FrameChecks::kHeldFrameLimit)
+                 return "> " + std::to_string(FrameChecks::kHeldFrameLimit);
+             return std::to_string(r.checks.heldFrames);
+         },
+         [](R r, T) {
+             return r.checks.heldFrames < 0 ? std::string() : std::to_string(r.checks.heldFrames);
+         }},
         csvOnly("blocked_updates",
                 [](R r, T) {
                     return r.checks.hasStatuses ? std::to_string(r.checks.blocked) : std::string();

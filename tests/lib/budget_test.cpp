@@ -1,0 +1,179 @@
+// A hard per-frame budget (Hose::setBudget, UpdateBudget): under it every update takes at most
+// that many Newton steps, ends valid (every length and bend within 1e-9, no penetration), says
+// whether its target is still pending, and step() goes on towards the same target frame by frame
+// until it is met. Work is counted (UpdateResult::iterations), never timed.
+#include "test_util.h"
+
+#include <algorithm>
+#include <random>
+
+using namespace chaintube;
+using namespace chaintube::test;
+
+namespace {
+
+constexpr double kValid = 1e-9;
+
+/// A hose of `points` points, 1 m long, bend radius 0.1 m, inextensible, laid as an arc whose
+/// ends are 0.8 m apart in the plane y = 0, its end segments fixed.
+Hose arcBetweenFixedEnds(int points, bool gravity = false)
+{
+    HoseSpec spec;
+    spec.gravity.enabled = gravity;
+    spec.segmentLength = 1.0 / (points - 1);
+    spec.material.expansionCoefficient = 0.0;
+    spec.material.bendLimit = BendLimit::minBendRadius(0.1);
+    const double half = arcHalfAngle(0.8);
+    const double radius = 0.5 / half;
+    std::vector<Vec3> axis;
+    for (int i = 0; i < points; ++i) {
+        const double a = -half + 2.0 * half * i / (points - 1);
+        axis.emplace_back(0.4 + radius * std::sin(a), 0.0,
+                          -radius * (std::cos(a) - std::cos(half)));
+    }
+    Hose hose = Hose::fromAxis(axis, spec);
+    hose.attach(0, 1, Frame::identity());
+    hose.attach(points - 2, points - 1, Frame::identity());
+    return hose;
+}
+
+std::shared_ptr<const MeshCollider> floorAt(double y)
+{
+    const std::vector<Vec3> corners = {Vec3(-2.0, y, -2.0), Vec3(3.0, y, -2.0), Vec3(3.0, y, 2.0),
+                                       Vec3(-2.0, y, 2.0)};
+    return MeshCollider::fromArrays(corners, {0, 2, 1, 0, 3, 2});
+}
+
+/// Every constraint holds to 1e-9 and every update stayed within `budget` Newton steps.
+void expectValidWithin(const Hose& hose, const UpdateResult& result, int budget, int frame)
+{
+    const UpdateResult v = hose.measureViolation();
+    EXPECT_LE(v.lengthViolation, kValid) << "frame " << frame;
+    EXPECT_LE(v.angleViolation, kValid) << "frame " << frame;
+    EXPECT_LE(result.iterations, budget) << "frame " << frame;
+    EXPECT_TRUE(std::isfinite(result.remaining) && result.remaining >= 0.0) << "frame " << frame;
+}
+
+/// Frames of step() until nothing is pending (at most `limit`), each checked.
+int framesUntilMet(Hose& hose, int budget, int limit)
+{
+    for (int frame = 1; frame <= limit; ++frame) {
+        const UpdateResult r = hose.step();
+        expectValidWithin(hose, r, budget, frame);
+        if (!r.pending && !hose.pending()) return frame;
+    }
+    return limit + 1;
+}
+
+} // namespace
+
+TEST(UpdateBudget, NoBudgetIsTheDefaultAndANegativeOneIsRefused)
+{
+    Hose hose = arcBetweenFixedEnds(50);
+    EXPECT_FALSE(hose.budget().bounded());
+    EXPECT_THROW(hose.setBudget(UpdateBudget{-1}), InvalidArgument);
+    // Unbounded, a far grab is never pending.
+    const UpdateResult r = hose.grab(25, hose.point(25) + Vec3(0.0, 0.15, 0.05));
+    EXPECT_FALSE(r.pending);
+    EXPECT_EQ(r.remaining, 0.0);
+    EXPECT_FALSE(hose.pending());
+    EXPECT_EQ(UpdateBudget::realtime().newtonSteps, UpdateBudget::kRealtimeNewtonSteps);
+}
+
+TEST(UpdateBudget, AFarGrabUnderASmallBudgetStaysValidAndMeetsItsTargetInBoundedFrames)
+{
+    constexpr int kBudget = 8;
+    Hose bounded = arcBetweenFixedEnds(50);
+    Hose unbounded = bounded;
+    bounded.setBudget(UpdateBudget{kBudget});
+    const Vec3 target = bounded.point(25) + Vec3(0.0, 0.15, 0.05); // within reach
+    UpdateResult first = bounded.grab(25, target);
+    expectValidWithin(bounded, first, kBudget, 0);
+    EXPECT_TRUE(first.pending) << "a 16 cm grab takes more than 8 Newton steps";
+    EXPECT_GT(first.remaining, 0.0);
+    EXPECT_NEAR(first.remaining, (bounded.point(25) - target).norm(), 1e-12);
+    const int frames = framesUntilMet(bounded, kBudget, 200);
+    EXPECT_LE(frames, 200);
+    // The unbounded grab, held: the same target met.
+    for (int i = 0; i < 50 && (unbounded.point(25) - target).norm() > 1e-9; ++i)
+        static_cast<void>(unbounded.grab(25, target));
+    EXPECT_LE((unbounded.point(25) - target).norm(), 1e-6);
+    EXPECT_LE((bounded.point(25) - unbounded.point(25)).norm(), 1e-6);
+    // Met: the same target again costs nothing and is not pending.
+    const UpdateResult again = bounded.grab(25, target);
+    EXPECT_FALSE(again.pending);
+    EXPECT_EQ(again.iterations, 0);
+}
+
+TEST(UpdateBudget, AGravityDropOntoAFloorUnderASmallBudgetStaysValidOutsideTheFloorAndComesToRest)
+{
+    constexpr int kBudget = 8;
+    Hose bounded = arcBetweenFixedEnds(40, true);
+    const double floorY = -0.05;
+    bounded.setColliders({floorAt(floorY)});
+    Hose unbounded = bounded;
+    bounded.setBudget(UpdateBudget{kBudget});
+    const double radius = bounded.outerRadius();
+    const double tolerance = bounded.collisionOptions().tolerance;
+    int pendingFrames = 0, frame = 0;
+    for (; frame < 3000; ++frame) {
+        const std::uint64_t revision = bounded.revision();
+        const UpdateResult r = bounded.step();
+        expectValidWithin(bounded, r, kBudget, frame);
+        pendingFrames += r.pending;
+        for (int i = 0; i < bounded.pointCount(); ++i)
+            ASSERT_GE(bounded.point(i).y(), floorY + radius - tolerance - 1e-9)
+                << "frame " << frame;
+        if (!r.pending && bounded.revision() == revision) break;
+    }
+    EXPECT_LT(frame, 3000) << "comes to rest";
+    for (int i = 0; i < 3000; ++i) {
+        const std::uint64_t revision = unbounded.revision();
+        static_cast<void>(unbounded.step());
+        if (unbounded.revision() == revision) break;
+    }
+    // Both lie on the floor between the same ends: the same lowest height.
+    double lowB = 1.0, lowU = 1.0;
+    for (int i = 0; i < bounded.pointCount(); ++i) {
+        lowB = std::min(lowB, bounded.point(i).y());
+        lowU = std::min(lowU, unbounded.point(i).y());
+    }
+    EXPECT_NEAR(lowB, lowU, 1e-6);
+}
+
+TEST(UpdateBudget, UnderTheRealtimeDefaultAHeldTargetIsMetWithinTenFramesAfterAWalk)
+{
+    const int budget = UpdateBudget::kRealtimeNewtonSteps;
+    for (const bool gravity : {false, true}) {
+        SCOPED_TRACE(gravity ? "gravity" : "no gravity");
+        Hose hose = arcBetweenFixedEnds(100, gravity);
+        hose.setBudget(UpdateBudget::realtime());
+        std::mt19937_64 random(20240901);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0);
+        Vec3 target = hose.point(50);
+        for (int frame = 0; frame < 300; ++frame) {
+            Vec3 step(unit(random), unit(random), unit(random));
+            target += 0.02 * step.normalized();
+            target = target.cwiseMax(Vec3(0.34, 0.0, -0.18)).cwiseMin(Vec3(0.46, 0.18, 0.18));
+            UpdateResult r = hose.grab(50, target);
+            expectValidWithin(hose, r, budget, frame);
+            if (gravity) {
+                r = hose.step();
+                expectValidWithin(hose, r, budget, frame);
+            }
+        }
+        // Held still: each frame the same grab (and the step), met within 10 frames.
+        int frames = 1;
+        for (; frames <= 10; ++frames) {
+            const UpdateResult grabbed = hose.grab(50, target);
+            expectValidWithin(hose, grabbed, budget, frames);
+            bool pending = grabbed.pending;
+            if (gravity) {
+                const UpdateResult stepped = hose.step();
+                expectValidWithin(hose, stepped, budget, frames);
+            }
+            if (!pending) break;
+        }
+        EXPECT_LE(frames, 10);
+    }
+}
