@@ -67,6 +67,13 @@ def clip_hose(hose_id, name, route, material, diameter, colour, attachments, cli
     return h
 
 
+def socket(socket_id, scene, node, position, axis, tag, capture_radius=0.03, capture_angle=0.5):
+    """A socket (project format 1.7): a coupling on `node` a hose end with plug `tag` fits;
+    position and axis in the node's frame."""
+    return {"id": socket_id, "scene": scene, "node": node, "position": position, "axis": axis,
+            "captureRadius": capture_radius, "captureAngle": capture_angle, "tag": tag}
+
+
 def write(name, document):
     (HERE / name).write_text(json.dumps(document, indent=2) + "\n")
 
@@ -251,7 +258,7 @@ rig = box_scene("test-rig", {"floor_plate": (0.8, 0.01, 0.5), "bracket": (0.04, 
 
 RIG_SCENE = [{"id": "rig", "path": "scenes/test-rig.gltf",
               "import": {"chordalTolerance": 0.0001, "angularTolerance": 0.5}}]
-write("test-rig.ctproj", project("Test rig: two brackets and a valve", RIG_SCENE, [
+test_rig = project("Test rig: two brackets and a valve", RIG_SCENE, [
     hose("left-feed", "left bracket to valve",
          arc_route([-0.3, 0.21, 0.0], [0.0283, 0.04, 0.1217], 0.12, MIN_BEND_RADIUS["rubber hose"], 17),
          "rubber hose", 0.02, [0.1, 0.1, 0.1, 1.0],
@@ -265,7 +272,14 @@ write("test-rig.ctproj", project("Test rig: two brackets and a valve", RIG_SCENE
          [attachment("rig", "/test-rig/bracket_right", 0, 0),
           attachment("rig", "/test-rig/valve", 20, 20)], segments=20, roughness=0.3,
          fittings_allowance=0.045),
-], "test-rig.glb"))
+], "test-rig.glb")
+test_rig["hoses"][0]["plugs"] = {"end": "camlock-19"}  # project format 1.7: its end's plug
+test_rig["sockets"] = [  # where that end may be plugged at runtime: the valve's other face, the plate
+    socket("valve-outlet", "rig", "/test-rig/valve", [-0.04, 0.0, 0.0], [-1.0, 0.0, 0.0], "camlock-19"),
+    socket("plate-port", "rig", "/test-rig/floor_plate", [0.2, 0.005, -0.15], [0.0, 1.0, 0.0],
+           "camlock-19"),
+]
+write("test-rig.ctproj", test_rig)
 
 # --- motion-rig: a lever on a hinge and a carriage on a slider (project format 1.4 "motions") ----
 motion_rig = box_scene("motion-rig", {"base_plate": (0.8, 0.01, 0.4), "pillar": (0.04, 0.2, 0.04),

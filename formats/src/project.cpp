@@ -65,7 +65,14 @@ bool HoseDefinition::operator==(const HoseDefinition& o) const
            attachments == o.attachments && clips == o.clips &&
            gravity.enabled == o.gravity.enabled && gravity.direction == o.gravity.direction &&
            torsion.enabled == o.torsion.enabled && torsion.twistLimit == o.torsion.twistLimit &&
-           fittingsAllowance == o.fittingsAllowance;
+           fittingsAllowance == o.fittingsAllowance && plugs == o.plugs;
+}
+
+bool Socket::operator==(const Socket& o) const
+{
+    return id == o.id && scene == o.scene && node == o.node && position == o.position &&
+           axis == o.axis && captureRadius == o.captureRadius && captureAngle == o.captureAngle &&
+           tag == o.tag;
 }
 
 bool PartMotion::operator==(const PartMotion& o) const
@@ -102,6 +109,13 @@ const SceneReference* Project::findScene(std::string_view sceneId) const
     return nullptr;
 }
 
+const Socket* Project::findSocket(std::string_view socketId) const
+{
+    for (const Socket& socket : sockets)
+        if (socket.id == socketId) return &socket;
+    return nullptr;
+}
+
 Material Project::materialOf(const HoseDefinition& hose) const
 {
     if (const auto* inlineMaterial = std::get_if<Material>(&hose.material)) return *inlineMaterial;
@@ -117,7 +131,8 @@ bool Project::operator==(const Project& o) const
 {
     return name == o.name && scenes == o.scenes && materialPresets == o.materialPresets &&
            hoses == o.hoses && poses == o.poses && colliders == o.colliders &&
-           motions == o.motions && checks == o.checks && exportSettings == o.exportSettings;
+           motions == o.motions && checks == o.checks && sockets == o.sockets &&
+           exportSettings == o.exportSettings;
 }
 
 std::filesystem::path resolveScenePath(const SceneReference& scene,

@@ -407,6 +407,34 @@ PartMotion readMotion(const Cursor& entry, const Project& project, std::set<std:
     return motion;
 }
 
+Socket readSocket(const Cursor& entry, const Project& project)
+{
+    entry.object(
+        {"id", "scene", "node", "position", "axis", "captureRadius", "captureAngle", "tag"});
+    Socket socket;
+    socket.id = entry.key("id").string();
+    if (project.findSocket(socket.id))
+        entry.key("id").fail("expected a unique socket id, \"" + socket.id + "\" is used twice");
+    socket.scene = entry.key("scene").string();
+    if (!project.findScene(socket.scene))
+        entry.key("scene").fail("expected the id of a scene of this project, got \"" +
+                                socket.scene + "\"");
+    socket.node = entry.key("node").string();
+    if (socket.node.front() != '/')
+        entry.key("node").fail("expected a node path starting with '/', got \"" + socket.node +
+                               "\"");
+    socket.position = readVec3(entry.key("position"));
+    socket.axis = readVec3(entry.key("axis"));
+    if (!(socket.axis.norm() > 1e-9))
+        entry.key("axis").fail("expected a non-zero direction (in the node's frame, length > "
+                               "1e-9, need not be unit), got length " +
+                               json(socket.axis.norm()).dump());
+    socket.captureRadius = entry.key("captureRadius").number(0, false, HUGE_VAL, false);
+    socket.captureAngle = entry.key("captureAngle").number(0, false, std::numbers::pi, true);
+    socket.tag = entry.key("tag").string();
+    return socket;
+}
+
 void checkPath(const Cursor& cursor, const std::string& written, const fs::path& projectDirectory,
                const NamedRoots& roots)
 {
@@ -434,7 +462,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
     const bool migrateLengths = fileMinor < 3;
     const Cursor root(document, "", file, newerMinor, &report.ignoredKeys);
     root.object({"format", "version", "name", "scenes", "materialPresets", "hoses", "poses",
-                 "colliders", "motions", "checks", "export"});
+                 "colliders", "motions", "checks", "sockets", "export"});
 
     Project project;
     project.name = root.key("name").string(true);
@@ -496,7 +524,7 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         const Cursor entry = hoses[i];
         entry.object({"id", "name", "route", "length", "material", "profile", "outerDiameter",
                       "segmentCount", "segmentLength", "colour", "roughness", "attachments",
-                      "clips", "gravity", "torsion", "fittingsAllowance"});
+                      "clips", "gravity", "torsion", "fittingsAllowance", "plugs"});
         HoseDefinition hose;
         hose.id = entry.key("id").string();
         if (!hoseIds.insert(hose.id).second)
@@ -627,6 +655,11 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         }
         if (const auto allowance = entry.optionalKey("fittingsAllowance")) // 1.6
             hose.fittingsAllowance = allowance->number(0, true, HUGE_VAL, false);
+        if (const auto plugs = entry.optionalKey("plugs")) { // 1.7
+            plugs->object({"start", "end"});
+            if (const auto start = plugs->optionalKey("start")) hose.plugs.start = start->string();
+            if (const auto end = plugs->optionalKey("end")) hose.plugs.end = end->string();
+        }
         if (migrateLengths && !hose.length) {
             // The length the hose had when the file was written. A hose that cannot be laid
             // out (e.g. a profile out of range) stays without one: building it reports why.
@@ -710,6 +743,11 @@ Project readProject(const json& document, const fs::path& file, const ProjectLoa
         if (const auto clearance = checks->optionalKey("clearance"))
             project.checks.clearance = clearance->number(0, true, HUGE_VAL, false);
     }
+
+    // --- sockets (1.7) ------------------------------------------------------------------------
+    if (const auto sockets = root.optionalKey("sockets"))
+        for (size_t i = 0, n = sockets->arraySize(); i < n; ++i)
+            project.sockets.push_back(readSocket((*sockets)[i], project));
 
     // --- export -------------------------------------------------------------------------------
     const Cursor exportSettings = root.key("export");
@@ -797,7 +835,7 @@ Project parseProject(std::string_view text, const fs::path& file, const ProjectL
     // 1.0 → 1.1 added only the optional "poses", 1.1 → 1.2 the optional per-hose "gravity" and
     // "torsion" (off when absent) and "colliders" (none): nothing to rewrite; 1.2 → 1.3 the
     // hose's "length", which readProject() sets from the route; 1.3 → 1.4 the optional
-    // "motions" (none).
+    // "motions" (none); 1.6 → 1.7 the optional "sockets" and hose "plugs" (none).
     if (major == 1 && minor < kProjectFormatMinor) out.migrated = true;
     return readProject(document, file, options, out);
 }

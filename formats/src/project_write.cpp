@@ -216,6 +216,12 @@ std::string serialiseProject(const Project& project)
                 ordered{{"enabled", hose.torsion.enabled}, {"twistLimit", hose.torsion.twistLimit}};
         if (hose.fittingsAllowance != 0.0) // 1.6
             entry["fittingsAllowance"] = hose.fittingsAllowance;
+        if (!hose.plugs.empty()) { // 1.7
+            ordered plugs = ordered::object();
+            if (!hose.plugs.start.empty()) plugs["start"] = hose.plugs.start;
+            if (!hose.plugs.end.empty()) plugs["end"] = hose.plugs.end;
+            entry["plugs"] = plugs;
+        }
         hoses.push_back(entry);
     }
     document["hoses"] = hoses;
@@ -253,6 +259,23 @@ std::string serialiseProject(const Project& project)
         ordered checks = ordered::object();
         checks["clearance"] = *project.checks.clearance;
         document["checks"] = checks;
+    }
+
+    if (!project.sockets.empty()) { // 1.7
+        ordered sockets = ordered::array();
+        for (const Socket& socket : project.sockets) {
+            ordered entry = ordered::object();
+            entry["id"] = socket.id;
+            entry["scene"] = socket.scene;
+            entry["node"] = socket.node;
+            entry["position"] = vec3(socket.position);
+            entry["axis"] = vec3(socket.axis);
+            entry["captureRadius"] = socket.captureRadius;
+            entry["captureAngle"] = socket.captureAngle;
+            entry["tag"] = socket.tag;
+            sockets.push_back(entry);
+        }
+        document["sockets"] = sockets;
     }
 
     ordered exportSettings = ordered::object();

@@ -37,7 +37,7 @@ TEST(ClipExport, AClipTravelsFromTheProjectThroughTheDescriptorToTheRuntime)
     const formats::Project project = rigWithAClip(file);
     exportProject(project, file, folder / "clip.glb", roots());
     rig::HoseRuntime runtime = rig::HoseRuntime::load(folder / "clip.glb");
-    EXPECT_EQ(runtime.descriptor().version, "1.4");
+    EXPECT_EQ(runtime.descriptor().version, "1.5");
     const int h = runtime.findHose("left-feed");
     ASSERT_GE(h, 0);
     const rig::RigHose& described = runtime.descriptor().hoses[static_cast<size_t>(h)];

@@ -236,7 +236,7 @@ TEST(RigDescriptor, MotionsReachTheDescriptorWithTheirGltfNodesAndRoundTrip)
     const std::string text = rig::serialiseDescriptor(descriptor);
     const rig::HoseRigDescriptor parsed = rig::parseDescriptor(text, "x");
     EXPECT_EQ(rig::serialiseDescriptor(parsed), text);
-    EXPECT_EQ(parsed.version, "1.4");
+    EXPECT_EQ(parsed.version, "1.5");
 
     // Bad values name the member.
     const Json good = Json::parse(text);

@@ -58,7 +58,7 @@ TEST(Clips, ClipsRoundTripExactly)
     fs::copy_file(kSamples / "scenes" / "test-rig.gltf", folder / "scenes" / "test-rig.gltf");
     saveProject(project, folder / "clipped.ctproj");
     const json written = json::parse(testing::readText(folder / "clipped.ctproj"));
-    EXPECT_EQ(written["version"], "1.6");
+    EXPECT_EQ(written["version"], "1.7");
     const json& first = written["hoses"][0]["clips"][0];
     EXPECT_EQ(first["node"], "/test-rig/floor_plate");
     EXPECT_EQ(first["hold"], "sliding");

@@ -42,7 +42,7 @@ TEST(FittingsAllowance, AbsentIsZeroAndZeroIsNotWritten)
     const json written = json::parse(serialiseProject(project));
     EXPECT_FALSE(written["hoses"][0].contains("fittingsAllowance"));
     EXPECT_EQ(written["hoses"][1]["fittingsAllowance"], 0.045);
-    EXPECT_EQ(written["version"], "1.6");
+    EXPECT_EQ(written["version"], "1.7");
 }
 
 TEST(FittingsAllowance, NegativeOrNonNumericAllowancesAreRefusedNamingTheField)

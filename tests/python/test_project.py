@@ -37,7 +37,7 @@ def test_load_edit_save_load_gives_back_the_edited_project(rig_project, tmp_path
     text = target.read_text()
     assert text == again.to_json()
     document = json.loads(text)
-    assert document["version"] == "1.6"
+    assert document["version"] == "1.7"
     assert document["hoses"][0]["fittingsAllowance"] == 0.08
     assert "fittingsAllowance" in document["hoses"][1]  # the sample's own allowance
 

@@ -296,4 +296,55 @@ QUndoCommand* makeSetCheckSettings(Document& document, formats::CheckSettings ch
         "checks");
 }
 
+namespace {
+
+QUndoCommand* changeSockets(Document& document, std::vector<formats::Socket> sockets,
+                            const QString& text)
+{
+    return new ChangeValue<std::vector<formats::Socket>>(
+        document, text, [](Document& d) { return &d.mutableProject().sockets; },
+        [](Document& d) { d.socketsChanged(); }, std::move(sockets));
+}
+
+} // namespace
+
+QUndoCommand* makeAddSocket(Document& document, formats::Socket socket)
+{
+    const std::string problem = Document::validateSocket(socket);
+    if (!problem.empty()) throw InvalidArgument(problem);
+    if (socket.id.empty() || document.project().findSocket(socket.id))
+        throw InvalidArgument("socket id '" + socket.id + "' is empty or used");
+    const QString text =
+        tr("Add socket %1 on %2")
+            .arg(QString::fromStdString(socket.id),
+                 QString::fromStdString(socket.node.substr(socket.node.rfind('/') + 1)));
+    std::vector<formats::Socket> sockets = document.project().sockets;
+    sockets.push_back(std::move(socket));
+    return changeSockets(document, std::move(sockets), text);
+}
+
+QUndoCommand* makeRemoveSocket(Document& document, const std::string& socketId)
+{
+    std::vector<formats::Socket> sockets = document.project().sockets;
+    const auto found = std::find_if(sockets.begin(), sockets.end(),
+                                    [&](const formats::Socket& s) { return s.id == socketId; });
+    if (found == sockets.end()) throw InvalidArgument("no socket '" + socketId + "'");
+    sockets.erase(found);
+    return changeSockets(document, std::move(sockets),
+                         tr("Delete socket %1").arg(QString::fromStdString(socketId)));
+}
+
+QUndoCommand* makeSetSocket(Document& document, formats::Socket socket)
+{
+    const std::string problem = Document::validateSocket(socket);
+    if (!problem.empty()) throw InvalidArgument(problem);
+    std::vector<formats::Socket> sockets = document.project().sockets;
+    const auto found = std::find_if(sockets.begin(), sockets.end(),
+                                    [&](const formats::Socket& s) { return s.id == socket.id; });
+    if (found == sockets.end()) throw InvalidArgument("no socket '" + socket.id + "'");
+    *found = std::move(socket);
+    return changeSockets(document, std::move(sockets),
+                         tr("Change socket %1").arg(QString::fromStdString(found->id)));
+}
+
 } // namespace chaintube::editor

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 namespace chaintube::editor {
@@ -215,6 +216,49 @@ std::string Document::unusedHoseId() const
     for (int n = 1;; ++n) {
         std::string id = "hose-" + std::to_string(n);
         if (hoseIndex(id) < 0) return id;
+    }
+}
+
+std::string Document::unusedSocketId() const
+{
+    for (int n = 1;; ++n) {
+        std::string id = "socket-" + std::to_string(n);
+        if (!m_project.findSocket(id)) return id;
+    }
+}
+
+std::string Document::validateSocket(const formats::Socket& socket)
+{
+    if (!socket.position.allFinite()) return "the socket's position must be finite";
+    if (!socket.axis.allFinite() || !(socket.axis.norm() > 1e-9))
+        return "the socket's axis must be a non-zero direction";
+    if (!std::isfinite(socket.captureRadius) || !(socket.captureRadius > 0.0))
+        return "the capture radius must be a length > 0 m";
+    if (!std::isfinite(socket.captureAngle) || !(socket.captureAngle > 0.0) ||
+        socket.captureAngle > std::numbers::pi)
+        return "the capture angle must lie in (0°, 180°]";
+    if (socket.tag.empty()) return "the tag must not be empty (it says which plugs fit)";
+    return {};
+}
+
+bool Document::socketWorld(const formats::Socket& socket, Vec3* position, Vec3* axis) const
+{
+    const formats::ImportedScene* imported = scene(socket.scene);
+    const int node = imported ? imported->findNode(socket.node) : -1;
+    if (node < 0) return false;
+    const Frame frame = nodeWorldFrame(socket.scene, node);
+    if (position) *position = frame.apply(socket.position);
+    if (axis) *axis = (frame.rotation * socket.axis).normalized();
+    return true;
+}
+
+void Document::socketsChanged()
+{
+    emitChanged(ChangeEvent::Kind::SocketsChanged);
+    if (!m_selection.socketId.empty() && !m_project.findSocket(m_selection.socketId)) {
+        Selection selection = m_selection;
+        selection.socketId.clear();
+        setSelection(selection);
     }
 }
 

@@ -578,6 +578,21 @@ void Renderer::render(const Document& document, const Camera& camera, int width,
                          viewProjection);
         }
     }
+    {
+        // Sockets: a ring of the capture radius across the socket's axis, its centre and the
+        // axis out of the part (one capture radius long); the selected socket brighter.
+        for (const formats::Socket& socket : document.project().sockets) {
+            Vec3 centre, axis;
+            if (!document.socketWorld(socket, &centre, &axis)) continue;
+            const bool selected = socket.id == selection.socketId;
+            const QColor colour = selected ? QColor(255, 255, 120) : QColor(60, 220, 220);
+            const std::vector<Vec3> ring = kinkRing(centre, axis, socket.captureRadius);
+            gl.drawLines(ring, GL_LINE_STRIP, colour, selected ? 3.0f : 2.0f, viewProjection);
+            const Vec3 tip = centre + socket.captureRadius * axis;
+            gl.drawLines({centre, tip}, GL_LINES, colour, 2.0f, viewProjection);
+            gl.drawLines({centre}, GL_POINTS, colour, selected ? 11.0f : 8.0f, viewProjection);
+        }
+    }
     if (!options.pendingRoute.empty()) {
         gl.drawLines(options.pendingRoute, GL_LINE_STRIP, QColor(120, 255, 140), 1.0f,
                      viewProjection);

@@ -47,7 +47,7 @@ namespace {
 constexpr int kMaxRecentFiles = 8;
 constexpr int kAutosaveIntervalMs = 30000;
 enum TreeRole { KindRole = Qt::UserRole, IdRole, NodeRole };
-enum TreeKind { SceneItem = 1, NodeItem, HoseItem };
+enum TreeKind { SceneItem = 1, NodeItem, HoseItem, SocketItem };
 
 QString sceneFileFilter()
 {
@@ -178,6 +178,7 @@ void MainWindow::createDocks()
         Selection selection = m_document->selection();
         const int kind = item->data(0, KindRole).toInt();
         const std::string id = item->data(0, IdRole).toString().toStdString();
+        if (kind != SocketItem) selection.socketId.clear();
         if (kind == NodeItem) {
             selection.sceneId = id;
             selection.node = item->data(0, NodeRole).toInt();
@@ -185,6 +186,9 @@ void MainWindow::createDocks()
             if (selection.hoseId != id)
                 selection.rangeFirst = selection.rangeLast = selection.routePoint = -1;
             selection.hoseId = id;
+        } else if (kind == SocketItem) {
+            selection = Selection{};
+            selection.socketId = id;
         } else {
             return;
         }
@@ -374,6 +378,13 @@ void MainWindow::createActions()
     action("actionAddClip")
         ->setStatusTip(tr("Adds a clip at the selected hose point on the part you click next: "
                           "the hose passes through it and slides through when the part moves"));
+    hose->addAction(make(tr("Add &Socket"), "actionAddSocket", QKeySequence(tr("Ctrl+J")), [this] {
+        m_viewport->beginPlaceSocket();
+        m_viewport->setFocus();
+    }));
+    action("actionAddSocket")
+        ->setStatusTip(tr("Adds a socket (a coupling a hose end plugs into) where you click on "
+                          "a part next; its axis is the surface normal"));
     hose->addAction(make(tr("&Detach All"), "actionDetach", QKeySequence(tr("Ctrl+D")), [this] {
         const formats::HoseDefinition* definition =
             m_document->hoseDefinition(m_document->selection().hoseId);
@@ -405,9 +416,9 @@ void MainWindow::createActions()
 
     auto* toolbar = addToolBar(tr("Main"));
     toolbar->setObjectName("mainToolbar");
-    for (const char* name :
-         {"actionNew", "actionOpen", "actionSave", "actionImportScene", "actionExport",
-          "actionNewHose", "actionFix", "actionFrameSelection", "actionWireframe"})
+    for (const char* name : {"actionNew", "actionOpen", "actionSave", "actionImportScene",
+                             "actionExport", "actionNewHose", "actionFix", "actionAddSocket",
+                             "actionFrameSelection", "actionWireframe"})
         toolbar->addAction(action(name));
     // Every tooltip names its shortcut: "Fix to Part… (Ctrl+F)".
     for (QAction* a : findChildren<QAction*>()) {
@@ -433,6 +444,7 @@ void MainWindow::onDocumentChanged(const ChangeEvent& event)
     case Kind::ScenesChanged:
     case Kind::HoseAdded:
     case Kind::HoseRemoved:
+    case Kind::SocketsChanged:
         rebuildSceneTree();
         if (QAction* locate = action("actionLocateScene"))
             locate->setEnabled(!m_document->missingScenes().empty());
@@ -526,6 +538,18 @@ void MainWindow::rebuildSceneTree()
         sceneItem->setExpanded(true);
         if (!items.empty()) items[0]->setExpanded(true);
     }
+    if (!m_document->project().sockets.empty()) {
+        auto* sockets = new QTreeWidgetItem(m_sceneTree, {tr("Sockets"), QString()});
+        for (const formats::Socket& socket : m_document->project().sockets) {
+            auto* item = new QTreeWidgetItem(
+                sockets, {QString::fromStdString(socket.id),
+                          tr("socket (%1)").arg(QString::fromStdString(socket.tag))});
+            item->setData(0, KindRole, SocketItem);
+            item->setData(0, IdRole, QString::fromStdString(socket.id));
+            item->setToolTip(0, QString::fromStdString(socket.node));
+        }
+        sockets->setExpanded(true);
+    }
     m_syncingTree = false;
     syncTreeSelection();
 }
@@ -539,6 +563,7 @@ void MainWindow::syncTreeSelection()
         const int kind = (*it)->data(0, KindRole).toInt();
         const std::string id = (*it)->data(0, IdRole).toString().toStdString();
         if (kind == HoseItem && id == selection.hoseId) wanted = *it;
+        if (kind == SocketItem && id == selection.socketId) wanted = *it;
         if (kind == NodeItem && id == selection.sceneId &&
             (*it)->data(0, NodeRole).toInt() == selection.node && selection.hoseId.empty())
             wanted = *it;
@@ -1054,6 +1079,10 @@ void MainWindow::onRouteFinished(const std::vector<Vec3>& route, double outerDia
 void MainWindow::deleteSelection()
 {
     Selection selection = m_document->selection();
+    if (selection.hoseId.empty() && m_document->project().findSocket(selection.socketId)) {
+        m_document->undoStack()->push(makeRemoveSocket(*m_document, selection.socketId));
+        return;
+    }
     const formats::HoseDefinition* definition = m_document->hoseDefinition(selection.hoseId);
     if (!definition) return;
     if (selection.routePoint >= 0 && selection.routePoint < int(definition->route.size())) {

@@ -20,6 +20,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QLocale>
 #include <QPushButton>
 #include <QScrollBar>
 #include <QSlider>
@@ -283,6 +284,42 @@ PropertiesPanel::PropertiesPanel(Document& document, QWidget* parent)
     m_collider->setObjectName("collider");
     partForm->addRow(QString(), m_collider);
     layout->addWidget(m_partGroup);
+
+    // --- socket ---------------------------------------------------------------------------
+    m_socketGroup = new QGroupBox(tr("Selected socket"));
+    m_socketGroup->setObjectName("socketGroup");
+    auto* socketForm = new QFormLayout(m_socketGroup);
+    m_socketName = new QLabel;
+    m_socketName->setWordWrap(true);
+    m_socketName->setMinimumWidth(10);
+    socketForm->addRow(m_socketName);
+    m_socketTag = new QLineEdit;
+    m_socketTag->setObjectName("socketTag");
+    m_socketTag->setToolTip(tr("Hose ends whose plug has this tag fit the socket"));
+    socketForm->addRow(tr("Tag"), m_socketTag);
+    m_socketRadius = new QLineEdit;
+    m_socketRadius->setObjectName("socketRadius");
+    m_socketRadius->setToolTip(tr("Capture radius, millimetres > 0: a released hose end this "
+                                  "near snaps in"));
+    socketForm->addRow(tr("Capture radius (mm)"), m_socketRadius);
+    m_socketAngle = new QLineEdit;
+    m_socketAngle->setObjectName("socketAngle");
+    m_socketAngle->setToolTip(tr("Capture angle, degrees in (0, 180]: how far the end's "
+                                 "direction may be off the socket's axis"));
+    socketForm->addRow(tr("Capture angle (°)"), m_socketAngle);
+    m_deleteSocket = new QPushButton(tr("Delete socket"));
+    m_deleteSocket->setObjectName("deleteSocket");
+    socketForm->addRow(QString(), m_deleteSocket);
+    layout->addWidget(m_socketGroup);
+    for (QLineEdit* field : {m_socketTag, m_socketRadius, m_socketAngle})
+        connect(field, &QLineEdit::editingFinished, this, [this] {
+            if (!m_updating) applySocketFields();
+        });
+    connect(m_deleteSocket, &QPushButton::clicked, this, [this] {
+        const std::string id = m_document.selection().socketId;
+        if (m_document.project().findSocket(id))
+            m_document.undoStack()->push(makeRemoveSocket(m_document, id));
+    });
     layout->addStretch(1);
     watchFields(this);
     watchFields(m_fixGroup);
@@ -652,6 +689,9 @@ void PropertiesPanel::onDocumentChanged(const ChangeEvent& event)
     case Kind::CollidersChanged:
         refreshPart();
         break;
+    case Kind::SocketsChanged:
+        refreshSocket();
+        break;
     case Kind::FileStateChanged:
         break;
     default:
@@ -893,6 +933,7 @@ void PropertiesPanel::refresh()
     m_updating = false;
     refreshGravityState();
     refreshPart();
+    refreshSocket();
 }
 
 void PropertiesPanel::showHoseValues(bool shown)
@@ -940,6 +981,64 @@ void PropertiesPanel::refreshGravityState()
                                     .arg(m_document.gravitySteps(m_hoseId)));
         break;
     }
+}
+
+void PropertiesPanel::refreshSocket()
+{
+    const bool wasUpdating = m_updating;
+    m_updating = true;
+    const formats::Socket* socket =
+        m_document.project().findSocket(m_document.selection().socketId);
+    m_socketGroup->setEnabled(socket != nullptr);
+    if (socket) {
+        m_socketName->setText(
+            tr("%1 on %2")
+                .arg(QString::fromStdString(socket->id), QString::fromStdString(socket->node)));
+        m_socketTag->setText(QString::fromStdString(socket->tag));
+        m_socketRadius->setText(QString::number(socket->captureRadius * 1000.0, 'g', 6));
+        m_socketAngle->setText(
+            QString::number(socket->captureAngle * 180.0 / std::numbers::pi, 'g', 6));
+    } else {
+        m_socketName->setText(tr("No socket selected (Hose ▸ Add Socket places one)"));
+        for (QLineEdit* field : {m_socketTag, m_socketRadius, m_socketAngle})
+            field->clear();
+    }
+    m_updating = wasUpdating;
+}
+
+void PropertiesPanel::applySocketFields()
+{
+    const formats::Socket* current =
+        m_document.project().findSocket(m_document.selection().socketId);
+    if (!current) return;
+    formats::Socket changed = *current;
+    changed.tag = m_socketTag->text().trimmed().toStdString();
+    bool radiusOk = false, angleOk = false;
+    const double radius = QLocale::c().toDouble(m_socketRadius->text().trimmed(), &radiusOk);
+    const double angle = QLocale::c().toDouble(m_socketAngle->text().trimmed(), &angleOk);
+    if (!radiusOk) {
+        refuse(tr("The capture radius must be a number of millimetres > 0"));
+        return;
+    }
+    if (!angleOk) {
+        refuse(tr("The capture angle must be a number of degrees in (0, 180]"));
+        return;
+    }
+    // Unchanged in the fields' precision: keep the exact stored value.
+    if (QString::number(current->captureRadius * 1000.0, 'g', 6) !=
+        m_socketRadius->text().trimmed())
+        changed.captureRadius = radius / 1000.0;
+    if (QString::number(current->captureAngle * 180.0 / std::numbers::pi, 'g', 6) !=
+        m_socketAngle->text().trimmed())
+        changed.captureAngle = angle * std::numbers::pi / 180.0;
+    if (changed == *current) return;
+    const std::string problem = Document::validateSocket(changed);
+    if (!problem.empty()) {
+        refuse(tr("Refused: %1").arg(QString::fromStdString(problem)));
+        return;
+    }
+    clearRefusal();
+    m_document.undoStack()->push(makeSetSocket(m_document, changed));
 }
 
 void PropertiesPanel::refreshPart()

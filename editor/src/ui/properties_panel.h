@@ -139,6 +139,18 @@ private:
     QDoubleSpinBox* m_rotation[3];
     QPushButton* m_resetPart;
     QCheckBox* m_collider; ///< the selected part is a collider (project().colliders)
+
+    /// The selected socket (Selection::socketId): tag, capture radius (mm), capture angle (°).
+    QGroupBox* m_socketGroup;
+    QLabel* m_socketName;
+    QLineEdit* m_socketTag;
+    QLineEdit* m_socketRadius;
+    QLineEdit* m_socketAngle;
+    QPushButton* m_deleteSocket;
+    void refreshSocket();
+    /// Reads the socket fields; pushes makeSetSocket when they changed, refuses with a message
+    /// when Document::validateSocket (or a field that is not a number) says why not.
+    void applySocketFields();
 };
 
 } // namespace chaintube::editor

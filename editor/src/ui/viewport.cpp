@@ -58,9 +58,9 @@ void Viewport::setMode(Mode mode)
     m_mode = mode;
     m_pendingRoute.clear();
     m_options.pendingRoute.clear();
-    setCursor(mode == Mode::LayRoute    ? Qt::CrossCursor
-              : mode == Mode::FixToPart ? Qt::PointingHandCursor
-                                        : Qt::ArrowCursor);
+    setCursor(mode == Mode::LayRoute || mode == Mode::PlaceSocket ? Qt::CrossCursor
+              : mode == Mode::FixToPart                           ? Qt::PointingHandCursor
+                                                                  : Qt::ArrowCursor);
     if (mode == Mode::LayRoute) {
         // The new hose's size is fixed when its layout starts: every clicked point goes out
         // from its surface by the same radius plus clearance.
@@ -102,6 +102,45 @@ void Viewport::finishRoute()
 void Viewport::cancelRoute()
 {
     setMode(Mode::Select);
+}
+
+void Viewport::beginPlaceSocket()
+{
+    setMode(Mode::PlaceSocket);
+    emit statusMessage(tr("Add socket: click on a part's surface (Esc cancels)"));
+}
+
+void Viewport::placeSocketAt(const QPointF& position)
+{
+    ScenePickHit hit;
+    if (!pickScene(position, &hit)) {
+        emit statusMessage(tr("Click on a part's surface to place the socket (Esc cancels)"));
+        return;
+    }
+    const formats::ImportedScene* scene = m_document.scene(hit.sceneId);
+    const Frame part = m_document.nodeWorldFrame(hit.sceneId, hit.node);
+    formats::Socket socket;
+    socket.id = m_document.unusedSocketId();
+    socket.scene = hit.sceneId;
+    socket.node = scene->nodes[static_cast<size_t>(hit.node)].path;
+    // In the part's frame, so that the socket moves with it; the axis points out of the surface.
+    socket.position = part.applyInverse(hit.point);
+    socket.axis = (part.rotation.conjugate() * hit.normal).normalized();
+    socket.tag = "plug";
+    try {
+        m_document.undoStack()->push(makeAddSocket(m_document, socket));
+    } catch (const std::exception& error) {
+        emit statusMessage(tr("Cannot add the socket: %1").arg(error.what()));
+        return;
+    }
+    Selection selection;
+    selection.socketId = socket.id;
+    m_document.setSelection(selection);
+    setMode(Mode::Select);
+    emit statusMessage(
+        tr("Socket %1 on %2: set its tag, capture radius and angle in Properties")
+            .arg(QString::fromStdString(socket.id),
+                 QString::fromStdString(scene->nodes[static_cast<size_t>(hit.node)].name)));
 }
 
 void Viewport::beginClipToPart()
@@ -486,6 +525,11 @@ void Viewport::mousePressEvent(QMouseEvent* event)
 
     if (m_mode == Mode::FixToPart) {
         fixSelectionToPartAt(position);
+        update();
+        return;
+    }
+    if (m_mode == Mode::PlaceSocket) {
+        placeSocketAt(position);
         update();
         return;
     }

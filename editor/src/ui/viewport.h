@@ -22,9 +22,10 @@ class Viewport : public QOpenGLWidget
     Q_OBJECT
 public:
     enum class Mode {
-        Select,    ///< click selects; drag moves hose points, route points, the gizmo
-        LayRoute,  ///< clicks on scene surfaces add route points of a new hose
-        FixToPart, ///< the next click on a part fixes the selected hose points to it
+        Select,      ///< click selects; drag moves hose points, route points, the gizmo
+        LayRoute,    ///< clicks on scene surfaces add route points of a new hose
+        FixToPart,   ///< the next click on a part fixes the selected hose points to it
+        PlaceSocket, ///< the next click on a part's surface adds a socket there (makeAddSocket)
     };
 
     explicit Viewport(Document& document, QWidget* parent = nullptr);
@@ -58,6 +59,9 @@ public:
     void beginFixToPart();
     /// As beginFixToPart, for a clip at the selected hose point (makeAddClip).
     void beginClipToPart();
+    /// "Add Socket": the next click on a part's surface adds a socket there (its axis the
+    /// surface normal, in the part's frame), selects it and ends the mode; Esc cancels.
+    void beginPlaceSocket();
 
     bool wireframe() const { return m_options.wireframe; }
     void setWireframe(bool on);
@@ -121,6 +125,7 @@ private:
     Vec3 gizmoCentre() const;
     /// In FixToPart mode: fixes the selected hose points to the part under `position`.
     void fixSelectionToPartAt(const QPointF& position);
+    void placeSocketAt(const QPointF& position);
 
     Document& m_document;
     Renderer m_renderer;

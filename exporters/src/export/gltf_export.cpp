@@ -102,6 +102,21 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
                                   " does not exist");
     }
 
+    for (size_t k = 0; k < options.sockets.size(); ++k) {
+        const NodeRef& ref = options.sockets[k].node;
+        if (ref.scene == -1) continue; // in world coordinates
+        if (ref.scene < 0 || ref.scene >= static_cast<int>(scenes.size()) ||
+            !scenes[static_cast<size_t>(ref.scene)] || ref.node < 0 ||
+            ref.node >= static_cast<int>(scenes[static_cast<size_t>(ref.scene)]->nodes.size()))
+            throw InvalidArgument("sockets[" + std::to_string(k) + "] '" +
+                                  options.sockets[k].socket.id + "': scene " +
+                                  std::to_string(ref.scene) + " node " + std::to_string(ref.node) +
+                                  " does not exist");
+        if (!(options.sockets[k].socket.axis.norm() > 1e-9))
+            throw InvalidArgument("sockets[" + std::to_string(k) + "] '" +
+                                  options.sockets[k].socket.id + "': zero axis");
+    }
+
     ExportReport report;
     tinygltf::Model model;
     model.asset.version = "2.0";
@@ -149,6 +164,9 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         for (const ExportOptions::Motion& motion : options.motions)
             if (motion.node.scene == static_cast<int>(s))
                 keep[static_cast<size_t>(motion.node.node)] = 1;
+        for (const ExportOptions::Socket& socket : options.sockets)
+            if (socket.node.scene == static_cast<int>(s))
+                keep[static_cast<size_t>(socket.node.node)] = 1;
         for (size_t i = scene.nodes.size(); i-- > 0;) {
             const formats::SceneNode& source = scene.nodes[i];
             if (source.parent < 0) keep[i] = 1;
@@ -220,6 +238,23 @@ ExportReport exportRig(const std::vector<const formats::ImportedScene*>& scenes,
         descriptor.motions.push_back(motion.motion);
         descriptor.motions.back().node = gltfNodeOf[static_cast<size_t>(motion.node.scene)]
                                                    [static_cast<size_t>(motion.node.node)];
+    }
+    for (const ExportOptions::Socket& source : options.sockets) {
+        rig::RigSocket socket = source.socket;
+        socket.axis = socket.axis.normalized();
+        Frame world = Frame::identity();
+        socket.node = -1;
+        socket.nodeName.clear();
+        if (source.node.scene >= 0) {
+            const formats::ImportedScene& scene = *scenes[static_cast<size_t>(source.node.scene)];
+            world = scene.worldFrame(source.node.node);
+            socket.node = gltfNodeOf[static_cast<size_t>(source.node.scene)]
+                                    [static_cast<size_t>(source.node.node)];
+            socket.nodeName = model.nodes[static_cast<size_t>(socket.node)].name;
+        }
+        socket.worldPosition = world.apply(socket.position);
+        socket.worldAxis = (world.rotation * socket.axis).normalized();
+        descriptor.sockets.push_back(socket);
     }
     model.scenes.push_back(gltfScene);
     model.defaultScene = 0;

@@ -42,6 +42,10 @@ rig::RigHose writeHose(tinygltf::Model& model, BufferWriter& buffer, tinygltf::S
     rigHose.crossSection = rig::CrossSection::of(hose.profile());
     rigHose.baseColour = input.baseColour;
     rigHose.roughness = input.roughness;
+    if (const auto plugs = options.plugs.find(input.id); plugs != options.plugs.end()) {
+        rigHose.plugStart = plugs->second.start;
+        rigHose.plugEnd = plugs->second.end;
+    }
     rigHose.gravity = hose.spec().gravity;
     rigHose.torsion = hose.spec().torsion;
 

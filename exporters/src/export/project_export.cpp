@@ -35,6 +35,8 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
     std::vector<ExportHose> hoses;
     std::vector<NodeRef> colliders = options.colliders;
     std::vector<ExportOptions::Motion> motions = options.motions;
+    std::vector<ExportOptions::Socket> sockets = options.sockets;
+    std::map<std::string, ExportOptions::Plugs> plugs = options.plugs;
     try {
         imported = formats::importProjectScenes(project, projectFile, roots, importProgress);
         std::map<std::string, int> sceneIndex;
@@ -54,6 +56,8 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
                             {definition.colour.r, definition.colour.g, definition.colour.b,
                              definition.colour.a},
                             definition.roughness};
+            if (!definition.plugs.empty())
+                plugs[definition.id] = {definition.plugs.start, definition.plugs.end};
             for (const formats::HoseAttachment& attachment : definition.attachments) {
                 const int s = sceneIndex.at(attachment.scene);
                 hose.attachedNodes.push_back(
@@ -101,6 +105,24 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
             motion.maximum = source.maximum;
             motions.push_back({{s->second, node}, motion});
         }
+        for (size_t k = 0; k < project.sockets.size(); ++k) {
+            const formats::Socket& source = project.sockets[k];
+            const auto s = sceneIndex.find(source.scene);
+            const int node = s == sceneIndex.end()
+                                 ? -1
+                                 : scenes[static_cast<size_t>(s->second)]->findNode(source.node);
+            if (node < 0)
+                throw InvalidArgument("/sockets/" + std::to_string(k) + "/node: scene '" +
+                                      source.scene + "' has no node '" + source.node + "'");
+            rig::RigSocket socket;
+            socket.id = source.id;
+            socket.position = source.position;
+            socket.axis = source.axis;
+            socket.captureRadius = source.captureRadius;
+            socket.captureAngle = source.captureAngle;
+            socket.tag = source.tag;
+            sockets.push_back({{s->second, node}, socket});
+        }
         // Moved parts (project.poses): the hoses were built at the file pose and followed the
         // parts (buildHose); the scene is written with the posed node transforms.
         imported = formats::posedScenes(project, std::move(imported));
@@ -116,6 +138,8 @@ ExportReport exportProject(const formats::Project& project, const fs::path& proj
     ExportOptions exportOptions = options;
     exportOptions.colliders = colliders;
     exportOptions.motions = motions;
+    exportOptions.sockets = sockets;
+    exportOptions.plugs = plugs;
     exportOptions.includeSceneMeshes =
         options.includeSceneMeshes && project.exportSettings.includeScene;
     if (options.progress)

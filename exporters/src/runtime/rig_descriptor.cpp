@@ -234,6 +234,37 @@ RigMotion readMotion(const Json& value, const std::string& at, const Reader& r)
     return motion;
 }
 
+RigSocket readSocket(const Json& value, const std::string& at, const Reader& r)
+{
+    r.object(value, at);
+    r.onlyKeys(value, at,
+               {"id", "node", "nodeName", "position", "axis", "worldPosition", "worldAxis",
+                "captureRadius", "captureAngle", "tag"});
+    RigSocket socket;
+    socket.id = r.string(r.member(value, at, "id"), at + "/id");
+    if (socket.id.empty()) r.fail(at + "/id", "expected a non-empty id");
+    socket.node = r.integer(r.member(value, at, "node"), at + "/node", -1);
+    if (value.contains("nodeName")) socket.nodeName = r.string(value["nodeName"], at + "/nodeName");
+    socket.position = r.vector3(r.member(value, at, "position"), at + "/position");
+    socket.worldPosition = r.vector3(r.member(value, at, "worldPosition"), at + "/worldPosition");
+    for (const char* key : {"axis", "worldAxis"}) {
+        const Vec3 axis = r.vector3(r.member(value, at, key), at + "/" + key);
+        if (!(std::abs(axis.norm() - 1.0) <= 1e-6))
+            r.fail(at + "/" + key, "expected a unit vector (length 1 within 1e-6)");
+        (std::string(key) == "axis" ? socket.axis : socket.worldAxis) = axis.normalized();
+    }
+    socket.captureRadius = r.number(r.member(value, at, "captureRadius"), at + "/captureRadius");
+    if (!(socket.captureRadius > 0.0))
+        r.fail(at + "/captureRadius", "expected metres > 0, got " + value["captureRadius"].dump());
+    socket.captureAngle = r.number(r.member(value, at, "captureAngle"), at + "/captureAngle");
+    if (!(socket.captureAngle > 0.0 && socket.captureAngle <= 3.141592653589793))
+        r.fail(at + "/captureAngle",
+               "expected radians in (0, π], got " + value["captureAngle"].dump());
+    socket.tag = r.string(r.member(value, at, "tag"), at + "/tag");
+    if (socket.tag.empty()) r.fail(at + "/tag", "expected a non-empty tag");
+    return socket;
+}
+
 RigHose readHose(const Json& value, const std::string& at, const Reader& r)
 {
     r.object(value, at);
@@ -452,6 +483,13 @@ RigHose readHose(const Json& value, const std::string& at, const Reader& r)
                                           torsion["twistLimit"].dump());
         r.onlyKeys(torsion, p, {"enabled", "twistLimit"});
     }
+    if (value.contains("plugs")) { // 1.5
+        const std::string p = at + "/plugs";
+        const Json& plugs = r.object(value["plugs"], p);
+        r.onlyKeys(plugs, p, {"start", "end"});
+        if (plugs.contains("start")) hose.plugStart = r.string(plugs["start"], p + "/start");
+        if (plugs.contains("end")) hose.plugEnd = r.string(plugs["end"], p + "/end");
+    }
     return hose;
 }
 
@@ -586,6 +624,12 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor)
             Json{{"enabled", hose.gravity.enabled}, {"direction", vec3(hose.gravity.direction)}};
         h["torsion"] =
             Json{{"enabled", hose.torsion.enabled}, {"twistLimit", hose.torsion.twistLimit}};
+        if (!hose.plugStart.empty() || !hose.plugEnd.empty()) { // 1.5
+            Json plugs = Json::object();
+            if (!hose.plugStart.empty()) plugs["start"] = hose.plugStart;
+            if (!hose.plugEnd.empty()) plugs["end"] = hose.plugEnd;
+            h["plugs"] = plugs;
+        }
         hoses.push_back(h);
     }
     document["hoses"] = hoses;
@@ -602,6 +646,19 @@ std::string serialiseDescriptor(const HoseRigDescriptor& descriptor)
         motions.push_back(m);
     }
     document["motions"] = motions;
+    Json sockets = Json::array();
+    for (const RigSocket& socket : descriptor.sockets)
+        sockets.push_back(Json{{"id", socket.id},
+                               {"node", socket.node},
+                               {"nodeName", socket.nodeName},
+                               {"position", vec3(socket.position)},
+                               {"axis", vec3(socket.axis)},
+                               {"worldPosition", vec3(socket.worldPosition)},
+                               {"worldAxis", vec3(socket.worldAxis)},
+                               {"captureRadius", socket.captureRadius},
+                               {"captureAngle", socket.captureAngle},
+                               {"tag", socket.tag}});
+    document["sockets"] = sockets;
     return document.dump(2) + "\n";
 }
 
@@ -646,6 +703,16 @@ HoseRigDescriptor parseDescriptor(std::string_view text, const std::string& sour
             if (!motionIds.insert(descriptor.motions[i].id).second)
                 r.fail("/motions/" + std::to_string(i) + "/id",
                        "duplicate motion id \"" + descriptor.motions[i].id + "\"");
+    }
+    if (document.contains("sockets")) { // 1.5
+        const Json& sockets = r.array(document["sockets"], "/sockets");
+        std::set<std::string> socketIds;
+        for (size_t i = 0; i < sockets.size(); ++i) {
+            const std::string at = "/sockets/" + std::to_string(i);
+            descriptor.sockets.push_back(readSocket(sockets[i], at, r));
+            if (!socketIds.insert(descriptor.sockets.back().id).second)
+                r.fail(at + "/id", "duplicate socket id \"" + descriptor.sockets.back().id + "\"");
+        }
     }
     const Json& hoses = r.array(r.member(document, "", "hoses"), "/hoses");
     std::set<std::string> ids;
@@ -747,6 +814,8 @@ std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, i
         node(descriptor.colliders[c], "/colliders/" + std::to_string(c), false);
     for (size_t m = 0; m < descriptor.motions.size(); ++m)
         node(descriptor.motions[m].node, "/motions/" + std::to_string(m) + "/node", false);
+    for (size_t k = 0; k < descriptor.sockets.size(); ++k)
+        node(descriptor.sockets[k].node, "/sockets/" + std::to_string(k) + "/node", true);
     return problems;
 }
 

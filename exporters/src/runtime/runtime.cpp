@@ -639,6 +639,24 @@ const Hose::Attachment& HoseRuntime::clip(int hose, int clip) const
                            " (id " + std::to_string(id) + ") is not on the hose");
 }
 
+HoseRuntime::SocketPose HoseRuntime::socket(int index) const
+{
+    if (index < 0 || index >= socketCount())
+        throw std::out_of_range("socket " + std::to_string(index) + " is out of range (" +
+                                std::to_string(socketCount()) + " sockets)");
+    const RigSocket& description = m_descriptor.sockets[static_cast<size_t>(index)];
+    const Frame frame = description.node >= 0 ? nodeWorldFrame(description.node) : Frame{};
+    return {&description, frame.apply(description.position),
+            (frame.rotation * description.axis).normalized()};
+}
+
+int HoseRuntime::findSocket(std::string_view id) const
+{
+    for (size_t k = 0; k < m_descriptor.sockets.size(); ++k)
+        if (m_descriptor.sockets[k].id == id) return static_cast<int>(k);
+    return -1;
+}
+
 int HoseRuntime::findHose(std::string_view id) const
 {
     for (size_t h = 0; h < m_descriptor.hoses.size(); ++h)

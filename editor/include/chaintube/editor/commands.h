@@ -35,6 +35,7 @@ enum class MergeId : int {
     ExportSettings,
     Colliders,
     CheckSettings,
+    Sockets,
 };
 
 /// The generic value change. `access` finds the value in the document (nullptr if it no longer
@@ -221,5 +222,14 @@ QUndoCommand* makeSetExportSettings(Document& document, formats::ExportSettings 
 /// The project's check thresholds (project().checks: the clearance threshold the Problems
 /// panel and `chaintube check` use); consecutive changes merge into one step.
 QUndoCommand* makeSetCheckSettings(Document& document, formats::CheckSettings checks);
+
+/// Adds a socket at the end of project().sockets (the "Add Socket" tool). Throws
+/// InvalidArgument when Document::validateSocket refuses it or its id is taken.
+QUndoCommand* makeAddSocket(Document& document, formats::Socket socket);
+/// Removes the socket with this id. Throws InvalidArgument for an unknown id.
+QUndoCommand* makeRemoveSocket(Document& document, const std::string& socketId);
+/// Replaces a socket's values (the properties panel: radius, angle, tag), one step per edit.
+/// Throws InvalidArgument for an unknown id, a changed id, or values validateSocket refuses.
+QUndoCommand* makeSetSocket(Document& document, formats::Socket socket);
 
 } // namespace chaintube::editor

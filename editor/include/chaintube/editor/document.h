@@ -67,6 +67,7 @@ struct ChangeEvent
         PoseChanged,            ///< a scene node's transform override changed (sceneId, node)
         CollidersChanged,       ///< the project's collider flags changed (sceneId, node)
         PresetsChanged,         ///< the project's material presets changed
+        SocketsChanged,         ///< project().sockets changed (added, removed, edited)
         ProjectSettingsChanged, ///< name or export settings changed
         SelectionChanged,       ///< selection() changed (not an undoable edit)
         FileStateChanged,       ///< file name or modified flag changed
@@ -87,10 +88,12 @@ struct Selection
     int routePoint = -1; ///< selected route point of hoseId, −1 none
     std::string sceneId; ///< selected scene node: scene id and node index, −1 none
     int node = -1;
+    std::string socketId; ///< selected socket (formats::Socket::id), "" = none
     bool operator==(const Selection& o) const
     {
         return hoseId == o.hoseId && rangeFirst == o.rangeFirst && rangeLast == o.rangeLast &&
-               routePoint == o.routePoint && sceneId == o.sceneId && node == o.node;
+               routePoint == o.routePoint && sceneId == o.sceneId && node == o.node &&
+               socketId == o.socketId;
     }
     bool operator!=(const Selection& o) const { return !(*this == o); }
 };
@@ -197,6 +200,15 @@ public:
 
     /// A hose id not used yet ("hose-1", "hose-2", …).
     std::string unusedHoseId() const;
+    /// A socket id not used yet ("socket-1", "socket-2", …).
+    std::string unusedSocketId() const;
+    /// Checks a socket's values as the project reader would (capture radius > 0 m, capture
+    /// angle in (0, π] rad, a non-zero axis, a non-empty tag, finite numbers). Returns "" if
+    /// valid, else the reason, for the properties panel to refuse a value with a message.
+    static std::string validateSocket(const formats::Socket& socket);
+    /// The socket where its part is now: world position and unit axis (the node's rigid frame
+    /// with the pose overrides). False when its scene or node is missing.
+    bool socketWorld(const formats::Socket& socket, Vec3* position, Vec3* axis) const;
 
     // --- pose -------------------------------------------------------------------------------
     /// The node's parent ← node transform: the override if any, else the file's.
@@ -346,6 +358,9 @@ public:
                 std::optional<formats::ImportedScene> imported, std::string missingReason);
     void presetsChanged();
     void projectSettingsChanged();
+    /// project().sockets changed; emits SocketsChanged (and SelectionChanged when the selected
+    /// socket went away).
+    void socketsChanged();
     /// project().colliders changed (a node's flag); emits CollidersChanged for it.
     void collidersChanged(const NodeKey& node);
 

@@ -40,6 +40,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,24 @@ struct ExportOptions
         rig::RigMotion motion;
     };
     std::vector<Motion> motions;
+    /// Sockets (descriptor "sockets"): each socket's node is exported (even without a mesh);
+    /// `socket.position` and `socket.axis` are in the node's rigid world frame (axis need not be
+    /// unit); the descriptor gets the glTF node, its name, the unit axis and the world position
+    /// and axis (InvalidArgument when the scene node does not exist; scene −1: world).
+    struct Socket
+    {
+        NodeRef node;
+        rig::RigSocket socket;
+    };
+    std::vector<Socket> sockets;
+    /// Plug tags of hose ends (descriptor "plugs"), by ExportHose::id; "" (or a hose not
+    /// listed): that end has none.
+    struct Plugs
+    {
+        std::string start; ///< the end at the first axis point
+        std::string end;   ///< the end at the last axis point
+    };
+    std::map<std::string, Plugs> plugs;
     /// Also write <name>.hoses.json beside the glTF.
     bool writeSidecarDescriptor = true;
     /// Called with the fraction done (0 … 1, non-decreasing) from the calling thread. Return

@@ -1,7 +1,7 @@
 // ChainTube runtime — the hose-rig descriptor: everything a runtime needs to run the hoses of an
 // exported glTF without the project file.
 //
-// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.4"). It is
+// The descriptor is JSON (schema: formats/schema/descriptor.schema.json, version "1.5"). It is
 // embedded in the glTF as the root extension CHAINTUBE_hose_rig (listed in extensionsUsed only,
 // never in extensionsRequired, so viewers that do not know it still load the file) and written
 // beside the glTF as <name>.hoses.json. Node and skin indices refer to that glTF.
@@ -31,8 +31,8 @@ constexpr const char* kDescriptorFormat = "chaintube-hose-rig";
 /// Newest descriptor version this code reads, and the one it writes.
 constexpr int kDescriptorMajor = 1;
 /// 1.1 added "static"; 1.2 "gravity", "torsion", "colliders"; 1.3 "motions"; 1.4 a hose's
-/// "clips"
-constexpr int kDescriptorMinor = 4;
+/// "clips"; 1.5 "sockets" and a hose's "plugs"
+constexpr int kDescriptorMinor = 5;
 
 /// A glTF node transform: parent ← node = T · R · S.
 struct NodeTransform
@@ -132,6 +132,10 @@ struct RigHose
     /// Torsion (HoseSpec::torsion): on/off and the twist limit (radians per joint, (0, π]).
     /// Absent in files before 1.2: off.
     Torsion torsion;
+    /// Plug tags of the first ("start") and last ("end") end (1.5; absent: none). An end fits a
+    /// socket whose tag equals its plug tag; "" fits none.
+    std::string plugStart;
+    std::string plugEnd;
 
     int pointCount() const { return static_cast<int>(axis.size()); }
     Material material() const;
@@ -158,9 +162,27 @@ struct RigMotion
 /// "hinge" or "slider", as written in the descriptor.
 const char* motionKindName(RigMotion::Kind kind);
 
+/// A coupling on a part that a hose end may plug into (1.5, from the project's sockets), on a
+/// glTF node (or the world when node is −1). Position and axis are in the rigid part of the
+/// node's world transform, so the socket moves with the node: world position =
+/// rigid(world(node)) · position, world axis = its rotation · axis.
+struct RigSocket
+{
+    std::string id;               ///< unique in the descriptor
+    int node = -1;                ///< glTF node index; −1: fixed in world coordinates
+    std::string nodeName;         ///< the glTF node's name at export ("" for the world), for people
+    Vec3 position = Vec3::Zero(); ///< metres, node frame
+    Vec3 axis = Vec3::UnitY();    ///< unit, node frame: the direction out of the part
+    Vec3 worldPosition = Vec3::Zero(); ///< glTF world at export
+    Vec3 worldAxis = Vec3::UnitY();    ///< glTF world at export, unit
+    double captureRadius = 0.03;       ///< metres > 0
+    double captureAngle = 0.5;         ///< radians in (0, π]
+    std::string tag;                   ///< non-empty; the plugs that fit (RigHose::plugStart/End)
+};
+
 struct HoseRigDescriptor
 {
-    std::string version = "1.4";
+    std::string version = "1.5";
     std::string generator;
     std::vector<RigHose> hoses;
     /// glTF nodes flagged as colliders (1.2), ascending, each with a mesh: a runtime builds a
@@ -171,6 +193,8 @@ struct HoseRigDescriptor
     std::vector<int> colliders;
     /// Moving parts (1.3), in project order; absent in older files (none).
     std::vector<RigMotion> motions;
+    /// Sockets (1.5), in project order, ids unique; absent in older files (none).
+    std::vector<RigSocket> sockets;
 };
 
 /// The descriptor is malformed. what() is "<source>: <JSON pointer>: <what was expected>".
@@ -216,9 +240,9 @@ bool restLengthsMatch(const RigHose& hose);
 /// is exported so, and comes back so.
 bool withinStretchBand(const RigHose& hose);
 
-/// Problems a descriptor has in the context of its glTF: joint/mesh/attachment/collider/motion node
-/// indices outside [0, nodeCount), joints used twice. Empty when consistent. Messages carry a
-/// pointer.
+/// Problems a descriptor has in the context of its glTF:
+/// joint/mesh/attachment/collider/motion/socket node indices outside [0, nodeCount), joints used
+/// twice. Empty when consistent. Messages carry a pointer.
 std::vector<std::string> checkAgainstGltf(const HoseRigDescriptor& descriptor, int nodeCount,
                                           int skinCount);
 

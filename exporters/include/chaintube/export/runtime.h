@@ -164,6 +164,21 @@ public:
     /// for an index out of range.
     const Hose::Attachment& clip(int hose, int clip) const;
 
+    /// A socket of the descriptor (read-only) where it is now.
+    struct SocketPose
+    {
+        const RigSocket* description = nullptr; ///< id, node, tag, capture radius and angle
+        Vec3 position = Vec3::Zero();           ///< world metres, after the last setNodeTransform
+        Vec3 axis = Vec3::UnitY();              ///< world, unit
+    };
+    int socketCount() const { return static_cast<int>(m_descriptor.sockets.size()); }
+    /// Socket `index` (descriptor order): its position and axis carried by its node's current
+    /// rigid world frame (world coordinates when its node is −1). Throws std::out_of_range for
+    /// an index out of range.
+    SocketPose socket(int index) const;
+    /// Index of the socket with this descriptor id, or −1.
+    int findSocket(std::string_view id) const;
+
     int nodeCount() const { return static_cast<int>(m_nodes.size()); }
     const RigNode& node(int index) const { return m_nodes.at(static_cast<size_t>(index)); }
     /// Index of the first node with this name, or −1.

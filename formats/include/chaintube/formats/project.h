@@ -1,9 +1,9 @@
 // ChainTube formats — the project document (*.ctproj): scenes, hoses, attachments, presets.
 //
-// The file is JSON, schema in formats/schema/project.schema.json, version "1.6" (the format, its
+// The file is JSON, schema in formats/schema/project.schema.json, version "1.7" (the format, its
 // versions and migrations: formats/README.md, "The project file"):
 //
-//   { "format": "chaintube-project", "version": "1.6", "name": "…",
+//   { "format": "chaintube-project", "version": "1.7", "name": "…",
 //     "scenes":          [ { "id", "path", "import": { "metresPerUnit"?, "upAxis"?,
 //                            "chordalTolerance", "angularTolerance", "placement"? } } ],
 //     "materialPresets": [ { "name", "description", "expansionCoefficient",
@@ -19,12 +19,15 @@
 //                            "hold": "sliding"|"sliding-turning", "slideMin"?, "slideMax"? } ],
 //                            "gravity": { "enabled", "direction": [x,y,z] },   (1.2)
 //                            "torsion": { "enabled", "twistLimit" },           (1.2)
-//                            "fittingsAllowance" } ],                           (1.6)
+//                            "fittingsAllowance",                               (1.6)
+//                            "plugs": { "start"?, "end"? } } ],                 (1.7)
 //     "poses":           [ { "scene", "node", "matrix": [16 numbers] } ],      (1.1)
 //     "colliders":       [ { "scene", "node" } ],                               (1.2)
 //     "motions":         [ { "id", "scene", "node", "kind": "hinge"|"slider", "axis": [x,y,z],
 //                            "point": [x,y,z] (hinge only), "min", "max" } ],     (1.4)
 //     "checks":          { "clearance"? },                                     (1.6)
+//     "sockets":         [ { "id", "scene", "node", "position": [x,y,z],          (1.7)
+//                            "axis": [x,y,z], "captureRadius", "captureAngle", "tag" } ],
 //     "export":          { "format": "glb"|"gltf", "path", "includeScene" } }
 //
 // Version 1.0 files have no "poses" (read as none; ProjectLoadReport::migrated). Files before
@@ -36,7 +39,9 @@
 // 1.4 have no "motions" (read as none). Files before 1.5 have no hose "clips" (read as none; a
 // hose without clips is written without the key). Files before 1.6 have no hose
 // "fittingsAllowance" (read as 0; written only when not 0) and no "checks" (read as none: the
-// checks use their defaults; written only when a threshold is set).
+// checks use their defaults; written only when a threshold is set). Files before 1.7 have no
+// "sockets" (read as none; written only when there is one) and no hose "plugs" (read as none;
+// written only when an end has a tag).
 //
 // All lengths are metres, angles radians, positions world coordinates (+Y up).
 #pragma once
@@ -61,11 +66,13 @@ namespace chaintube::formats {
 
 /// The newest format version this code reads and the one it writes.
 constexpr int kProjectFormatMajor = 1;
-constexpr int kProjectFormatMinor = 6; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
+constexpr int kProjectFormatMinor = 7; ///< 1.1 added "poses" (NodePose); 1.2 per-hose
                                        ///< "gravity" and "torsion", "colliders" (ColliderNode);
                                        ///< 1.3 the hose's "length"; 1.4 "motions" (PartMotion);
                                        ///< 1.5 the hose's "clips" (HoseClip); 1.6 the hose's
-                                       ///< "fittingsAllowance" and "checks" (CheckSettings)
+                                       ///< "fittingsAllowance" and "checks" (CheckSettings);
+                                       ///< 1.7 "sockets" (Socket) and the hose's "plugs"
+                                       ///< (HosePlugs)
 /// File extension of project files.
 constexpr const char* kProjectExtension = ".ctproj";
 
@@ -174,6 +181,16 @@ struct HoseClip
     bool operator==(const HoseClip& o) const;
 };
 
+/// (1.7) The plug tags of a hose's two ends: an end fits a socket whose tag equals its plug
+/// tag. Empty: that end has no plug (it fits no socket).
+struct HosePlugs
+{
+    std::string start; ///< the end at the hose's first axis point
+    std::string end;   ///< the end at its last axis point
+    bool operator==(const HosePlugs& o) const { return start == o.start && end == o.end; }
+    bool empty() const { return start.empty() && end.empty(); }
+};
+
 /// Colour, linear RGBA in [0, 1].
 struct Rgba
 {
@@ -218,6 +235,7 @@ struct HoseDefinition
     /// (exporting::lengthReport). Not part of the model: building, export and the runtime
     /// ignore it. Written only when not 0.
     double fittingsAllowance = 0.0;
+    HosePlugs plugs; ///< (1.7) written only when an end has a tag
     bool operator==(const HoseDefinition& o) const;
     bool operator!=(const HoseDefinition& o) const { return !(*this == o); }
 };
@@ -282,6 +300,31 @@ struct PartMotion
 /// "hinge" or "slider", as written in the file.
 const char* toString(PartMotion::Kind kind);
 
+/// (1.7) A coupling on a part that a hose end can be plugged into at runtime: a point with an
+/// axis (the direction a plugged end points out of the part along), a capture zone and a tag.
+/// Position and axis are in the node's (rigid) world frame at the file pose, as a
+/// HoseAttachment's offset is: world position = scene.worldFrame(node) * position, so the
+/// socket moves with its part (poses, motions, the runtime's node transforms). An end of a
+/// hose fits the socket when its plug tag (HosePlugs) equals `tag`.
+struct Socket
+{
+    std::string id;               ///< unique within the project; the runtime names the socket by it
+    std::string scene;            ///< SceneReference::id
+    std::string node;             ///< SceneNode::path of the part it sits on
+    Vec3 position = Vec3::Zero(); ///< metres, in the node's frame (finite)
+    /// In the node's frame, as written: finite, length > 1e-9, need not be unit (it is
+    /// normalised where used).
+    Vec3 axis = Vec3::UnitY();
+    /// A released end whose tip lies within this distance of `position` may snap in (metres,
+    /// finite, > 0).
+    double captureRadius = 0.03;
+    /// ... and whose direction lies within this angle of the axis (radians in (0, π]).
+    double captureAngle = 0.5;
+    std::string tag; ///< non-empty; which plugs fit (HosePlugs)
+    bool operator==(const Socket& o) const;
+    bool operator!=(const Socket& o) const { return !(*this == o); }
+};
+
 /// The project's own thresholds for its checks (format 1.6, "checks"): what `chaintube check`
 /// uses without options and the editor's Problems panel shows and edits.
 struct CheckSettings
@@ -319,6 +362,8 @@ struct Project
     /// Moving parts (1.4), at most one per (scene, node), in the order written.
     std::vector<PartMotion> motions;
     CheckSettings checks; ///< (1.6)
+    /// Sockets (1.7), ids unique, in the order written.
+    std::vector<Socket> sockets;
     ExportSettings exportSettings;
 
     /// An empty project with standardMaterialPresets().
@@ -326,6 +371,7 @@ struct Project
 
     const MaterialPreset* findPreset(std::string_view presetName) const;
     const SceneReference* findScene(std::string_view sceneId) const;
+    const Socket* findSocket(std::string_view socketId) const;
     /// The hose's material, its preset looked up. Throws InvalidArgument for an unknown preset.
     Material materialOf(const HoseDefinition& hose) const;
 
@@ -349,7 +395,8 @@ struct ProjectLoadReport
                              ///< before 1.2: gravity/torsion off, no colliders;
                              ///< before 1.3: each hose's length set to routeRestLength();
                              ///< before 1.4: no "motions", read as none;
-                             ///< before 1.5: no clips; before 1.6: no "checks")
+                             ///< before 1.5: no clips; before 1.6: no "checks";
+                             ///< before 1.7: no "sockets", no plugs)
     /// Keys a newer minor version added that this reader does not know (ignored), as pointers.
     std::vector<std::string> ignoredKeys;
 };
@@ -358,6 +405,7 @@ struct ProjectLoadReport
 /// the JSON pointer and what was expected: malformed JSON (with line/column), wrong types,
 /// NaN/Inf or out-of-range numbers, unknown keys, duplicate ids, unknown presets or scene ids,
 /// overlapping attachment ranges, motions with an unknown kind, a zero axis or an empty range,
+/// sockets with a zero axis, a capture radius ≤ 0 or a capture angle outside (0, π],
 /// paths that escape the project folder (see paths.h), and a major version newer than
 /// kProjectFormatMajor. Version 0.9 files are migrated. Throws FileError if the file cannot be
 /// read.

@@ -1,0 +1,213 @@
+// Sockets in the editor, under xvfb-run (platform xcb), driven with QTest mouse and keys on the
+// real main window: the "Add Socket" tool button, a click on the valve places a socket on its
+// surface (axis the surface normal, in the valve's frame), a tag typed into Properties with
+// Enter is one History step, a capture radius of 0 is refused saying why, Ctrl+Z / Ctrl+Y walk
+// the steps, Ctrl+S saves and a fresh window opens the socket as it was. No edit moves a hose.
+#include "main_window.h"
+#include "properties_panel.h"
+#include "test_support.h"
+#include "viewport.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QLineEdit>
+#include <QStatusBar>
+#include <QTest>
+#include <QToolBar>
+#include <QTreeWidget>
+#include <algorithm>
+#include <cmath>
+#include <gtest/gtest.h>
+
+namespace chaintube::editor {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SocketsGuiTest : public ::testing::Test
+{
+protected:
+    void SetUp() override
+    {
+        fs::remove_all(m_folder);
+        fs::create_directories(m_folder / "scenes");
+        fs::copy_file(test::samplesDir() / "test-rig.ctproj", m_folder / "test-rig.ctproj");
+        fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf",
+                      m_folder / "scenes/test-rig.gltf");
+        m_window = openWindow();
+        ASSERT_TRUE(m_window);
+    }
+    std::unique_ptr<MainWindow> openWindow()
+    {
+        auto window = std::make_unique<MainWindow>(test::roots());
+        window->ask = [](const QString&, const QString&, QMessageBox::StandardButtons) {
+            return QMessageBox::Discard;
+        };
+        window->showError = [this](const QString& title, const QString& text) {
+            m_errors << title + ": " + text;
+        };
+        window->resize(1280, 800);
+        window->show();
+        if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
+        window->activateWindow();
+        QApplication::setActiveWindow(window.get());
+        QApplication::processEvents();
+        if (!window->openFile(QString::fromStdString((m_folder / "test-rig.ctproj").string())))
+            return nullptr;
+        settle(*window);
+        return window;
+    }
+    static void settle(MainWindow& window)
+    {
+        QApplication::processEvents();
+        window.viewport().repaint();
+        QApplication::processEvents();
+    }
+    Document& document() { return m_window->document(); }
+    /// Every hose's axis, to check that no socket edit moves a hose.
+    std::vector<Vec3> allAxes()
+    {
+        std::vector<Vec3> points;
+        for (const formats::HoseDefinition& definition : document().project().hoses)
+            if (const Hose* hose = document().hose(definition.id))
+                for (int i = 0; i < hose->pointCount(); ++i)
+                    points.push_back(hose->point(i));
+        return points;
+    }
+    /// A widget point where a pick hits the valve, away from its silhouette.
+    QPoint pointOnValve()
+    {
+        Viewport& viewport = m_window->viewport();
+        const int valve = document().scene("rig")->findNode("/test-rig/valve");
+        std::vector<QPoint> hits;
+        for (int y = 2; y < viewport.height(); y += 4)
+            for (int x = 2; x < viewport.width(); x += 4) {
+                ScenePickHit hit;
+                if (viewport.pickScene(QPointF(x, y), &hit) && hit.node == valve)
+                    hits.push_back({x, y});
+            }
+        if (hits.empty()) return {-1, -1};
+        QPoint sum(0, 0);
+        for (const QPoint& p : hits)
+            sum += p;
+        const QPoint mean = sum / int(hits.size());
+        // The hit nearest the mean: inside a face, not on an edge.
+        QPoint best = hits.front();
+        for (const QPoint& p : hits)
+            if ((p - mean).manhattanLength() < (best - mean).manhattanLength()) best = p;
+        return best;
+    }
+    void typeInto(QLineEdit* field, const QString& text)
+    {
+        QTest::mouseClick(field, Qt::LeftButton);
+        field->selectAll();
+        QTest::keyClicks(field, text);
+        QTest::keyClick(field, Qt::Key_Return);
+        settle(*m_window);
+    }
+
+    fs::path m_folder = test::outputDir() / "sockets-gui";
+    std::unique_ptr<MainWindow> m_window;
+    QStringList m_errors;
+};
+
+TEST_F(SocketsGuiTest, PlaceTagUndoRedoSaveAndReopen)
+{
+    const size_t before = document().project().sockets.size();
+    ASSERT_EQ(before, 2u) << "the test rig sample has two sockets";
+    const std::vector<Vec3> axes = allAxes();
+    const int steps = document().undoStack()->count();
+
+    // The tool button, then a click on the valve.
+    auto* toolbar = m_window->findChild<QToolBar*>("mainToolbar");
+    auto* addSocket = m_window->findChild<QAction*>("actionAddSocket");
+    ASSERT_TRUE(toolbar && addSocket);
+    QWidget* button = toolbar->widgetForAction(addSocket);
+    ASSERT_TRUE(button);
+    QTest::mouseClick(button, Qt::LeftButton);
+    settle(*m_window);
+    EXPECT_EQ(m_window->viewport().mode(), Viewport::Mode::PlaceSocket);
+    const QPoint onValve = pointOnValve();
+    ASSERT_GE(onValve.x(), 0) << "the valve is in view";
+    QTest::mouseClick(&m_window->viewport(), Qt::LeftButton, {}, onValve);
+    settle(*m_window);
+    EXPECT_EQ(m_window->viewport().mode(), Viewport::Mode::Select);
+    ASSERT_EQ(document().project().sockets.size(), before + 1);
+    const formats::Socket placed = document().project().sockets.back();
+    EXPECT_EQ(placed.id, "socket-1");
+    EXPECT_EQ(placed.node, "/test-rig/valve");
+    EXPECT_EQ(document().selection().socketId, "socket-1");
+    EXPECT_EQ(document().undoStack()->count(), steps + 1);
+    // On the valve body's surface (a box 80 × 60 × 60 mm about the node), the axis its face's
+    // outward normal, in the valve's frame.
+    const Vec3 p = placed.position;
+    const double onFace =
+        std::max({std::abs(p.x()) / 0.04, std::abs(p.y()) / 0.03, std::abs(p.z()) / 0.03});
+    EXPECT_NEAR(onFace, 1.0, 1e-6) << p.transpose();
+    EXPECT_NEAR(placed.axis.norm(), 1.0, 1e-9);
+    EXPECT_NEAR(placed.axis.cwiseAbs().maxCoeff(), 1.0, 1e-6) << placed.axis.transpose();
+    EXPECT_GT(placed.axis.dot(p), 0.0) << "out of the part";
+    EXPECT_EQ(allAxes(), axes) << "placing a socket moves no hose";
+    const auto rows =
+        m_window->sceneTree().findItems("socket-1", Qt::MatchExactly | Qt::MatchRecursive);
+    EXPECT_EQ(rows.size(), 1) << "listed in the Scene tree";
+
+    // The tag typed into Properties, Enter: one step.
+    auto* tag = m_window->properties().findChild<QLineEdit*>("socketTag");
+    auto* radius = m_window->properties().findChild<QLineEdit*>("socketRadius");
+    ASSERT_TRUE(tag && radius);
+    EXPECT_EQ(tag->text(), "plug");
+    typeInto(tag, "camlock-19");
+    EXPECT_EQ(document().project().findSocket("socket-1")->tag, "camlock-19");
+    EXPECT_EQ(document().undoStack()->count(), steps + 2);
+    EXPECT_EQ(document().undoStack()->text(steps + 1), "Change socket socket-1");
+
+    // A capture radius of 0 is refused, saying why in the status bar and the field's tooltip.
+    typeInto(radius, "0");
+    EXPECT_EQ(document().undoStack()->count(), steps + 2) << "nothing pushed";
+    EXPECT_EQ(document().project().findSocket("socket-1")->captureRadius, placed.captureRadius);
+    EXPECT_TRUE(m_window->statusBar()->currentMessage().contains("capture radius"))
+        << m_window->statusBar()->currentMessage().toStdString();
+    EXPECT_TRUE(radius->toolTip().contains("capture radius")) << radius->toolTip().toStdString();
+    typeInto(radius, "45");
+    EXPECT_DOUBLE_EQ(document().project().findSocket("socket-1")->captureRadius, 0.045);
+    EXPECT_EQ(document().undoStack()->count(), steps + 3);
+
+    // Ctrl+Z three times: radius, tag, the socket itself; Ctrl+Y three times brings them back.
+    QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
+    settle(*m_window);
+    EXPECT_EQ(document().project().findSocket("socket-1")->captureRadius, placed.captureRadius);
+    QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
+    settle(*m_window);
+    EXPECT_EQ(document().project().findSocket("socket-1")->tag, "plug");
+    QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
+    settle(*m_window);
+    EXPECT_EQ(document().project().findSocket("socket-1"), nullptr);
+    EXPECT_EQ(document().project().sockets.size(), before);
+    EXPECT_EQ(allAxes(), axes);
+    for (int i = 0; i < 3; ++i) {
+        QTest::keyClick(&m_window->viewport(), Qt::Key_Y, Qt::ControlModifier);
+        settle(*m_window);
+    }
+    ASSERT_NE(document().project().findSocket("socket-1"), nullptr);
+    formats::Socket expected = placed;
+    expected.tag = "camlock-19";
+    expected.captureRadius = 0.045;
+    EXPECT_EQ(*document().project().findSocket("socket-1"), expected);
+    EXPECT_EQ(allAxes(), axes);
+
+    // Ctrl+S, then a fresh window opens it as it was.
+    QTest::keyClick(&m_window->viewport(), Qt::Key_S, Qt::ControlModifier);
+    settle(*m_window);
+    EXPECT_FALSE(document().isModified());
+    m_window.reset();
+    std::unique_ptr<MainWindow> reopened = openWindow();
+    ASSERT_TRUE(reopened) << m_errors.join('\n').toStdString();
+    const formats::Socket* loaded = reopened->document().project().findSocket("socket-1");
+    ASSERT_NE(loaded, nullptr);
+    EXPECT_EQ(*loaded, expected);
+    EXPECT_EQ(reopened->document().project().sockets.size(), before + 1);
+}
+
+} // namespace
+} // namespace chaintube::editor
