@@ -6,6 +6,7 @@
 #include "chaintube/material.h"
 #include "chaintube/metrics.h"
 #include "chaintube/profile.h"
+#include "chaintube/reel.h"
 #include "chaintube/resolution.h"
 #include "chaintube/route.h"
 #include "chaintube/scene.h"

@@ -17,6 +17,7 @@ namespace chaintube {
 
 namespace detail {
 class ChainProjection;
+class ReelAccess;
 class SpanSolver;
 struct Workspace;
 
@@ -510,6 +511,7 @@ private:
     friend class GravityStep;
     friend class PinnedSpans;
     friend class detail::ChainProjection;
+    friend class detail::ReelAccess; ///< reel.cpp: changes the point count in place
     friend class detail::SpanSolver;
     HoseSpec m_spec;
     Vec3 m_origin = Vec3::Zero();
