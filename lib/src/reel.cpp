@@ -229,8 +229,11 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
     }
     h.recomputeLimits();
     int iterations = 0;
-    const bool closed = (freeTail && h.measureViolation().status == Status::Ok) ||
-                        h.closeSpans(h.m_held, before, iterations);
+    // A free tail moved rigidly is valid unless a joint's limit changed with the reel
+    // segment's length (a bend limit from a minimum bend radius): the paper's pass then turns
+    // the tail into the limit, moving its points by more than the translation.
+    const bool rigid = freeTail && h.measureViolation().status == Status::Ok;
+    const bool closed = rigid || h.closeSpans(h.m_held, before, iterations);
     double largest = 0.0;
     for (size_t i = 0, k = 0; i < n; ++i) {
         if (static_cast<int>(i) == insertedAt) continue;
@@ -238,7 +241,7 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
         largest = std::max(largest, (h.m_local[i] - oldPoints[k++]).norm());
     }
     if (!closed || h.measureViolation().status != Status::Ok ||
-        largest > (freeTail ? 1.0 : kReelSpanMoveFactor) * std::abs(paid) * (1.0 + 1e-9) + 1e-12) {
+        largest > (rigid ? 1.0 : kReelSpanMoveFactor) * std::abs(paid) * (1.0 + 1e-9) + 1e-12) {
         h = saved;
         outlet.point = o;
         Step refused;

@@ -55,7 +55,9 @@ struct [[nodiscard]] ReelResult
 /// outer neighbour (the point between removed), so the new length appears at the outlet and
 /// nothing else is rescaled. The reel segment's outer point moves along it by the length paid;
 /// a free tail beyond it (nothing fixed or held up to the hose's end) moves with it rigidly, so
-/// every other length and bend stays as it is and no point moves more than |paid|; a span to a
+/// every other length and bend stays as it is and no point moves more than |paid| (unless a
+/// joint's limit, from a minimum bend radius, tightened with the reel segment's rest length:
+/// then the paper's pass turns the tail into it, up to 2 |paid|); a span to a
 /// pinned point beyond is closed by the span solver, its sag deepening or flattening with the
 /// length (a point may move up to 2 |paid|; a straight taut span cannot take more length and
 /// cannot give any: Clamped). A call is done in steps of at most 0.5 l (at most 64); a step that
