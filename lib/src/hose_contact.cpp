@@ -1,8 +1,8 @@
 // A hose staying outside its colliders: Hose::setColliders, resolveCollisions and
 // applyCollisions, the contact step every grab, attachment move and gravity step ends with.
 // The colliders' geometry and queries are in mesh_collider.cpp.
-#include "chaintube/collision.h"
 #include "budget.h"
+#include "chaintube/collision.h"
 #include "chaintube/hose.h"
 #include "projection.h"
 
