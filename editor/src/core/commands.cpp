@@ -2,6 +2,7 @@
 
 #include <QCoreApplication>
 #include <algorithm>
+#include <memory>
 
 namespace chaintube::editor {
 
@@ -242,11 +243,18 @@ QUndoCommand* makeDetach(Document& document, const std::string& hoseId, int inde
 QUndoCommand* makeSetNodeTransform(Document& document, const NodeKey& node,
                                    std::optional<formats::Mat4> localTransform, const QString& text)
 {
+    // The first application is the author's move as it happens (a drag step: gravity hoses
+    // follow it); every later one is an undo or a redo.
+    auto applied = std::make_shared<bool>(false);
     return new ChangeValue<std::optional<formats::Mat4>>(
         document, text.isEmpty() ? tr("Move %1").arg(nodeLabel(document, node)) : text,
         [node](Document& d) { return d.mutablePoseOverride(node); },
-        [node](Document& d) { d.poseChanged(node); }, std::move(localTransform),
-        MergeId::NodeTransform, node.first + "#" + std::to_string(node.second));
+        [node, applied](Document& d) {
+            d.poseChanged(node, !*applied);
+            *applied = true;
+        },
+        std::move(localTransform), MergeId::NodeTransform,
+        node.first + "#" + std::to_string(node.second));
 }
 
 QUndoCommand* makeSetCollider(Document& document, const NodeKey& node, bool collider)

@@ -756,7 +756,32 @@ UpdateResult Document::moveAttachmentsFully(Hose& hose, const std::vector<int>& 
     return formats::moveAttachmentsFully(hose, ids, frames);
 }
 
-void Document::poseChanged(const NodeKey& node)
+void Document::closeMerge()
+{
+    ++m_mergeGeneration;
+    std::vector<std::string> followed;
+    followed.swap(m_gravityFollowed);
+    for (const std::string& hoseId : followed) {
+        if (!hoseDefinition(hoseId)) continue;
+        rebuildHose(hoseId);
+        settleHoseNow(hoseId);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+    }
+}
+
+void Document::settleHoseNow(const std::string& hoseId)
+{
+    const auto it = m_live.find(hoseId);
+    if (it == m_live.end() || !it->second.hose || !it->second.hose->spec().gravity.enabled) return;
+    LiveHose& live = it->second;
+    while (!live.gravitySettled && live.gravitySteps < kGravityStepBudget) {
+        ++live.gravitySteps;
+        if (live.hose->step().movedPoints == 0) live.gravitySettled = true;
+    }
+    emit gravityStateChanged();
+}
+
+void Document::poseChanged(const NodeKey& node, bool following)
 {
     ++m_poseSerial;
     syncProjectPoses();
@@ -792,15 +817,23 @@ void Document::poseChanged(const NodeKey& node)
         if (!attachedHere) continue;
         auto live = m_live.find(definition.id);
         if (live == m_live.end() || !live->second.hose) continue;
-        // A hose without gravity is built again from its route at the file pose and moved
-        // straight to the posed frames (formats::buildHose, as the export and the CLI build
-        // it): its shape depends on where the parts are, not on the way they took, so a part
-        // moved out and back leaves it as it was, and bends a far pose forced to give way come
-        // back. A hose with gravity follows the move from its current sag (a rebuild would
-        // lift it to its route at every drag step) and live gravity then settles it.
-        if (!hoseAffectedByPose(definition) || !definition.gravity.enabled) {
+        // A hose is built again from its route at the file pose and moved straight to the
+        // posed frames (formats::buildHose, as the export and the CLI build it): its shape
+        // depends on where the parts are, not on the way they took, so a part moved out and
+        // back leaves it as it was, and bends a far pose forced to give way come back. A hose
+        // with gravity is settled there at once; during a drag it follows the move from its
+        // current sag instead (a rebuild would lift it to its route at every drag step) and
+        // closeMerge() builds and settles it where the drag ended.
+        if (!definition.gravity.enabled || !following || !hoseAffectedByPose(definition)) {
             rebuildHose(definition.id);
+            settleHoseNow(definition.id);
+            m_gravityFollowed.erase(
+                std::remove(m_gravityFollowed.begin(), m_gravityFollowed.end(), definition.id),
+                m_gravityFollowed.end());
         } else {
+            if (std::find(m_gravityFollowed.begin(), m_gravityFollowed.end(), definition.id) ==
+                m_gravityFollowed.end())
+                m_gravityFollowed.push_back(definition.id);
             Hose& hoseObject = *live->second.hose;
             std::vector<int> ids;
             for (const Hose::Attachment& attachment : hoseObject.attachments())

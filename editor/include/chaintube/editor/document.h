@@ -317,7 +317,10 @@ public:
     // --- merging ----------------------------------------------------------------------------
     /// Ends the current merge run: the next value change becomes a new undo step even if it
     /// changes the same thing (call when a slider or a drag is released).
-    void closeMerge() { ++m_mergeGeneration; }
+    /// A hose with gravity that followed a part drag step by step (poseChanged with
+    /// `following`) is built again for the pose the run ended at and settled there now, so its
+    /// shape does not depend on the way the part took.
+    void closeMerge();
     std::uint64_t mergeGeneration() const { return m_mergeGeneration; }
 
     // --- a canonical description for tests --------------------------------------------------
@@ -337,11 +340,12 @@ public:
     formats::HoseDefinition removeHose(const std::string& hoseId);
     /// Builds every hose fixed under the changed node again at the poses (formats::buildHose:
     /// from its route at the file pose straight to the posed frames, so its shape is a function
-    /// of the poses, not of the way the parts took); a hose with gravity is instead moved from
-    /// its current shape to the posed frames (moveAttachmentsFully) and live gravity settles it
-    /// (rebuilt exactly when no override affects it any more). Emits PoseChanged and
-    /// HoseShapeChanged.
-    void poseChanged(const NodeKey& node);
+    /// of the poses, not of the way the parts took). A hose with gravity is built again and
+    /// settled at once (settleHoseNow) — except while `following` a drag (the first application
+    /// of a part-move command, not an undo or a redo): then it is moved from its current sag to
+    /// the posed frames (moveAttachmentsFully), live gravity goes on, and closeMerge() builds
+    /// and settles it for the pose the drag ended at. Emits PoseChanged and HoseShapeChanged.
+    void poseChanged(const NodeKey& node, bool following = false);
     /// formats::moveAttachmentsFully: a part move as the editor makes it (not bound to a frame).
     static UpdateResult moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
                                              const std::vector<Frame>& frames);
@@ -410,6 +414,9 @@ private:
     /// emits gravityStateChanged().
     void wakeGravity(const std::string& hoseId);
     void rebuildHose(const std::string& hoseId);
+    /// Steps a live hose with gravity on until it settles or its step budget runs out, as
+    /// stepGravity() would over the next frames (the same steps, so the same shape).
+    void settleHoseNow(const std::string& hoseId);
     /// Builds m_colliders from project().colliders at the current pose and gives every live
     /// hose its colliders (applyColliders).
     void rebuildColliders();
@@ -443,6 +450,8 @@ private:
     std::uint64_t m_poseSerial = 1;
     std::uint64_t m_buildCounter = 0;
     std::uint64_t m_mergeGeneration = 1;
+    /// Hoses with gravity that followed a drag step by step since the last closeMerge().
+    std::vector<std::string> m_gravityFollowed;
     Selection m_selection;
     QUndoStack m_undoStack;
     bool m_forcedModified = false;
