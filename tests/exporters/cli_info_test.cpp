@@ -89,7 +89,7 @@ TEST(InfoCli, ExportedRigListsItsMovingPartsWithTheirNodesAndRanges)
     ASSERT_EQ(exported.exitCode, 0) << exported.output;
     const CliRun run = runCli("info \"" + glb.string() + "\"");
     ASSERT_EQ(run.exitCode, 0) << run.output;
-    EXPECT_NE(run.output.find("hose rig 1.4 "), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("hose rig 1.5 "), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("\nmotions: 2 — lever (hinge of node "), std::string::npos)
         << run.output;
     EXPECT_NE(run.output.find(" 'lever', -0.5 … 0.8 rad), carriage (slider of node "),
@@ -99,6 +99,31 @@ TEST(InfoCli, ExportedRigListsItsMovingPartsWithTheirNodesAndRanges)
     const CliRun older = runCli(
         "info \"" + (fs::path(CHAINTUBE_SAMPLES_DIR) / "single-hose.ctproj").string() + "\"");
     ASSERT_EQ(older.exitCode, 0) << older.output;
+}
+
+TEST(InfoCli, ProjectAndExportedRigListTheirSocketsAndPlugs)
+{
+    TemporaryFolder folder;
+    const fs::path project = fs::path(CHAINTUBE_SAMPLES_DIR) / "test-rig.ctproj";
+    const fs::path glb = folder.path() / "test-rig.glb";
+    const CliRun exported =
+        runCli("export \"" + project.string() + "\" -o \"" + glb.string() + "\" -q");
+    ASSERT_EQ(exported.exitCode, 0) << exported.output;
+    for (const fs::path& file : {project, glb}) {
+        const CliRun run = runCli("info \"" + file.string() + "\"");
+        ASSERT_EQ(run.exitCode, 0) << run.output;
+        EXPECT_NE(run.output.find("\nsockets: 2 — valve-outlet (tag 'camlock-19', "),
+                  std::string::npos)
+            << run.output;
+        EXPECT_NE(run.output.find("), plate-port (tag 'camlock-19', "), std::string::npos)
+            << run.output;
+        EXPECT_NE(hoseBlock(run.output, "left-feed").find("  plugs: start —, end 'camlock-19'\n"),
+                  std::string::npos)
+            << run.output;
+    }
+    const CliRun none = runCli("info \"" + kRigOptions.string() + "\" " + kRoots);
+    ASSERT_EQ(none.exitCode, 0) << none.output;
+    EXPECT_NE(none.output.find("\nsockets: 0\n"), std::string::npos) << none.output;
 }
 
 TEST(InfoCli, HelpNamesGravityTorsionAndColliders)

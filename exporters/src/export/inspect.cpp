@@ -328,6 +328,13 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
         for (size_t k = 0; k < project.colliders.size(); ++k)
             out << (k == 0 ? " — " : ", ") << "scene '" << project.colliders[k].scene << "' node "
                 << project.colliders[k].node << (k + 1 == project.colliders.size() ? "\n" : "");
+        out << "sockets: " << project.sockets.size() << (project.sockets.empty() ? "\n" : "");
+        for (size_t k = 0; k < project.sockets.size(); ++k) {
+            const formats::Socket& socket = project.sockets[k];
+            out << (k == 0 ? " — " : ", ") << socket.id << " (tag '" << socket.tag << "', scene '"
+                << socket.scene << "' node " << socket.node << ")"
+                << (k + 1 == project.sockets.size() ? "\n" : "");
+        }
         const formats::ImportedScenes scenes = formats::importProjectScenes(project, file, roots);
         for (const formats::HoseDefinition& definition : project.hoses) {
             std::vector<std::string> attachedTo;
@@ -341,6 +348,12 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
                                                        definition.colour.b, definition.colour.a},
                                                       definition.roughness, attachedTo)
                                              .size());
+            if (!definition.plugs.empty())
+                out << "  plugs: start "
+                    << (definition.plugs.start.empty() ? "—" : "'" + definition.plugs.start + "'")
+                    << ", end "
+                    << (definition.plugs.end.empty() ? "—" : "'" + definition.plugs.end + "'")
+                    << "\n";
         }
         break;
     }
@@ -378,6 +391,15 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
             out << ", " << motion.minimum << " … " << motion.maximum << (hinge ? " rad)" : " m)")
                 << (k + 1 == descriptor.motions.size() ? "\n" : "");
         }
+        out << "sockets: " << descriptor.sockets.size() << (descriptor.sockets.empty() ? "\n" : "");
+        for (size_t k = 0; k < descriptor.sockets.size(); ++k) {
+            const rig::RigSocket& socket = descriptor.sockets[k];
+            out << (k == 0 ? " — " : ", ") << socket.id << " (tag '" << socket.tag << "', "
+                << (socket.node < 0 ? "the world" : "node " + std::to_string(socket.node));
+            if (runtime && socket.node >= 0 && socket.node < runtime->nodeCount())
+                out << " '" << runtime->node(socket.node).name << "'";
+            out << ")" << (k + 1 == descriptor.sockets.size() ? "\n" : "");
+        }
         for (const rig::RigHose& d : descriptor.hoses) {
             std::vector<std::string> attachedTo;
             for (const rig::RigAttachment& a : d.attachments) {
@@ -393,6 +415,9 @@ int describeFile(const fs::path& file, const formats::NamedRoots& roots, std::os
             warnings += static_cast<int>(describeHose(out, d.id, d.name, rig::rebuildHose(d),
                                                       d.baseColour, d.roughness, attachedTo)
                                              .size());
+            if (!d.plugStart.empty() || !d.plugEnd.empty())
+                out << "  plugs: start " << (d.plugStart.empty() ? "—" : "'" + d.plugStart + "'")
+                    << ", end " << (d.plugEnd.empty() ? "—" : "'" + d.plugEnd + "'") << "\n";
             if (d.skin >= 0)
                 out << "  rig: skinned mesh node " << d.meshNode << ", skin " << d.skin << ", "
                     << d.jointNodes.size() << " joints, " << d.grabbablePoints.size()
