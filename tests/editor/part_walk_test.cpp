@@ -141,7 +141,8 @@ int walkEveryPart(Document& walked, Document& direct, const std::string& label)
     return count;
 }
 
-TEST(DocumentPartWalks, EverySamplesHosesAreTheSameAfterTheirPartsWalkedOutAndBackAsWhenPlacedDirectly)
+TEST(DocumentPartWalks,
+     EverySamplesHosesAreTheSameAfterTheirPartsWalkedOutAndBackAsWhenPlacedDirectly)
 {
     // The parts: the test rig's two brackets, valve and valve inlet; the motion rig's base
     // plate, pillar, lever and carriage. The single hose is fixed to no part.
@@ -156,7 +157,8 @@ TEST(DocumentPartWalks, EverySamplesHosesAreTheSameAfterTheirPartsWalkedOutAndBa
     }
 }
 
-TEST(DocumentPartWalks, HosesWithGravityAreTheSameAfterTheirPartsWalkedOutAndBackAsWhenPlacedDirectly)
+TEST(DocumentPartWalks,
+     HosesWithGravityAreTheSameAfterTheirPartsWalkedOutAndBackAsWhenPlacedDirectly)
 {
     auto walked = openSample("test-rig.ctproj");
     auto direct = openSample("test-rig.ctproj");

@@ -117,7 +117,7 @@ TEST(InfoCli, ProjectAndExportedRigListTheirSocketsAndPlugs)
             << run.output;
         EXPECT_NE(run.output.find("), plate-port (tag 'camlock-19', "), std::string::npos)
             << run.output;
-        EXPECT_NE(hoseBlock(run.output, "left-feed").find("  plugs: start —, end 'camlock-19'\n"),
+        EXPECT_NE(hoseBlock(run.output, "left-feed").find("  plugs: start —, end 'camlock-19'"),
                   std::string::npos)
             << run.output;
     }
