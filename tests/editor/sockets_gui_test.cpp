@@ -209,5 +209,47 @@ TEST_F(SocketsGuiTest, PlaceTagUndoRedoSaveAndReopen)
     EXPECT_EQ(reopened->document().project().sockets.size(), before + 1);
 }
 
+TEST_F(SocketsGuiTest, AClickOnASocketInTheViewportSelectsIt)
+{
+    Viewport& viewport = m_window->viewport();
+    const auto farFromHoses = [&](const QPoint& at) {
+        for (const formats::HoseDefinition& definition : document().project().hoses)
+            for (const Vec3& point : document().hose(definition.id)->points())
+                if ((viewport.toWidget(point) - at).manhattanLength() < 16) return false;
+        return true;
+    };
+    const formats::Socket* socket = document().project().findSocket("valve-outlet");
+    ASSERT_TRUE(socket);
+    Vec3 centre, axis;
+    ASSERT_TRUE(document().socketWorld(*socket, &centre, &axis));
+    const QPoint drawn = viewport.toWidget(centre);
+    ASSERT_TRUE(viewport.rect().contains(drawn)) << "the socket is in view";
+    QTest::mouseClick(&viewport, Qt::LeftButton, {}, drawn + QPoint(3, -2));
+    settle(*m_window);
+    EXPECT_EQ(document().selection().socketId, "valve-outlet");
+    EXPECT_TRUE(m_window->statusBar()->currentMessage().contains("valve-outlet"))
+        << m_window->statusBar()->currentMessage().toStdString();
+    auto* tag = m_window->properties().findChild<QLineEdit*>("socketTag");
+    ASSERT_TRUE(tag);
+    EXPECT_EQ(tag->text(), "camlock-19") << "Properties shows the clicked socket";
+    // Away from every socket (and hose), the click selects what is there instead: the valve.
+    const int valve = document().scene("rig")->findNode("/test-rig/valve");
+    QPoint away(-1, -1);
+    for (int y = 2; y < viewport.height() && away.x() < 0; y += 4)
+        for (int x = 2; x < viewport.width() && away.x() < 0; x += 4) {
+            ScenePickHit hit;
+            if (viewport.pickScene(QPointF(x, y), &hit) && hit.node == valve &&
+                (QPoint(x, y) - drawn).manhattanLength() > 30 &&
+                viewport.socketAt(QPointF(x, y)).empty() && farFromHoses(QPoint(x, y)))
+                away = QPoint(x, y);
+        }
+    ASSERT_GE(away.x(), 0) << "the valve is in view beside its socket";
+    QTest::mouseClick(&viewport, Qt::LeftButton, {}, away);
+    settle(*m_window);
+    EXPECT_TRUE(document().selection().socketId.empty())
+        << m_window->statusBar()->currentMessage().toStdString();
+    EXPECT_EQ(document().selection().node, valve);
+}
+
 } // namespace
 } // namespace chaintube::editor

@@ -110,6 +110,19 @@ void Viewport::beginPlaceSocket()
     emit statusMessage(tr("Add socket: click on a part's surface (Esc cancels)"));
 }
 
+std::string Viewport::socketAt(const QPointF& position) const
+{
+    std::string nearest;
+    double nearestPixels = 8.0;
+    for (const formats::Socket& socket : m_document.project().sockets) {
+        Vec3 centre, axis;
+        if (!m_document.socketWorld(socket, &centre, &axis)) continue;
+        const double pixels = (QPointF(toWidget(centre)) - position).manhattanLength();
+        if (pixels <= nearestPixels) nearest = socket.id, nearestPixels = pixels;
+    }
+    return nearest;
+}
+
 void Viewport::placeSocketAt(const QPointF& position)
 {
     ScenePickHit hit;
@@ -598,7 +611,18 @@ void Viewport::mousePressEvent(QMouseEvent* event)
         m_document.closeMerge();
         return;
     }
-    // 3. A hose, 4. a scene part, 5. nothing. Whichever is nearer along the ray wins.
+    // 3. A socket: the one whose centre is drawn nearest the cursor, within 8 pixels.
+    if (const std::string socket = socketAt(position); !socket.empty()) {
+        Selection picked;
+        picked.socketId = socket;
+        m_document.setSelection(picked);
+        emit statusMessage(tr("Socket %1: its tag, capture radius and angle are in Properties")
+                               .arg(QString::fromStdString(socket)));
+        update();
+        return;
+    }
+    // 4. A hose, 5. a scene part, 6. nothing. Whichever is nearer along the ray wins.
+    selection.socketId.clear();
     const Ray ray = rayAt(position);
     const double pixelMetres =
         2.0 * m_camera.distance * std::tan(m_camera.fieldOfViewY / 2) / std::max(height(), 1);

@@ -71,6 +71,9 @@ public:
 
     /// Widget coordinates (logical pixels) of a world point.
     QPoint toWidget(const Vec3& world) const;
+    /// The id of the socket whose centre is drawn nearest `position`, within 8 pixels ("" for
+    /// none); a click there selects it.
+    std::string socketAt(const QPointF& position) const;
     /// Ray through a widget position (logical pixels).
     Ray rayAt(const QPointF& position) const;
     /// Picks scene triangles under a widget position.
