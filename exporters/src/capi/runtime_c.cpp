@@ -799,7 +799,7 @@ chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose)
     constexpr const char* function = "chaintube_rig_release";
     return guarded(function, [&]() -> chaintube_status {
         if (const chaintube_status status = checkHose(function, rig, hose)) return status;
-        rig->runtime.release(hose);
+        (void)rig->runtime.release(hose);
         return CHAINTUBE_OK;
     });
 }
