@@ -260,6 +260,54 @@ static class CapiTest
                 Near(pull.forceZ / PullStiffness, v[12] / PullStiffness, where, "pull force z / EA");
                 break;
             }
+            case "socket": {
+                var v = Numbers(words, 1, 11);
+                string id = string.Join(" ", words.Skip(12));
+                SocketInfo info;
+                int found;
+                Ok(Native.chaintube_rig_socket_info(rig, (int)v[0], out info), where, "socket_info");
+                Same(info.node, (long)v[1], where, "socket node");
+                Same(info.occupantHose, (long)v[2], where, "socket occupant hose");
+                Same(info.occupantEnd, (long)v[3], where, "socket occupant end");
+                Same(info.occupantAttachment, (long)v[4], where, "socket occupant attachment");
+                Near(info.positionX, v[5], where, "socket position x");
+                Near(info.positionY, v[6], where, "socket position y");
+                Near(info.positionZ, v[7], where, "socket position z");
+                Near(info.axisX, v[8], where, "socket axis x");
+                Near(info.axisY, v[9], where, "socket axis y");
+                Near(info.axisZ, v[10], where, "socket axis z");
+                if (Native.String(info.id) != id) Fail(where, "socket id " + Native.String(info.id) + ", expected " + id);
+                Ok(Native.chaintube_rig_find_socket(rig, Native.Utf8(id), out found), where, "find_socket");
+                Same(found, (long)v[0], where, "find_socket(id)");
+                break;
+            }
+            case "unplug": {
+                var v = Numbers(words, 1, 3);
+                int left;
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_unplug(rig, (int)v[0], (int)v[1], out left), where, "unplug");
+                Same(left, (long)v[2], where, "the socket unplugged from");
+                break;
+            }
+            case "plug": {
+                var v = Numbers(words, 1, 4);
+                int attachment;
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_plug(rig, (int)v[0], (int)v[1], (int)v[2], out attachment), where, "plug");
+                Same(attachment, (long)v[3], where, "the plug's attachment");
+                break;
+            }
+            case "release-snap": {
+                var v = Numbers(words, 1, 2);
+                int socket;
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_release_snap(rig, (int)v[0], out socket), where, "release_snap");
+                Same(socket, (long)v[1], where, "the socket snapped into");
+                break;
+            }
             default:
                 Fail(where, "unknown reference line");
                 break;
@@ -314,7 +362,7 @@ static class CapiTest
         uint nextMajor = (Native.AbiVersion >> 16) + 1 << 16;
         Same(Native.chaintube_runtime_abi_version(), Native.AbiVersion, "abi", "the library's ABI version");
         Refused(Native.chaintube_rig_load_file(nextMajor, Native.Utf8(export), out rig), Status.AbiMismatch,
-                "wrong ABI major", "ABI 2.0", "ABI 1.2");
+                "wrong ABI major", "ABI 2.0", "ABI 1.3");
         // A caller built against an older minor version (1.1: before the attachment pulls) still loads.
         Ok(Native.chaintube_rig_load_file((1u << 16) | 1u, Native.Utf8(export), out rig), "abi 1.1", "load_file");
         Ok(Native.chaintube_rig_destroy(rig), "abi 1.1", "destroy");
