@@ -467,6 +467,41 @@ static class CapiTest
                 Expect(pull.tautness == 0.0 && pull.forceX == 0.0 && pull.forceY == 0.0 && pull.forceZ == 0.0,
                        "released", "attachment " + a + ": tautness " + pull.tautness);
             }
+            // Sockets through Rig: a plug that does not fit is refused; left-feed's valve end
+            // unplugged and plugged into plate-port eases in and sits on it.
+            int feed = owned.FindHose("left-feed"), plate = owned.FindSocket("plate-port");
+            int outlet = owned.FindSocket("valve-outlet");
+            Same(owned.SocketCount, 2, "sockets", "socket count");
+            Action<Action, string> refusedWith = (call, words) => {
+                try {
+                    call();
+                    Fail("sockets", "not refused: " + words);
+                } catch (ChainTubeException error) {
+                    Expect(error.Status == Status.InvalidArgument && error.Message.Contains(words), "sockets",
+                           error.Status + ": " + error.Message);
+                }
+            };
+            refusedWith(() => owned.Plug(feed, 0, outlet), "has no plug");
+            refusedWith(() => owned.Plug(feed, 1, outlet), "already attached");
+            refusedWith(() => owned.Unplug(right, 2), "end 2");
+            Same(owned.Unplug(feed, 1), -1, "sockets", "unplugged from no socket (the export's attachment)");
+            int plugged = owned.Plug(feed, 1, plate);
+            Same(plugged, 2, "sockets", "the plug's attachment");
+            SocketInfo held = owned.Socket(plate);
+            Same(held.occupantHose, feed, "sockets", "plate-port holds left-feed");
+            Same(held.occupantEnd, 1, "sockets", "plate-port holds its end 1");
+            refusedWith(() => owned.Plug(right, 1, plate), "(\"right-return\") has no plug");
+            for (int frame = 0; frame < 5; ++frame) {
+                owned.Update();
+                Same((int)owned.Result(feed).status, (int)HoseStatus.Ok, "sockets", "easing frame " + frame);
+            }
+            double[] seated = WorldPoses(r, feed, owned.Info(feed).jointCount);
+            int tip = 7 * (owned.Info(feed).jointCount - 1);
+            Near(seated[tip], held.positionX, "sockets", "end on plate-port x");
+            Near(seated[tip + 1], held.positionY, "sockets", "end on plate-port y");
+            Near(seated[tip + 2], held.positionZ, "sockets", "end on plate-port z");
+            Same(owned.Unplug(feed, 1), plate, "sockets", "unplugged from plate-port");
+            Same(owned.Socket(plate).occupantHose, -1, "sockets", "plate-port free again");
         }
         Console.WriteLine("CapiTest errors: " + compared + " checks, " + failures + " failures");
         return failures == 0 ? 0 : 1;

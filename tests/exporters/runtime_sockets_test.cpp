@@ -263,6 +263,26 @@ TEST(HoseRuntimeSockets, BadPlugsAndUnplugsAreRefusedNamingWhyAndChangeNothing)
     EXPECT_EQ(runtime.socketOccupant(outlet).hose, -1);
     EXPECT_EQ(runtime.plug(ret, 1, plate, &why).status, Status::Ok) << why;
     EXPECT_EQ(runtime.socketOccupant(plate).hose, ret);
+    // Plugged from afar into a socket beyond the hose's reach (its other end 0.47 m away, the
+    // hose 0.43 m long): every easing frame keeps every segment in its band (bends give way
+    // first, as for a moved attachment), and the end stays short of the socket, Infeasible.
+    for (int frame = 0; frame < rig::HoseRuntime::kSnapFrames; ++frame) {
+        runtime.update();
+        EXPECT_LE(runtime.frameResult(ret).lengthViolation, 1e-9) << "easing, frame " << frame;
+        EXPECT_TRUE(inBand(runtime.hose(ret))) << "easing, frame " << frame;
+    }
+    const rig::HoseRuntime::SocketPose port = runtime.socket(plate);
+    const int last = runtime.hose(ret).pointCount() - 1;
+    const double reach = runtime.hose(ret).restLengthTotal();
+    const double span = (port.position - runtime.hose(ret).point(0)).norm();
+    ASSERT_GT(span, reach * (1.0 + runtime.description(ret).expansionCoefficient));
+    const double short_ = (runtime.hose(ret).point(last) - port.position).norm();
+    EXPECT_GT(short_, 0.0);
+    EXPECT_EQ(runtime.frameResult(ret).status, Status::Infeasible);
+    EXPECT_EQ(runtime.socketOccupant(plate).hose, ret); // held, met once the part comes nearer
+    std::cout << "[ socket ] right-return plugged into plate-port " << span
+              << " m from its other end (" << reach << " m long): " << short_
+              << " m short, every easing frame in the band\n";
 }
 
 /// The rig-options sample: valve-tail hangs under gravity from the valve, its last point free.
