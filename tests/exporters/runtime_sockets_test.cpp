@@ -285,6 +285,41 @@ TEST(HoseRuntimeSockets, BadPlugsAndUnplugsAreRefusedNamingWhyAndChangeNothing)
               << " m short, every easing frame in the band\n";
 }
 
+TEST(HoseRuntimeSockets, AHoseCutWhilePluggedLeavesItsEndInTheSocketOnTheNewPiece)
+{
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadSocketRig(folder);
+    const int feed = runtime.findHose("left-feed");
+    const int plate = runtime.findSocket("plate-port");
+    ASSERT_EQ(runtime.unplug(feed, 1).status, Status::Ok);
+    ASSERT_EQ(runtime.plug(feed, 1, plate).status, Status::Ok);
+    for (int frame = 0; frame < rig::HoseRuntime::kSnapFrames; ++frame)
+        runtime.update();
+    const int middle = runtime.hose(feed).pointCount() / 2;
+    const rig::CutResult cut = runtime.cut(feed, middle);
+    ASSERT_EQ(cut.status, Status::Ok);
+    // The plugged end went with the piece beyond the cut, and the socket knows it.
+    const rig::SocketOccupant occupant = runtime.socketOccupant(plate);
+    EXPECT_EQ(occupant.hose, cut.newHose);
+    EXPECT_EQ(occupant.end, 1);
+    ASSERT_GE(occupant.attachment, 0);
+    EXPECT_EQ(runtime.attachment(cut.newHose, occupant.attachment).socket, plate);
+    const int last = runtime.hose(cut.newHose).pointCount() - 1;
+    EXPECT_LT((runtime.hose(cut.newHose).point(last) - runtime.socket(plate).position).norm(),
+              1e-9);
+    // The cut ends carry no plug: the first piece's new end and the new piece's first end.
+    EXPECT_EQ(runtime.description(feed).plugEnd, "");
+    EXPECT_EQ(runtime.description(cut.newHose).plugStart, "");
+    EXPECT_EQ(runtime.description(cut.newHose).plugEnd, "camlock-19");
+    std::string why;
+    EXPECT_EQ(runtime.plug(feed, 1, runtime.findSocket("valve-outlet"), &why).status,
+              Status::InvalidInput);
+    EXPECT_NE(why.find("has no plug"), std::string::npos) << why;
+    // Unplugged from the new piece, the socket is free.
+    EXPECT_EQ(runtime.unplug(cut.newHose, 1).socket, plate);
+    EXPECT_EQ(runtime.socketOccupant(plate).hose, -1);
+}
+
 /// The rig-options sample: valve-tail hangs under gravity from the valve, its last point free.
 TEST(HoseRuntimeSockets, AnUnpluggedEndFallsWithGravityWhereTheHoseHasIt)
 {
