@@ -59,7 +59,8 @@ struct LiveAttachment
     int lastPoint = 0;    ///<
     bool attached = true; ///< false once detachEnd() let go of it (its index stays)
     int id = -1;          ///< its Hose attachment id while attached
-    int socket = -1;      ///< the socket it plugs the end into (plug(), a snap-in); −1: none
+    int socket = -1;      ///< the socket it plugs the end into (plug(), a snap-in); −1: none;
+                          ///< kept once detached (socketOccupant() counts only attached ones)
     int easingFrames = 0; ///< update() calls left until a plugged end sits in its socket
 };
 
