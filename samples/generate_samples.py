@@ -276,7 +276,7 @@ test_rig = project("Test rig: two brackets and a valve", RIG_SCENE, [
 test_rig["hoses"][0]["plugs"] = {"end": "camlock-19"}  # project format 1.7: its end's plug
 test_rig["sockets"] = [  # where that end may be plugged at runtime: the valve's other face, the plate
     socket("valve-outlet", "rig", "/test-rig/valve", [-0.04, 0.0, 0.0], [-1.0, 0.0, 0.0], "camlock-19"),
-    socket("plate-port", "rig", "/test-rig/floor_plate", [0.2, 0.005, -0.15], [0.0, 1.0, 0.0],
+    socket("plate-port", "rig", "/test-rig/floor_plate", [-0.1, 0.005, -0.15], [0.0, 1.0, 0.0],
            "camlock-19"),
 ]
 write("test-rig.ctproj", test_rig)

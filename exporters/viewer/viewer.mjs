@@ -73,6 +73,24 @@ const kClipMet = 1e-6; // metres
 const clipMetColour = new THREE.Color(0xd23cd2);
 const clipOffColour = new THREE.Color(0xe03030);
 
+// Sockets (couplings a hose end plugs into) are not in the glTF either: each is drawn as a ring
+// around its axis at its position, with a faint disc its capture radius wide; green while free,
+// blue while it holds an end. A hose end dragged with its ray through a free socket's capture is
+// guided in along the socket's axis from kGuideHeight above it, down to kGuideHeightMin; released
+// there, the runtime snaps it in. U unplugs the selected hose end (the one nearest the last press
+// on a hose).
+const socketMarks = new THREE.Group();
+socketMarks.name = 'sockets';
+rigRoot.add(socketMarks);
+const socketFreeColour = new THREE.Color(0x3cc878);
+const socketHeldColour = new THREE.Color(0x3c8cf0);
+const kGuideHeight = 0.2; // metres above the socket where a guided end starts
+const kGuideHeightMin = 0.01; // metres: where it is held, within the capture radius
+const kGuideStep = 0.02; // metres a frame
+const kGuideBeyond = 0.06; // metres beyond the socket where the guide starts
+const kEndReach = 3; // a press this many points from a free end takes the end point
+let selectedEnd = null; // { hose (index), end (0 or 1) }
+
 window.addEventListener('resize', () => {
   camera.aspect = window.innerWidth / window.innerHeight;
   camera.updateProjectionMatrix();
@@ -199,6 +217,10 @@ function show(name, rig, gltf) {
     ring.material.dispose();
   }
   clipRings.clear();
+  for (const mark of socketMarks.children)
+    mark.traverse((o) => { o.geometry?.dispose(); o.material?.dispose(); });
+  socketMarks.clear();
+  selectedEnd = null;
   gizmo.detach();
   selectedPart = -1;
   drag = null;
@@ -247,8 +269,22 @@ function show(name, rig, gltf) {
     }
   }
   rigRoot.add(gltf.scene);
-  current = { name, rig, gltf, nodes, hoses, parts, movedParts: new Set(), hoseOfMesh, frames: 0 };
+  current = { name, rig, gltf, nodes, hoses, parts, movedParts: new Set(), hoseOfMesh, frames: 0, sockets: [] };
   for (const hose of hoses) placeClipRings(rig, hose);
+  for (let k = 0, count = rig.socketCount(); k < count; ++k) {
+    const socket = rig.socketInfo(k);
+    const r = socket.captureRadius;
+    const ring = new THREE.Mesh(new THREE.TorusGeometry(0.5 * r, 0.08 * r, 12, 48),
+      new THREE.MeshStandardMaterial({ color: socketFreeColour, roughness: 0.5 }));
+    const disc = new THREE.Mesh(new THREE.CircleGeometry(r, 48),
+      new THREE.MeshBasicMaterial({ color: socketFreeColour, transparent: true, opacity: 0.25,
+        side: THREE.DoubleSide, depthWrite: false }));
+    ring.add(disc);
+    ring.name = `socket ${socket.id}`;
+    socketMarks.add(ring);
+    current.sockets.push({ index: k, id: socket.id, ring, disc, info: socket });
+  }
+  placeSockets(rig);
   buildPanel();
   frameView(gltf.scene);
   fileLabel.textContent = name;
@@ -370,7 +406,16 @@ function pick(caster) {
     const d = Math.hypot(world[7 * point] - p.x, world[7 * point + 1] - p.y, world[7 * point + 2] - p.z);
     if (d < bestDistance) { bestDistance = d; best = point; }
   }
-  return best >= 0 ? { hose: hose.index, point: best, hit } : null;
+  // A press on a hose's last few segments near a free end takes the end itself (its end point
+  // often sits inside the part it was plugged into): it is what a hand plugs into a socket.
+  const last = hose.info.pointCount - 1;
+  const distance = (point) => Math.hypot(world[7 * point] - p.x, world[7 * point + 1] - p.y, world[7 * point + 2] - p.z);
+  let nearest = 0;
+  for (let point = 1; point <= last; ++point) if (distance(point) < distance(nearest)) nearest = point;
+  const end = distance(0) <= distance(last) ? 0 : 1;
+  if (nearest <= kEndReach && hose.grabbable.has(0)) best = 0;
+  else if (nearest >= last - kEndReach && hose.grabbable.has(last)) best = last;
+  return best >= 0 ? { hose: hose.index, point: best, end, hit } : null;
 }
 
 function pointWorld(hose, point) {
@@ -383,6 +428,7 @@ function onPointerDown(event) {
   pressedAt = { x: event.clientX, y: event.clientY };
   const picked = pick(rayFromEvent(event));
   if (!picked || picked.hose === undefined) return;
+  selectEnd(picked.hose, picked.end);
   const start = pointWorld(picked.hose, picked.point);
   const normal = camera.getWorldDirection(new THREE.Vector3());
   drag = {
@@ -396,8 +442,36 @@ function onPointerDown(event) {
 
 function onPointerMove(event) {
   if (!drag || !drag.plane) return;
-  const target = rayFromEvent(event).ray.intersectPlane(drag.plane, new THREE.Vector3());
+  const caster = rayFromEvent(event);
+  guideToSocket(caster.ray);
+  const target = caster.ray.intersectPlane(drag.plane, new THREE.Vector3());
   if (target) drag.target = rigRoot.worldToLocal(target).toArray();
+}
+
+/** A dragged hose end whose ray passes through a free socket's capture is guided into it (see
+ * socketMarks); a ray away from every socket lets it go again. */
+function guideToSocket(ray) {
+  const last = current.hoses[drag.hose].info.pointCount - 1;
+  if (drag.point !== 0 && drag.point !== last) return;
+  rigRoot.updateMatrixWorld(true);
+  let caught = null;
+  for (const socket of current.sockets) {
+    if (socket.info.occupantHose >= 0) continue;
+    const at = rigRoot.localToWorld(new THREE.Vector3().fromArray(socket.info.position));
+    if (ray.distanceToPoint(at) <= socket.info.captureRadius) caught = socket;
+  }
+  if (caught?.index === drag.guide?.socket) return;
+  drag.guide = null;
+  if (!caught) return;
+  // It comes down from beyond the socket, seen from the hose's other end, so that the hose behind
+  // it leans the end segment onto the axis (within the capture angle) rather than away.
+  const axis = new THREE.Vector3().fromArray(caught.info.axis);
+  const world = current.rig.jointPoses(drag.hose, { local: false }).world;
+  const other = new THREE.Vector3().fromArray(world, drag.point === 0 ? 7 * last : 0);
+  const beyond = new THREE.Vector3().fromArray(caught.info.position).sub(other);
+  beyond.addScaledVector(axis, -beyond.dot(axis));
+  drag.guide = { socket: caught.index, height: kGuideHeight,
+    beyond: beyond.lengthSq() > 0 ? beyond.normalize().toArray() : [0, 0, 0] };
 }
 
 function onPointerUp(event) {
@@ -419,7 +493,20 @@ function onPointerUp(event) {
 function endDrag() {
   if (!drag) return;
   const hose = current.hoses[drag.hose];
-  current.rig.release(drag.hose);
+  const end = drag.point === 0 ? 0 : 1;
+  let socket = current.rig.release(drag.hose);
+  if (socket < 0 && drag.guide) {
+    // Guided onto a socket but not caught (its segment off the capture angle): plug it there.
+    try {
+      current.rig.plug(hose.index, end, drag.guide.socket);
+      socket = drag.guide.socket;
+    } catch (error) {
+      selectionLabel.textContent = error.message; // e.g. the socket takes another plug
+    }
+  }
+  hose.grabbable = new Set(current.rig.grabbablePoints(hose.index));
+  if (socket >= 0) selectionLabel.textContent = `${hose.info.id} end ${end} ` +
+    `plugged into socket ${current.sockets[socket].id} (U unplugs it)`;
   if (hose.shown?.status === HoseStatus.CLAMPED) hose.shown = { ...hose.shown, status: HoseStatus.OK };
   drag = null;
   renderRow(hose);
@@ -451,9 +538,30 @@ function selectPart(node) {
   }
 }
 
-// Esc deselects; W and E switch the gizmo between moving and rotating (as three.js's editor).
+function selectEnd(hose, end) {
+  selectedEnd = { hose, end };
+  selectionLabel.textContent = `Hose end: ${current.hoses[hose].info.id} end ${end} (U unplugs it)`;
+}
+
+/** Unplugs the selected hose end (U): it falls free (with gravity where the hose has it). */
+function unplugSelectedEnd() {
+  if (!current || !selectedEnd || drag) return;
+  const hose = current.hoses[selectedEnd.hose];
+  try {
+    const socket = current.rig.unplug(hose.index, selectedEnd.end);
+    hose.grabbable = new Set(current.rig.grabbablePoints(hose.index));
+    selectionLabel.textContent = `${hose.info.id} end ${selectedEnd.end} unplugged` +
+      (socket >= 0 ? ` from socket ${current.sockets[socket].id}` : '');
+  } catch (error) {
+    selectionLabel.textContent = error.message; // e.g. the end is not plugged
+  }
+}
+
+// Esc deselects; W and E switch the gizmo between moving and rotating (as three.js's editor);
+// U unplugs the selected hose end.
 window.addEventListener('keydown', (event) => {
   if (event.key === 'Escape' && current) selectPart(-1);
+  else if (event.key === 'u' || event.key === 'U') unplugSelectedEnd();
   else if (event.key === 'w' || event.key === 'W') gizmo.setMode('translate');
   else if (event.key === 'e' || event.key === 'E') gizmo.setMode('rotate');
 });
@@ -536,6 +644,23 @@ function step(view) {
       const hand = drag.controller.getWorldPosition(new THREE.Vector3()).add(drag.offset);
       drag.target = rigRoot.worldToLocal(hand).toArray();
     }
+    if (drag.guide) {
+      // Over to kGuideHeight above the socket (and kGuideBeyond beyond it), then down its axis,
+      // kGuideStep a frame: the end is pulled in, its segment trailing along the axis.
+      const socket = current.sockets[drag.guide.socket].info;
+      const h = drag.guide.height;
+      const aside = kGuideBeyond * (h - kGuideHeightMin) / (kGuideHeight - kGuideHeightMin);
+      const goal = socket.position.map((x, k) => x + h * socket.axis[k] + aside * drag.guide.beyond[k]);
+      const from = drag.guide.at ?? drag.target;
+      const gap = Math.hypot(...goal.map((x, k) => x - from[k]));
+      if (gap > kGuideStep) {
+        drag.guide.at = from.map((x, k) => x + (goal[k] - x) * kGuideStep / gap);
+      } else {
+        drag.guide.at = goal;
+        drag.guide.height = Math.max(kGuideHeightMin, h - kGuideStep);
+      }
+      drag.target = drag.guide.at;
+    }
     rig.grab(drag.hose, drag.point, drag.target); // its outcome is in the frame's result
   }
   rig.update();
@@ -549,12 +674,27 @@ function step(view) {
       });
     }
     placeClipRings(rig, hose);
+    hose.grabbable = new Set(rig.grabbablePoints(hose.index)); // plugs and unplugs change them
     const result = rig.hoseResult(hose.index);
     if (touched(result) || hose.shown === null) hose.shown = result;
     hose.tension = tensionText(rig, hose);
     renderRow(hose);
   }
+  placeSockets(rig);
   ++view.frames;
+}
+
+/** Each socket's ring where its part puts it now, green while free, blue while it holds an end. */
+function placeSockets(rig) {
+  const z = new THREE.Vector3(0, 0, 1);
+  for (const socket of current.sockets) {
+    socket.info = rig.socketInfo(socket.index);
+    socket.ring.position.fromArray(socket.info.position);
+    socket.ring.quaternion.setFromUnitVectors(z, new THREE.Vector3().fromArray(socket.info.axis));
+    const colour = socket.info.occupantHose >= 0 ? socketHeldColour : socketFreeColour;
+    socket.ring.material.color.copy(colour);
+    socket.disc.material.color.copy(colour);
+  }
 }
 
 // --- opening files ---------------------------------------------------------------------------
@@ -662,6 +802,31 @@ window.chaintubeViewer = {
       gap: ring.userData.gap, segment: ring.userData.segment, colour: ring.material.color.getHex(),
     })));
   },
+  /** The sockets as drawn, in the rig's frame: [{ id, position [x, y, z], axis [x, y, z] (the
+   * ring's normal), occupant ({ hose (id), end } or null), colour (hex) }]. */
+  sockets() {
+    rigRoot.updateMatrixWorld(true);
+    const inverse = rigRoot.matrixWorld.clone().invert();
+    return current.sockets.map((socket) => ({
+      id: socket.id,
+      position: socket.ring.getWorldPosition(new THREE.Vector3()).applyMatrix4(inverse).toArray(),
+      axis: new THREE.Vector3(0, 0, 1).applyQuaternion(socket.ring.quaternion).toArray(),
+      occupant: socket.info.occupantHose >= 0
+        ? { hose: current.hoses[socket.info.occupantHose].info.id, end: socket.info.occupantEnd } : null,
+      colour: socket.ring.material.color.getHex(),
+    }));
+  },
+  /** Where socket `id` is on the screen (CSS pixels). */
+  screenOfSocket(id) {
+    const socket = current.sockets.find((s) => s.id === id);
+    return toScreen(rigRoot.localToWorld(new THREE.Vector3().fromArray(socket.info.position)));
+  },
+  /** The selected hose end (U unplugs it): { hose (id), end } or null. */
+  get selectedEnd() {
+    return selectedEnd ? { hose: current.hoses[selectedEnd.hose].info.id, end: selectedEnd.end } : null;
+  },
+  /** The dragged end's guide into a socket: the socket's id, or null. */
+  get guidedInto() { return drag?.guide ? current.sockets[drag.guide.socket].id : null; },
   /** The runtime's clip count of every hose, summed. */
   clipCount() { return current.hoses.reduce((sum, hose) => sum + current.rig.clipCount(hose.index), 0); },
   /** The axis points of hose `id` a hand may grab. */
@@ -678,7 +843,7 @@ window.chaintubeViewer = {
   pickAt(x, y) {
     const picked = pick(rayFromEvent({ clientX: x, clientY: y }));
     if (!picked) return null;
-    if (picked.hose !== undefined) return { hose: current.hoses[picked.hose].info.id, point: picked.point };
+    if (picked.hose !== undefined) return { hose: current.hoses[picked.hose].info.id, point: picked.point, end: picked.end };
     const node = partOf(picked.object);
     return { part: node >= 0 ? current.rig.nodeInfo(node).name : null };
   },

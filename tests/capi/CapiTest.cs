@@ -260,6 +260,54 @@ static class CapiTest
                 Near(pull.forceZ / PullStiffness, v[12] / PullStiffness, where, "pull force z / EA");
                 break;
             }
+            case "socket": {
+                var v = Numbers(words, 1, 11);
+                string id = string.Join(" ", words.Skip(12));
+                SocketInfo info;
+                int found;
+                Ok(Native.chaintube_rig_socket_info(rig, (int)v[0], out info), where, "socket_info");
+                Same(info.node, (long)v[1], where, "socket node");
+                Same(info.occupantHose, (long)v[2], where, "socket occupant hose");
+                Same(info.occupantEnd, (long)v[3], where, "socket occupant end");
+                Same(info.occupantAttachment, (long)v[4], where, "socket occupant attachment");
+                Near(info.positionX, v[5], where, "socket position x");
+                Near(info.positionY, v[6], where, "socket position y");
+                Near(info.positionZ, v[7], where, "socket position z");
+                Near(info.axisX, v[8], where, "socket axis x");
+                Near(info.axisY, v[9], where, "socket axis y");
+                Near(info.axisZ, v[10], where, "socket axis z");
+                if (Native.String(info.id) != id) Fail(where, "socket id " + Native.String(info.id) + ", expected " + id);
+                Ok(Native.chaintube_rig_find_socket(rig, Native.Utf8(id), out found), where, "find_socket");
+                Same(found, (long)v[0], where, "find_socket(id)");
+                break;
+            }
+            case "unplug": {
+                var v = Numbers(words, 1, 3);
+                int left;
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_unplug(rig, (int)v[0], (int)v[1], out left), where, "unplug");
+                Same(left, (long)v[2], where, "the socket unplugged from");
+                break;
+            }
+            case "plug": {
+                var v = Numbers(words, 1, 4);
+                int attachment;
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_plug(rig, (int)v[0], (int)v[1], (int)v[2], out attachment), where, "plug");
+                Same(attachment, (long)v[3], where, "the plug's attachment");
+                break;
+            }
+            case "release-snap": {
+                var v = Numbers(words, 1, 2);
+                int socket;
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_release_snap(rig, (int)v[0], out socket), where, "release_snap");
+                Same(socket, (long)v[1], where, "the socket snapped into");
+                break;
+            }
             default:
                 Fail(where, "unknown reference line");
                 break;
@@ -314,7 +362,7 @@ static class CapiTest
         uint nextMajor = (Native.AbiVersion >> 16) + 1 << 16;
         Same(Native.chaintube_runtime_abi_version(), Native.AbiVersion, "abi", "the library's ABI version");
         Refused(Native.chaintube_rig_load_file(nextMajor, Native.Utf8(export), out rig), Status.AbiMismatch,
-                "wrong ABI major", "ABI 2.0", "ABI 1.2");
+                "wrong ABI major", "ABI 2.0", "ABI 1.3");
         // A caller built against an older minor version (1.1: before the attachment pulls) still loads.
         Ok(Native.chaintube_rig_load_file((1u << 16) | 1u, Native.Utf8(export), out rig), "abi 1.1", "load_file");
         Ok(Native.chaintube_rig_destroy(rig), "abi 1.1", "destroy");
@@ -419,6 +467,41 @@ static class CapiTest
                 Expect(pull.tautness == 0.0 && pull.forceX == 0.0 && pull.forceY == 0.0 && pull.forceZ == 0.0,
                        "released", "attachment " + a + ": tautness " + pull.tautness);
             }
+            // Sockets through Rig: a plug that does not fit is refused; left-feed's valve end
+            // unplugged and plugged into plate-port eases in and sits on it.
+            int feed = owned.FindHose("left-feed"), plate = owned.FindSocket("plate-port");
+            int outlet = owned.FindSocket("valve-outlet");
+            Same(owned.SocketCount, 2, "sockets", "socket count");
+            Action<Action, string> refusedWith = (call, words) => {
+                try {
+                    call();
+                    Fail("sockets", "not refused: " + words);
+                } catch (ChainTubeException error) {
+                    Expect(error.Status == Status.InvalidArgument && error.Message.Contains(words), "sockets",
+                           error.Status + ": " + error.Message);
+                }
+            };
+            refusedWith(() => owned.Plug(feed, 0, outlet), "has no plug");
+            refusedWith(() => owned.Plug(feed, 1, outlet), "already attached");
+            refusedWith(() => owned.Unplug(right, 2), "end 2");
+            Same(owned.Unplug(feed, 1), -1, "sockets", "unplugged from no socket (the export's attachment)");
+            int plugged = owned.Plug(feed, 1, plate);
+            Same(plugged, 2, "sockets", "the plug's attachment");
+            SocketInfo held = owned.Socket(plate);
+            Same(held.occupantHose, feed, "sockets", "plate-port holds left-feed");
+            Same(held.occupantEnd, 1, "sockets", "plate-port holds its end 1");
+            refusedWith(() => owned.Plug(right, 1, plate), "(\"right-return\") has no plug");
+            for (int frame = 0; frame < 5; ++frame) {
+                owned.Update();
+                Same((int)owned.Result(feed).status, (int)HoseStatus.Ok, "sockets", "easing frame " + frame);
+            }
+            double[] seated = WorldPoses(r, feed, owned.Info(feed).jointCount);
+            int tip = 7 * (owned.Info(feed).jointCount - 1);
+            Near(seated[tip], held.positionX, "sockets", "end on plate-port x");
+            Near(seated[tip + 1], held.positionY, "sockets", "end on plate-port y");
+            Near(seated[tip + 2], held.positionZ, "sockets", "end on plate-port z");
+            Same(owned.Unplug(feed, 1), plate, "sockets", "unplugged from plate-port");
+            Same(owned.Socket(plate).occupantHose, -1, "sockets", "plate-port free again");
         }
         Console.WriteLine("CapiTest errors: " + compared + " checks, " + failures + " failures");
         return failures == 0 ? 0 : 1;

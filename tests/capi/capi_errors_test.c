@@ -140,7 +140,7 @@ static void loading(const char* rig_file, const char* split_gltf, const char* sc
 
     /* A caller built against another major version, or a newer minor, is refused. */
     EXPECT_ERROR(chaintube_rig_load_file(next_major, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
-                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.2");
+                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.3");
     EXPECT_ERROR(
         chaintube_rig_load_memory(next_major, "rig.glb", bytes, size, NULL, 0, NULL, 0, &rig),
         CHAINTUBE_ERROR_ABI_MISMATCH, "chaintube_rig_load_memory", "ABI 2.0");
@@ -448,6 +448,42 @@ static void per_frame(const char* rig_file)
     EXPECT_ERROR(chaintube_rig_attachment_pull(rig, hose, 0, 1e4, NULL),
                  CHAINTUBE_ERROR_INVALID_ARGUMENT, "pull is NULL");
     CHECK(pull.tautness == 42.0 && index == 12345, "a refused call wrote an output");
+
+    /* Sockets: out of range, no such id, a tag that does not fit, an end that is not free. */
+    {
+        chaintube_socket_info socket_info;
+        socket_info.occupant_hose = 42;
+        EXPECT_ERROR(chaintube_rig_socket_count(NULL, &index), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "rig is NULL");
+        EXPECT_ERROR(chaintube_rig_socket_count(rig, NULL), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "count is NULL");
+        EXPECT_ERROR(chaintube_rig_find_socket(rig, "no-such-socket", &index),
+                     CHAINTUBE_ERROR_NOT_FOUND, "no-such-socket", "2 sockets");
+        EXPECT_ERROR(chaintube_rig_socket_info(rig, 2, &socket_info), CHAINTUBE_ERROR_OUT_OF_RANGE,
+                     "socket 2 is out of range", "expected 0 to 1");
+        EXPECT_ERROR(chaintube_rig_socket_info(rig, 0, NULL), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "info is NULL");
+        EXPECT_ERROR(chaintube_rig_plug(rig, hose, 1, -1, &index), CHAINTUBE_ERROR_OUT_OF_RANGE,
+                     "chaintube_rig_plug", "socket -1");
+        EXPECT_ERROR(chaintube_rig_plug(rig, hoses, 1, 0, &index), CHAINTUBE_ERROR_OUT_OF_RANGE,
+                     "hose 2");
+        EXPECT_ERROR(chaintube_rig_plug(rig, hose, 0, 0, &index), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "takes plugs tagged \"camlock-19\"", "end 0", "left-feed", "has no plug");
+        EXPECT_ERROR(chaintube_rig_plug(rig, hose, 1, 0, &index), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "end 1", "left-feed", "already attached");
+        EXPECT_ERROR(chaintube_rig_plug(rig, hose, 2, 0, &index), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "end 2");
+        EXPECT_ERROR(chaintube_rig_unplug(rig, hose, 5, &index), CHAINTUBE_ERROR_INVALID_ARGUMENT,
+                     "chaintube_rig_unplug", "end 5");
+        EXPECT_ERROR(chaintube_rig_unplug(rig, hoses, 1, &index), CHAINTUBE_ERROR_OUT_OF_RANGE,
+                     "hose 2");
+        EXPECT_ERROR(chaintube_rig_release_snap(rig, -1, &index), CHAINTUBE_ERROR_OUT_OF_RANGE,
+                     "hose -1");
+        CHECK(socket_info.occupant_hose == 42 && index == 12345, "a refused call wrote an output");
+        CHECK(chaintube_rig_socket_info(rig, 0, &socket_info) == CHAINTUBE_OK &&
+                  socket_info.occupant_hose == -1 && strcmp(socket_info.tag, "camlock-19") == 0,
+              "valve-outlet: occupant %d, tag %s", (int)socket_info.occupant_hose, socket_info.tag);
+    }
 
     /* None of the above changed anything, even after an update. */
     expect_unchanged(__LINE__, rig, node, &before);

@@ -21,11 +21,17 @@
 //   surface <hose> <vertices> <sum of positions> <sum of normals> <sum of indices> <sum of uvs>
 //   vertex <hose> <vertex> <px> <py> <pz> <nx> <ny> <nz>   every 7th vertex
 //   attachments <hose> <count>                  chaintube_rig_attachment_count
+//   socket <socket> <node> <occupant hose> <end> <attachment> <3 position> <3 axis> <id…>
+//                                               chaintube_rig_socket_info (after each update)
+//   unplug <hose> <end> <socket left>           input: chaintube_rig_unplug, its *socket
+//   plug <hose> <end> <socket> <attachment>     input: chaintube_rig_plug, its *attachment
+//   release-snap <hose> <socket>                input: chaintube_rig_release_snap, its *socket
 //   pull <hose> <attachment> <node> <first> <last> <tautness> <strain> <3 direction> <3 force>
 //                                               chaintube_rig_attachment_pull, force at
 //                                               kPullStiffness (EA, N per unit strain)
 // where <result> is: status blocked movedPoints contacts lengthViolation angleViolation
 // grabError penetration (status 0 Ok, 1 Clamped, 2 Infeasible).
+#include <algorithm>
 #include <chaintube/export/runtime.h>
 #include <cmath>
 #include <cstdio>
@@ -82,8 +88,7 @@ void writeState(std::FILE* out, const rig::HoseRuntime& runtime)
         }
         for (int a = 0; a < runtime.attachmentCount(h); ++a) {
             const AttachmentPull& pull = runtime.attachmentPull(h, a);
-            const rig::RigAttachment& d =
-                runtime.description(h).attachments[static_cast<size_t>(a)];
+            const rig::LiveAttachment& d = runtime.attachment(h, a);
             const Vec3 force = pull.force(kPullStiffness);
             std::fprintf(
                 out, "pull %d %d %d %d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", h, a,
@@ -109,6 +114,18 @@ void writeState(std::FILE* out, const rig::HoseRuntime& runtime)
             std::fprintf(out, "vertex %d %zu %.9g %.9g %.9g %.9g %.9g %.9g\n", h, v,
                          positions[3 * v], positions[3 * v + 1], positions[3 * v + 2],
                          normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+    }
+}
+
+void writeSockets(std::FILE* out, const rig::HoseRuntime& runtime)
+{
+    for (int k = 0; k < runtime.socketCount(); ++k) {
+        const rig::HoseRuntime::SocketPose pose = runtime.socket(k);
+        const rig::SocketOccupant occupant = runtime.socketOccupant(k);
+        std::fprintf(out, "socket %d %d %d %d %d %.17g %.17g %.17g %.17g %.17g %.17g %s\n", k,
+                     pose.description->node, occupant.hose, occupant.end, occupant.attachment,
+                     pose.position.x(), pose.position.y(), pose.position.z(), pose.axis.x(),
+                     pose.axis.y(), pose.axis.z(), pose.description->id.c_str());
     }
 }
 
@@ -145,6 +162,63 @@ void update(std::FILE* out, rig::HoseRuntime& runtime)
     std::fprintf(out, "update\n");
     runtime.update();
     writeState(out, runtime);
+    writeSockets(out, runtime);
+}
+
+/// Sockets: the first hose with a plug tag on its last end is unplugged there, carried by its
+/// end point to 20 cm above the socket nearest its first point that takes it and down to 1 cm
+/// above it, released there (it snaps in) and eased in; then unplugged and plugged into the
+/// next socket with its tag. Nothing when the rig has no such hose and two such sockets.
+void socketFrames(std::FILE* out, rig::HoseRuntime& runtime)
+{
+    int hose = -1;
+    for (int h = 0; h < runtime.hoseCount() && hose < 0; ++h)
+        if (!runtime.description(h).plugEnd.empty() && !runtime.description(h).isStatic) hose = h;
+    if (hose < 0) return;
+    const std::string& tag = runtime.description(hose).plugEnd;
+    std::vector<int> sockets;
+    for (int k = 0; k < runtime.socketCount(); ++k)
+        if (runtime.socket(k).description->tag == tag) sockets.push_back(k);
+    if (sockets.size() < 2) return;
+    const int n = runtime.hose(hose).pointCount();
+    const Vec3 base = runtime.hose(hose).point(0);
+    std::sort(sockets.begin(), sockets.end(), [&](int a, int b) {
+        return (runtime.socket(a).position - base).norm() <
+               (runtime.socket(b).position - base).norm();
+    });
+    const int first = sockets[0], second = sockets[1];
+
+    const auto unplug = [&](int end) {
+        const rig::PlugResult result = runtime.unplug(hose, end);
+        if (!result) throw Error("the runtime refused the unplug");
+        std::fprintf(out, "unplug %d %d %d\n", hose, end, result.socket);
+    };
+    unplug(1);
+    update(out, runtime);
+    const rig::HoseRuntime::SocketPose port = runtime.socket(first);
+    Vec3 beyond = port.position - base;
+    beyond -= beyond.dot(port.axis) * port.axis;
+    beyond.normalize();
+    const Vec3 above = port.position + 0.2 * port.axis + 0.06 * beyond;
+    const Vec3 release = port.position + 0.01 * port.axis;
+    for (const auto& [to, frames] : {std::pair{above, 8}, std::pair{release, 6}}) {
+        const Vec3 from = runtime.hose(hose).point(n - 1);
+        for (int frame = 1; frame <= frames; ++frame) {
+            grab(out, runtime, hose, n - 1, from + (to - from) * (double(frame) / frames));
+            update(out, runtime);
+        }
+    }
+    const rig::PlugResult snapped = runtime.release(hose);
+    std::fprintf(out, "release-snap %d %d\n", hose, snapped.socket);
+    if (snapped.socket != first) throw Error("the released end did not snap into its socket");
+    for (int frame = 0; frame <= rig::HoseRuntime::kSnapFrames; ++frame)
+        update(out, runtime);
+    unplug(1);
+    const rig::PlugResult plugged = runtime.plug(hose, 1, second);
+    if (!plugged) throw Error("the runtime refused the plug");
+    std::fprintf(out, "plug %d %d %d %d\n", hose, 1, second, plugged.attachment);
+    for (int frame = 0; frame <= rig::HoseRuntime::kSnapFrames; ++frame)
+        update(out, runtime);
 }
 
 } // namespace
@@ -206,6 +280,7 @@ int main(int argc, char** argv)
         update(out, runtime);
         // Frame 4: no input (gravity hoses go on falling).
         update(out, runtime);
+        socketFrames(out, runtime);
         if (std::fclose(out) != 0) throw Error(std::string(argv[2]) + ": cannot be written");
         std::printf("capi_reference: %s: moved node %d (\"%s\"), grabbed hose %d point %d -> %s\n",
                     argv[1], part, partName.c_str(), grabbed, point, argv[2]);

@@ -364,6 +364,50 @@ static void replay(chaintube_rig* rig, const char* reference, const char* where)
                 expect_near(pull.force[k] / PULL_STIFFNESS, v[10 + k] / PULL_STIFFNESS, where,
                             line_number, "pull force / EA");
             }
+        } else if (strcmp(word, "socket") == 0) {
+            chaintube_socket_info info;
+            int32_t found = -1;
+            const char* id;
+            read_numbers(numbers, v, 11);
+            id = rest_after(line, 12);
+            if (!call_ok(chaintube_rig_socket_info(rig, (int32_t)v[0], &info), where, line_number,
+                         "socket_info"))
+                continue;
+            expect_int(info.node, (long)v[1], where, line_number, "socket node");
+            expect_int(info.occupant_hose, (long)v[2], where, line_number, "socket occupant hose");
+            expect_int(info.occupant_end, (long)v[3], where, line_number, "socket occupant end");
+            expect_int(info.occupant_attachment, (long)v[4], where, line_number,
+                       "socket occupant attachment");
+            for (int k = 0; k < 3; ++k) {
+                expect_near(info.position[k], v[5 + k], where, line_number, "socket position");
+                expect_near(info.axis[k], v[8 + k], where, line_number, "socket axis");
+            }
+            expect_int(strcmp(info.id, id), 0, where, line_number, "socket id (strcmp)");
+            if (call_ok(chaintube_rig_find_socket(rig, id, &found), where, line_number,
+                        "find_socket"))
+                expect_int(found, (long)v[0], where, line_number, "find_socket(id)");
+        } else if (strcmp(word, "unplug") == 0) {
+            int32_t left = -2;
+            read_numbers(numbers, v, 3);
+            state.hose = -1;
+            if (call_ok(chaintube_rig_unplug(rig, (int32_t)v[0], (int32_t)v[1], &left), where,
+                        line_number, "unplug"))
+                expect_int(left, (long)v[2], where, line_number, "the socket unplugged from");
+        } else if (strcmp(word, "plug") == 0) {
+            int32_t attachment = -2;
+            read_numbers(numbers, v, 4);
+            state.hose = -1;
+            if (call_ok(chaintube_rig_plug(rig, (int32_t)v[0], (int32_t)v[1], (int32_t)v[2],
+                                           &attachment),
+                        where, line_number, "plug"))
+                expect_int(attachment, (long)v[3], where, line_number, "the plug's attachment");
+        } else if (strcmp(word, "release-snap") == 0) {
+            int32_t socket = -2;
+            read_numbers(numbers, v, 2);
+            state.hose = -1;
+            if (call_ok(chaintube_rig_release_snap(rig, (int32_t)v[0], &socket), where, line_number,
+                        "release_snap"))
+                expect_int(socket, (long)v[1], where, line_number, "the socket snapped into");
         } else {
             fail_at(where, line_number, "unknown reference line");
         }

@@ -11,12 +11,20 @@
 //       to the part moved with it. With --clips N: the rig has N clips, each drawn as a ring
 //       around the hose (its centre on the held segment's line to 1e-5 m, its normal along the
 //       segment), before and after the part move; a ring on the moved part moved with it.
+//   node viewer_test.mjs sockets --repo DIR --wasm DIR --reference EXE --export test-rig.glb --out DIR
+//       the test rig's sockets: a press near left-feed's valve end selects it, U unplugs it; the
+//       end dragged with the mouse onto plate-port (its ring) is guided in and, let go, snaps in
+//       (the runtime's capture: the socket drawn blue, the end on it); U unplugs it again and a
+//       drag onto valve-outlet plugs it there (snapped in, or plugged by the viewer when the
+//       guided end's segment is beyond the capture angle: the run says which); the recorded
+//       inputs (grabs, releases, plugs, unplugs, updates) replayed natively put every bone where
+//       the native runtime puts its joint (1e-5 m).
 //   node viewer_test.mjs bad-file --repo DIR --wasm DIR --out DIR
 //       opens a file that is not a GLB, a glTF without a hose rig and a missing file: the page
 //       shows a message naming the file and the reason (not a blank canvas).
 //
 // Screenshots go to --out (<export>-before-drag.png, <export>-drag.png, <export>-part-moved.png,
-// bad-file.png). Exit 0: passed; 1: failed; 77: skipped (no chromium, no WebAssembly build, no
+// bad-file.png; sockets: sockets-guided.png, sockets-plate.png, sockets-outlet.png). Exit 0: passed; 1: failed; 77: skipped (no chromium, no WebAssembly build, no
 // export, no node_modules).
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdirSync, writeFileSync } from 'node:fs';
@@ -27,8 +35,8 @@ const TOLERANCE = 1e-5; // metres
 
 const options = parseArguments(process.argv.slice(2));
 const mode = options._[0];
-if (!['rig', 'bad-file'].includes(mode) || !options.repo || !options.wasm || !options.out) {
-  console.error('usage: node viewer_test.mjs rig|bad-file --repo DIR --wasm DIR --out DIR ' +
+if (!['rig', 'sockets', 'bad-file'].includes(mode) || !options.repo || !options.wasm || !options.out) {
+  console.error('usage: node viewer_test.mjs rig|sockets|bad-file --repo DIR --wasm DIR --out DIR ' +
     '[--reference EXE --export FILE.glb]');
   process.exit(2);
 }
@@ -36,7 +44,7 @@ const repo = resolve(options.repo);
 requireBrowserAndWasm(resolve(options.wasm));
 if (!existsSync(join(repo, 'exporters/viewer/node_modules/three')))
   skip('exporters/viewer/node_modules is absent: run npm ci in exporters/viewer (./build.sh does)');
-if (mode === 'rig' && !existsSync(options.export))
+if (mode !== 'bad-file' && !existsSync(options.export))
   skip(`${options.export} is absent (the engine samples need ../shared/scenes)`);
 mkdirSync(options.out, { recursive: true });
 
@@ -65,7 +73,34 @@ function ringsOnHoses(rings, snapshot) {
   }
   return { offLine, offAxis };
 }
-const dataDir = mode === 'rig' ? dirname(resolve(options.export)) : resolve(options.out);
+// The same inputs natively: every bone where the native runtime puts its joint.
+function compareWithNative(after, stem) {
+  const inputsFile = join(options.out, `${stem}-inputs.json`);
+  writeFileSync(inputsFile, JSON.stringify(after.inputs));
+  const expected = JSON.parse(execFileSync(options.reference, ['replay', options.export, inputsFile],
+    { encoding: 'utf8', maxBuffer: 64 << 20 }));
+  let largest = 0, joints = 0, mismatch = null;
+  check(expected.hoses.length === after.hoses.length, 'the native runtime has the same hoses');
+  expected.hoses.forEach((native, h) => {
+    const browserHose = after.hoses[h];
+    if (browserHose?.id !== native.id || browserHose.joints.length !== native.joints.length) {
+      mismatch ??= `hose ${h}: ${browserHose?.id} with ${browserHose?.joints.length} joints in the browser, ` +
+        `${native.id} with ${native.joints.length} natively`;
+      return;
+    }
+    native.joints.forEach((position, j) => {
+      ++joints;
+      const difference = Math.max(...position.map((x, k) => Math.abs(x - browserHose.joints[j][k])));
+      if (!(difference <= largest)) largest = difference;
+      if (!(difference <= TOLERANCE)) mismatch ??= `${native.id} joint ${j}: browser ` +
+        `${browserHose.joints[j].join(', ')}, native ${position.join(', ')}`;
+    });
+  });
+  check(mismatch === null && joints > 0, `${joints} bones where the native runtime puts their joints after the ` +
+    `same ${after.inputs.length} inputs (largest difference ${largest.toExponential(2)} m, tolerance ${TOLERANCE} m)` +
+    (mismatch ? `: ${mismatch}` : ''));
+}
+const dataDir = mode !== 'bad-file' ? dirname(resolve(options.export)) : resolve(options.out);
 const server = await serve({ '/': repo, '/wasm/': resolve(options.wasm), '/data/': dataDir });
 const browser = await launchChromium();
 try {
@@ -104,7 +139,7 @@ try {
     }
     // chromium logs the 404 of missing.glb as a console error: expected here
     page.problems = page.problems.filter((problem) => !/Failed to load resource.*404/.test(problem));
-  } else {
+  } else if (mode === 'rig') {
     const name = basename(options.export);
     const stem = name.replace(/\.glb$/, '');
     await page.goto(viewerUrl(name));
@@ -229,31 +264,85 @@ try {
       console.log(`the rings after the move: ${JSON.stringify(ringsAfter.map((r) => ({ hose: r.hose, clip: r.clip, segment: r.segment, gap: r.gap })))}`);
     }
 
-    // The same inputs natively: every bone where the native runtime puts its joint.
-    const inputsFile = join(options.out, `${stem}-inputs.json`);
-    writeFileSync(inputsFile, JSON.stringify(after.inputs));
-    const expected = JSON.parse(execFileSync(options.reference, ['replay', options.export, inputsFile],
-      { encoding: 'utf8', maxBuffer: 64 << 20 }));
-    let largest = 0, joints = 0, mismatch = null;
-    check(expected.hoses.length === after.hoses.length, 'the native runtime has the same hoses');
-    expected.hoses.forEach((native, h) => {
-      const browserHose = after.hoses[h];
-      if (browserHose?.id !== native.id || browserHose.joints.length !== native.joints.length) {
-        mismatch ??= `hose ${h}: ${browserHose?.id} with ${browserHose?.joints.length} joints in the browser, ` +
-          `${native.id} with ${native.joints.length} natively`;
-        return;
+    compareWithNative(after, stem);
+  } else if (mode === 'sockets') {
+    await page.goto(viewerUrl(basename(options.export)));
+    await page.waitForFunction(() => ['loaded', 'error'].includes(window.chaintubeViewer.state),
+      { timeout: 120000 });
+    const state = await viewer(() => [window.chaintubeViewer.state, window.chaintubeViewer.message]);
+    if (state[0] !== 'loaded') throw new Error(`the viewer did not load the export: ${state[1]}`);
+    await settle();
+    const hoseId = 'left-feed';
+    const sockets = await viewer(() => window.chaintubeViewer.sockets());
+    check(sockets.length === 2 && sockets.every((socket) => socket.occupant === null),
+      `the rig's ${sockets.length} sockets are drawn, free (${sockets.map((socket) => socket.id).join(', ')})`);
+    const count = (await viewer(() => window.chaintubeViewer.snapshot())).hoses.find((h) => h.id === hoseId).joints.length;
+    const last = count - 1;
+
+    // A press on the hose near its valve end selects that end; U unplugs it.
+    const near = await viewer((id, point) => window.chaintubeViewer.screenOfPoint(id, point), hoseId, last - 2);
+    await page.mouse.click(near.x, near.y);
+    await settle(2);
+    const selected = await viewer(() => window.chaintubeViewer.selectedEnd);
+    check(selected?.hose === hoseId && selected?.end === 1, `a press near ${hoseId}'s valve end selects it (${JSON.stringify(selected)})`);
+    await page.keyboard.press('u');
+    await settle(2);
+    const freeEnd = (await viewer((id) => window.chaintubeViewer.grabbablePoints(id), hoseId)).includes(last);
+    check(freeEnd, `U unplugged it: point ${last} is free to grab`);
+
+    // Drag the end onto a socket's ring and let go there: it snaps in.
+    const plugInto = async (socketId, shot) => {
+      // A press on the hose a few points from its free end takes the end point (the end point
+      // itself may be inside a part).
+      const from = await viewer((id, last) => {
+        const v = window.chaintubeViewer;
+        for (let point = last; point >= last - 3; --point) {
+          const at = v.screenOfPoint(id, point);
+          const picked = v.pickAt(at.x, at.y);
+          if (picked?.hose === id) return { ...at, picked };
+        }
+        return null;
+      }, hoseId, last);
+      check(from?.picked.point === last, `a press near the free end picks point ${last} (${JSON.stringify(from?.picked)})`);
+      if (!from) return;
+      const to = await viewer((id) => window.chaintubeViewer.screenOfSocket(id), socketId);
+      await page.mouse.move(from.x, from.y);
+      await page.mouse.down();
+      for (let k = 1; k <= 10; ++k) {
+        await page.mouse.move(from.x + (to.x - from.x) * k / 10, from.y + (to.y - from.y) * k / 10);
+        await settle(1);
       }
-      native.joints.forEach((position, j) => {
-        ++joints;
-        const difference = Math.max(...position.map((x, k) => Math.abs(x - browserHose.joints[j][k])));
-        if (!(difference <= largest)) largest = difference;
-        if (!(difference <= TOLERANCE)) mismatch ??= `${native.id} joint ${j}: browser ` +
-          `${browserHose.joints[j].join(', ')}, native ${position.join(', ')}`;
-      });
-    });
-    check(mismatch === null && joints > 0, `${joints} bones where the native runtime puts their joints after the ` +
-      `same ${after.inputs.length} inputs (largest difference ${largest.toExponential(2)} m, tolerance ${TOLERANCE} m)` +
-      (mismatch ? `: ${mismatch}` : ''));
+      await settle(40); // the guide brings it over the socket and down its axis
+      check(await viewer(() => window.chaintubeViewer.guidedInto) === socketId, `the dragged end is guided into ${socketId}`);
+      await page.screenshot({ path: join(options.out, shot.replace('.png', '-guided.png')) });
+      const opsBefore = (await viewer(() => window.chaintubeViewer.snapshot())).inputs.length;
+      await page.mouse.up();
+      await settle(8); // it eases in
+      await page.screenshot({ path: join(options.out, shot) });
+      const drawn = await viewer(() => window.chaintubeViewer.sockets());
+      const socket = drawn.find((s) => s.id === socketId);
+      const joints = (await viewer(() => window.chaintubeViewer.snapshot())).hoses.find((h) => h.id === hoseId).joints;
+      const gap = Math.hypot(...joints[last].map((x, k) => x - socket.position[k]));
+      check(socket.occupant?.hose === hoseId && socket.occupant?.end === 1 && socket.colour === 0x3c8cf0,
+        `let go over ${socketId}, the end plugs in: the socket holds ${JSON.stringify(socket.occupant)}, drawn blue`);
+      check(gap <= TOLERANCE, `the end sits on ${socketId} (${gap.toExponential(2)} m off)`);
+      const ops = (await viewer(() => window.chaintubeViewer.snapshot())).inputs.slice(opsBefore).map((i) => i.op);
+      return ops.includes('plug') ? 'plugged by the viewer (its segment beyond the capture angle)' : 'snapped in on release';
+    };
+    const intoPlate = await plugInto('plate-port', 'sockets-plate.png');
+    check(intoPlate === 'snapped in on release', `plate-port: ${intoPlate}`);
+    await page.keyboard.press('u');
+    await settle(2);
+    const unplugged = await viewer(() => window.chaintubeViewer.sockets());
+    check(unplugged.every((socket) => socket.occupant === null), 'U unplugged it from plate-port: every socket is free');
+    const intoOutlet = await plugInto('valve-outlet', 'sockets-outlet.png');
+    console.log(`valve-outlet: ${intoOutlet}`);
+    const after = await viewer(() => window.chaintubeViewer.snapshot());
+    const ops = after.inputs.map((i) => i.op);
+    check(ops.filter((op) => op === 'unplug').length === 2 && ops.filter((op) => op === 'release').length >= 2,
+      `the inputs recorded: ${ops.filter((op) => op === 'unplug').length} unplugs, ` +
+      `${ops.filter((op) => op === 'release').length} releases, ${ops.filter((op) => op === 'plug').length} plugs`);
+    compareWithNative(after, 'sockets');
   }
   check(page.problems.length === 0, `no errors in the page${page.problems.length ? ': ' + page.problems.join('; ') : ''}`);
 } catch (error) {

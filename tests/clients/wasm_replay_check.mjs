@@ -86,7 +86,8 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
     if (!text.trim()) return;
     const words = text.split(' ');
     const v = words.slice(1).map(Number);
-    const hose = words[0] === 'grab-result' ? grabbedHose : ['rig', 'node-name'].includes(words[0]) ? -1 : v[0];
+    const hose = words[0] === 'grab-result' ? grabbedHose
+      : ['rig', 'node-name', 'socket'].includes(words[0]) ? -1 : v[0];
     gravityHose = hose >= 0 && hose < rig.hoseCount() && rig.hoseInfo(hose).hasGravity;
     try {
       switch (words[0]) {
@@ -193,6 +194,32 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
           }
           break;
         }
+        case 'socket': {
+          const socket = rig.socketInfo(v[0]);
+          same(socket.node, v[1], line, 'socket node');
+          same(socket.occupantHose, v[2], line, 'socket occupant hose');
+          same(socket.occupantEnd, v[3], line, 'socket occupant end');
+          same(socket.occupantAttachment, v[4], line, 'socket occupant attachment');
+          for (let k = 0; k < 3; ++k) {
+            near(socket.position[k], v[5 + k], line, 'socket position');
+            near(socket.axis[k], v[8 + k], line, 'socket axis');
+          }
+          same(socket.id, words.slice(12).join(' '), line, 'socket id');
+          same(rig.findSocket(socket.id), v[0], line, 'findSocket(id)');
+          break;
+        }
+        case 'unplug':
+          fetched = null;
+          same(rig.unplug(v[0], v[1]), v[2], line, 'the socket unplugged from');
+          break;
+        case 'plug':
+          fetched = null;
+          same(rig.plug(v[0], v[1], v[2]), v[3], line, "the plug's attachment");
+          break;
+        case 'release-snap':
+          fetched = null;
+          same(rig.release(v[0]), v[1], line, 'the socket snapped into');
+          break;
         default:
           fail(line, `unknown reference line "${words[0]}"`);
       }

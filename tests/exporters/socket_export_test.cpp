@@ -123,7 +123,7 @@ TEST(SocketExport, TheTestRigSampleCarriesItsSocketsAndPlug)
     EXPECT_LE((outlet.position - Vec3(-0.04 * half, 0.04, 0.15 + 0.04 * half)).norm(), 1e-6);
     EXPECT_LE((outlet.axis - Vec3(-half, 0.0, half)).norm(), 1e-6);
     const rig::HoseRuntime::SocketPose port = runtime.socket(runtime.findSocket("plate-port"));
-    EXPECT_LE((port.position - Vec3(0.2, 0.01, -0.15)).norm(), 1e-6);
+    EXPECT_LE((port.position - Vec3(-0.1, 0.01, -0.15)).norm(), 1e-6);
     EXPECT_EQ(
         runtime.descriptor().hoses[static_cast<size_t>(runtime.findHose("left-feed"))].plugEnd,
         "camlock-19");

@@ -92,6 +92,15 @@ int replay(const char* exportFile, const char* inputsFile)
         } else if (op == "release") {
             check(chaintube_rig_release(rig, input.at("hose").get<int32_t>()),
                   "chaintube_rig_release");
+        } else if (op == "plug") {
+            check(chaintube_rig_plug(rig, input.at("hose").get<int32_t>(),
+                                     input.at("end").get<int32_t>(),
+                                     input.at("socket").get<int32_t>(), nullptr),
+                  "chaintube_rig_plug");
+        } else if (op == "unplug") {
+            check(chaintube_rig_unplug(rig, input.at("hose").get<int32_t>(),
+                                       input.at("end").get<int32_t>(), nullptr),
+                  "chaintube_rig_unplug");
         } else if (op == "update") {
             check(chaintube_rig_update(rig, nullptr), "chaintube_rig_update");
         } else {

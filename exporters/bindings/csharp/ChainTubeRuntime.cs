@@ -104,6 +104,23 @@ namespace ChainTube
         public int attached;                              // 1 while attached, 0 once detached
     }
 
+    /// <summary>A socket of the rig (chaintube_socket_info): a coupling on a part that a hose
+    /// end plugs into, holding one end at a time. Since ABI 1.3.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct SocketInfo
+    {
+        public IntPtr id;                            // UTF-8, owned by the rig: Native.String(id)
+        public IntPtr tag;                           // the plug tag of the ends it takes
+        public double positionX, positionY, positionZ; // world metres, where its node puts it now
+        public double axisX, axisY, axisZ;           // world, unit, out of the part
+        public double captureRadius;                 // metres
+        public double captureAngle;                  // radians
+        public int node;                             // glTF node carrying it, -1: the world
+        public int occupantHose;                     // the hose whose end it holds, -1: free
+        public int occupantEnd;                      // 0 or 1; -1 when free
+        public int occupantAttachment;               // the hose's attachment holding it; -1
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct Bytes
     {
@@ -117,7 +134,7 @@ namespace ChainTube
         const string Library = "chaintube_runtime_c";
 
         /// <summary>CHAINTUBE_RUNTIME_ABI_VERSION of the header this binding was written for.</summary>
-        public const uint AbiVersion = (1u << 16) | 2u;
+        public const uint AbiVersion = (1u << 16) | 3u;
 
         [DllImport(Library)] public static extern uint chaintube_runtime_abi_version();
         [DllImport(Library)] public static extern IntPtr chaintube_status_name(Status status);
@@ -168,6 +185,18 @@ namespace ChainTube
         [DllImport(Library)]
         public static extern Status chaintube_rig_attach_end(IntPtr rig, int hose, int end, int node, double[] pose,
             out int attachment, out HoseResult result);
+        // Sockets (ABI 1.3)
+        [DllImport(Library)] public static extern Status chaintube_rig_socket_count(IntPtr rig, out int count);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_find_socket(IntPtr rig, byte[] utf8Id, out int socket);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_socket_info(IntPtr rig, int socket, out SocketInfo info);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_release_snap(IntPtr rig, int hose, out int socket);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_plug(IntPtr rig, int hose, int end, int socket, out int attachment);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_unplug(IntPtr rig, int hose, int end, out int socket);
         [DllImport(Library)] public static extern Status chaintube_rig_update(IntPtr rig, out int recomputed);
         [DllImport(Library)]
         public static extern Status chaintube_rig_hose_result(IntPtr rig, int hose, out HoseResult result);
@@ -295,7 +324,9 @@ namespace ChainTube
             return result;
         }
 
-        public void Release(int hose) { Check(Native.chaintube_rig_release(Handle, hose)); }
+        /// <summary>Lets go of the held point. A held end released in a free socket's capture
+        /// whose tag fits snaps in: returns that socket, -1 when none caught it.</summary>
+        public int Release(int hose) { int s; Check(Native.chaintube_rig_release_snap(Handle, hose, out s)); return s; }
 
         /// <summary>Cuts a hose in two at axis point `point` (1 ... pointCount - 2): the hose keeps
         /// points 0 ... point, the returned new hose the rest. The skin keeps its joints: the new
@@ -320,6 +351,27 @@ namespace ChainTube
             Check(Native.chaintube_rig_attach_end(Handle, hose, end, node, pose, out attachment, out result));
             return attachment;
         }
+
+        // Sockets (ABI 1.3): a plugged end is an attachment on the socket's node (AttachmentCount,
+        // Pull list it); a socket holds one end at a time.
+        public int SocketCount { get { int n; Check(Native.chaintube_rig_socket_count(Handle, out n)); return n; } }
+        public int FindSocket(string id) { int s; Check(Native.chaintube_rig_find_socket(Handle, Native.Utf8(id), out s)); return s; }
+        /// <summary>Socket `socket` now: world position and axis, capture, the end it holds.</summary>
+        public SocketInfo Socket(int socket) { SocketInfo info; Check(Native.chaintube_rig_socket_info(Handle, socket, out info)); return info; }
+
+        /// <summary>Plugs end `end` (0: first point's, 1: last point's) into socket `socket`; the end
+        /// eases in over the next Updates. Returns the new attachment's index. Throws for a tag
+        /// that does not fit, an occupied socket, an end that is not free.</summary>
+        public int Plug(int hose, int end, int socket)
+        {
+            int attachment;
+            Check(Native.chaintube_rig_plug(Handle, hose, end, socket, out attachment));
+            return attachment;
+        }
+
+        /// <summary>Unplugs end `end`: returns the socket it left (-1: an export attachment).</summary>
+        public int Unplug(int hose, int end) { int s; Check(Native.chaintube_rig_unplug(Handle, hose, end, out s)); return s; }
+
         public int Update() { int n; Check(Native.chaintube_rig_update(Handle, out n)); return n; }
         public HoseResult Result(int hose) { HoseResult r; Check(Native.chaintube_rig_hose_result(Handle, hose, out r)); return r; }
 

@@ -1350,7 +1350,12 @@ PYBIND11_MODULE(chaintube, m)
             },
             py::arg("hose"), py::arg("point"), py::arg("target"),
             "A hand pulls free point `point` of hose `hose` to `target` (world metres).")
-        .def("release", &rig::HoseRuntime::release, py::arg("hose"))
+        .def(
+            "release",
+            [](rig::HoseRuntime& r, int hose) { return static_cast<bool>(r.release(hose)); },
+            py::arg("hose"),
+            "Lets go of the held point (a free end in a socket's capture snaps in). False for a "
+            "bad hose.")
         .def("update", &rig::HoseRuntime::update,
              "Once per frame: gravity steps, surfaces and joint poses brought up to date. Returns "
              "the number\nof hoses recomputed.")

@@ -15,7 +15,7 @@
 import createChainTubeRuntime from './chaintube_runtime.mjs';
 
 /** CHAINTUBE_RUNTIME_ABI_VERSION of the header this API was written against (major << 16 | minor). */
-export const ABI_VERSION = (1 << 16) | 2;
+export const ABI_VERSION = (1 << 16) | 3;
 
 /** chaintube_status: what a call returned. */
 export const Status = Object.freeze({
@@ -172,6 +172,14 @@ const CLIP_INFO_FIELDS = [
   ['centre', 'centre', 'f64x3'], ['axis', 'axis', 'f64x3'], ['slide', 'slide', 'f64'],
   ['slideMin', 'slide_min', 'f64'], ['slideMax', 'slide_max', 'f64'], ['gap', 'gap', 'f64'],
   ['node', 'node', 'i32'], ['segment', 'segment', 'i32'], ['turning', 'turning', 'bool'],
+];
+
+const SOCKET_INFO_FIELDS = [
+  ['id', 'id', 'string'], ['tag', 'tag', 'string'], ['position', 'position', 'f64x3'],
+  ['axis', 'axis', 'f64x3'], ['captureRadius', 'capture_radius', 'f64'],
+  ['captureAngle', 'capture_angle', 'f64'], ['node', 'node', 'i32'],
+  ['occupantHose', 'occupant_hose', 'i32'], ['occupantEnd', 'occupant_end', 'i32'],
+  ['occupantAttachment', 'occupant_attachment', 'i32'],
 ];
 
 const ATTACHMENT_PULL_FIELDS = [
@@ -464,11 +472,52 @@ export class Rig {
     return n.outputInt32();
   }
 
-  /** Lets go of the hose's held point. */
+  /** Lets go of the hose's held point. A held end released in a free socket's capture whose tag
+   * fits snaps in (chaintube_rig_release_snap): returns that socket's index, -1 when none caught
+   * it. */
   release(hose) {
     const n = this.#native;
-    n.check(n.m._chaintube_rig_release(this.#rig(), n.int32('hose', hose)));
+    n.check(n.m._chaintube_rig_release_snap(this.#rig(), n.int32('hose', hose), n.output));
     this.#inputs?.push({ op: 'release', hose });
+    return n.outputInt32();
+  }
+
+  // --- sockets (ABI 1.3) ---
+
+  /** Number of sockets (chaintube_rig_socket_count). */
+  socketCount() { return this.#count('_chaintube_rig_socket_count'); }
+  /** Index of the socket with descriptor id `id` (throws ERROR_NOT_FOUND when there is none). */
+  findSocket(id) { return this.#find('_chaintube_rig_find_socket', id); }
+
+  /** Socket `socket` now (chaintube_rig_socket_info): { id, tag, position [x, y, z] (world
+   * metres), axis [x, y, z] (world, unit, out of the part), captureRadius (metres), captureAngle
+   * (radians), node (-1: the world), occupantHose (-1: free), occupantEnd, occupantAttachment }. */
+  socketInfo(socket) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_socket_info(this.#rig(), n.int32('socket', socket), n.output));
+    return n.readStruct('socket_info', n.output, SOCKET_INFO_FIELDS);
+  }
+
+  /** Plugs end `end` of a hose (0: the first point's, 1: the last point's) into socket `socket`
+   * (chaintube_rig_plug): it eases in over the next updates, then follows the socket's part.
+   * Returns the new attachment's index. Throws for a tag that does not fit, an occupied socket,
+   * an end that is not free. */
+  plug(hose, end, socket) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_plug(this.#rig(), n.int32('hose', hose), n.int32('end', end),
+      n.int32('socket', socket), n.output));
+    this.#inputs?.push({ op: 'plug', hose, end, socket });
+    return n.outputInt32();
+  }
+
+  /** Unplugs end `end` of a hose (chaintube_rig_unplug): returns the socket it left (-1: an
+   * attachment of the export). With gravity the end falls from the next update(). */
+  unplug(hose, end) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_unplug(this.#rig(), n.int32('hose', hose), n.int32('end', end),
+      n.output));
+    this.#inputs?.push({ op: 'unplug', hose, end });
+    return n.outputInt32();
   }
 
   /** Ends a frame: gravity steps, then the changed hoses' joint poses and surfaces. Returns how
@@ -548,8 +597,9 @@ export class Rig {
 
   /**
    * Starts (true) or stops (false) recording this rig's inputs: every accepted setNodeTransform,
-   * grab, release and update, in order, as { op: 'move', node, trs }, { op: 'grab', hose, point,
-   * target }, { op: 'release', hose }, { op: 'update' }. Starting clears the record. Replaying
+   * grab, release, plug, unplug and update, in order, as { op: 'move', node, trs }, { op: 'grab',
+   * hose, point, target }, { op: 'release', hose }, { op: 'plug', hose, end, socket },
+   * { op: 'unplug', hose, end }, { op: 'update' }. Starting clears the record. Replaying
    * it through the C ABI gives the same hoses (a bug report, or a check against a native build).
    */
   recordInputs(on) { this.#inputs = on ? [] : null; }

@@ -64,18 +64,30 @@ std::string makeLayout()
         CHAINTUBE_FIELD(chaintube_attachment_pull, first_point) +
         CHAINTUBE_FIELD(chaintube_attachment_pull, last_point) +
         CHAINTUBE_FIELD(chaintube_attachment_pull, attached) + "}";
+    const std::string socketInfo =
+        "\"socket_info\":{\"sizeof\":" + std::to_string(sizeof(chaintube_socket_info)) +
+        CHAINTUBE_FIELD(chaintube_socket_info, id) + CHAINTUBE_FIELD(chaintube_socket_info, tag) +
+        CHAINTUBE_FIELD(chaintube_socket_info, position) +
+        CHAINTUBE_FIELD(chaintube_socket_info, axis) +
+        CHAINTUBE_FIELD(chaintube_socket_info, capture_radius) +
+        CHAINTUBE_FIELD(chaintube_socket_info, capture_angle) +
+        CHAINTUBE_FIELD(chaintube_socket_info, node) +
+        CHAINTUBE_FIELD(chaintube_socket_info, occupant_hose) +
+        CHAINTUBE_FIELD(chaintube_socket_info, occupant_end) +
+        CHAINTUBE_FIELD(chaintube_socket_info, occupant_attachment) + "}";
     const std::string bytes = "\"bytes\":{\"sizeof\":" + std::to_string(sizeof(chaintube_bytes)) +
                               CHAINTUBE_FIELD(chaintube_bytes, data) +
                               CHAINTUBE_FIELD(chaintube_bytes, size) + "}";
 #undef CHAINTUBE_FIELD
     return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + clipInfo + "," +
-           attachmentPull + "," + bytes + "}";
+           attachmentPull + "," + socketInfo + "," + bytes + "}";
 }
 
 } // namespace
 
 /// The layout as JSON text, e.g. {"hose_info":{"sizeof":64,"id":0,…},"node_info":{…},
-/// "hose_result":{…},"clip_info":{…},"attachment_pull":{…},"bytes":{…}}: a static string.
+/// "hose_result":{…},"clip_info":{…},"attachment_pull":{…},"socket_info":{…},"bytes":{…}}: a
+/// static string.
 extern "C" const char* chaintube_wasm_struct_layout(void)
 {
     static const std::string layout = makeLayout();

@@ -46,7 +46,7 @@
  * functions. A library of another major version, or of an older minor version than the
  * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add. */
 #define CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR 1
-#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 2
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 3
 #define CHAINTUBE_RUNTIME_ABI_VERSION                                                              \
     ((uint32_t)((CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | CHAINTUBE_RUNTIME_ABI_VERSION_MINOR))
 
@@ -164,6 +164,23 @@ typedef struct chaintube_attachment_pull
     int32_t last_point;
     int32_t attached; /* 1 while attached; 0 once chaintube_rig_detach_end let go of it */
 } chaintube_attachment_pull;
+
+/* A socket of the rig (chaintube_rig_socket_info): a coupling on a part that a hose end plugs
+ * into; it holds one end at a time. Since ABI 1.3. */
+typedef struct chaintube_socket_info
+{
+    const char* id;        /* the descriptor's id, unique in the rig (chaintube_rig_find_socket) */
+    const char* tag;       /* the plug tag of the hose ends it takes */
+    double position[3];    /* world metres: where its node puts it now */
+    double axis[3];        /* world, unit: the direction out of the part (a plugged end
+                              segment points along -axis, into the part) */
+    double capture_radius; /* metres: a released end point this near may snap in */
+    double capture_angle;  /* radians: ... with its end segment this near -axis */
+    int32_t node;          /* glTF node carrying it, -1: fixed in the world */
+    int32_t occupant_hose; /* the hose whose end it holds, -1: free */
+    int32_t occupant_end;  /* that end: 0 (the first point's) or 1 (the last point's); -1 */
+    int32_t occupant_attachment; /* the hose's attachment holding it; -1 */
+} chaintube_socket_info;
 
 /* The library's ABI version (CHAINTUBE_RUNTIME_ABI_VERSION of its build). */
 CHAINTUBE_API uint32_t chaintube_runtime_abi_version(void);
@@ -336,8 +353,50 @@ CHAINTUBE_API chaintube_status chaintube_rig_attach_end(chaintube_rig* rig, int3
 CHAINTUBE_API chaintube_status chaintube_rig_cut(chaintube_rig* rig, int32_t hose, int32_t point,
                                                  int32_t* new_hose);
 
-/* Lets go of the hose's held point; with gravity it falls again from the next update. */
+/* Lets go of the hose's held point; with gravity it falls again from the next update. A held
+ * point on a free end segment within a free socket's capture whose tag is the end's plug tag
+ * snaps in there (chaintube_rig_release_snap, which also says where). */
 CHAINTUBE_API chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose);
+
+/* Sockets (since ABI 1.3). A hose end in a socket is an attachment on the socket's node
+ * (chaintube_rig_attachment_count and _pull list it); a socket holds one end at a time; ends
+ * attached at export occupy no socket. */
+
+/* Number of sockets (descriptor order), and the index of the socket with id `id`
+ * (CHAINTUBE_ERROR_NOT_FOUND when there is none; the index is not written). */
+CHAINTUBE_API chaintube_status chaintube_rig_socket_count(const chaintube_rig* rig, int32_t* count);
+CHAINTUBE_API chaintube_status chaintube_rig_find_socket(const chaintube_rig* rig, const char* id,
+                                                         int32_t* socket);
+
+/* Socket `socket` in [0, count) now: where its node puts it and which end it holds. */
+CHAINTUBE_API chaintube_status chaintube_rig_socket_info(const chaintube_rig* rig, int32_t socket,
+                                                         chaintube_socket_info* info);
+
+/* chaintube_rig_release, and *socket (may be NULL) receives the socket the end snapped into,
+ * -1 when none caught it (or no point was held). A socket catches the end when its end point is
+ * within capture_radius, its end segment (out of the hose) within capture_angle of -axis, the
+ * socket is free and its tag is the end's plug tag; the nearest such socket wins. The end then
+ * eases in as after chaintube_rig_plug. */
+CHAINTUBE_API chaintube_status chaintube_rig_release_snap(chaintube_rig* rig, int32_t hose,
+                                                          int32_t* socket);
+
+/* Plugs end `end` of a hose (0: points 0 and 1; 1: the last two) into socket `socket`: the end
+ * is fixed where it is to the socket's node and eases onto the socket over the next 5
+ * chaintube_rig_update calls (end point onto position, end segment along -axis), each frame
+ * every segment in its band; then it follows the socket's node. No capture needed. A held
+ * point on the end segment is let go. *attachment (may be NULL): the new attachment's index.
+ * Refused (nothing changed): a socket out of range (OUT_OF_RANGE); end not 0 or 1, a static
+ * hose, a socket whose tag is not the end's plug tag, a socket that holds an end, an end that
+ * an attachment or a clip holds now (INVALID_ARGUMENT). */
+CHAINTUBE_API chaintube_status chaintube_rig_plug(chaintube_rig* rig, int32_t hose, int32_t end,
+                                                  int32_t socket, int32_t* attachment);
+
+/* Unplugs end `end` of a hose: chaintube_rig_detach_end of the attachment that fixes it (in a
+ * socket, which is then free, or one of the export's). *socket (may be NULL): the socket it
+ * left, -1 for none. Refused (nothing changed, INVALID_ARGUMENT): end not 0 or 1, a static
+ * hose, an end no attachment fixes. */
+CHAINTUBE_API chaintube_status chaintube_rig_unplug(chaintube_rig* rig, int32_t hose, int32_t end,
+                                                    int32_t* socket);
 
 /* Ends a frame: steps every hose with gravity (bounded work; a settled hose costs one
  * comparison), then brings the changed hoses' joint poses and surfaces up to date.

@@ -799,7 +799,121 @@ chaintube_status chaintube_rig_release(chaintube_rig* rig, int32_t hose)
     constexpr const char* function = "chaintube_rig_release";
     return guarded(function, [&]() -> chaintube_status {
         if (const chaintube_status status = checkHose(function, rig, hose)) return status;
-        rig->runtime.release(hose);
+        (void)rig->runtime.release(hose);
+        return CHAINTUBE_OK;
+    });
+}
+
+// ---- Sockets (ABI 1.3) ----
+
+chaintube_status chaintube_rig_socket_count(const chaintube_rig* rig, int32_t* count)
+{
+    constexpr const char* function = "chaintube_rig_socket_count";
+    return guarded(function, [&]() -> chaintube_status {
+        if (!rig) return nullArgument(function, "rig");
+        if (!count) return nullArgument(function, "count");
+        *count = rig->runtime.socketCount();
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_find_socket(const chaintube_rig* rig, const char* id,
+                                           int32_t* socket)
+{
+    constexpr const char* function = "chaintube_rig_find_socket";
+    return guarded(function, [&]() -> chaintube_status {
+        if (!rig) return nullArgument(function, "rig");
+        if (!id) return nullArgument(function, "id");
+        if (!socket) return nullArgument(function, "socket");
+        const int found = rig->runtime.findSocket(id);
+        if (found < 0)
+            return fail(CHAINTUBE_ERROR_NOT_FOUND, function,
+                        "no socket has the id \"" + std::string(id) + "\" (" +
+                            std::to_string(rig->runtime.socketCount()) + " sockets)");
+        *socket = found;
+        return CHAINTUBE_OK;
+    });
+}
+
+namespace {
+chaintube_status checkSocket(const char* function, const chaintube_rig* rig, int32_t socket)
+{
+    if (!rig) return nullArgument(function, "rig");
+    if (socket < 0 || socket >= rig->runtime.socketCount())
+        return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                    "socket " + std::to_string(socket) + " is out of range: expected 0 to " +
+                        std::to_string(rig->runtime.socketCount() - 1) + " (" +
+                        std::to_string(rig->runtime.socketCount()) + " sockets)");
+    return CHAINTUBE_OK;
+}
+} // namespace
+
+chaintube_status chaintube_rig_socket_info(const chaintube_rig* rig, int32_t socket,
+                                           chaintube_socket_info* info)
+{
+    constexpr const char* function = "chaintube_rig_socket_info";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkSocket(function, rig, socket)) return status;
+        if (!info) return nullArgument(function, "info");
+        const HoseRuntime::SocketPose pose = rig->runtime.socket(socket);
+        const chaintube::rig::SocketOccupant occupant = rig->runtime.socketOccupant(socket);
+        chaintube_socket_info out{};
+        out.id = pose.description->id.c_str();
+        out.tag = pose.description->tag.c_str();
+        for (int k = 0; k < 3; ++k) {
+            out.position[k] = pose.position(k);
+            out.axis[k] = pose.axis(k);
+        }
+        out.capture_radius = pose.description->captureRadius;
+        out.capture_angle = pose.description->captureAngle;
+        out.node = pose.description->node;
+        out.occupant_hose = occupant.hose;
+        out.occupant_end = occupant.end;
+        out.occupant_attachment = occupant.attachment;
+        *info = out;
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_release_snap(chaintube_rig* rig, int32_t hose, int32_t* socket)
+{
+    constexpr const char* function = "chaintube_rig_release_snap";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        const chaintube::rig::PlugResult released = rig->runtime.release(hose);
+        if (!released)
+            return fail(CHAINTUBE_ERROR_INTERNAL, function,
+                        "the runtime refused the release of " + hoseName(rig, hose));
+        if (socket) *socket = released.socket;
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_plug(chaintube_rig* rig, int32_t hose, int32_t end, int32_t socket,
+                                    int32_t* attachment)
+{
+    constexpr const char* function = "chaintube_rig_plug";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (const chaintube_status status = checkSocket(function, rig, socket)) return status;
+        std::string why;
+        const chaintube::rig::PlugResult plugged = rig->runtime.plug(hose, end, socket, &why);
+        if (!plugged) return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (attachment) *attachment = plugged.attachment;
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_unplug(chaintube_rig* rig, int32_t hose, int32_t end,
+                                      int32_t* socket)
+{
+    constexpr const char* function = "chaintube_rig_unplug";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        std::string why;
+        const chaintube::rig::PlugResult unplugged = rig->runtime.unplug(hose, end, &why);
+        if (!unplugged) return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, why);
+        if (socket) *socket = unplugged.socket;
         return CHAINTUBE_OK;
     });
 }

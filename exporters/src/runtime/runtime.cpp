@@ -443,8 +443,26 @@ UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& lo
                                     std::to_string(c));
     }
 
-    // The end's frame now: origin the end point, z out of the hose along the end segment, x the
-    // ring's alignment made perpendicular to z.
+    const Frame current = endFrame(running, end);
+    Frame offset = localFrame;
+    offset.rotation.normalize();
+    const Frame target = (node >= 0 ? nodeWorldFrame(node) : Frame()) * offset;
+    if (running.hose.heldPoint() >= first && running.hose.heldPoint() <= last)
+        running.hose.releaseGrab(); // the hand hands the end over
+    const int id = running.hose.attach(first, last, current);
+    running.live.push_back({node, offset, first, last, true, id});
+    if (attachment) *attachment = static_cast<int>(running.live.size()) - 1;
+    findGrabbable(running, d);
+    running.pullsStale = true;
+    if (!m_colliders.empty()) chooseColliders(static_cast<size_t>(hose));
+    const UpdateResult result = running.hose.moveAttachment(id, target);
+    combine(running.pendingResult, result);
+    return result;
+}
+
+Frame HoseRuntime::endFrame(const RunningHose& running, int end)
+{
+    const int n = running.hose.pointCount();
     const Vec3 tip = running.hose.point(end == 0 ? 0 : n - 1);
     const Vec3 inner = running.hose.point(end == 0 ? 1 : n - 2);
     const Vec3 z = (tip - inner).normalized();
@@ -457,24 +475,176 @@ UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& lo
     axes.col(0) = x;
     axes.col(1) = z.cross(x);
     axes.col(2) = z;
-    Frame endFrame;
-    endFrame.translation = tip;
-    endFrame.rotation = Quat(axes).normalized();
+    Frame frame;
+    frame.translation = tip;
+    frame.rotation = Quat(axes).normalized();
+    return frame;
+}
 
-    Frame offset = localFrame;
-    offset.rotation.normalize();
-    const Frame target = (node >= 0 ? nodeWorldFrame(node) : Frame()) * offset;
-    if (running.hose.heldPoint() >= first && running.hose.heldPoint() <= last)
-        running.hose.releaseGrab(); // the hand hands the end over
-    const int id = running.hose.attach(first, last, endFrame);
-    running.live.push_back({node, offset, first, last, true, id});
-    if (attachment) *attachment = static_cast<int>(running.live.size()) - 1;
-    findGrabbable(running, d);
-    running.pullsStale = true;
-    if (!m_colliders.empty()) chooseColliders(static_cast<size_t>(hose));
-    const UpdateResult result = running.hose.moveAttachment(id, target);
-    combine(running.pendingResult, result);
-    return result;
+// ---- Sockets: plug, unplug, snap-in on release, easing ----
+
+int HoseRuntime::attachmentAtEnd(const RunningHose& running, int end)
+{
+    const int last = running.hose.pointCount() - 1;
+    for (size_t k = 0; k < running.live.size(); ++k) {
+        const LiveAttachment& a = running.live[k];
+        if (a.attached && (end == 0 ? a.firstPoint == 0 : a.lastPoint == last))
+            return static_cast<int>(k);
+    }
+    return -1;
+}
+
+SocketOccupant HoseRuntime::socketOccupant(int socket) const
+{
+    if (socket < 0 || socket >= socketCount())
+        throw std::out_of_range("socket " + std::to_string(socket) + " is out of range (" +
+                                std::to_string(socketCount()) + " sockets)");
+    for (size_t h = 0; h < m_hoses.size(); ++h) {
+        const RunningHose& running = m_hoses[h];
+        for (size_t k = 0; k < running.live.size(); ++k) {
+            const LiveAttachment& a = running.live[k];
+            if (a.attached && a.socket == socket)
+                return {static_cast<int>(h), a.firstPoint == 0 ? 0 : 1, static_cast<int>(k)};
+        }
+    }
+    return {};
+}
+
+PlugResult HoseRuntime::plug(int hose, int end, int socket, std::string* why)
+{
+    PlugResult out;
+    const auto refuse = [&](std::string text) {
+        if (why) *why = std::move(text);
+        return out;
+    };
+    if (hose < 0 || hose >= hoseCount())
+        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                      std::to_string(hoseCount() - 1));
+    if (socket < 0 || socket >= socketCount())
+        return refuse("socket " + std::to_string(socket) + " is out of range: expected 0 to " +
+                      std::to_string(socketCount() - 1) + " (" + std::to_string(socketCount()) +
+                      " sockets)");
+    if (end != 0 && end != 1)
+        return refuse("end " + std::to_string(end) +
+                      ": expected 0 (the first point's end) or 1 (the last point's)");
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (d.isStatic) return refuse(name + " is static: its ends never plug");
+    const RigSocket& s = m_descriptor.sockets[static_cast<size_t>(socket)];
+    const std::string& plugTag = end == 0 ? d.plugStart : d.plugEnd;
+    if (plugTag != s.tag)
+        return refuse(
+            "socket \"" + s.id + "\" takes plugs tagged \"" + s.tag + "\": end " +
+            std::to_string(end) + " of " + name +
+            (plugTag.empty() ? " has no plug" : " has a plug tagged \"" + plugTag + "\""));
+    const SocketOccupant occupant = socketOccupant(socket);
+    if (occupant.hose >= 0)
+        return refuse("socket \"" + s.id + "\" holds end " + std::to_string(occupant.end) +
+                      " of hose " + std::to_string(occupant.hose) + " (\"" +
+                      m_descriptor.hoses[static_cast<size_t>(occupant.hose)].id +
+                      "\") already: a socket holds one end at a time");
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    // Fixed where the end is now, on the socket's node; update() eases it in.
+    const Frame start =
+        (s.node >= 0 ? nodeWorldFrame(s.node) : Frame()).inverse() * endFrame(running, end);
+    int attachment = -1;
+    if (attachEnd(hose, end, s.node, start, &attachment, why).status == Status::InvalidInput)
+        return out;
+    LiveAttachment& live = running.live[static_cast<size_t>(attachment)];
+    live.socket = socket;
+    live.easingFrames = kSnapFrames;
+    out.status = Status::Ok;
+    out.socket = socket;
+    out.end = end;
+    out.attachment = attachment;
+    out.easingFrames = kSnapFrames;
+    return out;
+}
+
+PlugResult HoseRuntime::unplug(int hose, int end, std::string* why)
+{
+    PlugResult out;
+    const auto refuse = [&](std::string text) {
+        if (why) *why = std::move(text);
+        return out;
+    };
+    if (hose < 0 || hose >= hoseCount())
+        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                      std::to_string(hoseCount() - 1));
+    if (end != 0 && end != 1)
+        return refuse("end " + std::to_string(end) +
+                      ": expected 0 (the first point's end) or 1 (the last point's)");
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (d.isStatic) return refuse(name + " is static: its ends never unplug");
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const int attachment = attachmentAtEnd(running, end);
+    if (attachment < 0)
+        return refuse("end " + std::to_string(end) + " of " + name +
+                      " is not plugged: no attachment fixes it");
+    if (detachEnd(hose, attachment, why).status == Status::InvalidInput) return out;
+    LiveAttachment& live = running.live[static_cast<size_t>(attachment)];
+    live.easingFrames = 0;
+    out.status = Status::Ok;
+    out.socket = live.socket;
+    out.end = end;
+    out.attachment = attachment;
+    return out;
+}
+
+PlugResult HoseRuntime::release(int hose)
+{
+    PlugResult out;
+    if (hose < 0 || hose >= hoseCount()) return out;
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const int held = running.hose.heldPoint();
+    const int last = running.hose.pointCount() - 1;
+    const int end = held == 0 ? 0 : held == last ? 1 : held == 1 ? 0 : held == last - 1 ? 1 : -1;
+    running.hose.releaseGrab();
+    running.pullsStale = true; // the held point no longer pins a span
+    out.status = Status::Ok;
+    const std::string& plugTag = end == 0 ? d.plugStart : d.plugEnd;
+    if (end < 0 || d.isStatic || plugTag.empty() || attachmentAtEnd(running, end) >= 0) return out;
+    // The nearest free socket that catches the end and takes its plug.
+    const Frame tip = endFrame(running, end);
+    const Vec3 outward = tip.rotation * Vec3::UnitZ();
+    int caught = -1;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < socketCount(); ++k) {
+        const SocketPose pose = socket(k);
+        const double distance = (tip.translation - pose.position).norm();
+        const double angle = std::acos(std::clamp(outward.dot(-pose.axis), -1.0, 1.0));
+        if (pose.description->tag != plugTag || distance > pose.description->captureRadius ||
+            angle > pose.description->captureAngle || distance >= nearest ||
+            socketOccupant(k).hose >= 0)
+            continue;
+        caught = k;
+        nearest = distance;
+    }
+    if (caught < 0) return out;
+    const PlugResult plugged = plug(hose, end, caught);
+    return plugged ? plugged : out;
+}
+
+void HoseRuntime::easeIntoSockets(size_t hose)
+{
+    RunningHose& running = m_hoses[hose];
+    for (LiveAttachment& a : running.live) {
+        if (!a.attached || a.socket < 0 || a.easingFrames <= 0) continue;
+        const RigSocket& s = m_descriptor.sockets[static_cast<size_t>(a.socket)];
+        // The end segment turned the shortest way onto −axis (its turn about the axis kept),
+        // the end point onto the socket: an equal share of what is left in each frame.
+        const Quat into =
+            (Quat::FromTwoVectors(a.offset.rotation * Vec3::UnitZ(), -s.axis) * a.offset.rotation)
+                .normalized();
+        const double share = 1.0 / a.easingFrames;
+        a.offset.translation += share * (s.position - a.offset.translation);
+        a.offset.rotation = a.offset.rotation.slerp(share, into).normalized();
+        --a.easingFrames;
+        const Frame target = (a.node >= 0 ? nodeWorldFrame(a.node) : Frame()) * a.offset;
+        combine(running.pendingResult, running.hose.moveAttachment(a.id, target));
+    }
 }
 
 namespace {
@@ -523,6 +693,8 @@ CutResult HoseRuntime::cut(int hose, int point, std::string* why)
     for (size_t s = 0; s < p; ++s)
         restBefore += d.restLengths[s];
     RigHose descriptions[2] = {d, d};
+    descriptions[0].plugEnd.clear(); // the cut ends carry no plug
+    descriptions[1].plugStart.clear();
     HoseSurface beforeSurface(pieces->before), afterSurface(pieces->after);
     const std::uint64_t unposed = std::numeric_limits<std::uint64_t>::max();
     RunningHose runnings[2] = {{std::move(pieces->before),
@@ -769,18 +941,11 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
     return result;
 }
 
-bool HoseRuntime::release(int hose)
-{
-    if (hose < 0 || hose >= hoseCount()) return false;
-    m_hoses[static_cast<size_t>(hose)].hose.releaseGrab();
-    m_hoses[static_cast<size_t>(hose)].pullsStale = true; // the held point no longer pins a span
-    return true;
-}
-
 int HoseRuntime::update()
 {
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
+        easeIntoSockets(h);
         if (m_descriptor.hoses[h].gravity.enabled)
             combine(running.pendingResult, running.hose.step());
         running.frameResult = running.pendingResult;

@@ -59,6 +59,30 @@ struct LiveAttachment
     int lastPoint = 0;    ///<
     bool attached = true; ///< false once detachEnd() let go of it (its index stays)
     int id = -1;          ///< its Hose attachment id while attached
+    int socket = -1;      ///< the socket it plugs the end into (plug(), a snap-in); −1: none;
+                          ///< kept once detached (socketOccupant() counts only attached ones)
+    int easingFrames = 0; ///< update() calls left until a plugged end sits in its socket
+};
+
+/// What HoseRuntime::plug(), unplug() and release() did with a hose end and the sockets.
+struct PlugResult
+{
+    /// Ok: done (for release(): let go, and plugged when socket ≥ 0); InvalidInput: refused,
+    /// nothing changed.
+    Status status = Status::InvalidInput;
+    int socket = -1;      ///< the socket plugged into or unplugged from; −1: none
+    int end = -1;         ///< the hose end: 0 (points 0 and 1) or 1 (the last two); −1: none
+    int attachment = -1;  ///< the hose's attachment (attachment()) that holds or held the end
+    int easingFrames = 0; ///< update() calls until a plugged end sits in its socket
+    explicit operator bool() const { return status != Status::InvalidInput; }
+};
+
+/// Which hose end a socket holds (HoseRuntime::socketOccupant); hose −1 when it is free.
+struct SocketOccupant
+{
+    int hose = -1;
+    int end = -1;        ///< 0 or 1
+    int attachment = -1; ///< the hose's attachment that holds the end
 };
 
 /// What HoseRuntime::cut() did.
@@ -218,8 +242,13 @@ public:
     CutResult cut(int hose, int point, std::string* why = nullptr);
 
     /// Lets go of the hose's held point (Hose::releaseGrab): with gravity it falls again on the
-    /// next update(). False (and nothing changes) for a hose index out of range.
-    bool release(int hose);
+    /// next update(). A held point on a free end segment (points 0, 1 or the last two) within a
+    /// free socket's capture — its end point within captureRadius of the socket, the end
+    /// segment (out of the hose) within captureAngle of the way into it (−axis) — whose tag is
+    /// the end's plug tag snaps in there: plug() into the nearest such socket (result.socket;
+    /// −1 when none caught it). Refused (InvalidInput, nothing changed) for a hose index out of
+    /// range.
+    [[nodiscard]] PlugResult release(int hose);
 
     /// Advances every hose with gravity by one Hose::step() (a settled hose costs one
     /// comparison), then brings every changed hose's surface and joint poses up to date.
@@ -291,6 +320,36 @@ public:
     /// range.
     const AttachmentPull& attachmentPull(int hose, int attachment) const;
 
+    // Sockets: a hose end plugged into a socket is an attachment (attachment()) on the socket's
+    // node whose `socket` names it; a socket holds one end at a time.
+
+    /// Update() calls a plugged end takes to ease into its socket.
+    static constexpr int kSnapFrames = 5;
+
+    /// Plugs end `end` of a hose (0: points 0 and 1; 1: the last two) into socket `socket`: the
+    /// end is fixed where it is to the socket's node, then eases onto the socket over the next
+    /// kSnapFrames update() calls (the end point onto the socket's position, the end segment
+    /// along −axis, into the part; its turn about the axis kept), each a moved attachment
+    /// (Hose::moveAttachment: bends give way first, every segment stays in its band; a socket
+    /// out of reach leaves the end short, Status::Infeasible in frameResult, met once the part
+    /// brings it within reach). From then on the end follows the socket's node. A held point on
+    /// the end segment is let go. Needs no capture: a platform may plug from afar. Refused with
+    /// Status::InvalidInput, nothing changed and *why saying why: a hose or socket index out of
+    /// range, an end other than 0 or 1, a static hose, a socket tag that is not the end's plug
+    /// tag (RigHose::plugStart/plugEnd), a socket that holds an end, an end that an attachment
+    /// or a clip holds now.
+    [[nodiscard]] PlugResult plug(int hose, int end, int socket, std::string* why = nullptr);
+
+    /// Unplugs end `end` of a hose: detachEnd() of the attachment that fixes it (one plug() or
+    /// a snap-in made, its socket then free, or one of the export's). Refused with
+    /// Status::InvalidInput, nothing changed and *why saying why: a hose index out of range, an
+    /// end other than 0 or 1, a static hose, an end that no attachment fixes.
+    [[nodiscard]] PlugResult unplug(int hose, int end, std::string* why = nullptr);
+
+    /// The hose end socket `socket` holds now (hose −1 when free). Ends attached at export
+    /// occupy no socket. Throws std::out_of_range for an index out of range.
+    SocketOccupant socketOccupant(int socket) const;
+
     /// Surface vertex positions in world metres (3 floats per vertex, vertex order of
     /// SurfaceTopology), as of the last update().
     std::vector<float> worldPositions(int hose) const;
@@ -321,6 +380,13 @@ private:
     /// or not) or clips' nodes exempts (formats/collider_exemption.h).
     void chooseColliders(size_t hose);
     static void findGrabbable(RunningHose& running, const RigHose& description);
+    /// The frame of a hose end now: origin its end point, z out of the hose along the end
+    /// segment, x the end ring's alignment made perpendicular to z.
+    static Frame endFrame(const RunningHose& running, int end);
+    /// The live attachment that fixes end `end` of a hose now, or −1.
+    static int attachmentAtEnd(const RunningHose& running, int end);
+    /// Moves every easing plugged end one frame towards its socket (update()).
+    void easeIntoSockets(size_t hose);
 
     HoseRigDescriptor m_descriptor;
     std::vector<RigNode> m_nodes;
