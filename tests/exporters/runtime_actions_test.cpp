@@ -539,6 +539,59 @@ TEST(HoseRuntimeReel, JointsReeledInWaitAtTheOutletAndTheFarEndsJointStaysOnTheF
               << " joints at the outlet, the far end's joint on the far end\n";
 }
 
+TEST(HoseRuntimeReel, ThroughAClipTheDrumSideStaysAndTheLengthAppearsBeyondTheClip)
+{
+    // The motion rig's cable through two clips: the clip nearer its first point is the reel's
+    // outlet, the drum towards the first point (the hose up to the clip stands for the drum).
+    TemporaryFolder folder;
+    const fs::path output = folder / "motion.glb";
+    exportProjectFile(samplesDir() / "motion-rig.ctproj", output, roots());
+    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    const int cable = runtime.findHose("carriage-cable");
+    ASSERT_GE(cable, 0);
+    ASSERT_EQ(runtime.description(cable).clips.size(), 2u);
+    const int outlet = runtime.clip(cable, 0).slide > runtime.clip(cable, 1).slide ? 0 : 1;
+    const int other = 1 - outlet;
+    const int drumPoints = runtime.clip(cable, outlet).last + 1;
+    const std::vector<Vec3> before = runtime.hose(cable).points();
+    const double total = runtime.hose(cable).restLengthTotal();
+    const double outletSlide = runtime.clip(cable, outlet).slide;
+    const double otherSlide = runtime.clip(cable, other).slide;
+    const size_t joints = runtime.jointPoses(cable).size();
+    double paid = 0.0;
+    for (int frame = 0; frame < 40 && paid < 0.05 - 1e-12; ++frame) {
+        const ReelResult r =
+            runtime.reelThroughClip(cable, outlet, HoseEnd::Start,
+                                    std::min(kReelSpeed * kReelFrame, 0.05 - paid), 0.0, 10.0);
+        ASSERT_NE(r.status, Status::InvalidInput) << r.message;
+        paid += r.paid;
+        runtime.update();
+        const Hose& h = runtime.hose(cable);
+        expectInBand(h, "through the clip, frame " + std::to_string(frame));
+        EXPECT_EQ(h.measureViolation().status, Status::Ok) << frame;
+        for (int i = 0; i < drumPoints; ++i) // the drum's side keeps its shape
+            EXPECT_LT((h.point(i) - before[static_cast<size_t>(i)]).norm(), 1e-12) << i;
+        EXPECT_EQ(runtime.jointPoses(cable).size(), joints);
+        EXPECT_LT((runtime.jointPoses(cable).back().world.translation - h.point(h.pointCount() - 1))
+                      .norm(),
+                  1e-9); // the far end's joint stays on the far end
+        EXPECT_NEAR(runtime.clip(cable, outlet).slide, outletSlide, 1e-12);
+        EXPECT_NEAR(runtime.clip(cable, other).slide, otherSlide, 1e-12);
+        EXPECT_NEAR(h.restLengthTotal(), total + paid, 1e-12);
+    }
+    EXPECT_NEAR(paid, 0.05, 1e-12);
+    EXPECT_GT(runtime.hose(cable).pointCount(), static_cast<int>(before.size()));
+    // A clip index out of range is refused; the hose stays as it is.
+    const std::vector<Vec3> now = runtime.hose(cable).points();
+    const ReelResult refused = runtime.reelThroughClip(cable, 2, HoseEnd::Start, 0.01, 0.0, 10.0);
+    EXPECT_EQ(refused.status, Status::InvalidInput);
+    EXPECT_NE(refused.message.find("clip 2 is out of range"), std::string::npos) << refused.message;
+    EXPECT_EQ(runtime.hose(cable).points(), now);
+    std::cout << "[ reel ] carriage-cable: 0.05 m paid out through clip " << outlet << ", "
+              << runtime.hose(cable).pointCount() - static_cast<int>(before.size())
+              << " points added beyond it, the drum side unchanged\n";
+}
+
 TEST(HoseRuntimeReel, BadInputIsRefusedWithAMessageAndChangesNothing)
 {
     TemporaryFolder folder;
