@@ -22,7 +22,8 @@
  *    90 Hz) and reeled back as far as it goes: the joint count constant, the rest length what
  *    was paid;
  *    refused, each with its status and message, the rest length unchanged: end 2, bounds
- *    inverted, a NaN length, the free end, a clip out of range, a hose out of range.
+ *    inverted, a NaN length, the free end, a clip out of range, a hose out of range; the axis
+ *    points into NULL or a short buffer.
  *
  *   capi_actions_test <rig-options.glb>
  *
@@ -435,6 +436,12 @@ int main(int argc, char** argv)
                             "reel through a clip out of range");
                     refused(chaintube_rig_reel(rig, 99, 0, -1, 0.01, 0.0, 10.0, &reel),
                             CHAINTUBE_ERROR_OUT_OF_RANGE, "hose 99", "reel hose 99");
+                    refused(chaintube_rig_axis_points(rig, tail, NULL, 9 * MAX_POINTS),
+                            CHAINTUBE_ERROR_INVALID_ARGUMENT, "points is NULL",
+                            "axis points into NULL");
+                    refused(chaintube_rig_axis_points(rig, tail, axis, 3),
+                            CHAINTUBE_ERROR_BUFFER_TOO_SMALL, "points has room for 3",
+                            "axis points into a short buffer");
                     CHECK(ok(chaintube_rig_hose_info(rig, tail, &now), "hose_info") &&
                               fabs(now.rest_length - before.rest_length) < TOLERANCE,
                           "a refused reel changed the rest length to %.12g", now.rest_length);

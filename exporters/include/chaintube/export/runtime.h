@@ -147,6 +147,9 @@ public:
     int hoseCount() const { return static_cast<int>(m_hoses.size()); }
     /// Index of the hose with this descriptor id, or −1.
     int findHose(std::string_view id) const;
+    /// The hose's descriptor entry. After a cut() or a reel() its per-point arrays (axis, rest
+    /// lengths, joint limits, attachment and grabbable points) describe the hose as it was then;
+    /// jointNodes stays the skin's joint list (one per point until the hose is reeled).
     const RigHose& description(int hose) const
     {
         return m_descriptor.hoses.at(static_cast<size_t>(hose));
