@@ -318,6 +318,7 @@ function buildPanel() {
     row.append(name, document.createElement('td'), document.createElement('td'),
       document.createElement('td'));
     hoseTable.append(row);
+    row.addEventListener('click', () => selectHose(hose.index));
     hose.row = row;
     hose.shown = null;
     hose.shownText = '';
@@ -398,18 +399,18 @@ function pick(caster) {
   if (!hit) return null;
   const hose = current.hoseOfMesh.get(hit.object);
   if (!hose) return { object: hit.object, hit };
-  const world = current.rig.jointPoses(hose.index, { local: false }).world;
+  const world = current.rig.axisPoints(hose.index); // grab names axis points (a reel adds some)
   const p = rigRoot.worldToLocal(hit.point.clone());
   let best = -1, bestDistance = Infinity;
   for (const point of hose.grabbable) {
     if (hose.clipHeld.has(point)) continue; // a clip slid onto it: the runtime refuses its grab
-    const d = Math.hypot(world[7 * point] - p.x, world[7 * point + 1] - p.y, world[7 * point + 2] - p.z);
+    const d = Math.hypot(world[3 * point] - p.x, world[3 * point + 1] - p.y, world[3 * point + 2] - p.z);
     if (d < bestDistance) { bestDistance = d; best = point; }
   }
   // A press on a hose's last few segments near a free end takes the end itself (its end point
   // often sits inside the part it was plugged into): it is what a hand plugs into a socket.
   const last = hose.info.pointCount - 1;
-  const distance = (point) => Math.hypot(world[7 * point] - p.x, world[7 * point + 1] - p.y, world[7 * point + 2] - p.z);
+  const distance = (point) => Math.hypot(world[3 * point] - p.x, world[3 * point + 1] - p.y, world[3 * point + 2] - p.z);
   let nearest = 0;
   for (let point = 1; point <= last; ++point) if (distance(point) < distance(nearest)) nearest = point;
   const end = distance(0) <= distance(last) ? 0 : 1;
@@ -419,8 +420,7 @@ function pick(caster) {
 }
 
 function pointWorld(hose, point) {
-  const world = current.rig.jointPoses(hose, { local: false }).world;
-  return rigRoot.localToWorld(new THREE.Vector3().fromArray(world, 7 * point));
+  return rigRoot.localToWorld(new THREE.Vector3().fromArray(current.rig.axisPoints(hose), 3 * point));
 }
 
 function onPointerDown(event) {
@@ -428,6 +428,7 @@ function onPointerDown(event) {
   pressedAt = { x: event.clientX, y: event.clientY };
   const picked = pick(rayFromEvent(event));
   if (!picked || picked.hose === undefined) return;
+  selectHose(picked.hose);
   selectEnd(picked.hose, picked.end);
   const start = pointWorld(picked.hose, picked.point);
   const normal = camera.getWorldDirection(new THREE.Vector3());
@@ -466,8 +467,8 @@ function guideToSocket(ray) {
   // It comes down from beyond the socket, seen from the hose's other end, so that the hose behind
   // it leans the end segment onto the axis (within the capture angle) rather than away.
   const axis = new THREE.Vector3().fromArray(caught.info.axis);
-  const world = current.rig.jointPoses(drag.hose, { local: false }).world;
-  const other = new THREE.Vector3().fromArray(world, drag.point === 0 ? 7 * last : 0);
+  const world = current.rig.axisPoints(drag.hose);
+  const other = new THREE.Vector3().fromArray(world, drag.point === 0 ? 3 * last : 0);
   const beyond = new THREE.Vector3().fromArray(caught.info.position).sub(other);
   beyond.addScaledVector(axis, -beyond.dot(axis));
   drag.guide = { socket: caught.index, height: kGuideHeight,
@@ -557,13 +558,70 @@ function unplugSelectedEnd() {
   }
 }
 
+// --- reel in, pay out: ] pays the selected hose out, [ reels it in, while held ----------------
+const kReelSpeed = 0.5; // metres a second
+const kReelStep = kReelSpeed / 90; // metres a frame: the speed at 90 frames a second
+const kReelReach = 0.3; // metres: how far beyond or short of its exported length a hose goes
+let selectedHose = -1; // the hose last pressed on, or clicked in the panel
+let reelKey = 0; // +1 while ] is held, -1 while [ is held
+let reelScheduled = []; // frames of reel queued by the automation hook: +1 or -1 each
+
+/** The end whose attachment is a hose's reel outlet: its first end fixed to a part, else its
+ * last; -1 when no end is fixed. */
+function reelEnd(hose) {
+  const rig = current.rig, last = rig.hoseInfo(hose).pointCount - 1;
+  let end = -1;
+  for (let a = rig.attachmentCount(hose) - 1; a >= 0; --a) {
+    const pull = rig.attachmentPull(hose, a);
+    if (pull.attached && pull.firstPoint === 0) end = 0;
+    else if (pull.attached && pull.lastPoint === last && end < 0) end = 1;
+  }
+  return end;
+}
+
+function selectHose(index) {
+  selectedHose = index;
+  for (const hose of current.hoses) hose.row?.classList.toggle('selected', hose.index === index);
+  showHoseSelection();
+}
+
+function showHoseSelection(reel = null) {
+  if (selectedHose < 0 || !current) return;
+  const hose = current.hoses[selectedHose];
+  const length = current.rig.hoseInfo(selectedHose).restLength;
+  const end = hose.info.isStatic ? -1 : (hose.reelEnd ??= reelEnd(selectedHose));
+  selectionLabel.textContent = `Hose: ${hose.info.name || hose.info.id}, ${length.toFixed(3)} m` +
+    (end < 0 ? ' (no end fixed: no reel)' : ` · ] pays out, [ reels in at its ${end === 0 ? 'first' : 'last'} end` +
+      (reel?.clamped ? ` (${reel.message})` : ''));
+}
+
+/** One frame of reel on the selected hose: `direction` × kReelStep within kReelReach of its
+ * exported length (never below half of it). */
+function reelFrame(view, direction) {
+  if (selectedHose < 0) return;
+  const hose = view.hoses[selectedHose];
+  if (hose.info.isStatic) return; // a static hose is on no reel
+  const end = hose.reelEnd ??= reelEnd(selectedHose);
+  if (end < 0) return;
+  const exported = hose.info.restLength;
+  const reel = view.rig.reel(selectedHose, end, direction * kReelStep,
+    Math.max(0.5 * exported, exported - kReelReach), exported + kReelReach);
+  hose.grabbable = new Set(view.rig.grabbablePoints(selectedHose)); // renumbered at the reel
+  showHoseSelection(reel);
+}
+
 // Esc deselects; W and E switch the gizmo between moving and rotating (as three.js's editor);
-// U unplugs the selected hose end.
+// U unplugs the selected hose end; ] and [ held pay the selected hose out and reel it in.
 window.addEventListener('keydown', (event) => {
   if (event.key === 'Escape' && current) selectPart(-1);
   else if (event.key === 'u' || event.key === 'U') unplugSelectedEnd();
   else if (event.key === 'w' || event.key === 'W') gizmo.setMode('translate');
   else if (event.key === 'e' || event.key === 'E') gizmo.setMode('rotate');
+  else if (event.key === ']') reelKey = +1;
+  else if (event.key === '[') reelKey = -1;
+});
+window.addEventListener('keyup', (event) => {
+  if ((event.key === ']' && reelKey > 0) || (event.key === '[' && reelKey < 0)) reelKey = 0;
 });
 
 // --- VR controllers: squeeze or trigger on a hose holds the nearest point ---------------------
@@ -663,6 +721,8 @@ function step(view) {
     }
     rig.grab(drag.hose, drag.point, drag.target); // its outcome is in the frame's result
   }
+  const reelDirection = reelScheduled.length > 0 ? reelScheduled.shift() : reelKey;
+  if (reelDirection !== 0) reelFrame(view, reelDirection);
   rig.update();
   for (const hose of view.hoses) {
     if (hose.info.jointCount > 0) {
@@ -786,6 +846,24 @@ window.chaintubeViewer = {
         joints: hose.bones.map((bone) => bone.getWorldPosition(new THREE.Vector3()).applyMatrix4(inverse).toArray()),
       })),
     };
+  },
+  /** The hose selected for the reel keys (its id), or null. */
+  get selectedHose() { return selectedHose >= 0 ? current.hoses[selectedHose].info.id : null; },
+  /** Selects hose `id` for the reel keys, as a click on its row does. */
+  selectHose(id) { selectHose(current.rig.findHose(id)); },
+  /** Queues `frames` frames of reel on the selected hose, each as a frame with ] (+1) or [ (-1)
+   * held does; resolves when they ran. */
+  reelFrames(frames, direction) {
+    reelScheduled.push(...Array(frames).fill(Math.sign(direction)));
+    return new Promise((resolve) => {
+      const wait = () => (reelScheduled.length === 0 ? resolve() : requestAnimationFrame(wait));
+      wait();
+    });
+  },
+  /** Hose `id`'s rest length and axis point count now. */
+  hoseLength(id) {
+    const info = current.rig.hoseInfo(current.rig.findHose(id));
+    return { restLength: info.restLength, pointCount: info.pointCount };
   },
   /** The hoses' descriptor ids, in rig order. */
   hoseIds() { return current.hoses.map((hose) => hose.info.id); },

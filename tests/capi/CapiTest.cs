@@ -89,6 +89,7 @@ static class CapiTest
     {
         var lines = File.ReadAllLines(reference);
         var grabResult = new HoseResult();
+        var reelResult = new ReelResult();
         // Poses and surface per hose, fetched once after each change.
         var poses = new Dictionary<int, Tuple<double[], double[], float[], float[]>>();
         var surfaces = new Dictionary<int, Tuple<float[], float[]>>();
@@ -150,6 +151,25 @@ static class CapiTest
             case "grab-result":
                 CompareResult(grabResult, Numbers(words, 1, 8), 0, where);
                 break;
+            case "reel": {
+                var v = Numbers(words, 1, 6);
+                poses.Clear();
+                surfaces.Clear();
+                Ok(Native.chaintube_rig_reel(rig, (int)v[0], (int)v[1], (int)v[2], v[3], v[4], v[5], out reelResult),
+                   where, "reel");
+                break;
+            }
+            case "reel-result": {
+                var v = Numbers(words, 1, 7);
+                Near(reelResult.paid, v[0], where, "reel paid");
+                Near(reelResult.restLength, v[1], where, "reel rest length");
+                Near(reelResult.largestMove, v[2], where, "reel largest move");
+                Same(reelResult.clamped, (long)v[3], where, "reel clamped");
+                Same(reelResult.segmentsAdded, (long)v[4], where, "reel added");
+                Same(reelResult.segmentsRemoved, (long)v[5], where, "reel removed");
+                Same(reelResult.pointCount, (long)v[6], where, "reel points");
+                break;
+            }
             case "release":
                 poses.Clear();
                 surfaces.Clear();
@@ -772,6 +792,41 @@ static class CapiTest
             var pieceNodes = new int[rig.Info(piece).jointCount];
             Ok(Native.chaintube_rig_joint_nodes(rig.Handle, piece, pieceNodes, pieceNodes.Length), "cut", "joint_nodes");
             Same(pieceNodes[0], -1, "cut", "the new hose's first joint node");
+            // Reel: valve-tail, let go by the hand, plugged into the bracket at end 0, pays out 5 cm
+            // (rig.Reel, 0.5 m/s at 90 Hz; a clamped frame's rest is paid the next frame) and takes
+            // back what it can; refusals change nothing.
+            rig.Release(tail);
+            double length0 = rig.Info(tail).restLength;
+            int joints0 = rig.Info(tail).jointCount;
+            double paidIn = 0.0;
+            foreach (int direction in new[] { +1, -1 }) {
+                double left = 0.05;
+                for (int frame = 0; frame < 60 && left > 1e-12; ++frame) {
+                    ReelResult reel = rig.Reel(tail, 0, direction * Math.Min(left, 0.5 / 90), 0.0, 10.0);
+                    left -= Math.Abs(reel.paid);
+                    Same(reel.pointCount, rig.Info(tail).pointCount, "reel, frame " + frame, "points");
+                    rig.Update();
+                    Same(rig.Info(tail).jointCount, joints0, "reel, frame " + frame, "joint count");
+                    Expect(rig.AxisPoints(tail).Length == 3 * rig.Info(tail).pointCount, "reel", "axis points");
+                }
+                // Paid out in full; reeling in waits where the hose is bent beyond the outlet
+                // (lib/README.md): as far as it goes.
+                if (direction > 0) Expect(left <= 1e-12, "paying out", left + " m left");
+                else paidIn = 0.05 - left;
+            }
+            Expect(paidIn > 0.0, "reeling in", "nothing reeled in");
+            Near(rig.Info(tail).restLength, length0 + 0.05 - paidIn, "reeled back", "rest length");
+            length0 = rig.Info(tail).restLength;
+            ReelResult unusedReel;
+            Refused(Native.chaintube_rig_reel(rig.Handle, tail, 2, -1, 0.01, 0, 10, out unusedReel),
+                    Status.InvalidArgument, "reel at end 2", "end 2");
+            Refused(Native.chaintube_rig_reel(rig.Handle, tail, 0, -1, 0.01, 2, 1, out unusedReel),
+                    Status.InvalidArgument, "reel bounds inverted", "maxLength");
+            Refused(Native.chaintube_rig_reel(rig.Handle, tail, 1, -1, 0.01, 0, 10, out unusedReel),
+                    Status.InvalidArgument, "reel at a free end", "expected an end fixed");
+            Refused(Native.chaintube_rig_reel(rig.Handle, tail, 0, 0, 0.01, 0, 10, out unusedReel),
+                    Status.OutOfRange, "reel through a clip out of range", "clip 0 is out of range");
+            Near(rig.Info(tail).restLength, length0, "refused reels", "rest length");
             Console.WriteLine("CapiTest actions: " + export + ": valve-tail unplugged, fell " +
                               drop.ToString("G4", CultureInfo.InvariantCulture) + " m in 10 updates, plugged into " +
                               "bracket_left and followed it 0.06 m: " + compared + " checks, " + failures + " failures");

@@ -17,7 +17,13 @@
  *  - bracket-loop is cut at its middle (chaintube_rig_cut): refused at an end, beyond the last
  *    point, on a hose out of range and at a fixed point; then cut, the new hose is the next
  *    index, the pieces have their points, an id returned before stays valid, and every joint of
- *    the skin is posed by exactly one piece (the new hose's first joint node -1).
+ *    the skin is posed by exactly one piece (the new hose's first joint node -1);
+ *  - valve-tail, let go, is paid out 5 cm at its plugged end (chaintube_rig_reel, 0.5 m/s at
+ *    90 Hz) and reeled back as far as it goes: the joint count constant, the rest length what
+ *    was paid;
+ *    refused, each with its status and message, the rest length unchanged: end 2, bounds
+ *    inverted, a NaN length, the free end, a clip out of range, a hose out of range; the axis
+ *    points into NULL or a short buffer.
  *
  *   capi_actions_test <rig-options.glb>
  *
@@ -373,6 +379,73 @@ int main(int argc, char** argv)
                 CHECK(ok(chaintube_rig_attachment_count(rig, piece, &count), "attachment_count") &&
                           count == 1,
                       "the new hose has %d attachments", (int)count);
+            }
+            /* Reel: valve-tail, let go by the hand, plugged into the bracket at end 0, pays out
+             * 5 cm at 0.5 m/s at 90 Hz and takes it back (a clamped frame's rest is paid the next
+             * frame); the joint count stays, refusals change nothing. */
+            {
+                chaintube_reel_result reel;
+                chaintube_hose_info before, now;
+                double axis[3 * 3 * MAX_POINTS], paid_in = 0.0;
+                ok(chaintube_rig_release(rig, tail), "release");
+                if (ok(chaintube_rig_hose_info(rig, tail, &before), "hose_info")) {
+                    for (int direction = 1; direction >= -1; direction -= 2) {
+                        double left = 0.05;
+                        for (int frame = 0; frame < 60 && left > 1e-12; ++frame) {
+                            const double step = left < 0.5 / 90 ? left : 0.5 / 90;
+                            if (!ok(chaintube_rig_reel(rig, tail, 0, -1, direction * step, 0.0,
+                                                       10.0, &reel),
+                                    "reel"))
+                                break;
+                            left -= fabs(reel.paid);
+                            ok(chaintube_rig_update(rig, NULL), "update");
+                            CHECK(ok(chaintube_rig_hose_info(rig, tail, &now), "hose_info") &&
+                                      now.joint_count == before.joint_count &&
+                                      now.point_count == reel.point_count &&
+                                      now.point_count <= 3 * MAX_POINTS,
+                                  "reel frame %d: %d joints, %d points", frame,
+                                  (int)now.joint_count, (int)now.point_count);
+                            ok(chaintube_rig_axis_points(rig, tail, axis, 9 * MAX_POINTS),
+                               "axis_points");
+                        }
+                        /* Paid out in full; reeling in waits where the hose is bent beyond the
+                         * outlet (lib/README.md): as far as it goes. */
+                        if (direction > 0)
+                            CHECK(left <= 1e-12, "paying out: %g m left", left);
+                        else
+                            paid_in = 0.05 - left;
+                    }
+                    CHECK(ok(chaintube_rig_hose_info(rig, tail, &now), "hose_info") &&
+                              paid_in > 0.0 &&
+                              fabs(now.rest_length - (before.rest_length + 0.05 - paid_in)) <
+                                  TOLERANCE,
+                          "reeled back %g m: %.12g m; expected %.12g m", paid_in, now.rest_length,
+                          before.rest_length + 0.05 - paid_in);
+                    before = now;
+                    refused(chaintube_rig_reel(rig, tail, 2, -1, 0.01, 0.0, 10.0, &reel),
+                            CHAINTUBE_ERROR_INVALID_ARGUMENT, "end 2", "reel at end 2");
+                    refused(chaintube_rig_reel(rig, tail, 0, -1, 0.01, 2.0, 1.0, &reel),
+                            CHAINTUBE_ERROR_INVALID_ARGUMENT, "maxLength", "reel bounds inverted");
+                    refused(chaintube_rig_reel(rig, tail, 0, -1, nan(""), 0.0, 10.0, &reel),
+                            CHAINTUBE_ERROR_INVALID_ARGUMENT, "reel length", "reel a NaN length");
+                    refused(chaintube_rig_reel(rig, tail, 1, -1, 0.01, 0.0, 10.0, &reel),
+                            CHAINTUBE_ERROR_INVALID_ARGUMENT, "expected an end fixed",
+                            "reel at the free end");
+                    refused(chaintube_rig_reel(rig, tail, 0, 0, 0.01, 0.0, 10.0, &reel),
+                            CHAINTUBE_ERROR_OUT_OF_RANGE, "clip 0 is out of range",
+                            "reel through a clip out of range");
+                    refused(chaintube_rig_reel(rig, 99, 0, -1, 0.01, 0.0, 10.0, &reel),
+                            CHAINTUBE_ERROR_OUT_OF_RANGE, "hose 99", "reel hose 99");
+                    refused(chaintube_rig_axis_points(rig, tail, NULL, 9 * MAX_POINTS),
+                            CHAINTUBE_ERROR_INVALID_ARGUMENT, "points is NULL",
+                            "axis points into NULL");
+                    refused(chaintube_rig_axis_points(rig, tail, axis, 3),
+                            CHAINTUBE_ERROR_BUFFER_TOO_SMALL, "points has room for 3",
+                            "axis points into a short buffer");
+                    CHECK(ok(chaintube_rig_hose_info(rig, tail, &now), "hose_info") &&
+                              fabs(now.rest_length - before.rest_length) < TOLERANCE,
+                          "a refused reel changed the rest length to %.12g", now.rest_length);
+                }
             }
         }
     }

@@ -147,7 +147,7 @@ static void loading(const char* rig_file, const char* split_gltf, const char* sc
     EXPECT_ERROR(chaintube_rig_load_file(newer_minor, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
                  "ABI 1.3", "minor");
     CHECK(rig == untouched, "a refused load wrote the rig");
-    /* A caller built against an older minor version (1.0, 1.1) still loads. */
+    /* A caller built against an older minor version (1.0 ... 1.2) still loads. */
     for (uint32_t minor = 0; minor < CHAINTUBE_RUNTIME_ABI_VERSION_MINOR; ++minor) {
         chaintube_rig* older = NULL;
         const uint32_t version = ((uint32_t)CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | minor;

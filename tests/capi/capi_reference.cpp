@@ -26,6 +26,8 @@
 //   unplug <hose> <end> <socket left>           input: chaintube_rig_unplug, its *socket
 //   plug <hose> <end> <socket> <attachment>     input: chaintube_rig_plug, its *attachment
 //   release-snap <hose> <socket>                input: chaintube_rig_release_snap, its *socket
+//   reel <hose> <end> <clip> <length> <min> <max>   input: chaintube_rig_reel, then its result:
+//   reel-result <paid> <restLength> <largestMove> <clamped> <added> <removed> <points>
 //   pull <hose> <attachment> <node> <first> <last> <tautness> <strain> <3 direction> <3 force>
 //                                               chaintube_rig_attachment_pull, force at
 //                                               kPullStiffness (EA, N per unit strain)
@@ -36,6 +38,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <string>
 
 namespace {
@@ -157,12 +160,14 @@ void grab(std::FILE* out, rig::HoseRuntime& runtime, int hose, int point, const 
     writeResult(out, result);
 }
 
-void update(std::FILE* out, rig::HoseRuntime& runtime)
+void update(std::FILE* out, rig::HoseRuntime& runtime, bool state = true)
 {
     std::fprintf(out, "update\n");
     runtime.update();
-    writeState(out, runtime);
-    writeSockets(out, runtime);
+    if (state) {
+        writeState(out, runtime);
+        writeSockets(out, runtime);
+    }
 }
 
 /// Sockets: the first hose with a plug tag on its last end is unplugged there, carried by its
@@ -219,6 +224,22 @@ void socketFrames(std::FILE* out, rig::HoseRuntime& runtime)
     std::fprintf(out, "plug %d %d %d %d\n", hose, 1, second, plugged.attachment);
     for (int frame = 0; frame <= rig::HoseRuntime::kSnapFrames; ++frame)
         update(out, runtime);
+}
+
+/// Reel: a frame's length at `end` of a hose between the bounds, and what it did. Returns the
+/// length paid.
+double reel(std::FILE* out, rig::HoseRuntime& runtime, int hose, double length, double minLength,
+            double maxLength)
+{
+    std::fprintf(out, "reel %d 0 -1 %.17g %.17g %.17g\n", hose, length, minLength, maxLength);
+    const ReelResult r = runtime.reel(hose, HoseEnd::Start, length, minLength, maxLength);
+    if (r.status == Status::InvalidInput)
+        throw Error("hose " + std::to_string(hose) +
+                    ": the runtime refused the reel: " + r.message);
+    std::fprintf(out, "reel-result %.17g %.17g %.17g %d %d %d %d\n", r.paid,
+                 runtime.hose(hose).restLengthTotal(), r.largestMove, r.clamped ? 1 : 0,
+                 r.segmentsAdded, r.segmentsRemoved, runtime.hose(hose).pointCount());
+    return r.paid;
 }
 
 } // namespace
@@ -281,9 +302,34 @@ int main(int argc, char** argv)
         // Frame 4: no input (gravity hoses go on falling).
         update(out, runtime);
         socketFrames(out, runtime);
+        // Frames 5 …: 0.3 m paid out of the reel at the first end and reeled back in.
+        int reeled = -1;
+        for (int h = 0; h < runtime.hoseCount(); ++h) {
+            const rig::RigHose& d = runtime.description(h);
+            bool startFixed = false;
+            for (const rig::RigAttachment& a : d.attachments)
+                startFixed = startFixed || a.firstPoint == 0;
+            if (d.isStatic || !startFixed || d.grabbablePoints.empty()) continue;
+            if (reeled < 0 || (runtime.description(reeled).gravity.enabled && !d.gravity.enabled))
+                reeled = h;
+        }
+        if (reeled < 0) throw Error("no hose with a fixed first end to reel");
+        const double step = 0.5 / 90.0, total = runtime.hose(reeled).restLengthTotal();
+        const double maxLength = std::numeric_limits<double>::max(); // %.17g reads back
+        int frame = 0;
+        for (const double direction : {+1.0, -1.0}) {
+            double left = 0.3;
+            for (int k = 0; k < 60 && left > 1e-12; ++k, ++frame) {
+                left -= std::abs(reel(out, runtime, reeled, direction * std::min(step, left),
+                                      0.5 * total, maxLength));
+                update(out, runtime, frame % 6 == 5);
+            }
+        }
+        writeState(out, runtime);
         if (std::fclose(out) != 0) throw Error(std::string(argv[2]) + ": cannot be written");
-        std::printf("capi_reference: %s: moved node %d (\"%s\"), grabbed hose %d point %d -> %s\n",
-                    argv[1], part, partName.c_str(), grabbed, point, argv[2]);
+        std::printf("capi_reference: %s: moved node %d (\"%s\"), grabbed hose %d point %d, reeled "
+                    "hose %d 0.3 m out and in again over %d frames -> %s\n",
+                    argv[1], part, partName.c_str(), grabbed, point, reeled, frame, argv[2]);
         return 0;
     } catch (const std::exception& error) {
         std::fprintf(stderr, "capi_reference: %s\n", error.what());

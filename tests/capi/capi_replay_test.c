@@ -1,6 +1,7 @@
 /* The C ABI gives the C++ runtime's figures: replays the inputs of a reference file written by
  * capi_reference (the C++ runtime on the same export) through chaintube/runtime_c.h, once on
- * the rig loaded from the file and once on the rig loaded from its bytes in memory, and
+ * the rig loaded from the file and once on the rig loaded from its bytes in memory (moves,
+ * grabs, a hose reeled out and back in: chaintube_rig_reel and its result), and
  * compares every hose's properties, frame results, joint poses (1e-9 m and 1e-9 in each
  * quaternion component) and surface with the reference.
  *
@@ -197,9 +198,11 @@ static void replay(chaintube_rig* rig, const char* reference, const char* where)
     char word[32];
     int line_number = 0;
     chaintube_hose_result grab_result;
+    chaintube_reel_result reel_result;
     hose_state state;
     FILE* file = fopen(reference, "r");
     memset(&state, 0, sizeof state);
+    memset(&reel_result, 0, sizeof reel_result);
     state.hose = -1;
     if (!file) {
         fail_at(where, 0, "the reference file cannot be read");
@@ -270,6 +273,22 @@ static void replay(chaintube_rig* rig, const char* reference, const char* where)
         } else if (strcmp(word, "grab-result") == 0) {
             read_numbers(numbers, v, 8);
             compare_result(&grab_result, v, where, line_number);
+        } else if (strcmp(word, "reel") == 0) {
+            read_numbers(numbers, v, 6);
+            state.hose = -1;
+            call_ok(chaintube_rig_reel(rig, (int32_t)v[0], (int32_t)v[1], (int32_t)v[2], v[3], v[4],
+                                       v[5], &reel_result),
+                    where, line_number, "reel");
+        } else if (strcmp(word, "reel-result") == 0) {
+            read_numbers(numbers, v, 7);
+            expect_near(reel_result.paid, v[0], where, line_number, "reel paid");
+            expect_near(reel_result.rest_length, v[1], where, line_number, "reel rest length");
+            expect_near(reel_result.largest_move, v[2], where, line_number, "reel largest move");
+            expect_int(reel_result.clamped, (long)v[3], where, line_number, "reel clamped");
+            expect_int(reel_result.segments_added, (long)v[4], where, line_number, "reel added");
+            expect_int(reel_result.segments_removed, (long)v[5], where, line_number,
+                       "reel removed");
+            expect_int(reel_result.point_count, (long)v[6], where, line_number, "reel points");
         } else if (strcmp(word, "release") == 0) {
             read_numbers(numbers, v, 1);
             state.hose = -1;

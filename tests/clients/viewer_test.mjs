@@ -1,7 +1,7 @@
 // The web viewer (exporters/viewer) in Debian's chromium, headless, driven by puppeteer-core.
 //
 //   node viewer_test.mjs rig --repo DIR --wasm DIR --reference EXE --export FILE.glb --out DIR
-//                        [--part NAME] [--clips N]
+//                        [--part NAME] [--clips N] [--reel HOSE]
 //       opens the export (?file=…&record=1), checks the panel lists every hose, drags a hose
 //       point with the mouse (a press on the hose, a move, screenshots before and while held,
 //       the release), clicks the part NAME (default: the part most hoses are fixed to) and drags
@@ -11,6 +11,10 @@
 //       to the part moved with it. With --clips N: the rig has N clips, each drawn as a ring
 //       around the hose (its centre on the held segment's line to 1e-5 m, its normal along the
 //       segment), before and after the part move; a ring on the moved part moved with it.
+//       With --reel HOSE: a click on the hose's panel row selects it, holding ] pays it out and
+//       [ reels it in (the viewer's keys), frames of the same reel take it 0.3 m beyond its
+//       exported length and back in as far as the hose gives (screenshots
+//       <export>-reeled-out.png, -reeled-back.png); the native replay then covers the reels too (a snapshot after them).
 //   node viewer_test.mjs sockets --repo DIR --wasm DIR --reference EXE --export test-rig.glb --out DIR
 //       the test rig's sockets: a press near left-feed's valve end selects it, U unplugs it; the
 //       end dragged with the mouse onto plate-port (its ring) is guided in and, let go, snaps in
@@ -264,7 +268,51 @@ try {
       console.log(`the rings after the move: ${JSON.stringify(ringsAfter.map((r) => ({ hose: r.hose, clip: r.clip, segment: r.segment, gap: r.gap })))}`);
     }
 
-    compareWithNative(after, stem);
+    if (options.reel) {
+      // Reel: a click on the hose's panel row selects it; ] held pays it out, [ reels it in;
+      // then frames of the same reel (the hook) take it to 0.3 m beyond its exported length
+      // (the viewer's bound) and back to it.
+      const hose = options.reel, step = 0.5 / 90;
+      const lengthOf = () => viewer((id) => window.chaintubeViewer.hoseLength(id), hose);
+      const exported = (await lengthOf()).restLength;
+      const row = await page.$(`#hoses tr[data-hose="${hose}"] td`);
+      await row.click();
+      check(await viewer(() => window.chaintubeViewer.selectedHose) === hose,
+        `a click on ${hose}'s row selects it for the reel keys`);
+      await page.keyboard.down(']');
+      await settle(4);
+      await page.keyboard.up(']');
+      await settle(1);
+      const keyed = await lengthOf();
+      check(keyed.restLength > exported + step - 1e-12,
+        `holding ] pays ${hose} out (${(1000 * (keyed.restLength - exported)).toFixed(1)} mm)`);
+      await viewer(() => window.chaintubeViewer.reelFrames(60, +1));
+      await settle(1);
+      const out = await lengthOf();
+      check(Math.abs(out.restLength - (exported + 0.3)) <= 1e-9,
+        `${hose} paid out to 0.3 m beyond its exported length (${out.restLength.toFixed(6)} m, ` +
+        `${out.pointCount} points; exported ${exported.toFixed(6)} m)`);
+      await page.screenshot({ path: join(options.out, `${stem}-reeled-out.png`) });
+      await page.keyboard.down('[');
+      await settle(3);
+      await page.keyboard.up('[');
+      await settle(1);
+      const inKeyed = await lengthOf();
+      check(inKeyed.restLength < out.restLength - step + 1e-12, `holding [ reels ${hose} in`);
+      await viewer((frames) => window.chaintubeViewer.reelFrames(frames, -1),
+        Math.round((inKeyed.restLength - exported) / step));
+      await settle(1);
+      // Reeling in waits where the hose beyond the outlet is bent (lib/README.md, "Reel in, pay
+      // out"): a span between two parts gives back what its shape allows.
+      const back = await lengthOf();
+      check(back.restLength < inKeyed.restLength - step && back.restLength >= exported - 1e-9,
+        `${hose} reeled back in, as far as its span gives: ${(1000 * (out.restLength - back.restLength)).toFixed(1)} ` +
+        `of 300 mm (${back.restLength.toFixed(6)} m, ${back.pointCount} points)`);
+      await page.screenshot({ path: join(options.out, `${stem}-reeled-back.png`) });
+    }
+
+    compareWithNative(options.reel ? await viewer(() => window.chaintubeViewer.snapshot()) : after,
+      stem);
   } else if (mode === 'sockets') {
     await page.goto(viewerUrl(basename(options.export)));
     await page.waitForFunction(() => ['loaded', 'error'].includes(window.chaintubeViewer.state),

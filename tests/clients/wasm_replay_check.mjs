@@ -63,7 +63,7 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
   const rig = chaintube.loadMemory(name, bytes);
   const fresh = chaintube.loadMemory(name, bytes);
   bytes.fill(0); // each rig keeps its own copy
-  let grabResult = null, grabbedHose = -1;
+  let grabResult = null, grabbedHose = -1, reelResult = null, reeledHose = -1;
   let fetched = null; // copies of one hose's outputs after the last input
   function fetch(hose) {
     if (fetched?.hose === hose) return fetched;
@@ -86,7 +86,7 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
     if (!text.trim()) return;
     const words = text.split(' ');
     const v = words.slice(1).map(Number);
-    const hose = words[0] === 'grab-result' ? grabbedHose
+    const hose = words[0] === 'grab-result' ? grabbedHose : words[0] === 'reel-result' ? reeledHose
       : ['rig', 'node-name', 'socket'].includes(words[0]) ? -1 : v[0];
     gravityHose = hose >= 0 && hose < rig.hoseCount() && rig.hoseInfo(hose).hasGravity;
     try {
@@ -131,6 +131,21 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
           break;
         case 'grab-result':
           compareResult(grabResult, v, line);
+          break;
+        case 'reel':
+          fetched = null;
+          reeledHose = v[0];
+          reelResult = rig.reel(v[0], v[1], v[3], v[4], v[5], v[2]);
+          break;
+        case 'reel-result':
+          near(reelResult.paid, v[0], line, 'reel paid');
+          near(reelResult.restLength, v[1], line, 'reel rest length');
+          near(reelResult.largestMove, v[2], line, 'reel largest move');
+          same(reelResult.clamped ? 1 : 0, v[3], line, 'reel clamped');
+          same(reelResult.segmentsAdded, v[4], line, 'reel added');
+          same(reelResult.segmentsRemoved, v[5], line, 'reel removed');
+          same(reelResult.pointCount, v[6], line, 'reel points');
+          same(rig.axisPoints(reeledHose).length, 3 * v[6], line, 'axis points');
           break;
         case 'release':
           fetched = null;

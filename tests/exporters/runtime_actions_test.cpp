@@ -1,9 +1,10 @@
 // The runtime's scenario actions on an exported rig: each attachment's pull after an update; an
-// end unplugged and plugged into another part; a hose cut in two.
+// end unplugged and plugged into another part; a hose cut in two; a hose reeled out and in.
 #include "export_test_support.h"
 
 #include <chaintube/export/runtime.h>
 #include <cmath>
+#include <functional>
 #include <iostream>
 
 namespace chaintube::exporting::testing {
@@ -316,6 +317,386 @@ TEST(HoseRuntimeCut, AHoseCutInTwoKeepsItsPointsAndSharesItsJointsBetweenThePiec
     std::cout << "[ cut ] bracket-loop (" << n << " points) cut at " << middle << ": hose " << piece
               << " poses " << n - middle - 1 << " joints, the cut end pulled "
               << (runtime.hose(piece).point(0) - end).norm() << " m\n";
+}
+
+// --- Reel in, pay out -----------------------------------------------------------------------
+
+constexpr double kReelFrame = 1.0 / 90.0; // seconds
+constexpr double kReelSpeed = 0.5;        // metres a second
+
+/// What a reel walk saw.
+struct ReelWalk
+{
+    int frames = 0;
+    int clampedFrames = 0;
+    double paidOut = 0.0;
+    double paidIn = 0.0;
+    double largestMoveOverPaid = 0.0; ///< a frame's largest point move / its |paid|
+    int mostPoints = 0;
+};
+
+/// Pays `distance` out at end `end` of a hose at kReelSpeed, kReelFrame a frame, then (`back`)
+/// in again, one runtime update a frame, checking every frame: no point moved by the reel more
+/// than twice what it paid (chaintube/reel.h: a span to a pinned point; exactly that for a free
+/// tail), then after the update every segment in its band, no constraint violated, the joint
+/// count and nodes as exported, the attachments' point indices on the points the hose fixes,
+/// the grabbable points every free point. A frame whose call is clamped pays what it could; the
+/// rest waits for the next frame (at most 4 × distance / step frames a way).
+ReelWalk reelOutAndBack(rig::HoseRuntime& runtime, int hose, HoseEnd end, double distance,
+                        bool back = true)
+{
+    ReelWalk walk;
+    const std::vector<int> jointNodes = runtime.description(hose).jointNodes;
+    const size_t joints = runtime.jointPoses(hose).size();
+    const double total0 = runtime.hose(hose).restLengthTotal();
+    const double step = kReelSpeed * kReelFrame;
+    const int maxFrames = static_cast<int>(4.0 * distance / step) + 4;
+    for (int direction : {+1, -1}) {
+        if (direction < 0 && !back) break;
+        double left = distance;
+        for (int frame = 0; left > 1e-12 && frame < maxFrames; ++frame) {
+            const Hose& h = runtime.hose(hose);
+            const std::vector<Vec3> before = h.points();
+            // The outlet and the side its free hose is on, before the call.
+            const int n0 = h.pointCount();
+            int outlet = -1;
+            for (const Hose::Attachment& a : h.attachments())
+                if (!a.isClip() && (end == HoseEnd::Start ? a.first == 0 : a.last == n0 - 1))
+                    outlet = end == HoseEnd::Start ? a.last : a.first;
+            const int side = end == HoseEnd::Start ? +1 : -1;
+            const ReelResult r = runtime.reel(hose, end, direction * std::min(left, step), 0.0,
+                                              std::numeric_limits<double>::infinity());
+            EXPECT_NE(r.status, Status::InvalidInput) << r.message;
+            walk.clampedFrames += r.status == Status::Clamped;
+            left -= std::abs(r.paid);
+            (direction > 0 ? walk.paidOut : walk.paidIn) += std::abs(r.paid);
+            const std::vector<Vec3> reeled = h.points(); // before the update's gravity step
+            runtime.update();
+            ++walk.frames;
+            const std::string when =
+                (direction > 0 ? "out, frame " : "in, frame ") + std::to_string(frame);
+            expectInBand(h, when);
+            EXPECT_EQ(h.measureViolation().status, Status::Ok) << when;
+            EXPECT_NE(runtime.frameResult(hose).status, Status::Infeasible) << when;
+            const int n = h.pointCount();
+            walk.mostPoints = std::max(walk.mostPoints, n);
+            EXPECT_EQ(n, n0 + r.segmentsAdded - r.segmentsRemoved) << when;
+            // Each point that was there before: where it is now.
+            double largest = 0.0;
+            for (int i = 0; i < n0; ++i) {
+                int to = i;
+                const bool beyond = side > 0 ? i > outlet : i < outlet;
+                if (r.segmentsAdded + r.segmentsRemoved > 1) continue;      // not in one step
+                if (r.segmentsRemoved == 1 && i == outlet + side) continue; // merged away
+                if (side > 0 && beyond) to = i + r.segmentsAdded - r.segmentsRemoved;
+                if (side < 0 && !beyond && i != outlet + side)
+                    to = i + r.segmentsAdded - r.segmentsRemoved;
+                largest = std::max(
+                    largest,
+                    (reeled[static_cast<size_t>(to)] - before[static_cast<size_t>(i)]).norm());
+            }
+            if (r.paid != 0.0) {
+                EXPECT_LE(largest, 2.0 * std::abs(r.paid) * (1.0 + 1e-9) + 1e-12) << when;
+                walk.largestMoveOverPaid =
+                    std::max(walk.largestMoveOverPaid, largest / std::abs(r.paid));
+            }
+            // The skin keeps its joints; each joint is on the hose.
+            EXPECT_EQ(runtime.jointPoses(hose).size(), joints) << when;
+            EXPECT_EQ(runtime.description(hose).jointNodes, jointNodes) << when;
+            for (const rig::JointPose& pose : runtime.jointPoses(hose)) {
+                EXPECT_TRUE(pose.world.translation.allFinite()) << when;
+                EXPECT_NEAR(pose.world.rotation.norm(), 1.0, 1e-9) << when;
+            }
+            // Bookkeeping follows the points.
+            std::vector<char> fixed(static_cast<size_t>(n), 0);
+            for (int a = 0; a < runtime.attachmentCount(hose); ++a) {
+                const rig::LiveAttachment& live = runtime.attachment(hose, a);
+                EXPECT_TRUE(live.attached);
+                for (int i = live.firstPoint; i <= live.lastPoint; ++i) {
+                    EXPECT_TRUE(h.isFixed(i)) << when << ", attachment " << a << " point " << i;
+                    fixed[static_cast<size_t>(i)] = 1;
+                }
+            }
+            std::vector<int> free;
+            for (int i = 0; i < n; ++i)
+                if (!fixed[static_cast<size_t>(i)]) free.push_back(i);
+            EXPECT_EQ(runtime.grabbablePoints(hose), free) << when;
+            EXPECT_EQ(runtime.description(hose).pointCount(), n) << when;
+            EXPECT_EQ(runtime.description(hose).restLengths.size(), static_cast<size_t>(n - 1));
+        }
+        EXPECT_LE(left, 1e-12) << (direction > 0 ? "paying out" : "reeling in") << " stalled";
+    }
+    EXPECT_NEAR(runtime.hose(hose).restLengthTotal(), total0 + (back ? 0.0 : distance), 1e-9);
+    return walk;
+}
+
+TEST(HoseRuntimeReel, PaidOutThreeTenthsOfAMetreAndBackEveryFrameIsValid)
+{
+    // valve-tail on rig-options: fixed to the valve (points 0, 1: the reel's outlet), its end
+    // free, hanging under gravity. Reeling in, a merge at the outlet waits a frame or two for
+    // gravity to straighten the joint beyond it (lib/README.md, "Reel in, pay out").
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadRigOptions(folder);
+    const int hose = runtime.findHose("valve-tail");
+    ASSERT_GE(hose, 0);
+    const int n = runtime.hose(hose).pointCount();
+    const std::vector<double> rest = runtime.description(hose).restLengths;
+    const ReelWalk walk = reelOutAndBack(runtime, hose, HoseEnd::Start, 0.3);
+    EXPECT_NEAR(walk.paidOut, 0.3, 1e-12);
+    EXPECT_NEAR(walk.paidIn, 0.3, 1e-12);
+    EXPECT_GT(walk.mostPoints, n + 5); // the new length appeared as points at the reel
+    const Hose& h = runtime.hose(hose);
+    // Back at the exported length and segments: the joints are on the points again.
+    const std::vector<rig::JointPose>& poses = runtime.jointPoses(hose);
+    ASSERT_EQ(poses.size(), static_cast<size_t>(n));
+    bool sameSegments = h.pointCount() == n;
+    for (int s = 0; sameSegments && s + 1 < n; ++s)
+        sameSegments = std::abs(h.restLength(s) - rest[static_cast<size_t>(s)]) <= 1e-9;
+    EXPECT_TRUE(sameSegments);
+    for (size_t j = 0; sameSegments && j < poses.size(); ++j) {
+        EXPECT_LT((poses[j].world.translation - h.point(static_cast<int>(j))).norm(), 1e-9) << j;
+    }
+    std::cout << "[ reel ] valve-tail 0.3 m out and back at 0.5 m/s, 90 Hz: " << walk.frames
+              << " frames (" << walk.clampedFrames
+              << " clamped, the rest paid the next frame), up to " << walk.mostPoints
+              << " points (exported " << n << "), largest move " << walk.largestMoveOverPaid
+              << " x the length paid a frame\n";
+}
+
+TEST(HoseRuntimeReel, IntoASpanToTheValveEveryFrameIsValidAndReelingInClampsWhereTheHoseIsBent)
+{
+    // left-feed on the test rig: fixed to bracket_left (points 0, 1: the outlet) and to the
+    // valve's inlet. The span takes 0.3 m by its shape; reeling back in, a merge at the outlet
+    // waits for the joint beyond it to straighten, which nothing does here: Clamped with why.
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadTestRig(folder);
+    const int hose = runtime.findHose("left-feed");
+    ASSERT_GE(hose, 0);
+    const int n = runtime.hose(hose).pointCount();
+    const ReelWalk walk = reelOutAndBack(runtime, hose, HoseEnd::Start, 0.3, false);
+    EXPECT_NEAR(walk.paidOut, 0.3, 1e-12);
+    EXPECT_GT(walk.mostPoints, n + 5);
+    EXPECT_LE(walk.largestMoveOverPaid, 2.0 + 1e-9);
+    double paidIn = 0.0;
+    std::string why;
+    for (int frame = 0; frame < 60; ++frame) {
+        const ReelResult r =
+            runtime.reel(hose, HoseEnd::Start, -kReelSpeed * kReelFrame, 0.0, 10.0);
+        ASSERT_NE(r.status, Status::InvalidInput) << r.message;
+        paidIn -= r.paid;
+        if (r.clamped) why = r.message;
+        runtime.update();
+        expectInBand(runtime.hose(hose), "reeling in, frame " + std::to_string(frame));
+        EXPECT_EQ(runtime.hose(hose).measureViolation().status, Status::Ok) << frame;
+    }
+    EXPECT_GT(paidIn, 0.0);
+    EXPECT_NE(why, "");
+    std::cout << "[ reel ] left-feed: 0.3 m paid into its span in " << walk.frames
+              << " frames, largest move " << walk.largestMoveOverPaid
+              << " x the length paid; reeled back " << paidIn << " m in 60 frames (" << why
+              << ")\n";
+}
+
+TEST(HoseRuntimeReel, JointsReeledInWaitAtTheOutletAndTheFarEndsJointStaysOnTheFarEnd)
+{
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadRigOptions(folder);
+    const int hose = runtime.findHose("valve-tail");
+    ASSERT_GE(hose, 0);
+    const int n = runtime.hose(hose).pointCount();
+    const int outlet = runtime.attachment(hose, 0).lastPoint;
+    std::vector<double> arcs(1, 0.0); // the exported rest arc length of each point
+    for (int s = 0; s + 1 < n; ++s)
+        arcs.push_back(arcs.back() + runtime.hose(hose).restLength(s));
+    double paidIn = 0.0;
+    for (int frame = 0; frame < 60 && paidIn < 0.1 - 1e-12; ++frame) {
+        const ReelResult r = runtime.reel(
+            hose, HoseEnd::Start, -std::min(kReelSpeed * kReelFrame, 0.1 - paidIn), 0.0, 1.0);
+        ASSERT_NE(r.status, Status::InvalidInput) << r.message;
+        paidIn -= r.paid;
+        runtime.update();
+        const Hose& h = runtime.hose(hose);
+        const std::vector<rig::JointPose>& poses = runtime.jointPoses(hose);
+        ASSERT_EQ(poses.size(), static_cast<size_t>(n));
+        EXPECT_LT((poses.back().world.translation - h.point(h.pointCount() - 1)).norm(), 1e-9);
+        EXPECT_LT((poses.front().world.translation - h.point(0)).norm(), 1e-9);
+        // Joint j beyond the outlet is reeled in once its exported distance from the outlet is
+        // less than what was reeled in: it waits at the outlet.
+        for (int j = outlet + 1; j < n; ++j)
+            if (arcs[static_cast<size_t>(j)] - arcs[static_cast<size_t>(outlet)] < paidIn - 1e-9) {
+                EXPECT_LT(
+                    (poses[static_cast<size_t>(j)].world.translation - h.point(outlet)).norm(),
+                    1e-9)
+                    << "frame " << frame << ", joint " << j;
+            }
+    }
+    EXPECT_NEAR(paidIn, 0.1, 1e-12);
+    int atOutlet = 0;
+    for (const rig::JointPose& pose : runtime.jointPoses(hose))
+        atOutlet += (pose.world.translation - runtime.hose(hose).point(outlet)).norm() < 1e-9;
+    EXPECT_GE(atOutlet, 2);
+    std::cout << "[ reel ] valve-tail: 0.1 m reeled in, " << atOutlet
+              << " joints at the outlet, the far end's joint on the far end\n";
+}
+
+TEST(HoseRuntimeReel, ThroughAClipTheDrumSideStaysAndTheLengthAppearsBeyondTheClip)
+{
+    // The motion rig's cable through two clips: the clip nearer its first point is the reel's
+    // outlet, the drum towards the first point (the hose up to the clip stands for the drum).
+    TemporaryFolder folder;
+    const fs::path output = folder / "motion.glb";
+    exportProjectFile(samplesDir() / "motion-rig.ctproj", output, roots());
+    rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+    const int cable = runtime.findHose("carriage-cable");
+    ASSERT_GE(cable, 0);
+    ASSERT_EQ(runtime.description(cable).clips.size(), 2u);
+    const int outlet = runtime.clip(cable, 0).slide > runtime.clip(cable, 1).slide ? 0 : 1;
+    const int other = 1 - outlet;
+    const int drumPoints = runtime.clip(cable, outlet).last + 1;
+    const std::vector<Vec3> before = runtime.hose(cable).points();
+    const double total = runtime.hose(cable).restLengthTotal();
+    const double outletSlide = runtime.clip(cable, outlet).slide;
+    const double otherSlide = runtime.clip(cable, other).slide;
+    const size_t joints = runtime.jointPoses(cable).size();
+    double paid = 0.0;
+    for (int frame = 0; frame < 40 && paid < 0.05 - 1e-12; ++frame) {
+        const ReelResult r =
+            runtime.reelThroughClip(cable, outlet, HoseEnd::Start,
+                                    std::min(kReelSpeed * kReelFrame, 0.05 - paid), 0.0, 10.0);
+        ASSERT_NE(r.status, Status::InvalidInput) << r.message;
+        paid += r.paid;
+        runtime.update();
+        const Hose& h = runtime.hose(cable);
+        expectInBand(h, "through the clip, frame " + std::to_string(frame));
+        EXPECT_EQ(h.measureViolation().status, Status::Ok) << frame;
+        for (int i = 0; i < drumPoints; ++i) // the drum's side keeps its shape
+            EXPECT_LT((h.point(i) - before[static_cast<size_t>(i)]).norm(), 1e-12) << i;
+        EXPECT_EQ(runtime.jointPoses(cable).size(), joints);
+        EXPECT_LT((runtime.jointPoses(cable).back().world.translation - h.point(h.pointCount() - 1))
+                      .norm(),
+                  1e-9); // the far end's joint stays on the far end
+        EXPECT_NEAR(runtime.clip(cable, outlet).slide, outletSlide, 1e-12);
+        EXPECT_NEAR(runtime.clip(cable, other).slide, otherSlide, 1e-12);
+        EXPECT_NEAR(h.restLengthTotal(), total + paid, 1e-12);
+    }
+    EXPECT_NEAR(paid, 0.05, 1e-12);
+    EXPECT_GT(runtime.hose(cable).pointCount(), static_cast<int>(before.size()));
+    // A clip index out of range is refused; the hose stays as it is.
+    const std::vector<Vec3> now = runtime.hose(cable).points();
+    const ReelResult refused = runtime.reelThroughClip(cable, 2, HoseEnd::Start, 0.01, 0.0, 10.0);
+    EXPECT_EQ(refused.status, Status::InvalidInput);
+    EXPECT_NE(refused.message.find("clip 2 is out of range"), std::string::npos) << refused.message;
+    EXPECT_EQ(runtime.hose(cable).points(), now);
+    std::cout << "[ reel ] carriage-cable: 0.05 m paid out through clip " << outlet << ", "
+              << runtime.hose(cable).pointCount() - static_cast<int>(before.size())
+              << " points added beyond it, the drum side unchanged\n";
+}
+
+TEST(HoseRuntimeReel, BadInputIsRefusedWithAMessageAndChangesNothing)
+{
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadRigOptions(folder);
+    const int tail = runtime.findHose("valve-tail");
+    const int loop = runtime.findHose("bracket-loop");
+    const int pipe = runtime.findHose("pipe-on-plate");
+    ASSERT_GE(tail, 0);
+    ASSERT_GE(loop, 0);
+    ASSERT_GE(pipe, 0);
+    const double inf = std::numeric_limits<double>::infinity();
+    const auto unchanged = [&](const std::function<ReelResult()>& call, Status expected,
+                               const std::string& fragment) {
+        std::vector<std::vector<Vec3>> points;
+        std::vector<std::vector<int>> grabbable;
+        for (int h = 0; h < runtime.hoseCount(); ++h) {
+            points.push_back(runtime.hose(h).points());
+            grabbable.push_back(runtime.grabbablePoints(h));
+        }
+        const ReelResult r = call();
+        EXPECT_EQ(r.status, expected) << fragment;
+        EXPECT_EQ(r.paid, 0.0) << fragment;
+        EXPECT_NE(r.message.find(fragment), std::string::npos) << r.message;
+        for (int h = 0; h < runtime.hoseCount(); ++h) {
+            EXPECT_EQ(runtime.hose(h).points(), points[static_cast<size_t>(h)]) << fragment;
+            EXPECT_EQ(runtime.grabbablePoints(h), grabbable[static_cast<size_t>(h)]) << fragment;
+        }
+    };
+    const double total = runtime.hose(loop).restLengthTotal();
+    unchanged([&] { return runtime.reel(99, HoseEnd::Start, 0.01, 0, inf); }, Status::InvalidInput,
+              "hose 99 is out of range");
+    unchanged([&] { return runtime.reel(-1, HoseEnd::Start, 0.01, 0, inf); }, Status::InvalidInput,
+              "hose -1 is out of range");
+    unchanged([&] { return runtime.reel(pipe, HoseEnd::Start, 0.01, 0, inf); },
+              Status::InvalidInput, "static");
+    unchanged([&] { return runtime.reel(tail, HoseEnd::End, 0.01, 0, inf); }, Status::InvalidInput,
+              "expected an end fixed by an attachment");
+    unchanged([&] { return runtime.reel(loop, HoseEnd::Start, 0.01, 2.0, 1.0); },
+              Status::InvalidInput, "maxLength");
+    unchanged([&] { return runtime.reel(loop, HoseEnd::Start, std::nan(""), 0, inf); },
+              Status::InvalidInput, "reel length");
+    unchanged([&] { return runtime.reel(loop, HoseEnd::Start, 0.01, -1.0, inf); },
+              Status::InvalidInput, "minLength");
+    unchanged([&] { return runtime.reelThroughClip(loop, 0, HoseEnd::Start, 0.01, 0, inf); },
+              Status::InvalidInput, "clip 0 is out of range");
+    // A length already outside [min, max] moves only towards them: asked away, Clamped.
+    unchanged([&] { return runtime.reel(loop, HoseEnd::Start, 0.01, 0.0, total - 0.05); },
+              Status::Clamped, "maximum");
+    unchanged([&] { return runtime.reel(loop, HoseEnd::Start, -0.01, total + 0.05, inf); },
+              Status::Clamped, "minimum");
+    // An unplugged end is no reel.
+    ASSERT_NE(runtime.detachEnd(loop, 0).status, Status::InvalidInput);
+    unchanged([&] { return runtime.reel(loop, HoseEnd::Start, 0.01, 0, inf); },
+              Status::InvalidInput, "expected an end fixed by an attachment");
+}
+
+TEST(HoseRuntimeReel, AHoseReeledThenHeldAndCutKeepsItsBookkeeping)
+{
+    TemporaryFolder folder;
+    rig::HoseRuntime runtime = loadRigOptions(folder);
+    const int loop = runtime.findHose("bracket-loop");
+    ASSERT_GE(loop, 0);
+    const std::vector<int> joints = runtime.description(loop).jointNodes;
+    const int n = runtime.hose(loop).pointCount();
+    // Hold a point beyond the outlet, then pay out: the held point is renumbered and stays held.
+    const int held = n / 2;
+    ASSERT_NE(runtime.grab(loop, held, runtime.hose(loop).point(held)).status,
+              Status::InvalidInput);
+    const Vec3 hand = runtime.hose(loop).point(held);
+    int added = 0;
+    for (int frame = 0; frame < 12; ++frame) {
+        const ReelResult r = runtime.reel(loop, HoseEnd::Start, kReelSpeed * kReelFrame, 0.0, 10.0);
+        ASSERT_NE(r.status, Status::InvalidInput) << r.message;
+        added += r.segmentsAdded - r.segmentsRemoved;
+        runtime.update();
+        expectInBand(runtime.hose(loop), "paying out, frame " + std::to_string(frame));
+    }
+    ASSERT_GT(added, 0);
+    const Hose& h = runtime.hose(loop);
+    EXPECT_EQ(h.pointCount(), n + added);
+    EXPECT_EQ(h.heldPoint(), held + added);
+    EXPECT_LT((h.point(held + added) - hand).norm(), 1e-9);
+    EXPECT_EQ(runtime.attachment(loop, 1).lastPoint, n + added - 1);
+    EXPECT_EQ(runtime.attachment(loop, 1).firstPoint, n + added - 2);
+    // A grab by a new index reaches the point it names.
+    const int moved = held + added - 2;
+    const Vec3 target = h.point(moved) + Vec3(0.0, 0.01, 0.0);
+    EXPECT_NE(runtime.grab(loop, moved, target).status, Status::InvalidInput);
+    runtime.update();
+    EXPECT_LT((runtime.hose(loop).point(moved) - target).norm(), 1e-6);
+    // Cut after the reel: every joint of the skin posed by exactly one piece.
+    const rig::CutResult cut = runtime.cut(loop, (n + added) / 2);
+    ASSERT_EQ(cut.status, Status::Ok);
+    std::vector<int> posed;
+    for (int piece : {loop, cut.newHose}) {
+        for (const rig::JointPose& pose : runtime.jointPoses(piece))
+            if (pose.node >= 0) posed.push_back(pose.node);
+        EXPECT_EQ(runtime.jointPoses(piece).size(), runtime.description(piece).jointNodes.size());
+    }
+    EXPECT_EQ(posed, joints);
+    EXPECT_EQ(runtime.attachment(cut.newHose, 0).lastPoint,
+              runtime.hose(cut.newHose).pointCount() - 1);
+    runtime.update();
+    expectInBand(runtime.hose(loop), "first piece");
+    expectInBand(runtime.hose(cut.newHose), "second piece");
 }
 
 } // namespace

@@ -4,7 +4,8 @@
 //   web_reference replay <export.glb> <inputs.json>
 //       replays inputs the JavaScript API recorded (Rig.recordInputs: a JSON array of
 //       {"op":"move","node","trs"}, {"op":"grab","hose","point","target"}, {"op":"release","hose"},
-//       {"op":"update"}) on the export loaded from the file, and prints every hose's joint world
+//       {"op":"reel","hose","end","clip","length","min","max"}, {"op":"update"}) on the export
+//       loaded from the file, and prints every hose's joint world
 //       positions: {"hoses":[{"id":"left-feed","joints":[[x,y,z],...]},...]} (metres, %.17g).
 //
 //   web_reference frames <export.glb> <frames>
@@ -101,6 +102,16 @@ int replay(const char* exportFile, const char* inputsFile)
             check(chaintube_rig_unplug(rig, input.at("hose").get<int32_t>(),
                                        input.at("end").get<int32_t>(), nullptr),
                   "chaintube_rig_unplug");
+        } else if (op == "reel") {
+            const auto bound = [&](const char* key) {
+                const nlohmann::json& value = input.at(key);
+                return value.is_null() ? HUGE_VAL : value.get<double>(); // JSON has no Infinity
+            };
+            check(chaintube_rig_reel(
+                      rig, input.at("hose").get<int32_t>(), input.at("end").get<int32_t>(),
+                      input.at("clip").get<int32_t>(), input.at("length").get<double>(),
+                      bound("min"), bound("max"), nullptr),
+                  "chaintube_rig_reel");
         } else if (op == "update") {
             check(chaintube_rig_update(rig, nullptr), "chaintube_rig_update");
         } else {

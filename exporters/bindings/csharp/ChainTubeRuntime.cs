@@ -121,6 +121,20 @@ namespace ChainTube
         public int occupantAttachment;               // the hose's attachment holding it; -1
     }
 
+    /// <summary>What a reel call did (chaintube_reel_result). Since ABI 1.3.</summary>
+    [StructLayout(LayoutKind.Sequential)]
+    public struct ReelResult
+    {
+        public double paid;            // metres paid out (> 0) or reeled in (< 0)
+        public double restLength;      // metres, the hose's rest length after the call
+        public double largestMove;     // metres, a bound on how far any point moved
+        public IntPtr message;         // why less was paid ("" when all was): Native.String
+        public int clamped;            // 1: less than asked was paid
+        public int segmentsAdded, segmentsRemoved;
+        public int pointCount;         // axis points after the call
+        public string Message { get { return Native.String(message); } }
+    }
+
     [StructLayout(LayoutKind.Sequential)]
     public struct Bytes
     {
@@ -197,6 +211,11 @@ namespace ChainTube
         public static extern Status chaintube_rig_plug(IntPtr rig, int hose, int end, int socket, out int attachment);
         [DllImport(Library)]
         public static extern Status chaintube_rig_unplug(IntPtr rig, int hose, int end, out int socket);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_reel(IntPtr rig, int hose, int end, int clip, double length,
+            double minLength, double maxLength, out ReelResult result);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_axis_points(IntPtr rig, int hose, [Out] double[] points, int capacity);
         [DllImport(Library)] public static extern Status chaintube_rig_update(IntPtr rig, out int recomputed);
         [DllImport(Library)]
         public static extern Status chaintube_rig_hose_result(IntPtr rig, int hose, out HoseResult result);
@@ -372,6 +391,24 @@ namespace ChainTube
         /// <summary>Unplugs end `end`: returns the socket it left (-1: an export attachment).</summary>
         public int Unplug(int hose, int end) { int s; Check(Native.chaintube_rig_unplug(Handle, hose, end, out s)); return s; }
 
+        /// <summary>Pays out (length &gt; 0, metres) or reels in (length &lt; 0) hose at end `end`
+        /// (0: first point's, 1: last point's), whose attachment is the reel's outlet; with clip
+        /// &gt;= 0 through that clip, the drum towards `end`. The rest length stays within
+        /// [minLength, maxLength]. A frame's call: speed * Time.deltaTime. Since ABI 1.3.</summary>
+        public ReelResult Reel(int hose, int end, double length, double minLength, double maxLength, int clip = -1)
+        {
+            ReelResult result;
+            Check(Native.chaintube_rig_reel(Handle, hose, end, clip, length, minLength, maxLength, out result));
+            return result;
+        }
+        /// <summary>The hose's axis points now, world metres (3 doubles a point): the points Grab
+        /// and Cut name (after a Reel no longer the joints' positions). Since ABI 1.3.</summary>
+        public double[] AxisPoints(int hose)
+        {
+            var points = new double[3 * Info(hose).pointCount];
+            Check(Native.chaintube_rig_axis_points(Handle, hose, points, points.Length));
+            return points;
+        }
         public int Update() { int n; Check(Native.chaintube_rig_update(Handle, out n)); return n; }
         public HoseResult Result(int hose) { HoseResult r; Check(Native.chaintube_rig_hose_result(Handle, hose, out r)); return r; }
 

@@ -182,6 +182,13 @@ const SOCKET_INFO_FIELDS = [
   ['occupantAttachment', 'occupant_attachment', 'i32'],
 ];
 
+const REEL_RESULT_FIELDS = [
+  ['paid', 'paid', 'f64'], ['restLength', 'rest_length', 'f64'],
+  ['largestMove', 'largest_move', 'f64'], ['message', 'message', 'string'],
+  ['clamped', 'clamped', 'bool'], ['segmentsAdded', 'segments_added', 'i32'],
+  ['segmentsRemoved', 'segments_removed', 'i32'], ['pointCount', 'point_count', 'i32'],
+];
+
 const ATTACHMENT_PULL_FIELDS = [
   ['direction', 'direction', 'f64x3'], ['tautness', 'tautness', 'f64'], ['strain', 'strain', 'f64'],
   ['force', 'force', 'f64x3'], ['node', 'node', 'i32'], ['firstPoint', 'first_point', 'i32'],
@@ -472,6 +479,42 @@ export class Rig {
     return n.outputInt32();
   }
 
+  /** Pays out (length > 0, metres) or reels in (length < 0) a hose where it leaves a reel
+   * (chaintube_rig_reel): with clip -1 the outlet is the attachment fixing end `end` (0: the
+   * first point's, 1: the last point's), with clip >= 0 that clip, the drum towards `end`. The
+   * rest length stays within [minLength, maxLength]. A frame's call: speed × frame time. Returns
+   * { paid (metres), restLength, largestMove, message ('' when all was paid), clamped,
+   * segmentsAdded, segmentsRemoved, pointCount }. */
+  reel(hose, end, length, minLength = 0, maxLength = Infinity, clip = -1) {
+    const n = this.#native, rig = this.#rig();
+    n.int32('hose', hose);
+    n.int32('end', end);
+    n.int32('clip', clip);
+    n.check(n.m._chaintube_rig_reel(rig, hose, end, clip, Number(length), Number(minLength),
+      Number(maxLength), n.output));
+    const outputs = this.#hoses.get(hose);
+    if (outputs) outputs.reeled = true; // the next update() may change its vertex count
+    this.#inputs?.push({ op: 'reel', hose, end, clip, length: Number(length),
+      min: Number(minLength), max: Number.isFinite(Number(maxLength)) ? Number(maxLength) : null });
+    return n.readStruct('reel_result', n.output, REEL_RESULT_FIELDS);
+  }
+
+  /** A hose's axis points now (chaintube_rig_axis_points): a Float64Array of its own, 3 world
+   * metres a point; the points grab() and cut() name (after a reel() no longer the joints'
+   * positions). */
+  axisPoints(hose) {
+    const n = this.#native, rig = this.#rig();
+    n.int32('hose', hose);
+    const count = 3 * this.hoseInfo(hose).pointCount;
+    const pointer = n.m._malloc(8 * count);
+    try {
+      n.check(n.m._chaintube_rig_axis_points(rig, hose, pointer, count));
+      return n.m.HEAPF64.slice(pointer >> 3, (pointer >> 3) + count);
+    } finally {
+      n.m._free(pointer);
+    }
+  }
+
   /** Lets go of the hose's held point. A held end released in a free socket's capture whose tag
    * fits snaps in (chaintube_rig_release_snap): returns that socket's index, -1 when none caught
    * it. */
@@ -525,8 +568,14 @@ export class Rig {
   update() {
     const n = this.#native;
     n.check(n.m._chaintube_rig_update(this.#rig(), n.output));
+    const recomputed = n.outputInt32();
+    for (const [hose, outputs] of this.#hoses) // a reel's new vertex count shows from here
+      if (outputs.reeled) {
+        outputs.reeled = false;
+        outputs.info = this.hoseInfo(hose);
+      }
     this.#inputs?.push({ op: 'update' });
-    return n.outputInt32();
+    return recomputed;
   }
 
   /** What happened to a hose in the frame the last update() ended (a HoseResult, see grab). */
@@ -610,8 +659,10 @@ export class Rig {
   #outputs(hose) {
     let outputs = this.#hoses.get(hose);
     if (!outputs) {
-      outputs = { info: this.hoseInfo(hose), blocks: {} };
+      outputs = { info: this.hoseInfo(hose), blocks: {}, reeled: false };
       this.#hoses.set(hose, outputs);
+    } else if (outputs.reeled) { // reeled since the last update(): counts as they are now
+      outputs.info = this.hoseInfo(hose);
     }
     return outputs;
   }
@@ -620,6 +671,10 @@ export class Rig {
   // destroy(); its view is made again when the memory has grown.
   #block(outputs, key, Type, count) {
     let block = outputs.blocks[key];
+    if (block && block.count !== count) { // a reel changed the hose's vertex count
+      this.#native.free(block.pointer);
+      block = null;
+    }
     if (!block) {
       const pointer = this.#native.allocate(new Uint8Array(Type.BYTES_PER_ELEMENT * Math.max(count, 1)));
       block = outputs.blocks[key] = { pointer, Type, count, view: null };

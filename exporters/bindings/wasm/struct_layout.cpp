@@ -75,18 +75,29 @@ std::string makeLayout()
         CHAINTUBE_FIELD(chaintube_socket_info, occupant_hose) +
         CHAINTUBE_FIELD(chaintube_socket_info, occupant_end) +
         CHAINTUBE_FIELD(chaintube_socket_info, occupant_attachment) + "}";
+    const std::string reelResult =
+        "\"reel_result\":{\"sizeof\":" + std::to_string(sizeof(chaintube_reel_result)) +
+        CHAINTUBE_FIELD(chaintube_reel_result, paid) +
+        CHAINTUBE_FIELD(chaintube_reel_result, rest_length) +
+        CHAINTUBE_FIELD(chaintube_reel_result, largest_move) +
+        CHAINTUBE_FIELD(chaintube_reel_result, message) +
+        CHAINTUBE_FIELD(chaintube_reel_result, clamped) +
+        CHAINTUBE_FIELD(chaintube_reel_result, segments_added) +
+        CHAINTUBE_FIELD(chaintube_reel_result, segments_removed) +
+        CHAINTUBE_FIELD(chaintube_reel_result, point_count) + "}";
     const std::string bytes = "\"bytes\":{\"sizeof\":" + std::to_string(sizeof(chaintube_bytes)) +
                               CHAINTUBE_FIELD(chaintube_bytes, data) +
                               CHAINTUBE_FIELD(chaintube_bytes, size) + "}";
 #undef CHAINTUBE_FIELD
     return "{" + hoseInfo + "," + nodeInfo + "," + hoseResult + "," + clipInfo + "," +
-           attachmentPull + "," + socketInfo + "," + bytes + "}";
+           attachmentPull + "," + socketInfo + "," + reelResult + "," + bytes + "}";
 }
 
 } // namespace
 
 /// The layout as JSON text, e.g. {"hose_info":{"sizeof":64,"id":0,…},"node_info":{…},
-/// "hose_result":{…},"clip_info":{…},"attachment_pull":{…},"socket_info":{…},"bytes":{…}}: a
+/// "hose_result":{…},"clip_info":{…},"attachment_pull":{…},"socket_info":{…},"reel_result":{…},
+/// "bytes":{…}}: a
 /// static string.
 extern "C" const char* chaintube_wasm_struct_layout(void)
 {

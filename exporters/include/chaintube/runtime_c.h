@@ -22,7 +22,8 @@
  * - A frame: chaintube_rig_set_node_transform for scene objects that moved, chaintube_rig_grab
  *   for held points, chaintube_rig_update, then chaintube_rig_joint_poses (skinned meshes) or
  *   chaintube_rig_surface (vertex buffers), chaintube_rig_hose_result for each hose, and
- *   chaintube_rig_attachment_pull for the parts the hoses hold back.
+ *   chaintube_rig_attachment_pull for the parts the hoses hold back; chaintube_rig_reel before
+ *   the update for a hose paid out or reeled in.
  */
 #ifndef CHAINTUBE_RUNTIME_C_H
 #define CHAINTUBE_RUNTIME_C_H
@@ -257,8 +258,8 @@ CHAINTUBE_API chaintube_status chaintube_rig_joint_nodes(const chaintube_rig* ri
 /* A hose's rest lengths and stretch band. rest_lengths: point_count - 1 doubles (metres;
  * segment i joins points i and i + 1), capacity >= point_count - 1; *expansion_coefficient:
  * the band e, each segment's length stays within rest (1 - e) ... rest (1 + e) after every
- * update that is not INFEASIBLE. Either may be NULL, not both. Rest lengths never change at
- * run time. Since ABI 1.1. */
+ * update that is not INFEASIBLE. Either may be NULL, not both. Rest lengths change only where
+ * chaintube_rig_reel pays a hose out or reels it in. Since ABI 1.1. */
 CHAINTUBE_API chaintube_status chaintube_rig_rest_lengths(const chaintube_rig* rig, int32_t hose,
                                                           double* rest_lengths, int32_t capacity,
                                                           double* expansion_coefficient);
@@ -439,6 +440,48 @@ CHAINTUBE_API chaintube_status chaintube_rig_surface_topology(const chaintube_ri
                                                               int32_t hose, uint32_t* indices,
                                                               int32_t indices_capacity, float* uvs,
                                                               int32_t uvs_capacity);
+
+/* --- Reel in, pay out (since ABI 1.3) ------------------------------------------------------ */
+
+/* What chaintube_rig_reel did. */
+typedef struct chaintube_reel_result
+{
+    double paid;              /* metres of rest length paid out (> 0) or reeled in (< 0) */
+    double rest_length;       /* metres: the hose's rest length after the call */
+    double largest_move;      /* metres: a bound on how far any point moved in the call */
+    const char* message;      /* "" when all was paid; else why less was (a length bound, the
+                                 shape): owned by the rig, valid until it is destroyed */
+    int32_t clamped;          /* 1: less than asked was paid (message says why) */
+    int32_t segments_added;   /* points inserted at the outlet */
+    int32_t segments_removed; /* points removed at the outlet */
+    int32_t point_count;      /* the hose's axis points after the call */
+} chaintube_reel_result;
+
+/* Pays out (length > 0, metres) or reels in (length < 0) a hose where it leaves a reel: with
+ * clip -1 the outlet is the attachment fixing end `end` (0: the first point, 1: the last);
+ * with clip >= 0 (chaintube_rig_clip_count) it is that clip, the drum towards end `end`. A
+ * frame's call is speed * frame time. The length changes in the segment leaving the outlet
+ * (points added or removed there, the rest of the hose keeps its rest lengths; no point moves
+ * more than twice the length paid; every segment stays in its band), and the rest length stays
+ * within [min_length, max_length] (max_length may be +Inf). The point count, rest lengths,
+ * grabbable points and attachment point indices change at once; joint_count never does: a
+ * reeled hose's joints follow it by rest arc length, those beyond the outlet keeping their
+ * distance from the far end (exporters/README.md, "Reel in, pay out"). Joint poses and the
+ * surface show the change after the next chaintube_rig_update. result (may be NULL). Refused
+ * (nothing changed): a hose or clip out of range (OUT_OF_RANGE); end not 0 or 1, an end no
+ * attachment fixes, a static hose, a non-finite length or min_length, min_length < 0,
+ * max_length NaN or below min_length (INVALID_ARGUMENT). A hose already outside the bounds
+ * moves only towards them (asked away: clamped, paid 0). */
+CHAINTUBE_API chaintube_status chaintube_rig_reel(chaintube_rig* rig, int32_t hose, int32_t end,
+                                                  int32_t clip, double length, double min_length,
+                                                  double max_length, chaintube_reel_result* result);
+
+/* A hose's axis points as they are now (world metres, 3 doubles a point: point_count points of
+ * chaintube_rig_hose_info; capacity >= 3 * point_count): the points chaintube_rig_grab and
+ * chaintube_rig_cut name. Until a reel they are also the joints' positions after an update;
+ * once chaintube_rig_reel changed the point count they are not. Since ABI 1.3. */
+CHAINTUBE_API chaintube_status chaintube_rig_axis_points(const chaintube_rig* rig, int32_t hose,
+                                                         double* points, int32_t capacity);
 
 #ifdef __cplusplus
 } /* extern "C" */

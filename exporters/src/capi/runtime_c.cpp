@@ -1009,4 +1009,71 @@ chaintube_status chaintube_rig_surface_topology(const chaintube_rig* rig, int32_
     });
 }
 
+// --- Reel in, pay out ----------------------------------------------------------------------
+
+chaintube_status chaintube_rig_reel(chaintube_rig* rig, int32_t hose, int32_t end, int32_t clip,
+                                    double length, double min_length, double max_length,
+                                    chaintube_reel_result* result)
+{
+    constexpr const char* function = "chaintube_rig_reel";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (end != 0 && end != 1)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "end " + std::to_string(end) +
+                            ": expected 0 (the first point's end) or 1 (the last point's)");
+        const int clips = static_cast<int>(rig->runtime.description(hose).clips.size());
+        if (clip < -1 || clip >= clips)
+            return fail(CHAINTUBE_ERROR_OUT_OF_RANGE, function,
+                        "clip " + std::to_string(clip) + " is out of range: expected -1 (the " +
+                            "end's attachment) or a clip of " + hoseName(rig, hose) +
+                            ", which has " + std::to_string(clips) + " (chaintube_rig_clip_count)");
+        const chaintube::HoseEnd which =
+            end == 0 ? chaintube::HoseEnd::Start : chaintube::HoseEnd::End;
+        const chaintube::ReelResult outcome =
+            clip < 0
+                ? rig->runtime.reel(hose, which, length, min_length, max_length)
+                : rig->runtime.reelThroughClip(hose, clip, which, length, min_length, max_length);
+        if (outcome.status == Status::InvalidInput)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, outcome.message);
+        if (result) {
+            const chaintube::Hose& running = rig->runtime.hose(hose);
+            chaintube_reel_result out{};
+            out.paid = outcome.paid;
+            out.rest_length = running.restLengthTotal();
+            out.largest_move = outcome.largestMove;
+            out.message = rig->keep(outcome.message);
+            out.clamped = outcome.clamped ? 1 : 0;
+            out.segments_added = outcome.segmentsAdded;
+            out.segments_removed = outcome.segmentsRemoved;
+            out.point_count = running.pointCount();
+            *result = out;
+        }
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_axis_points(const chaintube_rig* rig, int32_t hose, double* points,
+                                           int32_t capacity)
+{
+    constexpr const char* function = "chaintube_rig_axis_points";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!points) return nullArgument(function, "points");
+        const chaintube::Hose& running = rig->runtime.hose(hose);
+        const size_t count = static_cast<size_t>(running.pointCount());
+        if (const chaintube_status status =
+                checkCapacity(function, "points", capacity, 3 * count,
+                              hoseName(rig, hose) + " with " + std::to_string(count) +
+                                  " points (3 doubles each)"))
+            return status;
+        for (size_t i = 0; i < count; ++i) {
+            const chaintube::Vec3 point = running.point(static_cast<int>(i));
+            for (size_t k = 0; k < 3; ++k)
+                points[3 * i + k] = point(static_cast<Eigen::Index>(k));
+        }
+        return CHAINTUBE_OK;
+    });
+}
+
 } // extern "C"

@@ -288,6 +288,9 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
                             0,
                             {},
                             {},
+                            {},
+                            {},
+                            {},
                             {}};
         for (size_t k = 0; k < d.attachments.size(); ++k) {
             const RigAttachment& a = d.attachments[k];
@@ -648,6 +651,15 @@ void HoseRuntime::easeIntoSockets(size_t hose)
 }
 
 namespace {
+/// Rest arc length from point 0 to each point.
+std::vector<double> restArcs(const Hose& hose)
+{
+    std::vector<double> arcs(static_cast<size_t>(hose.pointCount()), 0.0);
+    for (int s = 0; s < hose.segmentCount(); ++s)
+        arcs[static_cast<size_t>(s) + 1] = arcs[static_cast<size_t>(s)] + hose.restLength(s);
+    return arcs;
+}
+
 template <class T> std::vector<T> slice(const std::vector<T>& values, size_t from, size_t to)
 {
     from = std::min(from, values.size());
@@ -708,6 +720,9 @@ CutResult HoseRuntime::cut(int hose, int point, std::string* why)
                                 unposed,
                                 {},
                                 m_hoses[h].pendingResult,
+                                {},
+                                {},
+                                {},
                                 {}},
                                {std::move(pieces->after),
                                 std::move(afterSurface),
@@ -718,6 +733,9 @@ CutResult HoseRuntime::cut(int hose, int point, std::string* why)
                                 {},
                                 true,
                                 unposed,
+                                {},
+                                {},
+                                {},
                                 {},
                                 {},
                                 {}}};
@@ -732,7 +750,23 @@ CutResult HoseRuntime::cut(int hose, int point, std::string* why)
         part.jointBendLimits = slice(d.jointBendLimits, from[piece], until[piece] - 2);
         part.jointMinBendRadii = slice(d.jointMinBendRadii, from[piece], until[piece] - 2);
         part.jointNodes = slice(d.jointNodes, from[piece], until[piece]);
-        if (piece == 1 && !part.jointNodes.empty()) part.jointNodes.front() = -1;
+        if (m_hoses[h].reelOutlet.clip != ReelOutlet::kNever) { // reeled: by where joints are
+            const RunningHose& whole = m_hoses[h];
+            const std::vector<double> arcs = restArcs(whole.hose);
+            const auto [outlet, side] = outletPoint(whole, whole.reelOutlet, d);
+            const double outletArc = outlet >= 0 ? arcs[static_cast<size_t>(outlet)] : std::nan("");
+            part.jointNodes.clear();
+            for (size_t j = 0; j < whole.jointArc.size(); ++j) {
+                const double place = jointPlace(whole, j, arcs, outletArc, side);
+                if ((place > restBefore) != (piece == 1)) continue;
+                part.jointNodes.push_back(d.jointNodes[j]);
+                running.jointArc.push_back(piece == 1 ? place - restBefore : place);
+                running.jointBeyond.push_back(0);
+            }
+            running.reelOutlet.clip = ReelOutlet::kNone;
+        } else if (piece == 1 && !part.jointNodes.empty()) {
+            part.jointNodes.front() = -1;
+        }
         part.attachments.clear();
         for (const LiveAttachment& a : m_hoses[h].live) {
             LiveAttachment kept = a;
@@ -1009,7 +1043,19 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
     }
     const std::vector<RingFrame>& frames = running.surface.frames();
     const Vec3& origin = running.hose.origin();
-    running.poses.resize(frames.size());
+    // A reeled hose's joints sit at rest arc lengths (reel()), between two rings: the centre
+    // interpolated, the rotation slerped; otherwise joint i is ring i.
+    const bool byArc = running.reelOutlet.clip != ReelOutlet::kNever && frames.size() >= 2;
+    std::vector<double> arcs;
+    double outletArc = std::nan("");
+    int side = 1;
+    if (byArc) {
+        arcs = restArcs(running.hose);
+        const auto [outlet, outletSide] = outletPoint(running, running.reelOutlet, description);
+        if (outlet >= 0) outletArc = arcs[static_cast<size_t>(outlet)];
+        side = outletSide;
+    }
+    running.poses.resize(byArc ? running.jointArc.size() : frames.size());
     // The joints share their parent node as a rule: its inverse is worked out once. A parent
     // whose world transform is a rotation and a uniform positive scale to kSimilar (relative;
     // scenes stored in floats carry scales that differ in the eighth digit) gives each joint's
@@ -1021,11 +1067,24 @@ void HoseRuntime::poseJoints(RunningHose& running, const RigHose& description)
     NodeTransform parent;
     Quat parentRotationInverse = Quat::Identity();
     double inverseScale = 1.0;
-    for (size_t i = 0; i < frames.size(); ++i) {
+    for (size_t i = 0; i < running.poses.size(); ++i) {
         JointPose& pose = running.poses[i];
         pose.node = i < description.jointNodes.size() ? description.jointNodes[i] : -1;
-        pose.world.translation = origin + frames[i].center;
-        pose.world.rotation = frames[i].rotation();
+        if (byArc) {
+            const double place = jointPlace(running, i, arcs, outletArc, side);
+            const size_t k = std::min<size_t>(
+                static_cast<size_t>(std::upper_bound(arcs.begin(), arcs.end(), place) -
+                                    arcs.begin()) -
+                    1,
+                arcs.size() - 2);
+            const double t = std::clamp((place - arcs[k]) / (arcs[k + 1] - arcs[k]), 0.0, 1.0);
+            pose.world.translation =
+                origin + (1.0 - t) * frames[k].center + t * frames[k + 1].center;
+            pose.world.rotation = frames[k].rotation().slerp(t, frames[k + 1].rotation());
+        } else {
+            pose.world.translation = origin + frames[i].center;
+            pose.world.rotation = frames[i].rotation();
+        }
         const int parentNode = i < running.jointParents.size() ? running.jointParents[i] : -1;
         if (parentNode < 0) {
             pose.local.translation = pose.world.translation;
@@ -1086,6 +1145,192 @@ const AttachmentPull& HoseRuntime::attachmentPull(int hose, int attachment) cons
     return static_cast<size_t>(attachment) < running.pulls.size()
                ? running.pulls[static_cast<size_t>(attachment)]
                : unmeasured;
+}
+
+// --- Reel in, pay out ---------------------------------------------------------------------
+
+namespace {
+ReelResult reelRefused(std::string message)
+{
+    ReelResult result;
+    result.status = Status::InvalidInput;
+    result.message = std::move(message);
+    return result;
+}
+
+/// The description's per-point arrays as the running hose is now (after a reel changed its
+/// point count): axis, rest lengths and the joints' limits, as the exporter writes them.
+void describeShape(RigHose& description, const Hose& hose)
+{
+    description.axis = hose.points();
+    description.restLengths.clear();
+    for (int s = 0; s < hose.segmentCount(); ++s)
+        description.restLengths.push_back(hose.restLength(s));
+    description.jointBendLimits.clear();
+    description.jointMinBendRadii.clear();
+    for (int j = 1; j + 1 < hose.pointCount(); ++j) {
+        const double limit = hose.deflectionLimit(j);
+        description.jointBendLimits.push_back(limit);
+        if (hose.material().bendLimit.kind == BendLimit::Kind::MinBendRadius &&
+            limit < 3.141592653589793)
+            description.jointMinBendRadii.push_back(hose.material().bendLimit.value);
+        else
+            description.jointMinBendRadii.push_back(
+                bendRadiusOfTurn(0.5 * (hose.restLength(j - 1) + hose.restLength(j)), limit));
+    }
+}
+} // namespace
+
+std::pair<int, int> HoseRuntime::outletPoint(const RunningHose& running, const ReelOutlet& outlet,
+                                             const RigHose& description)
+{
+    const int side = outlet.end == HoseEnd::Start ? +1 : -1;
+    if (outlet.clip < ReelOutlet::kEnd) return {-1, side};
+    const Hose& hose = running.hose;
+    const int endPoint = outlet.end == HoseEnd::Start ? 0 : hose.pointCount() - 1;
+    const int clipId =
+        outlet.clip >= 0 && static_cast<size_t>(outlet.clip) < description.clips.size()
+            ? running.clipIds[static_cast<size_t>(outlet.clip)]
+            : -1;
+    for (const Hose::Attachment& a : hose.attachments()) {
+        const bool isOutlet = outlet.clip >= 0
+                                  ? a.id == clipId
+                                  : !a.isClip() && endPoint >= a.first && endPoint <= a.last;
+        if (isOutlet) return {side > 0 ? a.last : a.first, side};
+    }
+    return {-1, side};
+}
+
+double HoseRuntime::jointPlace(const RunningHose& running, size_t joint,
+                               const std::vector<double>& arcs, double outletArc, int side)
+{
+    double place = running.jointArc[joint];
+    // A joint beyond the outlet that the reel took in waits at the outlet.
+    if (running.jointBeyond[joint] && !std::isnan(outletArc))
+        place = side > 0 ? std::max(place, outletArc) : std::min(place, outletArc);
+    return std::clamp(place, 0.0, arcs.back());
+}
+
+ReelResult HoseRuntime::reel(int hose, HoseEnd end, double length, double minLength,
+                             double maxLength)
+{
+    return reelAt(hose, ReelOutlet{ReelOutlet::kEnd, end}, length, minLength, maxLength);
+}
+
+ReelResult HoseRuntime::reelThroughClip(int hose, int clip, HoseEnd drumEnd, double length,
+                                        double minLength, double maxLength)
+{
+    if (hose >= 0 && hose < hoseCount()) {
+        const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+        if (clip < 0 || static_cast<size_t>(clip) >= d.clips.size())
+            return reelRefused("clip " + std::to_string(clip) + " is out of range: hose " +
+                               std::to_string(hose) + " (\"" + d.id + "\") has " +
+                               std::to_string(d.clips.size()) + " clips");
+    }
+    return reelAt(hose, ReelOutlet{clip, drumEnd}, length, minLength, maxLength);
+}
+
+ReelResult HoseRuntime::reelAt(int hose, ReelOutlet outlet, double length, double minLength,
+                               double maxLength)
+{
+    if (hose < 0 || hose >= hoseCount())
+        return reelRefused("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+                           std::to_string(hoseCount() - 1));
+    RunningHose& running = m_hoses[static_cast<size_t>(hose)];
+    RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
+    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    if (d.isStatic) return reelRefused(name + " is static: its length never changes");
+
+    // Before the call: where the joints are and where the outlet is.
+    const std::vector<double> arcsBefore = restArcs(running.hose);
+    const std::pair<int, int> outletBefore = outletPoint(running, outlet, d);
+    const int before = outletBefore.first, side = outletBefore.second; // a lambda captures them
+    const int pointsBefore = running.hose.pointCount();
+    const auto [previousOutlet, previousSide] = outletPoint(running, running.reelOutlet, d);
+    const double previousOutletArc =
+        previousOutlet >= 0 ? arcsBefore[static_cast<size_t>(previousOutlet)] : std::nan("");
+    std::vector<double> slidesBefore;
+    for (size_t c = 0; c < d.clips.size(); ++c)
+        slidesBefore.push_back(clip(hose, static_cast<int>(c)).slide);
+
+    ReelResult result =
+        outlet.clip >= 0
+            ? chaintube::reelThroughClip(running.hose,
+                                         running.clipIds[static_cast<size_t>(outlet.clip)],
+                                         outlet.end, length, minLength, maxLength)
+            : chaintube::reel(running.hose, outlet.end, length, minLength, maxLength);
+    if (result.status == Status::InvalidInput) {
+        result.message = name + ": " + result.message;
+        return result;
+    }
+    if (result.paid == 0.0) { // nothing changed; a reel that could not pay is in the frame
+        UpdateResult frame = result.update;
+        if (result.status == Status::Clamped && frame.status == Status::Ok)
+            frame.status = Status::Clamped;
+        combine(running.pendingResult, frame);
+        return result;
+    }
+    if (before < 0) throw std::logic_error(name + ": the reel's outlet is not on the hose");
+
+    // The skin's joints: from the first reel on, placed by rest arc length. A new outlet first
+    // fixes them where they are posed (by the previous outlet), then splits them into the drum
+    // side and the side beyond the outlet; the latter keep their distance from the far end.
+    if (running.reelOutlet.clip == ReelOutlet::kNever) {
+        const size_t joints = std::min(d.jointNodes.size(), arcsBefore.size());
+        running.jointArc.assign(arcsBefore.begin(),
+                                arcsBefore.begin() + static_cast<std::ptrdiff_t>(joints));
+        running.jointBeyond.assign(joints, 0);
+    }
+    if (!(running.reelOutlet == outlet)) {
+        const double outletArc = arcsBefore[static_cast<size_t>(before)];
+        for (size_t j = 0; j < running.jointArc.size(); ++j) {
+            running.jointArc[j] =
+                jointPlace(running, j, arcsBefore, previousOutletArc, previousSide);
+            running.jointBeyond[j] =
+                side > 0 ? running.jointArc[j] > outletArc : running.jointArc[j] < outletArc;
+        }
+        running.reelOutlet = outlet;
+    }
+    for (size_t j = 0; j < running.jointArc.size(); ++j)
+        if ((side > 0) == (running.jointBeyond[j] != 0)) running.jointArc[j] += result.paid;
+
+    // Point indices beyond the change moved by the points added or removed there.
+    const int delta = running.hose.pointCount() - pointsBefore;
+    const auto shifted = [&](int point) {
+        const bool moves = side > 0 ? point > before : point >= before;
+        return moves ? std::clamp(point + delta, 0, running.hose.pointCount() - 1) : point;
+    };
+    for (LiveAttachment& a : running.live) {
+        if (a.attached) {
+            for (const Hose::Attachment& now : running.hose.attachments())
+                if (now.id == a.id) {
+                    a.firstPoint = now.first;
+                    a.lastPoint = now.last;
+                }
+        } else {
+            a.firstPoint = shifted(a.firstPoint);
+            a.lastPoint = shifted(a.lastPoint);
+        }
+    }
+    findGrabbable(running, d);
+    describeShape(d, running.hose);
+    for (RigAttachment& a : d.attachments) {
+        a.firstPoint = shifted(a.firstPoint);
+        a.lastPoint = shifted(a.lastPoint);
+    }
+    for (size_t c = 0; c < d.clips.size(); ++c) {
+        const Hose::Attachment& held = clip(hose, static_cast<int>(c));
+        d.clips[c].place += held.slide - slidesBefore[c];
+        d.clips[c].slideMin = held.slideMin;
+        d.clips[c].slideMax = held.slideMax;
+    }
+    d.grabbablePoints = running.grabbable;
+
+    UpdateResult frame = result.update;
+    if (result.status == Status::Clamped && frame.status == Status::Ok)
+        frame.status = Status::Clamped;
+    combine(running.pendingResult, frame);
+    return result;
 }
 
 std::vector<float> HoseRuntime::worldPositions(int hose) const

@@ -13,6 +13,7 @@
 #include "chaintube/collision.h"
 #include "chaintube/export/rig_descriptor.h"
 #include "chaintube/hose.h"
+#include "chaintube/reel.h"
 #include "chaintube/surface.h"
 #include "chaintube/tension.h"
 
@@ -170,6 +171,9 @@ public:
     int hoseCount() const { return static_cast<int>(m_hoses.size()); }
     /// Index of the hose with this descriptor id, or −1.
     int findHose(std::string_view id) const;
+    /// The hose's descriptor entry. After a cut() or a reel() its per-point arrays (axis, rest
+    /// lengths, joint limits, attachment and grabbable points) describe the hose as it was then;
+    /// jointNodes stays the skin's joint list (one per point until the hose is reeled).
     const RigHose& description(int hose) const
     {
         return m_descriptor.hoses.at(static_cast<size_t>(hose));
@@ -265,9 +269,11 @@ public:
         return m_hoses.at(static_cast<size_t>(hose)).frameResult;
     }
 
-    /// Joint poses of a hose, in axis order, as of the last update(). Local poses are relative
-    /// to the joint node's current parent world transform. Empty for a static hose (a plain
-    /// mesh that its attachment node carries; hose() and worldPositions() still follow it).
+    /// Joint poses of a hose, in axis order, as of the last update(): one per entry of
+    /// description(hose).jointNodes, a count that never changes (a reeled hose's joints are
+    /// placed by rest arc length: reel()). Local poses are relative to the joint node's current
+    /// parent world transform. Empty for a static hose (a plain mesh that its attachment node
+    /// carries; hose() and worldPositions() still follow it).
     const std::vector<JointPose>& jointPoses(int hose) const
     {
         return m_hoses.at(static_cast<size_t>(hose)).poses;
@@ -354,7 +360,44 @@ public:
     /// SurfaceTopology), as of the last update().
     std::vector<float> worldPositions(int hose) const;
 
+    // --- Reel in, pay out -------------------------------------------------------------------
+
+    /// Pays out (`length` > 0, metres) or reels in (`length` < 0) hose at `end`, whose
+    /// attachment is the reel's outlet (chaintube/reel.h: the length changes in the segment
+    /// leaving it, points added or removed there); a frame's call is speed × frame time. The
+    /// rest length stays within [minLength, maxLength]. The runtime's bookkeeping follows the
+    /// points: attachment() point indices, grabbablePoints(), the held point, clips, a later
+    /// cut(); description(hose) then describes the hose as it is (axis, rest lengths, joint
+    /// limits, attachment points, grabbable points). The skin keeps its joints: from the first
+    /// reel on, each joint follows a place on the hose by rest arc length, the joints beyond the
+    /// outlet keeping their distance from the far end (the mesh slides out of and into the
+    /// reel; a joint reeled in waits at the outlet, and the mesh's segment leaving the outlet
+    /// spans what is paid out beyond the exported length: exporters/README.md, "Reel in, pay
+    /// out"). The change shows in surface() and jointPoses() after the next update(), and is in
+    /// that frame's frameResult(). Refused with Status::InvalidInput, nothing changed and
+    /// `message` saying why: a hose index out of range, a static hose, an end no attachment
+    /// fixes, a non-finite length or bound, minLength < 0, maxLength < minLength. A hose
+    /// already outside [minLength, maxLength] moves only towards it (Clamped when asked the
+    /// other way).
+    ReelResult reel(int hose, HoseEnd end, double length, double minLength, double maxLength);
+    /// reel() with clip `clip` of the hose (description(hose).clips order) as the reel's outlet
+    /// and the drum towards `drumEnd` (reelThroughClip in chaintube/reel.h). Refused as reel(),
+    /// and for a clip index out of range.
+    ReelResult reelThroughClip(int hose, int clip, HoseEnd drumEnd, double length, double minLength,
+                               double maxLength);
+
 private:
+    /// The outlet a hose was last reeled through: an end's attachment, or a clip (index in
+    /// description order) with the drum towards `end`.
+    struct ReelOutlet
+    {
+        static constexpr int kEnd = -1;   ///< clip: the attachment fixing `end` is the outlet
+        static constexpr int kNever = -2; ///< clip: never reeled (joint i is point i)
+        static constexpr int kNone = -3;  ///< clip: reeled before a cut, no outlet now
+        int clip = kNever;                ///< a clip index (description order), or one of the above
+        HoseEnd end = HoseEnd::Start;
+        bool operator==(const ReelOutlet&) const = default;
+    };
     struct RunningHose
     {
         Hose hose;
@@ -369,6 +412,12 @@ private:
         std::vector<int> jointParents;
         UpdateResult pendingResult; ///< the frame being built, since the last update()
         UpdateResult frameResult;   ///< the frame the last update() closed
+        /// Reel: where the skin's joints sit once the hose was reeled (unused before: joint i
+        /// is point i): rest arc length from point 0 per joint, whether it is beyond the reel's
+        /// outlet (it keeps its distance from the far end) and the outlet they were split by.
+        std::vector<double> jointArc;
+        std::vector<char> jointBeyond;
+        ReelOutlet reelOutlet;
     };
     HoseRuntime() = default;
     static void combine(UpdateResult& frame, const UpdateResult& result);
@@ -387,6 +436,15 @@ private:
     static int attachmentAtEnd(const RunningHose& running, int end);
     /// Moves every easing plugged end one frame towards its socket (update()).
     void easeIntoSockets(size_t hose);
+    ReelResult reelAt(int hose, ReelOutlet outlet, double length, double minLength,
+                      double maxLength);
+    /// The reel's outlet point and the side (+1: higher indices) its free hose is on; point
+    /// −1 when the outlet's attachment or clip is no longer on the hose.
+    static std::pair<int, int> outletPoint(const RunningHose& running, const ReelOutlet& outlet,
+                                           const RigHose& description);
+    /// Where joint `joint` of a reeled hose is posed: rest arc length from point 0.
+    static double jointPlace(const RunningHose& running, size_t joint,
+                             const std::vector<double>& arcs, double outletArc, int side);
 
     HoseRigDescriptor m_descriptor;
     std::vector<RigNode> m_nodes;
