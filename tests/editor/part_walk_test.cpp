@@ -158,6 +158,20 @@ TEST(DocumentPartWalks,
 }
 
 TEST(DocumentPartWalks,
+     TheEnginesHosesAreTheSameAfterTheirPartsWalkedOutAndBackAsWhenPlacedDirectly)
+{
+    if (!test::haveScenes())
+        GTEST_SKIP() << "skipped: the engine scene is not in the scenes folder";
+    auto walked = openSample("engine.ctproj");
+    auto direct = openSample("engine.ctproj");
+    walked->settleGravity();
+    direct->settleGravity();
+    const int parts = static_cast<int>(attachedParts(*walked).size());
+    EXPECT_GE(parts, 4) << "the pistons and the body parts the hoses are fixed to";
+    EXPECT_EQ(walkEveryPart(*walked, *direct, "engine.ctproj"), 6 * parts);
+}
+
+TEST(DocumentPartWalks,
      HosesWithGravityAreTheSameAfterTheirPartsWalkedOutAndBackAsWhenPlacedDirectly)
 {
     auto walked = openSample("test-rig.ctproj");
