@@ -1432,8 +1432,22 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                 found =
                     !(std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k]);
             }
-            const bool holds = found && measureViolation().status == Status::Ok;
-            // Under a budget only a valid shape is progress (the bends never give way).
+            // Under a budget only a valid shape is progress (the bends never give way): every
+            // segment and joint between the pinned points (the tails follow after the tries).
+            const auto spansHold = [&] {
+                for (int seg = lo; seg < hi; ++seg) {
+                    const size_t k = static_cast<size_t>(seg);
+                    const double l = (m_local[k + 1] - m_local[k]).norm();
+                    if (std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k])
+                        return false;
+                }
+                for (int j = lo + 1; j < hi; ++j)
+                    if (turnExcess(static_cast<size_t>(j), m_local) > 1e-9) return false;
+                return true;
+            };
+            const bool holds =
+                found &&
+                (m_budgetLeft >= 0 ? spansHold() : measureViolation().status == Status::Ok);
             if (m_budgetLeft >= 0 && !holds) found = false;
             if (holds) spans.relaxCompressedBends(result.iterations);
             m_budgetCut = cutBefore || m_budgetCut;
