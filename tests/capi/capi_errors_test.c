@@ -140,7 +140,7 @@ static void loading(const char* rig_file, const char* split_gltf, const char* sc
 
     /* A caller built against another major version, or a newer minor, is refused. */
     EXPECT_ERROR(chaintube_rig_load_file(next_major, rig_file, &rig), CHAINTUBE_ERROR_ABI_MISMATCH,
-                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.2");
+                 "chaintube_rig_load_file", "ABI 2.0", "ABI 1.3");
     EXPECT_ERROR(
         chaintube_rig_load_memory(next_major, "rig.glb", bytes, size, NULL, 0, NULL, 0, &rig),
         CHAINTUBE_ERROR_ABI_MISMATCH, "chaintube_rig_load_memory", "ABI 2.0");

@@ -895,4 +895,31 @@ chaintube_status chaintube_rig_surface_topology(const chaintube_rig* rig, int32_
     });
 }
 
+chaintube_status chaintube_rig_set_budget(chaintube_rig* rig, int32_t newton_steps)
+{
+    constexpr const char* function = "chaintube_rig_set_budget";
+    return guarded(function, [&]() -> chaintube_status {
+        if (!rig) return nullArgument(function, "rig");
+        if (newton_steps < 0)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "newton_steps: expected a number of Newton steps >= 0 (0: no bound), got " +
+                            std::to_string(newton_steps));
+        rig->runtime.setBudget(chaintube::UpdateBudget{newton_steps});
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_hose_pending(const chaintube_rig* rig, int32_t hose,
+                                            int32_t* pending, double* remaining)
+{
+    constexpr const char* function = "chaintube_rig_hose_pending";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!pending && !remaining) return nullArgument(function, "pending and remaining");
+        if (pending) *pending = rig->runtime.pending(hose) ? 1 : 0;
+        if (remaining) *remaining = rig->runtime.remaining(hose);
+        return CHAINTUBE_OK;
+    });
+}
+
 } // extern "C"

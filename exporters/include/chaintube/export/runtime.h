@@ -229,8 +229,9 @@ public:
     /// What happened to a hose in the frame the last update() closed: every setNodeTransform,
     /// grab and gravity step since the update() before it, combined: the worst status (Ok <
     /// Clamped < Infeasible), the largest violations, grab error, penetration and contact
-    /// count, blocked if any was, movedPoints summed. Rejected calls (InvalidInput) are not in
-    /// it: they changed nothing. All Ok and 0 when nothing touched the hose in that frame.
+    /// count, blocked if any was, movedPoints and iterations summed, pending and remaining as
+    /// the update() left the hose. Rejected calls (InvalidInput) are not in it: they changed
+    /// nothing. All Ok and 0 when nothing touched the hose in that frame.
     const UpdateResult& frameResult(int hose) const
     {
         return m_hoses.at(static_cast<size_t>(hose)).frameResult;
@@ -295,6 +296,23 @@ public:
     /// SurfaceTopology), as of the last update().
     std::vector<float> worldPositions(int hose) const;
 
+    // --- the work of a frame ------------------------------------------------------------
+    /// Bounds the work of every later update of each hose (Hose::setBudget): a
+    /// setNodeTransform, grab or update() does at most budget.newtonSteps Newton steps a hose
+    /// and leaves it valid; what it cannot finish (pending) goes on in the next update() calls
+    /// until the target is met. UpdateBudget::realtime() from load; UpdateBudget{} lifts the
+    /// bound (every update converges as far as its own limits take it). Throws InvalidArgument
+    /// for newtonSteps < 0 (nothing changes).
+    void setBudget(const UpdateBudget& budget);
+    const UpdateBudget& budget() const { return m_budget; }
+    /// The hose's last update ran out of the budget and update() goes on with it
+    /// (Hose::pending()). False for a hose index out of range.
+    bool pending(int hose) const;
+    /// With pending(hose): how far the hose still is from its target (metres, Hose::remaining():
+    /// the held point from its grab's goal, the largest gap of a moved attachment); 0 when
+    /// nothing is pending or for a hose index out of range.
+    double remaining(int hose) const;
+
 private:
     struct RunningHose
     {
@@ -328,6 +346,7 @@ private:
     std::vector<RunningHose> m_hoses;
     std::vector<std::shared_ptr<MeshCollider>> m_colliders; ///< per descriptor collider
     bool m_nodesMoved = false;
+    UpdateBudget m_budget = UpdateBudget::realtime(); ///< setBudget()
 };
 
 } // namespace chaintube::rig
