@@ -1412,7 +1412,9 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                 blendSide(a->last, +1, m_local[last] - oldLast);
             }
         };
-        const auto [lo, hi] = pinnedRange(m_attachments, -1);
+        // (Plain ints, not a structured binding: tryPlacing captures them, which clang refuses.)
+        const std::pair<int, int> pinned = pinnedRange(m_attachments, -1);
+        const int lo = pinned.first, hi = pinned.second;
         PinnedSpans spans(*this, lo, hi, -1);
         // One try: the attachments placed at `fraction` of the way, the spans solved within
         // `share` Newton steps of the budget (any without one). A try cut short by the budget is
