@@ -15,7 +15,7 @@
 import createChainTubeRuntime from './chaintube_runtime.mjs';
 
 /** CHAINTUBE_RUNTIME_ABI_VERSION of the header this API was written against (major << 16 | minor). */
-export const ABI_VERSION = (1 << 16) | 2;
+export const ABI_VERSION = (1 << 16) | 3;
 
 /** chaintube_status: what a call returned. */
 export const Status = Object.freeze({
