@@ -53,7 +53,41 @@ constexpr int kMoveHalvings = 2;
 // moveAttachments: the fractions of the way the attachments are placed at, one try each; under
 // a budget (Hose::setBudget) more and shorter ones, each within a share of it.
 constexpr double kFractions[] = {1.0, 0.5};
-constexpr double kBudgetFractions[] = {1.0, 0.5, 0.25, 0.125};
+// Under a budget: the least fraction tried, and the least steps left for another try.
+constexpr double kLeastMoveFraction = 1.0 / 64.0;
+constexpr int kLeastMoveSteps = 2;
+/// The rotation an attachment's points have in `points` (hose-local positions): its frame's
+/// rotation turned by the least rotation that takes the direction from its first to its last
+/// point where the frame puts it to where it is, then about that direction so that the point
+/// farthest off it comes into its plane (only for attachments of points not on one line).
+Quat currentRotation(const Hose::Attachment& a, const std::vector<Vec3>& points)
+{
+    const Quat target = a.frame.rotation;
+    if (a.localPoints.size() < 2) return target;
+    const Vec3 framed = target * (a.localPoints.back() - a.localPoints.front());
+    const Vec3 now = points[static_cast<size_t>(a.last)] - points[static_cast<size_t>(a.first)];
+    if (!(framed.norm() > 0.0) || !(now.norm() > 0.0)) return target;
+    Quat rotation = (Quat::FromTwoVectors(framed, now) * target).normalized();
+    const Vec3 axis = now.normalized();
+    double farthest = 1e-9 * now.norm();
+    Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+    for (size_t j = 1; j + 1 < a.localPoints.size(); ++j) {
+        Vec3 placed = rotation * (a.localPoints[j] - a.localPoints.front());
+        placed -= placed.dot(axis) * axis;
+        if (placed.norm() <= farthest) continue;
+        farthest = placed.norm();
+        from = placed;
+        to = points[static_cast<size_t>(a.first) + j] - points[static_cast<size_t>(a.first)];
+        to -= to.dot(axis) * axis;
+    }
+    if (from.squaredNorm() > 0.0 && to.squaredNorm() > 0.0)
+        rotation =
+            (Quat(Eigen::AngleAxisd(std::atan2(from.cross(to).dot(axis), from.dot(to)), axis)) *
+             rotation)
+                .normalized();
+    return rotation;
+}
+
 /// Solver::bowFlatCompressedSpans: samples of the buckling mode along its chord, and at most
 /// this many Newton steps for its amplitude (from above it takes 3–8; each is one pass over
 /// the samples).
@@ -1104,6 +1138,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     result.pending = scope.cut() && remaining > 0.0;
     result.remaining = result.pending ? remaining : 0.0;
     m_pendingGrab = result.pending;
+    m_pendingGrabRemaining = result.remaining;
     m_pendingGrabTarget = target;
     // Remember a grab that moved nothing (on its target, or at the edge of its reach and no
     // nearer): the same target again, from the same shape, is answered at once. Not one that ran
@@ -1119,7 +1154,23 @@ UpdateResult Hose::moveAttachments(const std::vector<int>& ids, const std::vecto
 {
     BudgetScope scope(*this);
     m_updatedSinceStep = true;
-    // Under a budget the move is not halved: the budget's own partial moves go on next frame.
+    // Under a budget the move is not halved: the budget's own partial moves go on next frame,
+    // and a move that is pending goes on with this one (the attachments it has not yet met, at
+    // their frames).
+    if (scope.bounded() && m_pendingMove && ids.size() == frames.size()) {
+        std::vector<int> allIds = ids;
+        std::vector<Frame> allFrames = frames;
+        for (const Attachment& a : m_attachments)
+            if (std::find(ids.begin(), ids.end(), a.id) == ids.end() && attachmentGap(a.id) > 0.0) {
+                allIds.push_back(a.id);
+                allFrames.push_back(a.frame);
+            }
+        if (allIds.size() > ids.size()) {
+            UpdateResult result = moveAttachmentsInSteps(allIds, allFrames, 0);
+            m_pendingMove = result.pending;
+            return result;
+        }
+    }
     UpdateResult result = moveAttachmentsInSteps(ids, frames, scope.bounded() ? 0 : kMoveHalvings);
     m_pendingMove = result.pending;
     return result;
@@ -1132,6 +1183,15 @@ void Hose::setBudget(const UpdateBudget& budget)
                               "got " +
                               std::to_string(budget.newtonSteps));
     m_budget = budget;
+}
+
+double Hose::remaining() const
+{
+    double remaining = m_pendingGrab ? m_pendingGrabRemaining : 0.0;
+    if (m_pendingMove)
+        for (const Attachment& a : m_attachments)
+            remaining = std::max(remaining, attachmentGap(a.id));
+    return remaining;
 }
 
 UpdateResult Hose::finishPending()
@@ -1294,23 +1354,35 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                               [](const Attachment* a) { return a->isClip(); });
         // m_scratch with the slid clips' points moved.
         if (clips) slidCopy = m_local;
-        const std::vector<Vec3>& slid = clips ? slidCopy : m_scratch;
-        m_local = m_scratch;
+        // Where the attachments are placed from: the shape before the move, under a budget the
+        // last valid shape a try of this update reached.
+        std::vector<Vec3> base = clips ? slidCopy : m_scratch;
+        m_local = base;
         // Where each moved attachment's points go: at its frame, or, when that is beyond the
         // hose's reach from its neighbouring fixed points, moved straight towards where the
-        // hose reaches (a gap, Hose::attachmentGap).
+        // hose reaches (a gap, Hose::attachmentGap). Part of the way (fraction < 1): its first
+        // point that fraction of the way from where it is; under a budget its rotation also
+        // turned that fraction of the way from the one its points have (currentRotation).
         bool broughtIntoReach = false; // place(): some frame is beyond reach
+        const bool bounded = m_budgetLeft >= 0;
         auto place = [&](double fraction) {
-            m_local = slid;
+            m_local = base;
             broughtIntoReach = false;
             const double margin = 1.0 - kReachMargin;
             for (const Attachment* a : targets) {
                 const size_t first = static_cast<size_t>(a->first),
                              last = static_cast<size_t>(a->last);
-                const Vec3 oldFirst = slid[first], oldLast = slid[last];
-                Vec3 firstAt = a->frame.apply(a->localPoints.front()) - m_origin;
-                const Vec3 lastOffset = a->frame.apply(a->localPoints.back()) - m_origin - firstAt;
-                firstAt = oldFirst + fraction * (firstAt - oldFirst);
+                const Vec3 oldFirst = base[first], oldLast = base[last];
+                Frame frame = a->frame;
+                if (bounded && fraction < 1.0)
+                    frame.rotation =
+                        currentRotation(*a, base).slerp(fraction, a->frame.rotation).normalized();
+                // The first point's place at `fraction` of the way, before the reach.
+                const Vec3 wanted = oldFirst + fraction * (a->frame.apply(a->localPoints.front()) -
+                                                           m_origin - oldFirst);
+                const Vec3 lastOffset =
+                    frame.apply(a->localPoints.back()) - frame.apply(a->localPoints.front());
+                Vec3 firstAt = wanted;
                 const int left = nearestFixed(*this, a->first, -1),
                           right = nearestFixed(*this, a->last, +1);
                 if (left >= 0 && right >= 0)
@@ -1326,52 +1398,103 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                     firstAt = closestInTwoBalls(
                         firstAt, m_local[static_cast<size_t>(right)] - lastOffset,
                         margin * reachBetween(*this, a->last, right), Vec3::Zero(), -1.0);
-                const Vec3 shift = firstAt - (a->frame.apply(a->localPoints.front()) - m_origin);
-                broughtIntoReach = broughtIntoReach || shift.squaredNorm() > 0.0;
+                const Vec3 shift = firstAt - (frame.apply(a->localPoints.front()) - m_origin);
+                // (Without a budget a try part of the way counts as brought into reach.)
+                const Vec3 whole = a->frame.apply(a->localPoints.front()) - m_origin;
+                broughtIntoReach =
+                    broughtIntoReach || (firstAt - (bounded ? wanted : whole)).squaredNorm() > 0.0;
                 for (int j = a->first; j <= a->last; ++j)
                     m_local[static_cast<size_t>(j)] =
-                        a->frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) -
-                        m_origin + shift;
+                        frame.apply(a->localPoints[static_cast<size_t>(j - a->first)]) - m_origin +
+                        shift;
                 // Warm start towards the other fixed points (see blendSide).
                 blendSide(a->first, -1, m_local[first] - oldFirst);
                 blendSide(a->last, +1, m_local[last] - oldLast);
             }
         };
-        const auto [lo, hi] = pinnedRange(m_attachments, -1);
+        // (Plain ints, not a structured binding: tryPlacing captures them, which clang refuses.)
+        const std::pair<int, int> pinned = pinnedRange(m_attachments, -1);
+        const int lo = pinned.first, hi = pinned.second;
         PinnedSpans spans(*this, lo, hi, -1);
-        bool solved = false;
-        // Under a budget, each try may take half of what is left (the last all of it), and a
-        // try cut short by it is kept only when valid: nearer fractions of the way take fewer
-        // steps, and the rest of the way follows in the next updates.
-        const bool bounded = m_budgetLeft >= 0;
-        const std::span<const double> fractions = bounded
-                                                      ? std::span<const double>(kBudgetFractions)
-                                                      : std::span<const double>(kFractions);
-        for (size_t f = 0; f < fractions.size(); ++f) {
-            place(fractions[f]);
+        // One try: the attachments placed at `fraction` of the way, the spans solved within
+        // `share` Newton steps of the budget (any without one). A try cut short by the budget is
+        // kept only when valid.
+        const auto tryPlacing = [&](double fraction, int share) {
+            place(fraction);
             const bool cutBefore = m_budgetCut;
             m_budgetCut = false;
-            {
-                BudgetShare share(*this, BudgetShare::half(*this, f + 1 == fractions.size()));
-                // Where the ends leave no shape within the bend limits the bends give way (a
-                // kink).
-                solved = spans.solveBowingOrKinking(result.iterations, !broughtIntoReach);
-                // A segment between two pinned points (two clips slid next to each other) is
-                // placed by them alone: outside its band, no shape.
-                for (int seg = lo; solved && seg < hi; ++seg) {
+            BudgetShare budgetShare(*this, share);
+            // Where the ends leave no shape within the bend limits the bends give way (a kink).
+            bool found = spans.solveBowingOrKinking(result.iterations, !broughtIntoReach);
+            // A segment between two pinned points (two clips slid next to each other) is placed
+            // by them alone: outside its band, no shape.
+            for (int seg = lo; found && seg < hi; ++seg) {
+                const size_t k = static_cast<size_t>(seg);
+                const double l = (m_local[k + 1] - m_local[k]).norm();
+                found =
+                    !(std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k]);
+            }
+            // Under a budget only a valid shape is progress (the bends never give way): every
+            // segment and joint between the pinned points (the tails follow after the tries).
+            const auto spansHold = [&] {
+                for (int seg = lo; seg < hi; ++seg) {
                     const size_t k = static_cast<size_t>(seg);
                     const double l = (m_local[k + 1] - m_local[k]).norm();
-                    solved = !(std::max(l - m_maxLength[k], m_minLength[k] - l) >
-                               1e-9 * m_restLength[k]);
+                    if (std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k])
+                        return false;
                 }
-                const bool cutHere = m_budgetCut;
-                const bool holds = solved && measureViolation().status == Status::Ok;
-                if (cutHere && !holds) solved = false;
-                if (holds) spans.relaxCompressedBends(result.iterations);
-                m_budgetCut = cutBefore || m_budgetCut;
-                if (fractions[f] < 1.0 && solved) partialMove = true;
+                for (int j = lo + 1; j < hi; ++j)
+                    if (turnExcess(static_cast<size_t>(j), m_local) > 1e-9) return false;
+                return true;
+            };
+            const bool holds =
+                found &&
+                (m_budgetLeft >= 0 ? spansHold() : measureViolation().status == Status::Ok);
+            if (m_budgetLeft >= 0 && !holds) found = false;
+            if (holds) spans.relaxCompressedBends(result.iterations);
+            m_budgetCut = cutBefore || m_budgetCut;
+            return found;
+        };
+        bool solved = false;
+        if (m_budgetLeft < 0) {
+            for (const double fraction : kFractions) {
+                solved = tryPlacing(fraction, 0);
+                if (fraction < 1.0 && solved) partialMove = true;
+                if (solved) break;
             }
-            if (solved) break;
+        } else {
+            // Under a budget: tries from the fraction of the way that last worked (the whole way
+            // at first), halved after a try that finds no shape (each with half of the steps
+            // left; the least fraction with all of them), and after one that does, from the
+            // shape it reached, twice the fraction of what is left of the way, while steps are
+            // left. The rest of the way follows in the next updates.
+            double fraction = m_moveFraction;
+            bool progressed = false;
+            while (true) {
+                const bool least = fraction <= kLeastMoveFraction;
+                const bool tried = tryPlacing(fraction, BudgetShare::half(*this, least));
+                if (tried) {
+                    progressed = true;
+                    m_moveFraction = std::min(1.0, 2.0 * fraction);
+                    if (fraction >= 1.0) {
+                        partialMove = false;
+                        break;
+                    }
+                    partialMove = true;
+                    base = m_local;
+                    fraction = m_moveFraction;
+                } else {
+                    m_local = base;
+                    if (least) {
+                        if (!progressed) m_moveFraction = kLeastMoveFraction;
+                        break;
+                    }
+                    fraction = std::max(kLeastMoveFraction, 0.5 * fraction);
+                    if (!progressed) m_moveFraction = fraction;
+                }
+                if (m_budgetLeft < kLeastMoveSteps) break;
+            }
+            solved = progressed;
         }
         beyondReach = broughtIntoReach;
         if (!solved) {

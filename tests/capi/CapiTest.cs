@@ -834,6 +834,49 @@ static class CapiTest
         return failures == 0 ? 0 : 1;
     }
 
+    // The work of a frame (see capi_budget_test.c): a valve jump beyond a small budget is pending
+    // and met over the next Updates, every segment in its band; refusals.
+    static int RunBudget(string export)
+    {
+        using (Rig rig = Rig.LoadMemory(Path.GetFileName(export), File.ReadAllBytes(export))) {
+            int hose = rig.FindHose("right-return"), valve = rig.FindNode("valve");
+            double band, remaining;
+            double[] rest = rig.RestLengths(hose, out band);
+            Expect(!rig.Pending(hose, out remaining) && remaining == 0.0, "as loaded", "pending");
+            Refused(Native.chaintube_rig_set_budget(rig.Handle, -1), Status.InvalidArgument, "a negative budget",
+                    "newton_steps");
+            int unusedPending;
+            Refused(Native.chaintube_rig_hose_pending(rig.Handle, 99, out unusedPending, out remaining),
+                    Status.OutOfRange, "a hose out of range", "99");
+
+            rig.SetBudget(6);
+            double[] home = rig.NodeTransform(valve), trs = (double[])home.Clone();
+            trs[1] += 0.06;
+            double s = Math.Sin(0.15), c = Math.Cos(0.15); // turned by 0.3 rad about z
+            trs[3] = c * home[3] - s * home[4];
+            trs[4] = c * home[4] + s * home[3];
+            trs[5] = c * home[5] + s * home[6];
+            trs[6] = c * home[6] - s * home[5];
+            rig.SetNodeTransform(valve, trs);
+            bool pending = rig.Pending(hose, out remaining);
+            Expect(pending && remaining > 0.0, "jumped", "pending " + pending + ", remaining " + remaining);
+            int frame = 0;
+            while (pending && frame < 100) {
+                rig.Update();
+                ++frame;
+                ExpectInBand(rig, hose, rest, band, "pending, frame " + frame);
+                pending = rig.Pending(hose, out remaining);
+            }
+            Expect(!pending && remaining == 0.0, "held", "not met in 100 updates: " + remaining + " m");
+            rig.SetBudget(0);
+            rig.SetNodeTransform(valve, home);
+            Expect(!rig.Pending(hose, out remaining), "unbounded", "the jump back is pending");
+            Console.WriteLine("CapiTest budget: " + export + ": a valve jump under 6 Newton steps an update met after " +
+                              frame + " updates: " + compared + " checks, " + failures + " failures");
+        }
+        return failures == 0 ? 0 : 1;
+    }
+
     static int Main(string[] args)
     {
         try {
@@ -841,8 +884,9 @@ static class CapiTest
             if (args.Length == 2 && args[0] == "errors") return RunErrors(args[1]);
             if (args.Length == 2 && args[0] == "clip") return RunClip(args[1]);
             if (args.Length == 2 && args[0] == "actions") return RunActions(args[1]);
+            if (args.Length == 2 && args[0] == "budget") return RunBudget(args[1]);
             Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | " +
-                                    "clip <motion-rig.glb> | actions <rig-options.glb>");
+                                    "clip <motion-rig.glb> | actions <rig-options.glb> | budget <test-rig.glb>");
             return 2;
         } catch (Exception error) {
             Console.Error.WriteLine("FAIL: " + error);

@@ -292,6 +292,8 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
       if (plugged.attachment !== attachments || fresh.attachmentCount(deforming) !== attachments + 1)
         fail(0, `attachEnd: attachment ${plugged.attachment}, count ${fresh.attachmentCount(deforming)}`);
       fresh.update();
+      // Under the real-time budget a plug the hose cannot follow in one update goes on in the next.
+      for (let frame = 0; frame < 10 && fresh.hosePending(deforming).pending; ++frame) fresh.update();
       const moved = fresh.jointPosesF64(deforming).world;
       if (!(Math.abs(moved[at + 1] - (tip[at + 1] + 0.005)) <= 1e-9))
         fail(0, `attachEnd: the end is at y ${moved[at + 1]}, expected ${tip[at + 1] + 0.005}`);
@@ -328,6 +330,20 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
   expectError('a plug of end 2', api.Status.ERROR_INVALID_ARGUMENT, 'end 2',
     () => fresh.attachEnd(deforming, 2, -1, [0, 0, 0, 0, 0, 0, 1]));
   expectError('unknown hose id', api.Status.ERROR_NOT_FOUND, 'no-such-hose', () => rig.findHose('no-such-hose'));
+  // The work of a frame (ABI 1.3): refusals, then a hose's pending state, gone after an
+  // unbounded update.
+  expectError('a negative budget', api.Status.ERROR_INVALID_ARGUMENT, 'newton_steps', () => rig.setBudget(-1));
+  expectError('pending of a hose out of range', api.Status.ERROR_OUT_OF_RANGE, `hose ${hoses} is out of range`,
+    () => rig.hosePending(hoses));
+  {
+    const state = rig.hosePending(deforming);
+    if (typeof state.pending !== 'boolean' || !(state.remaining >= 0) || (!state.pending && state.remaining !== 0))
+      fail(0, `hosePending: ${JSON.stringify(state)}`);
+    rig.setBudget(0);
+    rig.update();
+    const after = rig.hosePending(deforming);
+    if (after.pending || after.remaining !== 0) fail(0, `hosePending after an unbounded update: ${JSON.stringify(after)}`);
+  }
   expectError('not a GLB', api.Status.ERROR_MALFORMED, 'junk.glb',
     () => chaintube.loadMemory('junk.glb', new Uint8Array([0x67, 0x6c, 0x54, 0x46, 9, 0, 0, 0])));
   same(chaintube.abiVersion(), api.ABI_VERSION, 0, 'the module\'s ABI version');

@@ -203,6 +203,10 @@ TEST(DocumentUndo, CommittedDragUndoesExactly)
             Status::InvalidInput);
     EXPECT_NE(pointsBefore, document->hose(id)->points());
     EXPECT_EQ(before, document->stateFingerprint()) << "a drag is not an edit until committed";
+    // The release converges fully (commitHoseDrag does it too; nothing is left for it here).
+    static_cast<void>(document->finishHoseDrag(id));
+    EXPECT_FALSE(document->hose(id)->pending());
+    EXPECT_EQ(before, document->stateFingerprint()) << "finishing a drag is not an edit either";
     // (The hose may be taut before the target: compare with where the drag left it.)
     const Vec3 dragged = document->hose(id)->point(8);
     EXPECT_GT((dragged - start).norm(), 0.02);
@@ -228,6 +232,9 @@ TEST(DocumentLength, TwentyCommittedDragsWithinTheBandKeepTheRestLengthAndTheSha
         const Vec3 offset = Vec3(0.0, 0.004 + 0.0005 * drag, drag % 2 ? 0.006 : -0.006);
         for (int step = 1; step <= 5; ++step)
             static_cast<void>(document->dragHosePoint(id, point, start + offset * step / 5.0));
+        // The release's convergence (commitHoseDrag does it too; nothing is left for it here).
+        static_cast<void>(document->finishHoseDrag(id));
+        EXPECT_FALSE(document->hose(id)->pending()) << drag;
         const std::vector<Vec3> dragged = document->hose(id)->points();
         ASSERT_TRUE(document->commitHoseDrag(id, point)) << drag;
         const Hose& hose = *document->hose(id);
@@ -267,6 +274,7 @@ TEST(DocumentLength, AHoseWithoutALengthKeepsTheOneItHadWhenADragIsCommitted)
     const double length = document->hose(id)->restLengthTotal();
     const Vec3 end = document->hose(id)->point(16);
     static_cast<void>(document->dragHosePoint(id, 16, end + Vec3(-0.05, 0.0, 0.0)));
+    static_cast<void>(document->finishHoseDrag(id));
     ASSERT_GT(document->hose(id)->currentLength(), length * 1.01) << "pulled within its band";
     ASSERT_TRUE(document->commitHoseDrag(id, 16));
     ASSERT_TRUE(document->hoseDefinition(id)->length);

@@ -271,6 +271,14 @@ TEST(HoseRuntimeSockets, BadPlugsAndUnplugsAreRefusedNamingWhyAndChangeNothing)
         EXPECT_LE(runtime.frameResult(ret).lengthViolation, 1e-9) << "easing, frame " << frame;
         EXPECT_TRUE(inBand(runtime.hose(ret))) << "easing, frame " << frame;
     }
+    // Under the real-time budget the easing's last move goes on pending while it gets nearer;
+    // once it no longer does, update() finishes it unbounded (kStalledFrames).
+    int extra = 0;
+    for (; runtime.pending(ret) && extra < 4 * rig::HoseRuntime::kStalledFrames; ++extra) {
+        runtime.update();
+        EXPECT_TRUE(inBand(runtime.hose(ret))) << "pending, frame " << extra;
+    }
+    EXPECT_FALSE(runtime.pending(ret)) << "still pending after " << extra << " more updates";
     const rig::HoseRuntime::SocketPose port = runtime.socket(plate);
     const int last = runtime.hose(ret).pointCount() - 1;
     const double reach = runtime.hose(ret).restLengthTotal();

@@ -177,3 +177,88 @@ TEST(UpdateBudget, UnderTheRealtimeDefaultAHeldTargetIsMetWithinTenFramesAfterAW
         EXPECT_LE(frames, 10);
     }
 }
+
+TEST(UpdateBudget, AnAttachmentWalkWithJumpsUnderTheRealtimeDefaultStaysValidAndMeetsItsFrame)
+{
+    // The end attachment of a 100-point hose walks 2 cm a frame and every 20th frame jumps
+    // 20 cm (30 cm) and turns by up to 0.8 rad (1.2 rad): a part placed, as a scenario does.
+    // Unbounded, a jump takes up to 49 (154) Newton steps; under the realtime budget each
+    // update takes at most 16, ends valid, and a jump not met in its frame is met over the
+    // next ones (the following attachment moves go on with it).
+    const int budget = UpdateBudget::kRealtimeNewtonSteps;
+    for (const double jump : {0.2, 0.3}) {
+        SCOPED_TRACE("jump " + std::to_string(jump));
+        Hose bounded = arcBetweenFixedEnds(100);
+        Hose unbounded = bounded;
+        bounded.setBudget(UpdateBudget::realtime());
+        const int id = bounded.attachments().back().id;
+        std::mt19937_64 random(20240902);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0);
+        Frame frame = Frame::identity();
+        int pendingFrames = 0, longestRun = 0, run = 0, unboundedMost = 0;
+        for (int f = 0; f < 300; ++f) {
+            const Vec3 step(unit(random), unit(random), unit(random));
+            frame.translation += (f % 20 == 19 ? jump : 0.02) * step.normalized();
+            frame.translation = frame.translation.cwiseMax(Vec3(-0.3, -0.15, -0.15))
+                                    .cwiseMin(Vec3(0.05, 0.15, 0.15)); // within reach
+            frame.rotation =
+                Quat(Eigen::AngleAxisd(4.0 * jump * std::sin((f / 20) * 1.3), Vec3::UnitY())) *
+                Quat(Eigen::AngleAxisd(2.0 * jump * std::cos((f / 20) * 0.7), Vec3::UnitX()));
+            const UpdateResult r = bounded.moveAttachment(id, frame);
+            expectValidWithin(bounded, r, budget, f);
+            EXPECT_EQ(r.pending, bounded.pending()) << "frame " << f;
+            if (r.pending) {
+                EXPECT_NEAR(r.remaining, bounded.attachmentGap(id), 1e-12) << "frame " << f;
+                EXPECT_NEAR(bounded.remaining(), r.remaining, 1e-12) << "frame " << f;
+                EXPECT_EQ(r.status, Status::Ok) << "frame " << f;
+            } else {
+                EXPECT_LE(bounded.attachmentGap(id), 1e-9) << "frame " << f;
+            }
+            run = r.pending ? run + 1 : 0;
+            pendingFrames += r.pending;
+            longestRun = std::max(longestRun, run);
+            unboundedMost = std::max(unboundedMost, unbounded.moveAttachment(id, frame).iterations);
+        }
+        EXPECT_GT(unboundedMost, budget) << "the walk needs more than the budget somewhere";
+        EXPECT_GT(pendingFrames, 0);
+        EXPECT_LE(longestRun, 30) << "a jump is met within 30 frames of walking on";
+        // A last jump, then held still: step() goes on with it, met within 10 frames.
+        frame.translation = Vec3(-0.25, 0.12, 0.1);
+        frame.rotation = Quat(Eigen::AngleAxisd(-2.0 * jump, Vec3::UnitY()));
+        const UpdateResult jumped = bounded.moveAttachment(id, frame);
+        expectValidWithin(bounded, jumped, budget, 300);
+        EXPECT_LE(framesUntilMet(bounded, budget, 10), 10);
+        EXPECT_LE(bounded.attachmentGap(id), 1e-9);
+        EXPECT_FALSE(bounded.pending());
+        EXPECT_EQ(bounded.remaining(), 0.0);
+        static_cast<void>(unbounded.moveAttachment(id, frame));
+        // The same end state as the unbounded solver: the attachment's points where its frame
+        // puts them (the free points between keep the shape their own path left them in).
+        for (int i = bounded.attachments().back().first; i <= bounded.attachments().back().last;
+             ++i)
+            EXPECT_LE((bounded.point(i) - unbounded.point(i)).norm(), 1e-3);
+    }
+}
+
+TEST(UpdateBudget, AJumpOfAnAttachmentFinishedPendingIsMetAtOnce)
+{
+    Hose hose = arcBetweenFixedEnds(100);
+    hose.setBudget(UpdateBudget{4});
+    const int id = hose.attachments().back().id;
+    Frame frame = Frame::identity();
+    frame.translation = Vec3(-0.25, 0.12, 0.1);
+    frame.rotation = Quat(Eigen::AngleAxisd(-0.5, Vec3::UnitY()));
+    const UpdateResult jumped = hose.moveAttachment(id, frame);
+    expectValidWithin(hose, jumped, 4, 0);
+    ASSERT_TRUE(jumped.pending);
+    EXPECT_GT(hose.remaining(), 0.0);
+    // The editor's commit: one unbounded update meets the frame.
+    const UpdateResult finished = hose.finishPending();
+    EXPECT_FALSE(finished.pending);
+    EXPECT_EQ(finished.status, Status::Ok);
+    EXPECT_FALSE(hose.pending());
+    EXPECT_LE(hose.attachmentGap(id), 1e-9);
+    const UpdateResult v = hose.measureViolation();
+    EXPECT_LE(v.lengthViolation, kValid);
+    EXPECT_LE(v.angleViolation, kValid);
+}

@@ -4,9 +4,10 @@
 //   web_reference replay <export.glb> <inputs.json>
 //       replays inputs the JavaScript API recorded (Rig.recordInputs: a JSON array of
 //       {"op":"move","node","trs"}, {"op":"grab","hose","point","target"}, {"op":"release","hose"},
-//       {"op":"reel","hose","end","clip","length","min","max"}, {"op":"update"}) on the export
-//       loaded from the file, and prints every hose's joint world
-//       positions: {"hoses":[{"id":"left-feed","joints":[[x,y,z],...]},...]} (metres, %.17g).
+//       {"op":"reel","hose","end","clip","length","min","max"}, {"op":"update"},
+//       {"op":"budget","newtonSteps"}) on the export loaded from the file, and prints every
+//       hose's joint world positions:
+//       {"hoses":[{"id":"left-feed","joints":[[x,y,z],...]},...]} (metres, %.17g).
 //
 //   web_reference frames <export.glb> <frames>
 //       times the frame the web viewer runs (tests/clients/wasm_frame_time.mjs runs the same in
@@ -114,6 +115,9 @@ int replay(const char* exportFile, const char* inputsFile)
                   "chaintube_rig_reel");
         } else if (op == "update") {
             check(chaintube_rig_update(rig, nullptr), "chaintube_rig_update");
+        } else if (op == "budget") {
+            check(chaintube_rig_set_budget(rig, input.at("newtonSteps").get<int32_t>()),
+                  "chaintube_rig_set_budget");
         } else {
             throw std::runtime_error("unknown input op \"" + op + "\"");
         }

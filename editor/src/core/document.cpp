@@ -426,29 +426,62 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
         return invalid;
     }
     Hose& hose = *it->second.hose;
-    UpdateResult result = hose.grab(point, target);
-    int moved = result.movedPoints, iterations = result.iterations;
-    for (int call = 1; call < kDragGrabs && result.status == Status::Clamped; ++call) {
-        if (result.movedPoints == 0) {
-            // No nearer in one go: the rest of the way in short steps (a path of small moves
-            // reaches where one long step stops at the bend limits), then the target again.
-            const Vec3 from = hose.point(point);
-            const double way = (target - from).norm();
-            const int steps =
-                std::min(kDragSubSteps, static_cast<int>(std::ceil(way / kDragSubStep)));
-            int stepMoved = 0;
-            for (int s = 1; s < steps; ++s) {
-                const UpdateResult r =
-                    hose.grab(point, from + (target - from) * (double(s) / steps));
-                stepMoved = std::max(stepMoved, r.movedPoints);
-                iterations += r.iterations;
-            }
-            if (stepMoved == 0) break;
-            moved = std::max(moved, stepMoved);
-        }
+    hose.setBudget(UpdateBudget::realtime());
+    const UpdateResult result = hose.grab(point, target);
+    if (result.status != Status::InvalidInput) {
+        it->second.dragPoint = point;
+        it->second.dragTarget = target;
+    }
+    if (result.movedPoints > 0) {
+        wakeGravity(hoseId);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
+    }
+    return result;
+}
+
+UpdateResult Document::finishHoseDrag(const std::string& hoseId)
+{
+    UpdateResult result;
+    const auto it = m_live.find(hoseId);
+    if (it == m_live.end() || !it->second.hose) {
+        result.status = Status::InvalidInput;
+        return result;
+    }
+    Hose& hose = *it->second.hose;
+    hose.setBudget(UpdateBudget{});
+    const int point = it->second.dragPoint;
+    const Vec3 target = it->second.dragTarget;
+    it->second.dragPoint = -1;
+    const UpdateResult pending = hose.finishPending();
+    int moved = pending.movedPoints, iterations = pending.iterations;
+    if (point >= 0) {
         result = hose.grab(point, target);
         moved = std::max(moved, result.movedPoints);
         iterations += result.iterations;
+        for (int call = 1; call < kDragGrabs && result.status == Status::Clamped; ++call) {
+            if (result.movedPoints == 0) {
+                // No nearer in one go: the rest of the way in short steps (a path of small moves
+                // reaches where one long step stops at the bend limits), then the target again.
+                const Vec3 from = hose.point(point);
+                const double way = (target - from).norm();
+                const int steps =
+                    std::min(kDragSubSteps, static_cast<int>(std::ceil(way / kDragSubStep)));
+                int stepMoved = 0;
+                for (int s = 1; s < steps; ++s) {
+                    const UpdateResult r =
+                        hose.grab(point, from + (target - from) * (double(s) / steps));
+                    stepMoved = std::max(stepMoved, r.movedPoints);
+                    iterations += r.iterations;
+                }
+                if (stepMoved == 0) break;
+                moved = std::max(moved, stepMoved);
+            }
+            result = hose.grab(point, target);
+            moved = std::max(moved, result.movedPoints);
+            iterations += result.iterations;
+        }
+    } else {
+        result = pending;
     }
     result.movedPoints = moved;
     result.iterations = iterations;
@@ -461,6 +494,8 @@ UpdateResult Document::dragHosePoint(const std::string& hoseId, int point, const
 
 bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::string* why)
 {
+    if (!hoseDefinition(hoseId) || !hose(hoseId)) return false;
+    static_cast<void>(finishHoseDrag(hoseId)); // the release converges fully
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     const Hose* live = hose(hoseId);
     if (!definition || !live) return false;
@@ -509,6 +544,7 @@ bool Document::commitHoseDrag(const std::string& hoseId, int draggedPoint, std::
 
 void Document::cancelHoseDrag(const std::string& hoseId)
 {
+    if (const auto it = m_live.find(hoseId); it != m_live.end()) it->second.dragPoint = -1;
     rebuildHose(hoseId);
     emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
 }
@@ -967,6 +1003,7 @@ void Document::rebuildHose(const std::string& hoseId)
     LiveHose& live = m_live[hoseId];
     live.buildSerial = ++m_buildCounter;
     live.metrics.reset();
+    live.dragPoint = -1;
     const auto missing = [&]() -> std::string {
         for (const formats::HoseAttachment& attachment : definition->attachments)
             if (m_missingScenes.count(attachment.scene)) return attachment.scene;

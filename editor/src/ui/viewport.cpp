@@ -695,7 +695,8 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
     case Drag::HosePoint: {
         const Vec3 target = onViewPlane(position, m_dragAnchor) + m_dragGrabOffset;
         const UpdateResult result = m_document.dragHosePoint(m_dragHose, m_dragIndex, target);
-        if (result.status == Status::Clamped)
+        // (Pending: the budget of a mouse move ran out, the next one goes on.)
+        if (result.status == Status::Clamped && !result.pending)
             emit statusMessage(tr("Out of reach: the hose is as long as it can stretch"));
         break;
     }
@@ -811,6 +812,8 @@ void Viewport::mouseReleaseEvent(QMouseEvent*)
     m_options.activeGizmoAxis = -1;
     m_options.activeGizmoRing = -1;
     if (drag == Drag::HosePoint) {
+        // The release converges fully, without the live drag's budget.
+        static_cast<void>(m_document.finishHoseDrag(m_dragHose));
         const Hose* hose = m_document.hose(m_dragHose);
         const bool moved = hose && (hose->point(m_dragIndex) - m_dragAnchor).norm() > 1e-12;
         if (moved) {

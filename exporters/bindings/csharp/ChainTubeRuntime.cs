@@ -232,6 +232,11 @@ namespace ChainTube
         public static extern Status chaintube_rig_surface_topology(IntPtr rig, int hose, [Out] uint[] indices,
             int indicesCapacity, [Out] float[] uvs, int uvsCapacity);
 
+        // The work of a frame (ABI 1.3).
+        [DllImport(Library)] public static extern Status chaintube_rig_set_budget(IntPtr rig, int newtonSteps);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_hose_pending(IntPtr rig, int hose, out int pending, out double remaining);
+
         /// <summary>A NUL-terminated UTF-8 string for the library.</summary>
         public static byte[] Utf8(string text)
         {
@@ -431,6 +436,20 @@ namespace ChainTube
         {
             Check(Native.chaintube_rig_surface(Handle, hose, positions, positions == null ? 0 : positions.Length,
                 normals, normals == null ? 0 : normals.Length));
+        }
+
+        /// <summary>Bounds the Newton steps a hose takes in each node move, grab and Update
+        /// (16 from load, the real-time budget; 0 lifts the bound). What a frame cannot finish goes
+        /// on in the next Updates (Pending).</summary>
+        public void SetBudget(int newtonSteps) { Check(Native.chaintube_rig_set_budget(Handle, newtonSteps)); }
+
+        /// <summary>Whether the hose's last update ran out of the budget and goes on in the next
+        /// Update; remaining: how far it still is from its target (metres, 0 when not pending).</summary>
+        public bool Pending(int hose, out double remaining)
+        {
+            int pending;
+            Check(Native.chaintube_rig_hose_pending(Handle, hose, out pending, out remaining));
+            return pending != 0;
         }
 
         public void Dispose()

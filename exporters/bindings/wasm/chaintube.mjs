@@ -586,6 +586,26 @@ export class Rig {
   }
 
   /**
+   * Bounds the Newton steps each node move, grab and update() does a hose (a rig loads with the
+   * real-time budget, 16; 0 lifts the bound). What a frame cannot finish goes on in the next
+   * update() calls: the hose is pending meanwhile (hosePending).
+   */
+  setBudget(newtonSteps) {
+    const n = this.#native;
+    n.check(n.m._chaintube_rig_set_budget(this.#rig(), n.int32('newtonSteps', newtonSteps)));
+    this.#inputs?.push({ op: 'budget', newtonSteps });
+  }
+
+  /** { pending, remaining }: whether the hose's last update ran out of the budget and goes on in
+   * the next update(), and how far it still is from its target (metres; 0 when not pending). */
+  hosePending(hose) {
+    const n = this.#native;
+    const pending = n.output, remaining = n.output + 8;
+    n.check(n.m._chaintube_rig_hose_pending(this.#rig(), n.int32('hose', hose), pending, remaining));
+    return { pending: n.i32[pending >> 2] !== 0, remaining: n.f64[remaining >> 3] };
+  }
+
+  /**
    * Joint poses as of the last update, in axis order: { local, world } views (Float32Array)
    * of the module's memory. local: 10 numbers per joint, the TRS to write into the joint node
    * (relative to its glTF parent); world: 7 per joint, the rigid world pose (ring centre,
@@ -646,9 +666,10 @@ export class Rig {
 
   /**
    * Starts (true) or stops (false) recording this rig's inputs: every accepted setNodeTransform,
-   * grab, release, plug, unplug and update, in order, as { op: 'move', node, trs }, { op: 'grab',
-   * hose, point, target }, { op: 'release', hose }, { op: 'plug', hose, end, socket },
-   * { op: 'unplug', hose, end }, { op: 'update' }. Starting clears the record. Replaying
+   * grab, release, plug, unplug, reel, update and setBudget, in order, as { op: 'move', node,
+   * trs }, { op: 'grab', hose, point, target }, { op: 'release', hose }, { op: 'plug', hose, end,
+   * socket }, { op: 'unplug', hose, end }, { op: 'reel', hose, end, clip, length, min, max },
+   * { op: 'update' }, { op: 'budget', newtonSteps }. Starting clears the record. Replaying
    * it through the C ABI gives the same hoses (a bug report, or a check against a native build).
    */
   recordInputs(on) { this.#inputs = on ? [] : null; }

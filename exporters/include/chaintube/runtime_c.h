@@ -483,6 +483,21 @@ CHAINTUBE_API chaintube_status chaintube_rig_reel(chaintube_rig* rig, int32_t ho
 CHAINTUBE_API chaintube_status chaintube_rig_axis_points(const chaintube_rig* rig, int32_t hose,
                                                          double* points, int32_t capacity);
 
+/* The work of a frame (since ABI 1.3). Every later node move, grab and update does at most
+ * newton_steps Newton steps a hose (each O(points of the span it solves)) and leaves the hose
+ * valid; what it cannot finish goes on in the next chaintube_rig_update calls until met (the
+ * hose is pending meanwhile). A rig loads with the real-time budget, 16 steps; 0 lifts the
+ * bound (each update converges as far as its own limits take it). newton_steps < 0:
+ * CHAINTUBE_ERROR_INVALID_ARGUMENT, nothing changes. */
+CHAINTUBE_API chaintube_status chaintube_rig_set_budget(chaintube_rig* rig, int32_t newton_steps);
+
+/* Whether a hose's last update ran out of the budget and goes on in the next update (*pending
+ * 1, else 0), and how far it still is from its target (*remaining, metres: the held point from
+ * where its grab goes, the largest gap of a moved attachment; 0 when nothing is pending).
+ * Either may be NULL to skip it, not both. Since ABI 1.3. */
+CHAINTUBE_API chaintube_status chaintube_rig_hose_pending(const chaintube_rig* rig, int32_t hose,
+                                                          int32_t* pending, double* remaining);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

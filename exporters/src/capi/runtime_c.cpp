@@ -1053,6 +1053,20 @@ chaintube_status chaintube_rig_reel(chaintube_rig* rig, int32_t hose, int32_t en
     });
 }
 
+chaintube_status chaintube_rig_set_budget(chaintube_rig* rig, int32_t newton_steps)
+{
+    constexpr const char* function = "chaintube_rig_set_budget";
+    return guarded(function, [&]() -> chaintube_status {
+        if (!rig) return nullArgument(function, "rig");
+        if (newton_steps < 0)
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function,
+                        "newton_steps: expected a number of Newton steps >= 0 (0: no bound), got " +
+                            std::to_string(newton_steps));
+        rig->runtime.setBudget(chaintube::UpdateBudget{newton_steps});
+        return CHAINTUBE_OK;
+    });
+}
+
 chaintube_status chaintube_rig_axis_points(const chaintube_rig* rig, int32_t hose, double* points,
                                            int32_t capacity)
 {
@@ -1072,6 +1086,19 @@ chaintube_status chaintube_rig_axis_points(const chaintube_rig* rig, int32_t hos
             for (size_t k = 0; k < 3; ++k)
                 points[3 * i + k] = point(static_cast<Eigen::Index>(k));
         }
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_hose_pending(const chaintube_rig* rig, int32_t hose,
+                                            int32_t* pending, double* remaining)
+{
+    constexpr const char* function = "chaintube_rig_hose_pending";
+    return guarded(function, [&]() -> chaintube_status {
+        if (const chaintube_status status = checkHose(function, rig, hose)) return status;
+        if (!pending && !remaining) return nullArgument(function, "pending and remaining");
+        if (pending) *pending = rig->runtime.pending(hose) ? 1 : 0;
+        if (remaining) *remaining = rig->runtime.remaining(hose);
         return CHAINTUBE_OK;
     });
 }

@@ -300,6 +300,7 @@ HoseRuntime HoseRuntime::fromDescriptor(HoseRigDescriptor descriptor, std::vecto
         running.grabbable = d.grabbablePoints;
         for (int joint : d.jointNodes)
             running.jointParents.push_back(runtime.m_nodes[static_cast<size_t>(joint)].parent);
+        running.hose.setBudget(runtime.m_budget);
         runtime.m_hoses.push_back(std::move(running));
     }
     for (size_t c = 0; c < runtime.m_descriptor.colliders.size(); ++c) {
@@ -820,6 +821,8 @@ CutResult HoseRuntime::cut(int hose, int point, std::string* why)
     m_descriptor.hoses.push_back(std::move(descriptions[1]));
     m_hoses[h] = std::move(runnings[0]);
     m_hoses.push_back(std::move(runnings[1]));
+    m_hoses[h].hose.setBudget(m_budget);
+    m_hoses.back().hose.setBudget(m_budget);
     out.newHose = hoseCount() - 1;
     for (const size_t piece : {h, static_cast<size_t>(out.newHose)}) {
         m_hoses[piece].hose.setColliders({});
@@ -980,12 +983,54 @@ int HoseRuntime::update()
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
         easeIntoSockets(h);
-        if (m_descriptor.hoses[h].gravity.enabled)
+        // Gravity, and work a budget left pending (Hose::step() goes on with it).
+        if (m_descriptor.hoses[h].gravity.enabled || running.hose.pending())
             combine(running.pendingResult, running.hose.step());
+        // A pending grab or attachment move that gets no nearer for kStalledFrames updates (its
+        // budgeted tries keep failing where a bend must give way to meet the target) is finished
+        // without the budget in this update, as an unbounded move would have done it: met, or
+        // Infeasible with the bends given way. The one frame that does costs what the move
+        // needs.
+        const double remaining = running.hose.pending() ? running.hose.remaining() : 0.0;
+        if (remaining > 0.0 && remaining >= running.stalledRemaining * (1.0 - 1e-3)) {
+            if (++running.stalledFrames >= kStalledFrames) {
+                combine(running.pendingResult, running.hose.finishPending());
+                running.stalledFrames = 0;
+                running.stalledRemaining = std::numeric_limits<double>::infinity();
+            }
+        } else {
+            running.stalledFrames = 0;
+            running.stalledRemaining =
+                remaining > 0.0 ? remaining : std::numeric_limits<double>::infinity();
+        }
         running.frameResult = running.pendingResult;
+        // Under a budget: what the frame left pending (the hose's, whichever call left it).
+        running.frameResult.pending = running.hose.pending();
+        running.frameResult.remaining = running.hose.remaining();
         running.pendingResult = UpdateResult();
     }
     return refresh();
+}
+
+void HoseRuntime::setBudget(const UpdateBudget& budget)
+{
+    if (budget.newtonSteps < 0)
+        throw InvalidArgument("budget.newtonSteps: expected a number of steps >= 0 (0: no bound), "
+                              "got " +
+                              std::to_string(budget.newtonSteps));
+    m_budget = budget;
+    for (RunningHose& running : m_hoses)
+        running.hose.setBudget(budget);
+}
+
+bool HoseRuntime::pending(int hose) const
+{
+    return hose >= 0 && hose < hoseCount() && m_hoses[static_cast<size_t>(hose)].hose.pending();
+}
+
+double HoseRuntime::remaining(int hose) const
+{
+    return pending(hose) ? m_hoses[static_cast<size_t>(hose)].hose.remaining() : 0.0;
 }
 
 void HoseRuntime::combine(UpdateResult& frame, const UpdateResult& result)
@@ -1012,6 +1057,7 @@ void HoseRuntime::combine(UpdateResult& frame, const UpdateResult& result)
     frame.blocked = frame.blocked || result.blocked;
     frame.penetration = std::max(frame.penetration, result.penetration);
     frame.contacts = std::max(frame.contacts, result.contacts);
+    frame.iterations += result.iterations;
 }
 
 int HoseRuntime::refresh()

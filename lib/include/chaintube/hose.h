@@ -394,6 +394,10 @@ public:
     const UpdateBudget& budget() const { return m_budget; }
     /// An update ran out of its budget and step() will go on with it (UpdateResult::pending).
     bool pending() const { return m_pendingGrab || m_pendingMove || m_pendingFall; }
+    /// With pending(): how far the hose still is from the pending target (metres): the held
+    /// point's distance to where its grab goes, the largest attachmentGap() of a pending
+    /// attachment move, whichever is larger; 0 for a gravity step cut short, or nothing pending.
+    double remaining() const;
     /// Goes on now, without the budget, with a grab or attachment move that ran out of it (e.g.
     /// an editor's live drag when the mouse is released): one unbounded update towards the same
     /// target. Nothing pending: does nothing (movedPoints 0).
@@ -568,10 +572,13 @@ private:
     bool m_budgetCut = false;   ///< a solver of the current update stopped for the budget
     int m_updateDepth = 0;      ///< BudgetScope: nesting of update entry points
     bool m_pendingGrab = false; ///< the last grab ran out of budget (its point m_held)
+    double m_pendingGrabRemaining = 0.0;     ///< its UpdateResult::remaining
     Vec3 m_pendingGrabTarget = Vec3::Zero(); ///< its target (world)
     bool m_pendingMove = false;              ///< an attachment move ran out of budget
-    bool m_pendingFall = false;              ///< the last gravity step ran out of budget
-    bool m_updatedSinceStep = false;         ///< a grab or attachment move since the last step()
+    /// Under a budget: the fraction of the way an attachment move tries first (solver.cpp)
+    double m_moveFraction = 1.0;
+    bool m_pendingFall = false;      ///< the last gravity step ran out of budget
+    bool m_updatedSinceStep = false; ///< a grab or attachment move since the last step()
 
     /// Collision hook at the end of every update entry point (hose_contact.cpp); no-op without
     /// colliders. `grabbed` is the grabbed point (−1 if none) and its requested local target.

@@ -261,19 +261,25 @@ public:
     void setSelection(const Selection& selection);
 
     // --- live drag --------------------------------------------------------------------------
-    /// Moves axis point `point` of the live hose towards `target` (world metres) with
-    /// Hose::grab; emits HoseShapeChanged. Not an undo step until commitHoseDrag(). A fixed
-    /// point, an unknown hose or an index out of range gives Status::InvalidInput.
-    /// A grab does bounded work and may stop short of its target (the rest on the next
-    /// frames); an author's drag goes on with the same target, up to kDragGrabs grabs, until
-    /// the point is there or gets no nearer; where one grab gets no nearer, the way is cut into
-    /// steps of kDragSubStep (at most kDragSubSteps) first. The result is the last grab's, with
-    /// the points moved and the iterations of all of them.
+    /// Moves axis point `point` of the live hose towards `target` (world metres) with one
+    /// Hose::grab under UpdateBudget::realtime(), as a runtime frame does: the work of a mouse
+    /// move is bounded, and what it cannot finish is pending (UpdateResult::pending) and goes on
+    /// with the next move (or the hose's gravity step). Emits HoseShapeChanged. Not an undo step
+    /// until commitHoseDrag(). A fixed point, an unknown hose or an index out of range gives
+    /// Status::InvalidInput.
     UpdateResult dragHosePoint(const std::string& hoseId, int point, const Vec3& target);
+    /// Finishes a live drag without a budget (the mouse released): the pending work
+    /// (Hose::finishPending), then the last drag target again, up to kDragGrabs grabs, until
+    /// the point is there or gets no nearer; where one grab gets no nearer, the way is cut into
+    /// steps of kDragSubStep (at most kDragSubSteps) first. The hose is then unbounded again and
+    /// nothing is pending. The result is the last grab's, with the points moved and the
+    /// iterations of all of them (movedPoints 0 when there was no drag). commitHoseDrag() calls it.
+    UpdateResult finishHoseDrag(const std::string& hoseId);
     static constexpr int kDragGrabs = 16;
     static constexpr double kDragSubStep = 0.5e-3; ///< metres
     static constexpr int kDragSubSteps = 64;
-    /// Ends a drag: pushes a command that writes the live axis as the hose's route, its length
+    /// Ends a drag: finishes it (finishHoseDrag), then pushes a command that writes the live
+    /// axis as the hose's route, its length
     /// unchanged (a hose without one gets the rest length it had). The hose is rebuilt from
     /// the route exactly as it was dragged (formats::buildHose takes a valid axis as it is),
     /// so save → load gives the same shape. `draggedPoint` names the step in the history
@@ -409,6 +415,8 @@ private:
         int gravitySteps = 0;       ///< steps since the hose last changed (kGravityStepBudget)
         UpdateResult lastUpdate;    ///< see Document::lastUpdate()
         std::vector<NodeKey> colliderNodes; ///< the flagged parts it stays outside
+        int dragPoint = -1;                 ///< the live drag's point (−1: none)
+        Vec3 dragTarget = Vec3::Zero();     ///< its last target (world)
     };
     /// Marks a live hose with gravity on as settling (after a build, a drag, a part move);
     /// emits gravityStateChanged().

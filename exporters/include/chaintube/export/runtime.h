@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -262,8 +263,9 @@ public:
     /// What happened to a hose in the frame the last update() closed: every setNodeTransform,
     /// grab and gravity step since the update() before it, combined: the worst status (Ok <
     /// Clamped < Infeasible), the largest violations, grab error, penetration and contact
-    /// count, blocked if any was, movedPoints summed. Rejected calls (InvalidInput) are not in
-    /// it: they changed nothing. All Ok and 0 when nothing touched the hose in that frame.
+    /// count, blocked if any was, movedPoints and iterations summed, pending and remaining as
+    /// the update() left the hose. Rejected calls (InvalidInput) are not in it: they changed
+    /// nothing. All Ok and 0 when nothing touched the hose in that frame.
     const UpdateResult& frameResult(int hose) const
     {
         return m_hoses.at(static_cast<size_t>(hose)).frameResult;
@@ -331,6 +333,9 @@ public:
 
     /// Update() calls a plugged end takes to ease into its socket.
     static constexpr int kSnapFrames = 5;
+    /// Update() calls a pending grab or attachment move may get no nearer its target (by 0.1 %
+    /// of what remains) before update() finishes it without the budget (Hose::finishPending).
+    static constexpr int kStalledFrames = 3;
 
     /// Plugs end `end` of a hose (0: points 0 and 1; 1: the last two) into socket `socket`: the
     /// end is fixed where it is to the socket's node, then eases onto the socket over the next
@@ -386,6 +391,23 @@ public:
     ReelResult reelThroughClip(int hose, int clip, HoseEnd drumEnd, double length, double minLength,
                                double maxLength);
 
+    // --- the work of a frame ------------------------------------------------------------
+    /// Bounds the work of every later update of each hose (Hose::setBudget): a
+    /// setNodeTransform, grab or update() does at most budget.newtonSteps Newton steps a hose
+    /// and leaves it valid; what it cannot finish (pending) goes on in the next update() calls
+    /// until the target is met. UpdateBudget::realtime() from load; UpdateBudget{} lifts the
+    /// bound (every update converges as far as its own limits take it). Throws InvalidArgument
+    /// for newtonSteps < 0 (nothing changes).
+    void setBudget(const UpdateBudget& budget);
+    const UpdateBudget& budget() const { return m_budget; }
+    /// The hose's last update ran out of the budget and update() goes on with it
+    /// (Hose::pending()). False for a hose index out of range.
+    bool pending(int hose) const;
+    /// With pending(hose): how far the hose still is from its target (metres, Hose::remaining():
+    /// the held point from its grab's goal, the largest gap of a moved attachment); 0 when
+    /// nothing is pending or for a hose index out of range.
+    double remaining(int hose) const;
+
 private:
     /// The outlet a hose was last reeled through: an end's attachment, or a clip (index in
     /// description order) with the drum towards `end`.
@@ -418,6 +440,10 @@ private:
         std::vector<double> jointArc;
         std::vector<char> jointBeyond;
         ReelOutlet reelOutlet;
+        /// update(): the pending work's remaining() after the last update and for how many
+        /// updates it got no nearer (kStalledFrames).
+        double stalledRemaining = std::numeric_limits<double>::infinity();
+        int stalledFrames = 0;
     };
     HoseRuntime() = default;
     static void combine(UpdateResult& frame, const UpdateResult& result);
@@ -452,6 +478,7 @@ private:
     std::vector<RunningHose> m_hoses;
     std::vector<std::shared_ptr<MeshCollider>> m_colliders; ///< per descriptor collider
     bool m_nodesMoved = false;
+    UpdateBudget m_budget = UpdateBudget::realtime(); ///< setBudget()
 };
 
 } // namespace chaintube::rig
