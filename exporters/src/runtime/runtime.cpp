@@ -375,6 +375,22 @@ const std::vector<int>& HoseRuntime::grabbablePoints(int hose) const
 }
 
 namespace {
+/// The refusal texts the runtime's actions share.
+std::string hoseOutOfRangeText(int hose, int count)
+{
+    return "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
+           std::to_string(count - 1);
+}
+std::string badEndText(int end)
+{
+    return "end " + std::to_string(end) +
+           ": expected 0 (the first point's end) or 1 (the last point's)";
+}
+std::string runningHoseName(int hose, const RigHose& d)
+{
+    return "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+}
+
 UpdateResult refused(std::string* why, std::string text)
 {
     if (why) *why = std::move(text);
@@ -386,12 +402,10 @@ UpdateResult refused(std::string* why, std::string text)
 
 UpdateResult HoseRuntime::detachEnd(int hose, int attachment, std::string* why)
 {
-    if (hose < 0 || hose >= hoseCount())
-        return refused(why, "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
-                                std::to_string(hoseCount() - 1));
+    if (hose < 0 || hose >= hoseCount()) return refused(why, hoseOutOfRangeText(hose, hoseCount()));
     RunningHose& running = m_hoses[static_cast<size_t>(hose)];
     const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
-    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    const std::string name = runningHoseName(hose, d);
     if (attachment < 0 || static_cast<size_t>(attachment) >= running.live.size())
         return refused(why, "attachment " + std::to_string(attachment) +
                                 " is out of range: " + name + " has " +
@@ -412,19 +426,15 @@ UpdateResult HoseRuntime::detachEnd(int hose, int attachment, std::string* why)
 UpdateResult HoseRuntime::attachEnd(int hose, int end, int node, const Frame& localFrame,
                                     int* attachment, std::string* why)
 {
-    if (hose < 0 || hose >= hoseCount())
-        return refused(why, "hose " + std::to_string(hose) + " is out of range: expected 0 to " +
-                                std::to_string(hoseCount() - 1));
+    if (hose < 0 || hose >= hoseCount()) return refused(why, hoseOutOfRangeText(hose, hoseCount()));
     RunningHose& running = m_hoses[static_cast<size_t>(hose)];
     const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
-    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    const std::string name = runningHoseName(hose, d);
     if (node < -1 || node >= nodeCount())
         return refused(why, "node " + std::to_string(node) + " is out of range: expected -1 (the " +
                                 "world) or 0 to " + std::to_string(nodeCount() - 1));
     if (d.isStatic) return refused(why, name + " is static: its attachments never change");
-    if (end != 0 && end != 1)
-        return refused(why, "end " + std::to_string(end) +
-                                ": expected 0 (the first point's end) or 1 (the last point's)");
+    if (end != 0 && end != 1) return refused(why, badEndText(end));
     if (!localFrame.translation.allFinite() || !localFrame.rotation.coeffs().allFinite() ||
         localFrame.rotation.norm() <= 0.5)
         return refused(why, "the local frame is not finite or its rotation is not a unit "
@@ -521,18 +531,14 @@ PlugResult HoseRuntime::plug(int hose, int end, int socket, std::string* why)
         if (why) *why = std::move(text);
         return out;
     };
-    if (hose < 0 || hose >= hoseCount())
-        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
-                      std::to_string(hoseCount() - 1));
+    if (hose < 0 || hose >= hoseCount()) return refuse(hoseOutOfRangeText(hose, hoseCount()));
     if (socket < 0 || socket >= socketCount())
         return refuse("socket " + std::to_string(socket) + " is out of range: expected 0 to " +
                       std::to_string(socketCount() - 1) + " (" + std::to_string(socketCount()) +
                       " sockets)");
-    if (end != 0 && end != 1)
-        return refuse("end " + std::to_string(end) +
-                      ": expected 0 (the first point's end) or 1 (the last point's)");
+    if (end != 0 && end != 1) return refuse(badEndText(end));
     const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
-    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    const std::string name = runningHoseName(hose, d);
     if (d.isStatic) return refuse(name + " is static: its ends never plug");
     const RigSocket& s = m_descriptor.sockets[static_cast<size_t>(socket)];
     const std::string& plugTag = end == 0 ? d.plugStart : d.plugEnd;
@@ -572,14 +578,10 @@ PlugResult HoseRuntime::unplug(int hose, int end, std::string* why)
         if (why) *why = std::move(text);
         return out;
     };
-    if (hose < 0 || hose >= hoseCount())
-        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
-                      std::to_string(hoseCount() - 1));
-    if (end != 0 && end != 1)
-        return refuse("end " + std::to_string(end) +
-                      ": expected 0 (the first point's end) or 1 (the last point's)");
+    if (hose < 0 || hose >= hoseCount()) return refuse(hoseOutOfRangeText(hose, hoseCount()));
+    if (end != 0 && end != 1) return refuse(badEndText(end));
     const RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
-    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    const std::string name = runningHoseName(hose, d);
     if (d.isStatic) return refuse(name + " is static: its ends never unplug");
     RunningHose& running = m_hoses[static_cast<size_t>(hose)];
     const int attachment = attachmentAtEnd(running, end);
@@ -677,12 +679,10 @@ CutResult HoseRuntime::cut(int hose, int point, std::string* why)
         if (why) *why = std::move(text);
         return out;
     };
-    if (hose < 0 || hose >= hoseCount())
-        return refuse("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
-                      std::to_string(hoseCount() - 1));
+    if (hose < 0 || hose >= hoseCount()) return refuse(hoseOutOfRangeText(hose, hoseCount()));
     const size_t h = static_cast<size_t>(hose);
     const RigHose d = m_descriptor.hoses[h]; // a copy: the list grows below
-    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    const std::string name = runningHoseName(hose, d);
     if (d.isStatic) return refuse(name + " is static: it is never cut");
     const int n = m_hoses[h].hose.pointCount();
     if (point <= 0 || point >= n - 1)
@@ -1279,12 +1279,10 @@ ReelResult HoseRuntime::reelThroughClip(int hose, int clip, HoseEnd drumEnd, dou
 ReelResult HoseRuntime::reelAt(int hose, ReelOutlet outlet, double length, double minLength,
                                double maxLength)
 {
-    if (hose < 0 || hose >= hoseCount())
-        return reelRefused("hose " + std::to_string(hose) + " is out of range: expected 0 to " +
-                           std::to_string(hoseCount() - 1));
+    if (hose < 0 || hose >= hoseCount()) return reelRefused(hoseOutOfRangeText(hose, hoseCount()));
     RunningHose& running = m_hoses[static_cast<size_t>(hose)];
     RigHose& d = m_descriptor.hoses[static_cast<size_t>(hose)];
-    const std::string name = "hose " + std::to_string(hose) + " (\"" + d.id + "\")";
+    const std::string name = runningHoseName(hose, d);
     if (d.isStatic) return reelRefused(name + " is static: its length never changes");
 
     // Before the call: where the joints are and where the outlet is.
