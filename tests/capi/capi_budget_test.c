@@ -11,6 +11,7 @@
  *   capi_budget_test <test-rig.glb>
  *
  * Compiled as C99. Exit 0: every check passes; 1: a failure (each printed). */
+#include "capi_check.h"
 #include "chaintube/runtime_c.h"
 
 #include <math.h>
@@ -20,42 +21,6 @@
 
 #define TOLERANCE 1e-9 /* relative, for the band */
 #define MAX_POINTS 512
-
-static int failures = 0;
-static long checks = 0;
-
-#define CHECK(condition, ...)                                                                      \
-    do {                                                                                           \
-        ++checks;                                                                                  \
-        if (!(condition)) {                                                                        \
-            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #condition);                   \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fprintf(stderr, "\n");                                                                 \
-            ++failures;                                                                            \
-        }                                                                                          \
-    } while (0)
-
-static int ok(chaintube_status status, const char* call)
-{
-    ++checks;
-    if (status == CHAINTUBE_OK) return 1;
-    fprintf(stderr, "FAIL %s returned %s: %s\n", call, chaintube_status_name(status),
-            chaintube_last_error());
-    ++failures;
-    return 0;
-}
-
-static void refused(chaintube_status status, chaintube_status expected, const char* fragment,
-                    const char* what)
-{
-    ++checks;
-    if (status != expected || !strstr(chaintube_last_error(), fragment)) {
-        fprintf(stderr, "FAIL %s: %s \"%s\", expected %s and \"%s\"\n", what,
-                chaintube_status_name(status), chaintube_last_error(),
-                chaintube_status_name(expected), fragment);
-        ++failures;
-    }
-}
 
 /* Every segment of the hose within its band as of the last update (the joints' world
  * translations are the axis points). */

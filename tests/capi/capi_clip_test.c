@@ -22,6 +22,7 @@
  *   capi_clip_test <motion-rig.glb>
  *
  * Compiled as C99. Exit 0: every check passes; 1: a failure (each printed). */
+#include "capi_check.h"
 #include "chaintube/runtime_c.h"
 
 #include <math.h>
@@ -32,44 +33,6 @@
 #define TOLERANCE 1e-9 /* metres, and relative for the band */
 #define MAX_POINTS 64
 #define MAX_CLIPS 4
-
-static int failures = 0;
-static long checks = 0;
-
-#define CHECK(condition, ...)                                                                      \
-    do {                                                                                           \
-        ++checks;                                                                                  \
-        if (!(condition)) {                                                                        \
-            fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #condition);                   \
-            fprintf(stderr, __VA_ARGS__);                                                          \
-            fprintf(stderr, "\n");                                                                 \
-            ++failures;                                                                            \
-        }                                                                                          \
-    } while (0)
-
-/* A call that must succeed; returns whether it did. */
-static int ok(chaintube_status status, const char* call)
-{
-    ++checks;
-    if (status == CHAINTUBE_OK) return 1;
-    fprintf(stderr, "FAIL %s returned %s: %s\n", call, chaintube_status_name(status),
-            chaintube_last_error());
-    ++failures;
-    return 0;
-}
-
-/* A call that must be refused with `expected` and a message containing `fragment`. */
-static void refused(chaintube_status status, chaintube_status expected, const char* fragment,
-                    const char* what)
-{
-    ++checks;
-    if (status != expected || !strstr(chaintube_last_error(), fragment)) {
-        fprintf(stderr, "FAIL %s: %s \"%s\", expected %s and \"%s\"\n", what,
-                chaintube_status_name(status), chaintube_last_error(),
-                chaintube_status_name(expected), fragment);
-        ++failures;
-    }
-}
 
 static double distance(const double* a, const double* b)
 {
