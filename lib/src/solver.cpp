@@ -45,6 +45,13 @@ constexpr double kReachMargin = 1e-6;
 /// each frame) is placed again through the span's kinematics, which moves the points by rounding
 /// (up to 4e-11 of a segment measured); the constraints' own tolerance is 1e-9.
 constexpr double kNoMove = 1e-9;
+/// Under a budget: grabs of the same point towards the same target, each from the shape the one
+/// before left, that brought the point less than kStalledGain of its error nearer, in a row,
+/// after which the grab is no longer pending: its budgeted steps creep along the edge of what
+/// the span reaches or bring the point no nearer at all; it rests where it is (Clamped) unless
+/// the target, the shape or the colliders change or the same grab is made again.
+constexpr int kStalledGrabs = 3;
+constexpr double kStalledGain = 0.01;
 /// Clips: the margins a short side is fed to, one attempt each (Hose::slideClips).
 constexpr double kClipMargins[] = {0.01, 0.05, 0.15};
 // moveAttachments: the fractions of the way the attachments are placed at, one try each; under
@@ -574,11 +581,13 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     m_updatedSinceStep = true;
     const Vec3 localTarget = target - m_origin;
     const size_t k = static_cast<size_t>(index);
+    const std::uint64_t revisionBefore = m_revision;
     // The same target again, nothing changed since a grab of this point moved nothing (its point
-    // was on that target, or got no nearer to it), still held, no colliders (they move without
-    // the hose knowing): no work.
-    if (m_edgePoint == index && m_edgeRevision == m_revision && m_held == index &&
-        m_colliders.empty() && localTarget == m_edgeTarget) {
+    // was on that target, or got no nearer to it) and did not run out of budget, still held, no
+    // colliders (they move without the hose knowing): no work.
+    const bool sameAsLastMiss =
+        m_edgePoint == index && m_edgeRevision == m_revision && localTarget == m_edgeTarget;
+    if (sameAsLastMiss && !m_edgeResult.pending && m_held == index && m_colliders.empty()) {
         result = m_edgeResult;
         result.movedPoints = 0;
         result.iterations = 0;
@@ -591,13 +600,18 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     // Clips: the hose first slides through them where a side needs length to reach the target
     // (slideClips), the spans made valid again around the clips' new places; the grab then
     // goes on from there. A slide that leaves no valid shape is undone.
+    // Under a budget the slides get half of it and the grab goes on with the rest; slides that
+    // came to nothing for this point and target are not tried again from the same shape (they
+    // would spend the same steps on the same outcome in every update while the grab waits).
     std::vector<Vec3> beforeSlide;
     const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
                                    [](const Attachment& a) { return a.isClip(); });
-    if (clips && !wasInvalid) {
+    bool slidesMissed = false;
+    if (clips && !wasInvalid && !(sameAsLastMiss && m_edgeSlidesMissed)) {
         const std::vector<Attachment> attachmentsBefore = m_attachments;
         const std::vector<unsigned char> fixedBefore = m_fixed;
         beforeSlide = m_local;
+        BudgetShare slideShare(*this, BudgetShare::half(*this, false));
         for (const double margin : kClipMargins) {
             if (slideClips(index, &localTarget, margin).empty() ||
                 closeSpans(index, beforeSlide, result.iterations))
@@ -606,6 +620,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
             m_fixed = fixedBefore;
             m_local = beforeSlide;
         }
+        slidesMissed = m_local == beforeSlide;
     }
     m_scratch = m_local;
     const Vec3 start = m_local[k];
@@ -705,20 +720,28 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     m_held = index;
     if (moved > 0 || m_attachments.empty()) ++m_revision;
     if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // hose_contact.cpp
-    // Cut short by the budget: step() goes on towards the same target.
+    // Cut short by the budget: step() goes on towards the same target, unless kStalledGrabs
+    // grabs in a row towards it gained little (kStalledGain).
     const double remaining = (m_local[k] - goal).norm();
-    result.pending = scope.cut() && remaining > 0.0;
+    const bool sameGrab = m_grabStall.point == index && m_grabStall.revision == revisionBefore &&
+                          m_grabStall.target == localTarget;
+    const bool gainedLittle =
+        sameGrab && !(result.grabError < m_grabStall.error * (1.0 - kStalledGain));
+    const int stalled = gainedLittle ? m_grabStall.count + 1 : 0;
+    m_grabStall = {index, m_revision, localTarget, result.grabError, stalled};
+    result.pending = scope.cut() && remaining > 0.0 && stalled < kStalledGrabs;
     result.remaining = result.pending ? remaining : 0.0;
     m_pendingGrab = result.pending;
     m_pendingGrabRemaining = result.remaining;
     m_pendingGrabTarget = target;
     // Remember a grab that moved nothing (on its target, or at the edge of its reach and no
-    // nearer): the same target again, from the same shape, is answered at once. Not one that ran
-    // out of budget: the same target again goes on.
-    m_edgePoint = moved == 0 && !result.pending ? index : -1;
+    // nearer): the same target again, from the same shape, is answered at once, unless it ran
+    // out of budget (then the same target again goes on, without the slides that missed).
+    m_edgePoint = moved == 0 ? index : -1;
     m_edgeRevision = m_revision;
     m_edgeTarget = localTarget;
     m_edgeResult = result;
+    m_edgeSlidesMissed = slidesMissed;
     return result;
 }
 

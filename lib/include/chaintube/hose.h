@@ -93,7 +93,9 @@ struct [[nodiscard]] UpdateResult
     /// Under a budget (Hose::setBudget): the budget ran out before the update met its target
     /// (the grab target, the attachments' frames) or finished its gravity step. The hose is
     /// valid as the last whole step left it and goes on towards the same target in the next
-    /// updates (Hose::step()). Always false without a budget.
+    /// updates (Hose::step()). Always false without a budget. A grab that stalls (3 grabs in a
+    /// row towards the same target gained less than 1 % of the error) is not pending: it rests,
+    /// Clamped (lib/README.md, "A hard budget a frame").
     bool pending = false;
     /// With `pending`: how far the hose still is from the target (metres): the grabbed point's
     /// distance to where the grab goes (its target, or the nearest point within reach), the
@@ -535,11 +537,24 @@ private:
     std::vector<Vec3> m_scratch; ///< the shape before the current update (restored if it fails)
     detail::WorkspaceSlot m_workspace; ///< the solvers' buffers (workspace.h)
     int m_nextAttachmentId = 1;
-    int m_held = -1;                          ///< see heldPoint()
-    int m_edgePoint = -1;                     ///< point of the last grab, if it moved nothing
-    std::uint64_t m_edgeRevision = 0;         ///< m_revision right after that grab
-    Vec3 m_edgeTarget = Vec3::Zero();         ///< that grab's local target
-    UpdateResult m_edgeResult;                ///< and what it returned
+    int m_held = -1;                  ///< see heldPoint()
+    int m_edgePoint = -1;             ///< point of the last grab, if it moved nothing
+    std::uint64_t m_edgeRevision = 0; ///< m_revision right after that grab
+    Vec3 m_edgeTarget = Vec3::Zero(); ///< that grab's local target
+    UpdateResult m_edgeResult;        ///< and what it returned
+    bool m_edgeSlidesMissed = false;  ///< and its clip slides came to nothing
+    /// grab(): the last grab's point, target, error and the shape it left (m_revision), and how
+    /// many grabs in a row towards that target from the shape the one before left brought the
+    /// point less than kStalledGain of its error nearer (a budgeted grab stalls: solver.cpp).
+    struct GrabStall
+    {
+        int point = -1;
+        std::uint64_t revision = 0;
+        Vec3 target = Vec3::Zero();
+        double error = 0.0;
+        int count = 0;
+    };
+    GrabStall m_grabStall;
     std::vector<Vec3> m_gravityPrevious;      ///< step(): positions one step back (velocity)
     std::vector<Vec3> m_gravityLast;          ///< step(): positions when the last step ended
     std::uint64_t m_settledRevision = 0;      ///< step(): revision at which the hose settled
