@@ -464,3 +464,30 @@ TEST(Reel, ABentHoseThroughAClipOutletReelsInAndOutAtTheSpeedAsked)
     for (int i = 0; i <= clipLast; ++i)
         EXPECT_EQ(hose.point(i), drum[static_cast<size_t>(i)]) << i;
 }
+
+TEST(Reel, ABentFreeTailReeledInSlowlyKeepsTheSpeedAsked)
+{
+    // A tenth of the speed: the reel segment gets shorter than a frame's length before it merges.
+    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.06, 0, 0), Vec3(0.06, -0.15, 0),
+                                  Vec3(0.06, -0.15, 0.2), Vec3(0.25, -0.15, 0.2)},
+                                 reelSpec());
+    hose.attach(0, 1, Frame::identity());
+    const double total0 = hose.restLengthTotal();
+    const double ask = 0.1 * kSpeed * kFrame;
+    int merges = 0;
+    double worst = 0.0;
+    for (int frame = 0; frame < 540; ++frame) {
+        const ReelResult r = reel(hose, HoseEnd::Start, -ask, 0.0, 10.0);
+        ASSERT_EQ(r.status, Status::Ok) << "frame " << frame << ": " << r.message;
+        EXPECT_NEAR(r.paid, -ask, 1e-15);
+        EXPECT_LE(r.largestMove, kReelMoveFactor * ask * (1.0 + 1e-9));
+        worst = std::max(worst, r.largestMove / ask);
+        merges += r.segmentsRemoved;
+        const Violation v = violation(hose);
+        ASSERT_LE(std::max(v.length, v.angle), 1e-9) << "frame " << frame;
+    }
+    EXPECT_NEAR(hose.restLengthTotal(), total0 - 0.3, 1e-9);
+    EXPECT_GE(merges, 14);
+    std::cout << "[ reel ] bent free tail at 0.05 m/s: 0.3 m in, " << merges
+              << " merges, largest move " << worst << " x |paid|\n";
+}
