@@ -24,9 +24,10 @@ constexpr double kReelMoveFactor = 2.0;
 struct [[nodiscard]] ReelResult
 {
     /// Ok: the length asked for was paid. Clamped: less was paid (`clamped` says so): a length
-    /// bound was reached, the last segment beyond the outlet is at half its rest length, or the
-    /// shape could not take more in this call without a point moving more than the length paid
-    /// (`message` says which). InvalidInput: nothing changed (`message` names the argument).
+    /// bound was reached, the last segment beyond the outlet is at half its rest length, a
+    /// straight taut span could take or give no more, or a step would have moved a point more
+    /// than kReelMoveFactor × its length (`message` says which). InvalidInput: nothing changed
+    /// (`message` names the argument).
     Status status = Status::Ok;
     /// Rest length paid out (> 0) or reeled in (< 0) by this call, metres. The hose's
     /// restLengthTotal() changed by exactly this.
@@ -56,13 +57,13 @@ struct [[nodiscard]] ReelResult
 /// than 0 to a bound, and a hose already outside them moves only towards them. The reel
 /// segment keeps the hose's segment rest length l (its outer neighbour's; with none, the
 /// longest other segment's, else HoseSpec::segmentLength): beyond 1.5 l it is
-/// split (a point inserted on it, l from its outer point), below 0.5 l it is merged with its
-/// outer neighbour (the point between removed), so the new length appears at the outlet and
-/// nothing else is rescaled. The reel segment's outer point moves along it by the length paid.
-/// A free tail beyond it (nothing fixed or held up to the hose's end) moves with it rigidly, so
-/// every other length and bend stays as it is and no point moves more than |paid|, unless a
-/// joint's limit tightened with the reel segment's rest length (a limit from a minimum bend
-/// radius): then, and after a merge, the tail follows the reel segment's outer point by the
+/// split (a point inserted on it, l from its outer point), reeling in below 0.5 l it is merged
+/// with its outer neighbour (the point between removed, see below), so the new length appears at
+/// the outlet and nothing else is rescaled. The reel segment's outer point moves along it by the
+/// length paid. A free tail beyond it (nothing fixed or held up to the hose's end) moves with it
+/// rigidly, so every other length and bend stays as it is and no point moves more than |paid|,
+/// unless a joint's limit tightened with the reel segment's rest length (a limit from a minimum
+/// bend radius): then, and after a merge, the tail follows the reel segment's outer point by the
 /// paper's pass, each point drawn towards the one before it, so a bend beyond the outlet
 /// straightens as it comes in. A span to a pinned point beyond is closed by the span solver, its
 /// sag deepening or flattening with the length (a straight taut span cannot take more length and
