@@ -15,12 +15,10 @@ namespace {
 /// kReelMaxSteps of them: a step changes the reel segment by less than a split or merge needs.
 constexpr double kReelStepFraction = 0.5;
 constexpr int kReelMaxSteps = 64;
-/// The reel segment never shrinks below this fraction of the segment rest length while a merge
-/// waits for its outer joint to allow it.
+/// A reel segment that a step would leave shorter than this fraction of the segment rest length
+/// merges with its outer neighbour (no sliver stays at the outlet); one whose outer point is
+/// pinned stops there until the merged segment fits between the two pins.
 constexpr double kReelFloorFraction = 1e-3;
-/// A span to a pinned point beyond the outlet changes its shape with its length (a sag deepens
-/// as the span gets longer): a step there may move a point up to this multiple of its length.
-constexpr double kReelSpanMoveFactor = 2.0;
 
 std::string reelNumber(double value)
 {
@@ -120,9 +118,14 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
     bool freeTail = true;
     for (int i = r; i >= 0 && i < h.pointCount(); i += side)
         freeTail = freeTail && !h.m_fixed[static_cast<size_t>(i)] && i != h.m_held;
+    // It is first moved rigidly; reeling in, where that leaves a joint beyond its limit, and
+    // after a merge, only the reel segment's outer point is placed and the rest follows it.
+    bool rigidTail = freeTail;
+    Vec3 shifted = Vec3::Zero();
     const auto moveOuter = [&](int from, const Vec3& by) {
+        shifted = by;
         for (int i = from; i >= 0 && i < h.pointCount(); i += side)
-            if ((freeTail || i == from) && !h.m_fixed[static_cast<size_t>(i)])
+            if ((rigidTail || i == from) && !h.m_fixed[static_cast<size_t>(i)])
                 h.m_local[static_cast<size_t>(i)] += by;
     };
 
@@ -137,8 +140,12 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
             const double merged = rest + h.m_restLength[static_cast<size_t>(neighbour)] + delta;
             const double placed = std::clamp(c, merged * (1.0 - e), merged * (1.0 + e));
             const bool qFixed = h.m_fixed[static_cast<size_t>(q)] != 0;
-            merge = c > 0.0 &&
-                    std::abs(placed - c) <= (qFixed ? 1e-12 * merged : -delta * (1.0 + 1e-9));
+            // A merge moves the new outer point by |placed − c| ≤ |delta| once the reel segment
+            // is no longer than |delta| (c ≥ the neighbour's length − rest), sooner where the
+            // joint beyond the outlet is nearly straight; a sliver below the floor merges anyway.
+            merge = c > 0.0 && (qFixed ? std::abs(placed - c) <= 1e-12 * merged
+                                       : std::abs(placed - c) <= -delta * (1.0 + 1e-9) ||
+                                             rest + delta < kReelFloorFraction * unit);
         }
         if (!merge) {
             const double floor =
@@ -146,8 +153,8 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
             paid = std::min(0.0, std::max(delta, floor - rest)); // no farther than the floor
             if (paid > delta)
                 out.refused = hasNeighbour
-                                  ? "the segment at the outlet waits for its outer joint to "
-                                    "straighten before it is merged"
+                                  ? "the segment at the outlet ends at a pinned point that a "
+                                    "merge would move"
                                   : "the last segment beyond the outlet is at half its rest "
                                     "length";
             if (paid == 0.0) return out;
@@ -157,6 +164,7 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
     std::vector<Vec3> before; // the new indexing's positions before the pass
     int insertedAt = -1, removedAt = -1;
     if (merge) {
+        rigidTail = false;
         const int q = r + side;
         const double merged = rest + h.m_restLength[static_cast<size_t>(neighbour)] + paid;
         Vec3 u = h.m_local[static_cast<size_t>(q)] - po;
@@ -232,7 +240,12 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
     // A free tail moved rigidly is valid unless a joint's limit changed with the reel
     // segment's length (a bend limit from a minimum bend radius): the paper's pass then turns
     // the tail into the limit, moving its points by more than the translation.
-    const bool rigid = freeTail && h.measureViolation().status == Status::Ok;
+    bool rigid = rigidTail && h.measureViolation().status == Status::Ok;
+    if (rigidTail && !rigid && delta < 0.0) {
+        // A limit tightened with the reel segment: the tail follows its outer point instead.
+        for (int i = r + side; i >= 0 && i < h.pointCount(); i += side)
+            h.m_local[static_cast<size_t>(i)] -= shifted;
+    }
     const bool closed = rigid || h.closeSpans(h.m_held, before, iterations);
     double largest = 0.0;
     for (size_t i = 0, k = 0; i < n; ++i) {
@@ -241,7 +254,7 @@ ReelAccess::Step ReelAccess::step(Hose& h, Outlet& outlet, double delta)
         largest = std::max(largest, (h.m_local[i] - oldPoints[k++]).norm());
     }
     if (!closed || h.measureViolation().status != Status::Ok ||
-        largest > (rigid ? 1.0 : kReelSpanMoveFactor) * std::abs(paid) * (1.0 + 1e-9) + 1e-12) {
+        largest > kReelMoveFactor * std::abs(paid) * (1.0 + 1e-9) + 1e-12) {
         h = saved;
         outlet.point = o;
         Step refused;

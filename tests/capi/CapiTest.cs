@@ -809,8 +809,8 @@ static class CapiTest
                     Same(rig.Info(tail).jointCount, joints0, "reel, frame " + frame, "joint count");
                     Expect(rig.AxisPoints(tail).Length == 3 * rig.Info(tail).pointCount, "reel", "axis points");
                 }
-                // Paid out in full; reeling in waits where the hose is bent beyond the outlet
-                // (lib/README.md): as far as it goes.
+                // Paid out in full; reeling in, a frame whose step would move a point more than
+                // twice its length waits (lib/README.md): as far as it goes.
                 if (direction > 0) Expect(left <= 1e-12, "paying out", left + " m left");
                 else paidIn = 0.05 - left;
             }

@@ -373,8 +373,8 @@ int main(int argc, char** argv)
                             ok(chaintube_rig_axis_points(rig, tail, axis, 9 * MAX_POINTS),
                                "axis_points");
                         }
-                        /* Paid out in full; reeling in waits where the hose is bent beyond the
-                         * outlet (lib/README.md): as far as it goes. */
+                        /* Paid out in full; reeling in, a frame whose step would move a point
+                         * more than twice its length waits (lib/README.md): as far as it goes. */
                         if (direction > 0)
                             CHECK(left <= 1e-12, "paying out: %g m left", left);
                         else

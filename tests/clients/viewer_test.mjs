@@ -13,7 +13,7 @@
 //       segment), before and after the part move; a ring on the moved part moved with it.
 //       With --reel HOSE: a click on the hose's panel row selects it, holding ] pays it out and
 //       [ reels it in (the viewer's keys), frames of the same reel take it 0.3 m beyond its
-//       exported length and back in as far as the hose gives (screenshots
+//       exported length and back in at the speed asked to it (screenshots
 //       <export>-reeled-out.png, -reeled-back.png); the native replay then covers the reels too (a snapshot after them).
 //   node viewer_test.mjs sockets --repo DIR --wasm DIR --reference EXE --export test-rig.glb --out DIR
 //       the test rig's sockets: a press near left-feed's valve end selects it, U unplugs it; the
@@ -299,15 +299,17 @@ try {
       await settle(1);
       const inKeyed = await lengthOf();
       check(inKeyed.restLength < out.restLength - step + 1e-12, `holding [ reels ${hose} in`);
-      await viewer((frames) => window.chaintubeViewer.reelFrames(frames, -1),
-        Math.round((inKeyed.restLength - exported) / step));
+      const inFrames = Math.round((inKeyed.restLength - exported) / step);
+      await viewer((frames) => window.chaintubeViewer.reelFrames(frames, -1), inFrames);
       await settle(1);
-      // Reeling in waits where the hose beyond the outlet is bent (lib/README.md, "Reel in, pay
-      // out"): a span between two parts gives back what its shape allows.
+      // Reeling in keeps the speed asked where the hose beyond the outlet is bent (lib/README.md,
+      // "Reel in, pay out"): the whole 0.3 m comes back, down to the exported length.
       const back = await lengthOf();
-      check(back.restLength < inKeyed.restLength - step && back.restLength >= exported - 1e-9,
-        `${hose} reeled back in, as far as its span gives: ${(1000 * (out.restLength - back.restLength)).toFixed(1)} ` +
-        `of 300 mm (${back.restLength.toFixed(6)} m, ${back.pointCount} points)`);
+      check(Math.abs(back.restLength - (inKeyed.restLength - inFrames * step)) <= 1e-9 &&
+        Math.abs(back.restLength - exported) <= step / 2,
+        `${hose} reeled back in at the speed asked, every frame, to its exported length: ` +
+        `${(1000 * (out.restLength - back.restLength)).toFixed(1)} of 300 mm ` +
+        `(${back.restLength.toFixed(6)} m, exported ${exported.toFixed(6)} m, ${back.pointCount} points)`);
       await page.screenshot({ path: join(options.out, `${stem}-reeled-back.png`) });
     }
 

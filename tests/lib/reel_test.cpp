@@ -1,6 +1,7 @@
 // Reeling a hose in and paying it out at an end or through a clip (chaintube/reel.h).
 #include "test_util.h"
 
+#include <iostream>
 #include <limits>
 
 using namespace chaintube;
@@ -48,6 +49,10 @@ struct Walk
     double paidOut = 0.0;
     double paidIn = 0.0;
     double largestMoveOverPaid = 0.0; ///< the largest point move of a frame / its |paid|
+    double worstLength = 0.0;         ///< the largest length violation after a frame (relative)
+    double worstAngle = 0.0;          ///< the largest bend violation after a frame (radians)
+    int mostIterations = 0;           ///< Newton steps of the costliest frame
+    int iterations = 0;               ///< Newton steps of all frames
     int frames = 0;
     int framesValid = 0;
 };
@@ -81,6 +86,10 @@ Walk payOutAndBack(Hose& hose, double distance, Call call, OutletOf outletOf, in
             const bool valid =
                 v.length <= 1e-9 && v.angle <= 1e-9 && hose.measureViolation().status == Status::Ok;
             walk.framesValid += valid;
+            walk.worstLength = std::max(walk.worstLength, v.length);
+            walk.worstAngle = std::max(walk.worstAngle, v.angle);
+            walk.mostIterations = std::max(walk.mostIterations, r.update.iterations);
+            walk.iterations += r.update.iterations;
             EXPECT_NEAR(hose.restLengthTotal(), total0 + paid, 1e-9);
             const std::vector<int> image =
                 imageOf(static_cast<int>(before.size()), outlet, side, r);
@@ -365,4 +374,120 @@ TEST(Reel, AHeldEndPinsTheSpanBeyondTheOutletAndStaysHeld)
     const ReelResult r = reel(hose, HoseEnd::Start, 0.06, 0.0, 1.0);
     ASSERT_EQ(r.status, Status::Clamped) << r.message; // the held end leaves no room
     EXPECT_EQ(hose.heldPoint(), hose.pointCount() - 1);
+}
+
+namespace {
+
+void report(const char* name, const Walk& walk)
+{
+    std::cout << "[ reel ] " << name << ": in " << walk.paidIn << " m, out " << walk.paidOut
+              << " m in " << walk.frames << " frames; largest move " << walk.largestMoveOverPaid
+              << " x |paid|; worst band " << walk.worstLength << ", bend " << walk.worstAngle
+              << " rad; Newton steps " << walk.iterations << " (" << walk.mostIterations
+              << " in the costliest frame)\n";
+}
+
+} // namespace
+
+TEST(Reel, ABentFreeTailReelsInAndOutAtTheSpeedAsked)
+{
+    // From the outlet the hose turns down at its minimum bend radius, then sideways out of the
+    // plane: reeled in, the bends beyond the outlet come in one after the other.
+    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.06, 0, 0), Vec3(0.06, -0.15, 0),
+                                  Vec3(0.06, -0.15, 0.2), Vec3(0.25, -0.15, 0.2)},
+                                 reelSpec());
+    hose.attach(0, 1, Frame::identity());
+    ASSERT_EQ(hose.measureViolation().status, Status::Ok);
+    const int segments = hose.segmentCount();
+    const double total0 = hose.restLengthTotal();
+    const Walk walk = payOutAndBack(
+        hose, 0.3, [](Hose& h, double l) { return reel(h, HoseEnd::Start, l, 0.0, 10.0); },
+        startOutlet, -1, kReelMoveFactor);
+    report("bent free tail", walk);
+    EXPECT_EQ(walk.frames, 2 * 54);
+    EXPECT_EQ(walk.framesValid, walk.frames);
+    EXPECT_NEAR(walk.paidIn, 0.3, 1e-12);
+    EXPECT_NEAR(walk.paidOut, 0.3, 1e-12);
+    EXPECT_NEAR(hose.restLengthTotal(), total0, 1e-9);
+    EXPECT_EQ(hose.segmentCount(), segments);
+}
+
+TEST(Reel, ABentSpanBetweenTwoFixedEndsReelsInAndOutAtTheSpeedAsked)
+{
+    // A U between two parts, 1.05 m of hose over 0.45 m: reeled in, the U gets shallower.
+    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.1, -0.3, 0),
+                                  Vec3(0.35, -0.3, 0), Vec3(0.35, 0, 0), Vec3(0.45, 0, 0)},
+                                 reelSpec());
+    const int n = hose.pointCount() - 1;
+    hose.attach(0, 1, Frame::identity());
+    const int part = hose.attach(n - 1, n, Frame::identity());
+    ASSERT_EQ(hose.measureViolation().status, Status::Ok);
+    const int segments = hose.segmentCount();
+    const Walk walk = payOutAndBack(
+        hose, 0.3, [](Hose& h, double l) { return reel(h, HoseEnd::Start, l, 0.0, 10.0); },
+        startOutlet, -1, kReelMoveFactor);
+    report("bent span between two fixed ends", walk);
+    EXPECT_EQ(walk.frames, 2 * 54);
+    EXPECT_EQ(walk.framesValid, walk.frames);
+    EXPECT_NEAR(walk.paidIn, 0.3, 1e-12);
+    EXPECT_NEAR(walk.paidOut, 0.3, 1e-12);
+    EXPECT_EQ(hose.segmentCount(), segments);
+    EXPECT_LE(hose.attachmentGap(part), 1e-9);
+}
+
+TEST(Reel, ABentHoseThroughAClipOutletReelsInAndOutAtTheSpeedAsked)
+{
+    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.25, 0, 0), Vec3(0.25, -0.2, 0),
+                                  Vec3(0.25, -0.2, 0.25), Vec3(0.45, -0.2, 0.25)},
+                                 reelSpec());
+    const int clip = hose.addClip(0.2, Frame::identity());
+    const int clipLast = hose.attachments().back().last;
+    std::vector<Vec3> drum;
+    for (int i = 0; i <= clipLast; ++i)
+        drum.push_back(hose.point(i));
+    const int segments = hose.segmentCount();
+    auto clipOutlet = [clip](const Hose& h) {
+        for (const Hose::Attachment& a : h.attachments())
+            if (a.id == clip) return std::pair<int, int>{a.last, +1};
+        return std::pair<int, int>{-1, +1};
+    };
+    const Walk walk = payOutAndBack(
+        hose, 0.3,
+        [clip](Hose& h, double l) { return reelThroughClip(h, clip, HoseEnd::Start, l, 0, 10); },
+        clipOutlet, -1, kReelMoveFactor);
+    report("bent hose through a clip outlet", walk);
+    EXPECT_EQ(walk.frames, 2 * 54);
+    EXPECT_EQ(walk.framesValid, walk.frames);
+    EXPECT_NEAR(walk.paidIn, 0.3, 1e-12);
+    EXPECT_NEAR(walk.paidOut, 0.3, 1e-12);
+    EXPECT_EQ(hose.segmentCount(), segments);
+    for (int i = 0; i <= clipLast; ++i)
+        EXPECT_EQ(hose.point(i), drum[static_cast<size_t>(i)]) << i;
+}
+
+TEST(Reel, ABentFreeTailReeledInSlowlyKeepsTheSpeedAsked)
+{
+    // A tenth of the speed: the reel segment gets shorter than a frame's length before it merges.
+    Hose hose = Hose::alongRoute({Vec3(0, 0, 0), Vec3(0.06, 0, 0), Vec3(0.06, -0.15, 0),
+                                  Vec3(0.06, -0.15, 0.2), Vec3(0.25, -0.15, 0.2)},
+                                 reelSpec());
+    hose.attach(0, 1, Frame::identity());
+    const double total0 = hose.restLengthTotal();
+    const double ask = 0.1 * kSpeed * kFrame;
+    int merges = 0;
+    double worst = 0.0;
+    for (int frame = 0; frame < 540; ++frame) {
+        const ReelResult r = reel(hose, HoseEnd::Start, -ask, 0.0, 10.0);
+        ASSERT_EQ(r.status, Status::Ok) << "frame " << frame << ": " << r.message;
+        EXPECT_NEAR(r.paid, -ask, 1e-15);
+        EXPECT_LE(r.largestMove, kReelMoveFactor * ask * (1.0 + 1e-9));
+        worst = std::max(worst, r.largestMove / ask);
+        merges += r.segmentsRemoved;
+        const Violation v = violation(hose);
+        ASSERT_LE(std::max(v.length, v.angle), 1e-9) << "frame " << frame;
+    }
+    EXPECT_NEAR(hose.restLengthTotal(), total0 - 0.3, 1e-9);
+    EXPECT_GE(merges, 14);
+    std::cout << "[ reel ] bent free tail at 0.05 m/s: 0.3 m in, " << merges
+              << " merges, largest move " << worst << " x |paid|\n";
 }

@@ -15,13 +15,19 @@ enum class HoseEnd {
 
 const char* toString(HoseEnd end);
 
+/// How far a reel step may move a point that was there before it, as a multiple of the length
+/// the step pays: a step that would move one farther is undone (Clamped). More than 1 because a
+/// bent hose cannot always keep to |paid| (lib/README.md, "Reel in, pay out").
+constexpr double kReelMoveFactor = 2.0;
+
 /// What a reel call did. Always look at status.
 struct [[nodiscard]] ReelResult
 {
     /// Ok: the length asked for was paid. Clamped: less was paid (`clamped` says so): a length
-    /// bound was reached, the last segment beyond the outlet is at half its rest length, or the
-    /// shape could not take more in this call without a point moving more than the length paid
-    /// (`message` says which). InvalidInput: nothing changed (`message` names the argument).
+    /// bound was reached, the last segment beyond the outlet is at half its rest length, a
+    /// straight taut span could take or give no more, or a step would have moved a point more
+    /// than kReelMoveFactor × its length (`message` says which). InvalidInput: nothing changed
+    /// (`message` names the argument).
     Status status = Status::Ok;
     /// Rest length paid out (> 0) or reeled in (< 0) by this call, metres. The hose's
     /// restLengthTotal() changed by exactly this.
@@ -30,8 +36,8 @@ struct [[nodiscard]] ReelResult
     int segmentsAdded = 0;   ///< points inserted next to the outlet
     int segmentsRemoved = 0; ///< points removed next to the outlet
     /// Sum over the call's steps of the largest distance (metres) a point moved in the step: a
-    /// bound on how far any point that was there before the call moved (at most |paid| for a
-    /// free tail, 2 |paid| for a span to a pinned point).
+    /// bound on how far any point that was there before the call moved. At most kReelMoveFactor
+    /// × |paid|; exactly |paid| where the hose beyond the outlet moved rigidly.
     double largestMove = 0.0;
     /// The constraint state after the call (Hose::measureViolation) and the span solver's
     /// Newton steps in `iterations`.
@@ -51,17 +57,23 @@ struct [[nodiscard]] ReelResult
 /// than 0 to a bound, and a hose already outside them moves only towards them. The reel
 /// segment keeps the hose's segment rest length l (its outer neighbour's; with none, the
 /// longest other segment's, else HoseSpec::segmentLength): beyond 1.5 l it is
-/// split (a point inserted on it, l from its outer point), below 0.5 l it is merged with its
-/// outer neighbour (the point between removed), so the new length appears at the outlet and
-/// nothing else is rescaled. The reel segment's outer point moves along it by the length paid;
-/// a free tail beyond it (nothing fixed or held up to the hose's end) moves with it rigidly, so
-/// every other length and bend stays as it is and no point moves more than |paid| (unless a
-/// joint's limit, from a minimum bend radius, tightened with the reel segment's rest length:
-/// then the paper's pass turns the tail into it, up to 2 |paid|); a span to a
-/// pinned point beyond is closed by the span solver, its sag deepening or flattening with the
-/// length (a point may move up to 2 |paid|; a straight taut span cannot take more length and
-/// cannot give any: Clamped). A call is done in steps of at most 0.5 l (at most 64); a step that
-/// would leave a constraint violated or move a point farther than that is undone (Clamped).
+/// split (a point inserted on it, l from its outer point), reeling in below 0.5 l it is merged
+/// with its outer neighbour (the point between removed, see below), so the new length appears at
+/// the outlet and nothing else is rescaled. The reel segment's outer point moves along it by the
+/// length paid. A free tail beyond it (nothing fixed or held up to the hose's end) moves with it
+/// rigidly, so every other length and bend stays as it is and no point moves more than |paid|,
+/// unless a joint's limit tightened with the reel segment's rest length (a limit from a minimum
+/// bend radius): then, and after a merge, the tail follows the reel segment's outer point by the
+/// paper's pass, each point drawn towards the one before it, so a bend beyond the outlet
+/// straightens as it comes in. A span to a pinned point beyond is closed by the span solver, its
+/// sag deepening or flattening with the length (a straight taut span cannot take more length and
+/// cannot give any: Clamped). Reeling in, the reel segment merges once it is no longer than the
+/// step draws in, or sooner where the merged segment's far point moves no more than that: that
+/// point is placed at the merged rest length from the outlet, along its chord, within |paid| of
+/// where it was. No step moves a point by more than kReelMoveFactor × the length it pays (a
+/// joint on its limit and a span's shape need more than |paid|: lib/README.md). A call is done
+/// in steps of at most 0.5 l (at most 64); a step that would leave a constraint violated or move
+/// a point farther than that is undone (Clamped).
 /// After every call every segment is in its band and every joint within its limit when they
 /// were before. Colliders are not consulted (the
 /// next update resolves contacts); the held point stays held (released if it is the point a
