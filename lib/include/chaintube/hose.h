@@ -390,12 +390,11 @@ public:
     /// step() for a frame of `seconds` in (0, Gravity::kMaxFrameSeconds]: ⌈seconds · 90⌉ equal
     /// implicit steps of at most 1/90 s (each as above, its fall, damping and rest rule taken
     /// for its length), so the same timed path of the attachments gives the same shape at any
-    /// frame rate (lib/README.md, "Gravity at any frame rate"). A point moves in a step by at
-    /// most the terminal fall speed (9.81 m/s² / 9.48 s⁻¹, about 1.03 m/s) times the step's time
-    /// beyond what grabs and attachment moves did to it. Under a budget the steps share the
-    /// frame's (each its equal part of what is left); one cut short ends the frame `pending`
-    /// and the frame's later steps are dropped. Non-finite, ≤ 0 or > kMaxFrameSeconds:
-    /// Status::InvalidInput, nothing changes (not even a pending update goes on).
+    /// frame rate (lib/README.md, "Gravity at any frame rate"); moves made by grabs and
+    /// attachments carry no velocity, so nothing whips. Under a budget the steps take the
+    /// frame's budget in turn; once none is left the frame's later steps are dropped and the
+    /// hose is `pending`. Non-finite, ≤ 0 or > kMaxFrameSeconds: Status::InvalidInput, nothing
+    /// changes (not even a pending update goes on).
     UpdateResult step(double seconds);
     /// Bounds the work of every later update (grab, attachment moves, step(), resolveCollisions(),
     /// clip slides within them) to `budget` (UpdateBudget{} lifts the bound; sag() and settle()
