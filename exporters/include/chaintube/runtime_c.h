@@ -401,9 +401,10 @@ CHAINTUBE_API chaintube_status chaintube_rig_plug(chaintube_rig* rig, int32_t ho
 CHAINTUBE_API chaintube_status chaintube_rig_unplug(chaintube_rig* rig, int32_t hose, int32_t end,
                                                     int32_t* socket);
 
-/* Ends a frame: steps every hose with gravity (bounded work; a settled hose costs one
+/* Ends a frame of 1/90 s: steps every hose with gravity (bounded work; a settled hose costs one
  * comparison), then brings the changed hoses' joint poses and surfaces up to date.
- * recomputed (may be NULL): how many hoses changed. */
+ * recomputed (may be NULL): how many hoses changed. Another frame rate:
+ * chaintube_rig_update_seconds. */
 CHAINTUBE_API chaintube_status chaintube_rig_update(chaintube_rig* rig, int32_t* recomputed);
 
 /* chaintube_rig_update for a frame of `seconds` (the time since the last update, in (0, 0.1]):
