@@ -661,10 +661,22 @@ function trsOf(object) {
   return [p.x, p.y, p.z, q.x, q.y, q.z, q.w, s.x, s.y, s.z];
 }
 
-function frame() {
+// The frame's time for the runtime (seconds): the time since the last frame as the animation
+// loop reports it, clamped to what update() accepts (a tab in the background, a hitch: 0.1 s);
+// the first frame, 1/90 s.
+const kLongestFrame = 0.1, kShortestFrame = 0.001;
+let lastFrameTime = null;
+function frameSeconds(time) {
+  const seconds = lastFrameTime === null || !Number.isFinite(time) ? 1 / 90 : (time - lastFrameTime) / 1000;
+  if (Number.isFinite(time)) lastFrameTime = time;
+  return Math.min(kLongestFrame, Math.max(kShortestFrame, Number.isFinite(seconds) ? seconds : 1 / 90));
+}
+
+function frame(time) {
+  const seconds = frameSeconds(time);
   if (current) {
     try {
-      step(current);
+      step(current, seconds);
     } catch (error) {
       showMessage(`The runtime refused a frame of ${current.name}.\n\n${error.message ?? error}`);
       console.error(error);
@@ -693,7 +705,7 @@ function placeClipRings(rig, hose) {
   });
 }
 
-function step(view) {
+function step(view, seconds) {
   const rig = view.rig;
   for (const node of view.movedParts) rig.setNodeTransform(node, trsOf(view.nodes[node]));
   view.movedParts.clear();
@@ -723,7 +735,7 @@ function step(view) {
   }
   const reelDirection = reelScheduled.length > 0 ? reelScheduled.shift() : reelKey;
   if (reelDirection !== 0) reelFrame(view, reelDirection);
-  rig.update();
+  rig.update(seconds);
   for (const hose of view.hoses) {
     if (hose.info.jointCount > 0) {
       const local = rig.jointPoses(hose.index, { world: false }).local;

@@ -14,10 +14,12 @@
 namespace chaintube {
 
 namespace {
-constexpr double kFrameTime = 1.0 / 90.0; ///< seconds a step advances (a headset's frame)
-constexpr double kGravity = 9.81;         ///< m/s²
-constexpr double kDamping = 0.9;          ///< fraction of the velocity a step carries on
-constexpr int kStepProjectionSteps = 8;   ///< Newton steps of one attempt
+constexpr double kGravity = 9.81; ///< m/s²
+/// Fraction of the velocity a step of Gravity::kFrameSeconds carries on; a step of t seconds
+/// carries on kDamping^(t / kFrameSeconds), so the damping per second is the same for every
+/// step length.
+constexpr double kDamping = 0.9;
+constexpr int kStepProjectionSteps = 8; ///< Newton steps of one attempt
 /// The attempts of one step: the full prediction, then from rest with the fall scaled by the
 /// hose's retry fall, by a quarter of it and, when that quarter is above kLeastFall, by
 /// kLeastFall (a smaller move from the valid start is nearer the constraints, so Newton's
@@ -45,10 +47,11 @@ constexpr double kCloseFromFree = 1e-3;
 /// Farther off, without contacts: the largest move (of the mean rest length) that closing may
 /// make from the projection's state.
 constexpr double kCloseMove = 0.05;
-constexpr double kSettledMotion = 1e-6; ///< of the mean rest length, per step
+/// Of the mean rest length, per step of Gravity::kFrameSeconds (a shorter step: its share).
+constexpr double kSettledMotion = 1e-6;
 constexpr double kStill = 1e-12; ///< of the mean rest length: a held point that has not moved
-constexpr int kStallSteps = 120; ///< steps without coming lower: at rest
-constexpr double kHover = 0.01;  ///< of the mean rest length, in mean height
+constexpr double kStallSeconds = 120.0 * Gravity::kFrameSeconds; ///< without coming lower: at rest
+constexpr double kHover = 0.01; ///< of the mean rest length, in mean height
 } // namespace
 
 /// One implicit step: the predicted positions (inertia, damping, gravity) projected onto the
@@ -250,7 +253,8 @@ void Hose::markSettled()
     m_gravityLast.clear();
     m_gravityInputRevision = 0;
     m_gravityLowestEnergy = 0.0;
-    m_gravityStallSteps = 0;
+    m_gravityStallSeconds = 0.0;
+    m_gravityStepSeconds = Gravity::kFrameSeconds;
     m_gravityRetryFall = 1.0;
     m_gravityFullFailed = false;
     m_gravitySkippedFull = 0;
@@ -259,14 +263,56 @@ void Hose::markSettled()
 
 UpdateResult Hose::step()
 {
+    return step(Gravity::kFrameSeconds);
+}
+
+namespace {
+bool didSomething(const UpdateResult& result)
+{
+    return result.iterations > 0 || result.movedPoints > 0 || result.pending;
+}
+} // namespace
+
+UpdateResult Hose::step(double seconds)
+{
+    if (!std::isfinite(seconds) || !(seconds > 0.0) || seconds > Gravity::kMaxFrameSeconds) {
+        UpdateResult refused;
+        refused.status = Status::InvalidInput;
+        return refused;
+    }
     BudgetScope scope(*this);
     // A grab or attachment move cut short by the budget goes on, unless a new one came in since
     // the last step (the same frame's work).
     UpdateResult pending;
     if ((m_pendingGrab || m_pendingMove) && !m_updatedSinceStep) pending = continuePending();
     m_updatedSinceStep = false;
-    UpdateResult gravity = stepGravity();
-    if (gravity.iterations == 0 && gravity.movedPoints == 0 && !gravity.pending) {
+    // Equal steps of at most kFrameSeconds (the tolerance keeps 1/45 s at two steps).
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil(seconds / Gravity::kFrameSeconds - 1e-9)));
+    const double stepSeconds = seconds / steps;
+    UpdateResult gravity;
+    for (int k = 0; k < steps; ++k) {
+        // Under a budget the steps take what the frame has left in turn; none left: the frame's
+        // later steps are dropped, the hose pending (the next step() goes on from here).
+        if (k > 0 && m_budgetLeft == 0) {
+            m_pendingFall = gravity.pending = true;
+            break;
+        }
+        const UpdateResult one = stepGravity(stepSeconds);
+        if (!didSomething(one)) { // at rest, or gravity off: so are the frame's later steps
+            if (k == 0) gravity = one;
+            break;
+        }
+        const int iterations = gravity.iterations + one.iterations;
+        const int moved = std::max(gravity.movedPoints, one.movedPoints);
+        const bool blocked = gravity.blocked || one.blocked;
+        gravity = one; // the shape the frame leaves
+        gravity.iterations = iterations;
+        gravity.movedPoints = moved;
+        gravity.blocked = blocked;
+        if (one.pending) break; // the budget ran out: the frame's later steps are dropped
+    }
+    if (!didSomething(gravity)) {
         if (pending.iterations > 0 || pending.movedPoints > 0 || pending.pending) return pending;
         return gravity;
     }
@@ -279,7 +325,7 @@ UpdateResult Hose::step()
     return gravity;
 }
 
-UpdateResult Hose::stepGravity()
+UpdateResult Hose::stepGravity(double seconds)
 {
     BudgetScope scope(*this);
     m_pendingFall = false;
@@ -367,7 +413,11 @@ UpdateResult Hose::stepGravity()
         }
         m_dirtyViolation = false;
     }
-    const Vec3 fall = m_spec.gravity.direction.normalized() * (kGravity * kFrameTime * kFrameTime);
+    const Vec3 fall = m_spec.gravity.direction.normalized() * (kGravity * seconds * seconds);
+    // The velocity carried on, as a move over this step's time (the last step may have been
+    // longer or shorter), damped for this step's time.
+    const double carry =
+        std::pow(kDamping, seconds / Gravity::kFrameSeconds) * (seconds / m_gravityStepSeconds);
     std::vector<Vec3>& predicted = workspace.gravityPredicted;
     predicted.resize(n); // every point written before it is read
     bool valid = false;
@@ -404,7 +454,7 @@ UpdateResult Hose::stepGravity()
         if (attempt > 0 && !tails) tails = engine.separateTails();
         // Attempt 0 carries the velocity, and so does the first attempt of a step that skips it;
         // the others start from rest with a smaller fall.
-        const double velocity = attempt == firstAttempt ? kDamping : 0.0;
+        const double velocity = attempt == firstAttempt ? carry : 0.0;
         const Vec3 move = fall * factors[attempt];
         for (size_t i = 0; i < n; ++i)
             predicted[i] =
@@ -434,7 +484,7 @@ UpdateResult Hose::stepGravity()
         if (!valid) m_local = start;
         for (size_t i = 0; i < n; ++i)
             if (engine.isTail(i)) {
-                m_local[i] = start[i] + kDamping * (start[i] - m_gravityPrevious[i]) + fall;
+                m_local[i] = start[i] + carry * (start[i] - m_gravityPrevious[i]) + fall;
                 predicted[i] = m_local[i];
             }
         followTails(m_held, start);
@@ -484,7 +534,7 @@ UpdateResult Hose::stepGravity()
             if (!engine.isTail(i)) continue;
             m_gravityPrevious[i] += engine.tailCorrection[i];
             const double height = std::max(0.0, top + down.dot(m_local[i]));
-            const double most = std::sqrt(2.0 * kGravity * height) * kFrameTime + fall.norm();
+            const double most = std::sqrt(2.0 * kGravity * height) * seconds + fall.norm();
             const Vec3 velocity = m_local[i] - m_gravityPrevious[i];
             const double speed = velocity.norm();
             if (speed > most) m_gravityPrevious[i] = m_local[i] - velocity * (most / speed);
@@ -507,7 +557,7 @@ UpdateResult Hose::stepGravity()
     // limits, or a creep of micrometres a step: it stops where it is).
     if (inputChanged) {
         m_gravityLowestEnergy = std::numeric_limits<double>::infinity();
-        m_gravityStallSteps = 0;
+        m_gravityStallSeconds = 0.0;
     }
     double energy = 0.0, totalMass = 0.0;
     const Vec3 down = m_spec.gravity.direction.normalized();
@@ -519,21 +569,23 @@ UpdateResult Hose::stepGravity()
     }
     if (energy < m_gravityLowestEnergy - kHover * engine.meanRest * totalMass) {
         m_gravityLowestEnergy = energy;
-        m_gravityStallSteps = 0;
+        m_gravityStallSeconds = 0.0;
     } else {
-        ++m_gravityStallSteps;
+        m_gravityStallSeconds += seconds;
     }
     // A step cut short by the budget decides nothing about rest.
     m_pendingFall = result.pending = scope.cut();
     if (scope.cut()) {
         // (no rest decision)
-    } else if (std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest ||
-               (m_gravityStallSteps >= kStallSteps &&
+    } else if (std::sqrt(stepMotion) <=
+                   kSettledMotion * engine.meanRest * (seconds / Gravity::kFrameSeconds) ||
+               (m_gravityStallSeconds >= kStallSeconds * (1.0 - 1e-9) &&
                 energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }
     m_gravityLast = m_local;
+    m_gravityStepSeconds = seconds;
     m_gravityInputRevision = m_revision;
     return result;
 }

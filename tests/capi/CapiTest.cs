@@ -382,7 +382,7 @@ static class CapiTest
         uint nextMajor = (Native.AbiVersion >> 16) + 1 << 16;
         Same(Native.chaintube_runtime_abi_version(), Native.AbiVersion, "abi", "the library's ABI version");
         Refused(Native.chaintube_rig_load_file(nextMajor, Native.Utf8(export), out rig), Status.AbiMismatch,
-                "wrong ABI major", "ABI 2.0", "ABI 1.3");
+                "wrong ABI major", "ABI 2.0", "ABI 1.4");
         // A caller built against an older minor version (1.1: before the attachment pulls) still loads.
         Ok(Native.chaintube_rig_load_file((1u << 16) | 1u, Native.Utf8(export), out rig), "abi 1.1", "load_file");
         Ok(Native.chaintube_rig_destroy(rig), "abi 1.1", "destroy");
@@ -836,6 +836,40 @@ static class CapiTest
 
     // The work of a frame (see capi_budget_test.c): a valve jump beyond a small budget is pending
     // and met over the next Updates, every segment in its band; refusals.
+    // The frame's time (ABI 1.4): bad times refused, the hose unchanged; Update(1/90) is Update().
+    static int RunFrameRate(string export)
+    {
+        byte[] glb = File.ReadAllBytes(export);
+        using (Rig timed = Rig.LoadMemory(Path.GetFileName(export), glb))
+        using (Rig plain = Rig.LoadMemory(Path.GetFileName(export), glb)) {
+            int hose = timed.FindHose("valve-tail"), valve = timed.FindNode("valve");
+            int joints = timed.Info(hose).jointCount;
+            double[] trs = timed.NodeTransform(valve);
+            trs[0] += 0.03;
+            timed.SetNodeTransform(valve, trs);
+            plain.SetNodeTransform(valve, trs);
+            double[] before = WorldPoses(timed.Handle, hose, joints);
+            int recomputed;
+            foreach (double seconds in new[] { 0.0, -0.01, 0.2, double.NaN, double.PositiveInfinity }) {
+                Refused(Native.chaintube_rig_update_seconds(timed.Handle, seconds, out recomputed),
+                        Status.InvalidArgument, "a frame of " + seconds + " s", "seconds", "(0, 0.1]");
+                double[] now = WorldPoses(timed.Handle, hose, joints);
+                for (int k = 0; k < now.Length; ++k)
+                    Expect(now[k] == before[k], "refused " + seconds, "the hose moved");
+            }
+            for (int frame = 0; frame < 30; ++frame) {
+                timed.Update(1.0 / 90.0);
+                plain.Update();
+                double[] a = WorldPoses(timed.Handle, hose, joints), b = WorldPoses(plain.Handle, hose, joints);
+                for (int k = 0; k < a.Length; ++k)
+                    Expect(a[k] == b[k], "frame " + frame, "Update(1/90) differs from Update()");
+            }
+            Expect(timed.Update(0.1) >= 0, "0.1 s", "refused");
+            Console.WriteLine("CapiTest frame_rate: " + export + ": " + compared + " checks, " + failures + " failures");
+        }
+        return failures == 0 ? 0 : 1;
+    }
+
     static int RunBudget(string export)
     {
         using (Rig rig = Rig.LoadMemory(Path.GetFileName(export), File.ReadAllBytes(export))) {
@@ -885,8 +919,10 @@ static class CapiTest
             if (args.Length == 2 && args[0] == "clip") return RunClip(args[1]);
             if (args.Length == 2 && args[0] == "actions") return RunActions(args[1]);
             if (args.Length == 2 && args[0] == "budget") return RunBudget(args[1]);
+            if (args.Length == 2 && args[0] == "frame_rate") return RunFrameRate(args[1]);
             Console.Error.WriteLine("usage: CapiTest.exe replay <export.glb> <reference.txt> | errors <test-rig.glb> | " +
-                                    "clip <motion-rig.glb> | actions <rig-options.glb> | budget <test-rig.glb>");
+                                    "clip <motion-rig.glb> | actions <rig-options.glb> | budget <test-rig.glb> | " +
+                                    "frame_rate <rig-options.glb>");
             return 2;
         } catch (Exception error) {
             Console.Error.WriteLine("FAIL: " + error);

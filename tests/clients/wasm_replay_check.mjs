@@ -344,6 +344,18 @@ export function replayReference(api, chaintube, bytes, name, referenceText) {
     const after = rig.hosePending(deforming);
     if (after.pending || after.remaining !== 0) fail(0, `hosePending after an unbounded update: ${JSON.stringify(after)}`);
   }
+  // The frame's time (ABI 1.4): a bad time is refused naming `seconds`; an accepted one is
+  // recorded with it.
+  for (const seconds of [0, -0.01, 0.2, NaN, Infinity])
+    expectError(`a frame of ${seconds} s`, api.Status.ERROR_INVALID_ARGUMENT, 'seconds', () => rig.update(seconds));
+  {
+    rig.recordInputs(true);
+    rig.update(1 / 72);
+    const recorded = rig.recordedInputs();
+    rig.recordInputs(false);
+    if (recorded.length !== 1 || recorded[0].op !== 'update' || recorded[0].seconds !== 1 / 72)
+      fail(0, `update(1 / 72) recorded as ${JSON.stringify(recorded)}`);
+  }
   expectError('not a GLB', api.Status.ERROR_MALFORMED, 'junk.glb',
     () => chaintube.loadMemory('junk.glb', new Uint8Array([0x67, 0x6c, 0x54, 0x46, 9, 0, 0, 0])));
   same(chaintube.abiVersion(), api.ABI_VERSION, 0, 'the module\'s ABI version');

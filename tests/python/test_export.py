@@ -2,6 +2,7 @@
 import subprocess
 
 import numpy as np
+import pytest
 
 import chaintube
 
@@ -55,6 +56,13 @@ def test_the_rig_runs_the_export_and_its_joints_follow_a_moved_part(rig_project,
     np.testing.assert_allclose(after[-1] - before[-1], (-0.03, 0.0, 0.0), atol=1e-6)
     np.testing.assert_allclose(rig.joint_poses(hose)["world_translation"], after, atol=1e-9)
     assert rig.world_positions(hose).dtype == np.float32
+    # The frame's time: 1/72 s accepted, a bad one raises naming it and changes nothing.
+    assert rig.update(1.0 / 72.0) >= 0
+    after = rig.hose_points(hose)
+    with pytest.raises(chaintube.InvalidArgument) as raised:
+        rig.update(0.5)
+    assert "seconds" in str(raised.value)
+    np.testing.assert_array_equal(rig.hose_points(hose), after)
 
 
 def test_loading_a_missing_export_raises_naming_the_file(tmp_path):

@@ -77,6 +77,20 @@ def test_step_lets_a_hose_held_at_one_end_fall_and_the_view_shows_it():
     np.testing.assert_allclose(view[0], ROUTE[0], atol=1e-12)  # the fixed end stays
 
 
+def test_step_takes_the_frame_time_and_refuses_a_bad_one_changing_nothing():
+    hose = make_hose(gravity=True)
+    hose.attach(0, 1)
+    before = hose.points.copy()
+    for seconds in (0.0, -0.01, 0.2, math.nan, math.inf):
+        assert hose.step(seconds).status == chaintube.Status.InvalidInput
+        np.testing.assert_array_equal(hose.points, before)
+    for _ in range(20):
+        result = hose.step(1.0 / 45.0)
+        assert result.status in (chaintube.Status.Ok, chaintube.Status.Clamped)
+    assert hose.points[:, 1].min() < before[:, 1].min() - 0.01
+    assert hose.measure_violation().length_violation <= 1e-9
+
+
 def test_a_route_with_one_point_raises_invalid_argument_naming_the_route():
     with pytest.raises(chaintube.InvalidArgument) as raised:
         chaintube.Hose.along_route([(0.0, 0.0, 0.0)])

@@ -4,7 +4,7 @@
 //   web_reference replay <export.glb> <inputs.json>
 //       replays inputs the JavaScript API recorded (Rig.recordInputs: a JSON array of
 //       {"op":"move","node","trs"}, {"op":"grab","hose","point","target"}, {"op":"release","hose"},
-//       {"op":"reel","hose","end","clip","length","min","max"}, {"op":"update"},
+//       {"op":"reel","hose","end","clip","length","min","max"}, {"op":"update"[,"seconds"]},
 //       {"op":"budget","newtonSteps"}) on the export loaded from the file, and prints every
 //       hose's joint world positions:
 //       {"hoses":[{"id":"left-feed","joints":[[x,y,z],...]},...]} (metres, %.17g).
@@ -113,6 +113,9 @@ int replay(const char* exportFile, const char* inputsFile)
                       input.at("clip").get<int32_t>(), input.at("length").get<double>(),
                       bound("min"), bound("max"), nullptr),
                   "chaintube_rig_reel");
+        } else if (op == "update" && input.contains("seconds")) {
+            check(chaintube_rig_update_seconds(rig, input.at("seconds").get<double>(), nullptr),
+                  "chaintube_rig_update_seconds");
         } else if (op == "update") {
             check(chaintube_rig_update(rig, nullptr), "chaintube_rig_update");
         } else if (op == "budget") {

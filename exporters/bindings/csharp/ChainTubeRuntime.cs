@@ -148,7 +148,7 @@ namespace ChainTube
         const string Library = "chaintube_runtime_c";
 
         /// <summary>CHAINTUBE_RUNTIME_ABI_VERSION of the header this binding was written for.</summary>
-        public const uint AbiVersion = (1u << 16) | 3u;
+        public const uint AbiVersion = (1u << 16) | 4u;
 
         [DllImport(Library)] public static extern uint chaintube_runtime_abi_version();
         [DllImport(Library)] public static extern IntPtr chaintube_status_name(Status status);
@@ -217,6 +217,8 @@ namespace ChainTube
         [DllImport(Library)]
         public static extern Status chaintube_rig_axis_points(IntPtr rig, int hose, [Out] double[] points, int capacity);
         [DllImport(Library)] public static extern Status chaintube_rig_update(IntPtr rig, out int recomputed);
+        [DllImport(Library)]
+        public static extern Status chaintube_rig_update_seconds(IntPtr rig, double seconds, out int recomputed);
         [DllImport(Library)]
         public static extern Status chaintube_rig_hose_result(IntPtr rig, int hose, out HoseResult result);
         [DllImport(Library)]
@@ -415,6 +417,14 @@ namespace ChainTube
             return points;
         }
         public int Update() { int n; Check(Native.chaintube_rig_update(Handle, out n)); return n; }
+        /// <summary>Update for a frame of `seconds` in (0, 0.1] (Unity: Time.deltaTime, clamped to
+        /// 0.1): gravity advances by that time, the same at any frame rate. Since ABI 1.4.</summary>
+        public int Update(double seconds)
+        {
+            int n;
+            Check(Native.chaintube_rig_update_seconds(Handle, seconds, out n));
+            return n;
+        }
         public HoseResult Result(int hose) { HoseResult r; Check(Native.chaintube_rig_hose_result(Handle, hose, out r)); return r; }
 
         /// <summary>local: 10 floats a joint (TRS), world: 7 (translation, rotation); either may be null.</summary>

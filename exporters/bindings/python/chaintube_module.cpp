@@ -719,13 +719,16 @@ PYBIND11_MODULE(chaintube, m)
             "Let go of the held point.")
         .def(
             "step",
-            [](PyHose& h) {
-                const UpdateResult result = h.hose.step();
+            [](PyHose& h, double seconds) {
+                const UpdateResult result = h.hose.step(seconds);
                 h.refresh();
                 return result;
             },
-            "Per-frame gravity (HoseSpec.gravity): one implicit step of 1/90 s. A hose at rest "
-            "costs one\ncomparison. Every constraint holds after the call.")
+            py::arg("seconds") = Gravity::kFrameSeconds,
+            "Per-frame gravity (HoseSpec.gravity) for a frame of `seconds` in (0, 0.1] (default "
+            "1/90 s),\nin implicit steps of at most 1/90 s. A hose at rest costs one comparison. "
+            "Every constraint\nholds after the call. A bad time: Status.InvalidInput, nothing "
+            "changes.")
         .def(
             "settle",
             [](PyHose& h) {
@@ -1356,9 +1359,12 @@ PYBIND11_MODULE(chaintube, m)
             py::arg("hose"),
             "Lets go of the held point (a free end in a socket's capture snaps in). False for a "
             "bad hose.")
-        .def("update", &rig::HoseRuntime::update,
-             "Once per frame: gravity steps, surfaces and joint poses brought up to date. Returns "
-             "the number\nof hoses recomputed.")
+        .def(
+            "update", [](rig::HoseRuntime& r, double seconds) { return r.update(seconds); },
+            py::arg("seconds") = Gravity::kFrameSeconds,
+            "Once per frame, with the frame's time in (0, 0.1] s (default 1/90 s): gravity "
+            "steps, surfaces\nand joint poses brought up to date. Returns the number of hoses "
+            "recomputed. A bad time\nraises ValueError (InvalidArgument), nothing changed.")
         .def("frame_result", &rig::HoseRuntime::frameResult, py::arg("hose"),
              "What happened to the hose in the frame the last update() closed.")
         .def(

@@ -15,7 +15,7 @@
 import createChainTubeRuntime from './chaintube_runtime.mjs';
 
 /** CHAINTUBE_RUNTIME_ABI_VERSION of the header this API was written against (major << 16 | minor). */
-export const ABI_VERSION = (1 << 16) | 3;
+export const ABI_VERSION = (1 << 16) | 4;
 
 /** chaintube_status: what a call returned. */
 export const Status = Object.freeze({
@@ -564,17 +564,19 @@ export class Rig {
   }
 
   /** Ends a frame: gravity steps, then the changed hoses' joint poses and surfaces. Returns how
-   * many hoses changed. */
-  update() {
+   * many hoses changed. `seconds`: the frame's time in (0, 0.1] (a requestAnimationFrame delta,
+   * clamped to 0.1), gravity advancing by it (ABI 1.4); omitted, a frame of 1/90 s. */
+  update(seconds) {
     const n = this.#native;
-    n.check(n.m._chaintube_rig_update(this.#rig(), n.output));
+    if (seconds === undefined) n.check(n.m._chaintube_rig_update(this.#rig(), n.output));
+    else n.check(n.m._chaintube_rig_update_seconds(this.#rig(), Number(seconds), n.output));
     const recomputed = n.outputInt32();
     for (const [hose, outputs] of this.#hoses) // a reel's new vertex count shows from here
       if (outputs.reeled) {
         outputs.reeled = false;
         outputs.info = this.hoseInfo(hose);
       }
-    this.#inputs?.push({ op: 'update' });
+    this.#inputs?.push(seconds === undefined ? { op: 'update' } : { op: 'update', seconds: Number(seconds) });
     return recomputed;
   }
 
@@ -669,7 +671,7 @@ export class Rig {
    * grab, release, plug, unplug, reel, update and setBudget, in order, as { op: 'move', node,
    * trs }, { op: 'grab', hose, point, target }, { op: 'release', hose }, { op: 'plug', hose, end,
    * socket }, { op: 'unplug', hose, end }, { op: 'reel', hose, end, clip, length, min, max },
-   * { op: 'update' }, { op: 'budget', newtonSteps }. Starting clears the record. Replaying
+   * { op: 'update' } or { op: 'update', seconds }, { op: 'budget', newtonSteps }. Starting clears the record. Replaying
    * it through the C ABI gives the same hoses (a bug report, or a check against a native build).
    */
   recordInputs(on) { this.#inputs = on ? [] : null; }

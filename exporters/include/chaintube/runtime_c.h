@@ -20,7 +20,8 @@
  * - Threads: a rig is not thread-safe; call its functions from one thread at a time. Different
  *   rigs may run on different threads at once. The last-error text is per thread.
  * - A frame: chaintube_rig_set_node_transform for scene objects that moved, chaintube_rig_grab
- *   for held points, chaintube_rig_update, then chaintube_rig_joint_poses (skinned meshes) or
+ *   for held points, chaintube_rig_update_seconds with the frame's time (chaintube_rig_update
+ *   for a 90 Hz frame), then chaintube_rig_joint_poses (skinned meshes) or
  *   chaintube_rig_surface (vertex buffers), chaintube_rig_hose_result for each hose, and
  *   chaintube_rig_attachment_pull for the parts the hoses hold back; chaintube_rig_reel before
  *   the update for a hose paid out or reeled in.
@@ -45,9 +46,10 @@
 
 /* ABI version: a caller passes CHAINTUBE_RUNTIME_ABI_VERSION, as compiled, to the load
  * functions. A library of another major version, or of an older minor version than the
- * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add. */
+ * caller's, refuses to load (CHAINTUBE_ERROR_ABI_MISMATCH). Minor versions only add: each
+ * function added after 1.0 says since which ("Since ABI 1.4": chaintube_rig_update_seconds). */
 #define CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR 1
-#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 3
+#define CHAINTUBE_RUNTIME_ABI_VERSION_MINOR 4
 #define CHAINTUBE_RUNTIME_ABI_VERSION                                                              \
     ((uint32_t)((CHAINTUBE_RUNTIME_ABI_VERSION_MAJOR << 16) | CHAINTUBE_RUNTIME_ABI_VERSION_MINOR))
 
@@ -399,10 +401,19 @@ CHAINTUBE_API chaintube_status chaintube_rig_plug(chaintube_rig* rig, int32_t ho
 CHAINTUBE_API chaintube_status chaintube_rig_unplug(chaintube_rig* rig, int32_t hose, int32_t end,
                                                     int32_t* socket);
 
-/* Ends a frame: steps every hose with gravity (bounded work; a settled hose costs one
+/* Ends a frame of 1/90 s: steps every hose with gravity (bounded work; a settled hose costs one
  * comparison), then brings the changed hoses' joint poses and surfaces up to date.
- * recomputed (may be NULL): how many hoses changed. */
+ * recomputed (may be NULL): how many hoses changed. Another frame rate:
+ * chaintube_rig_update_seconds. */
 CHAINTUBE_API chaintube_status chaintube_rig_update(chaintube_rig* rig, int32_t* recomputed);
+
+/* chaintube_rig_update for a frame of `seconds` (the time since the last update, in (0, 0.1]):
+ * gravity advances by that time in steps of at most 1/90 s, so the same timed moves give the
+ * same hoses at 45, 72, 90 or 120 Hz; chaintube_rig_update is a frame of 1/90 s. Clamp a
+ * longer hitch to 0.1 s. A non-finite time, <= 0 or above 0.1: CHAINTUBE_ERROR_INVALID_ARGUMENT,
+ * nothing changes. Since ABI 1.4. */
+CHAINTUBE_API chaintube_status chaintube_rig_update_seconds(chaintube_rig* rig, double seconds,
+                                                            int32_t* recomputed);
 
 /* What happened to a hose in the frame the last chaintube_rig_update ended: its node moves,
  * grabs and gravity step combined (the worst status, the largest violations, grab error,

@@ -13,6 +13,7 @@
 #include <new>
 #include <set>
 #include <span>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -924,6 +925,25 @@ chaintube_status chaintube_rig_update(chaintube_rig* rig, int32_t* recomputed)
     return guarded(function, [&]() -> chaintube_status {
         if (!rig) return nullArgument(function, "rig");
         const int changed = rig->runtime.update();
+        if (recomputed) *recomputed = changed;
+        return CHAINTUBE_OK;
+    });
+}
+
+chaintube_status chaintube_rig_update_seconds(chaintube_rig* rig, double seconds,
+                                              int32_t* recomputed)
+{
+    constexpr const char* function = "chaintube_rig_update_seconds";
+    return guarded(function, [&]() -> chaintube_status {
+        if (!rig) return nullArgument(function, "rig");
+        if (!std::isfinite(seconds) || !(seconds > 0.0) ||
+            seconds > chaintube::Gravity::kMaxFrameSeconds) {
+            std::ostringstream text;
+            text << "seconds: expected the frame's time in (0, "
+                 << chaintube::Gravity::kMaxFrameSeconds << "] s, got " << seconds;
+            return fail(CHAINTUBE_ERROR_INVALID_ARGUMENT, function, text.str());
+        }
+        const int changed = rig->runtime.update(seconds);
         if (recomputed) *recomputed = changed;
         return CHAINTUBE_OK;
     });

@@ -15,6 +15,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -961,12 +962,23 @@ UpdateResult HoseRuntime::grab(int hose, int point, const Vec3& target)
 
 int HoseRuntime::update()
 {
+    return update(Gravity::kFrameSeconds);
+}
+
+int HoseRuntime::update(double seconds)
+{
+    if (!std::isfinite(seconds) || !(seconds > 0.0) || seconds > Gravity::kMaxFrameSeconds) {
+        std::ostringstream text;
+        text << "seconds: expected the frame's time in (0, " << Gravity::kMaxFrameSeconds
+             << "] s, got " << seconds;
+        throw InvalidArgument(text.str());
+    }
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
         easeIntoSockets(h);
         // Gravity, and work a budget left pending (Hose::step() goes on with it).
         if (m_descriptor.hoses[h].gravity.enabled || running.hose.pending())
-            combine(running.pendingResult, running.hose.step());
+            combine(running.pendingResult, running.hose.step(seconds));
         // A pending grab or attachment move that gets no nearer for kStalledFrames updates (its
         // budgeted tries keep failing where a bend must give way to meet the target) is finished
         // without the budget in this update, as an unbounded move would have done it: met, or

@@ -119,13 +119,17 @@ struct UpdateBudget
     bool bounded() const { return newtonSteps > 0; }
 };
 
-/// Per-frame gravity. When enabled, Hose::step() advances the hose by one implicit step of
-/// 1/90 s a call (call it once a frame); a hose at rest costs one comparison per call.
-/// Hose::sag() settles to rest regardless of this switch.
+/// Per-frame gravity. When enabled, Hose::step(seconds) advances the hose by the frame's time
+/// (call it once a frame; step() is a frame of 1/90 s); a hose at rest costs one comparison per
+/// call. Hose::sag() settles to rest regardless of this switch.
 struct Gravity
 {
     bool enabled = false;
     Vec3 direction = Vec3(0.0, -1.0, 0.0); ///< world; need not be unit (finite, non-zero)
+    /// step()'s frame (seconds), and the longest implicit step a frame is made of.
+    static constexpr double kFrameSeconds = 1.0 / 90.0;
+    /// The longest frame step(seconds) accepts (seconds): 9 implicit steps at most.
+    static constexpr double kMaxFrameSeconds = 0.1;
 };
 
 /// Torsion as an optional degree of freedom: the roll of an attachment's frame about
@@ -383,7 +387,17 @@ public:
     /// (setBudget) it first goes on with a grab or attachment move that ran out of it, unless a
     /// new one came in since the last step(), then steps within what is left; a gravity step cut
     /// short by the budget is `pending` and never taken for rest. Call it once a frame.
+    /// step() is step(Gravity::kFrameSeconds).
     UpdateResult step();
+    /// step() for a frame of `seconds` in (0, Gravity::kMaxFrameSeconds]: ⌈seconds · 90⌉ equal
+    /// implicit steps of at most 1/90 s (each as above, its fall, damping and rest rule taken
+    /// for its length), so the same timed path of the attachments gives the same shape at any
+    /// frame rate (lib/README.md, "Gravity at any frame rate"); moves made by grabs and
+    /// attachments carry no velocity, so nothing whips. Under a budget the steps take the
+    /// frame's budget in turn; once none is left the frame's later steps are dropped and the
+    /// hose is `pending`. Non-finite, ≤ 0 or > kMaxFrameSeconds: Status::InvalidInput, nothing
+    /// changes (not even a pending update goes on).
+    UpdateResult step(double seconds);
     /// Bounds the work of every later update (grab, attachment moves, step(), resolveCollisions(),
     /// clip slides within them) to `budget` (UpdateBudget{} lifts the bound; sag() and settle()
     /// are never bounded). An update that runs out of it stops at the last valid shape it reached
@@ -508,8 +522,8 @@ private:
         m_budgetLeft = std::max(0, m_budgetLeft - steps);
         if (steps >= allowed && allowed < wanted) m_budgetCut = true;
     }
-    /// step(): the gravity step alone (sag.cpp).
-    UpdateResult stepGravity();
+    /// step(): one implicit gravity step of `seconds` alone (sag.cpp).
+    UpdateResult stepGravity(double seconds);
     /// step(): goes on with a pending grab or attachment move (solver.cpp).
     UpdateResult continuePending();
 
@@ -560,11 +574,12 @@ private:
     std::uint64_t m_settledRevision = 0;      ///< step(): revision at which the hose settled
     std::uint64_t m_gravityInputRevision = 0; ///< step(): revision the last step left
     double m_gravityLowestEnergy = 0.0; ///< step(): lowest potential energy since an input changed
-    int m_gravityStallSteps = 0;        ///< step(): steps since it last fell
-    double m_gravityRetryFall = 1.0;    ///< step(): fall of a retry (sag.cpp)
-    bool m_gravityFullFailed = false;   ///< step(): the last full prediction failed (sag.cpp)
-    int m_gravitySkippedFull = 0;       ///< step(): full predictions skipped since (sag.cpp)
-    bool m_dirtyViolation = false;      ///< last update left a violation: next one checks globally
+    double m_gravityStallSeconds = 0.0; ///< step(): time since it last fell
+    double m_gravityStepSeconds = Gravity::kFrameSeconds; ///< step(): the last step's length
+    double m_gravityRetryFall = 1.0;                      ///< step(): fall of a retry (sag.cpp)
+    bool m_gravityFullFailed = false; ///< step(): the last full prediction failed (sag.cpp)
+    int m_gravitySkippedFull = 0;     ///< step(): full predictions skipped since (sag.cpp)
+    bool m_dirtyViolation = false;    ///< last update left a violation: next one checks globally
     /// The chain projection's working set (projection.h), 3 per point: contact, length (+1
     /// upper bound, −1 lower), bend; kept from Newton step to Newton step of one projection.
     std::vector<signed char> m_workingSet;

@@ -257,8 +257,16 @@ public:
 
     /// Advances every hose with gravity by one Hose::step() (a settled hose costs one
     /// comparison), then brings every changed hose's surface and joint poses up to date.
-    /// Closes the frame (frameResult). Returns how many hoses were recomputed.
+    /// Closes the frame (frameResult). Returns how many hoses were recomputed. update() is a
+    /// frame of 1/90 s: update(Gravity::kFrameSeconds).
     int update();
+    /// update() for a frame of `seconds` (the time since the last update, in (0,
+    /// Gravity::kMaxFrameSeconds] = (0, 0.1]): gravity advances by that time
+    /// (Hose::step(seconds)), so the same timed moves give the same hoses at any frame rate.
+    /// Plugs easing into sockets and reels count frames, whatever their length. Throws
+    /// InvalidArgument, nothing changed, for a non-finite time, ≤ 0 or above 0.1 s (a platform
+    /// clamps a long hitch to 0.1 s).
+    int update(double seconds);
 
     /// What happened to a hose in the frame the last update() closed: every setNodeTransform,
     /// grab and gravity step since the update() before it, combined: the worst status (Ok <
