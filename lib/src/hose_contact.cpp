@@ -575,6 +575,7 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     for (std::size_t i = 0; i < n; ++i)
         touchingPoint[i] = pointClearance(i, nullptr) < 2.0 * tolerance;
     for (std::size_t s = 0; s + 1 < n; ++s) {
+        if (touchingPoint[s] && touchingPoint[s + 1]) continue; // counted already
         const double length = (m_local[s + 1] - m_local[s]).norm();
         if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + 2.0 * tolerance) continue;
         const MeshCollider::Closest c = contacts.closestToSegment(
