@@ -668,7 +668,9 @@ MeshCollider::SegmentSweep MeshCollider::sweepSegment(const Vec3& a0, const Vec3
         const Closest c = closestToSegment(a, b, guard + travel * (1.0 - t));
         ++result.queries;
         if (!c.found) return result; // nothing within reach of the rest of the move
-        if (query == 0 && c.distance < guard) {
+        // At the start within the guard, or within the slack beyond it (a segment an earlier
+        // sweep stopped there): keep half the starting distance, so it can move off or along.
+        if (query == 0 && c.distance < guard * (1.0 + 2.0 * kSegmentContactSlack)) {
             if (!(c.distance > 0.0)) return result; // crossing already: nothing left to keep
             guard = 0.5 * c.distance;
         }

@@ -133,9 +133,9 @@ TEST(HoseRuntimeTunneling, AThinPlateColliderMovedAt2MetresASecondThroughAHoseNe
                 unreported);
     EXPECT_EQ(passes, kPasses);
     EXPECT_EQ(crossings, 0);
-    // The hose (10 % slack, 12 cm minimum bend radius) cannot always take the push: the contact
-    // rounds then end Infeasible, reported; measured at 10.8 % of the frames (seed 52).
-    EXPECT_LE(offConstraints, 0.12 * allFrames);
+    // Where the contact rounds do not converge the update ends Infeasible, reported; measured at
+    // 2 frames in 3566 (seed 52).
+    EXPECT_LE(offConstraints, 0.002 * allFrames);
     EXPECT_EQ(unreported, 0);
     EXPECT_GT(touched, kPasses / 4) << "the passes reach the hose";
 }
