@@ -126,8 +126,9 @@ public:
     /// a1, b1 (world), by conservative advancement: each closestToSegment() query (within the
     /// distance the rest of the move can cover) advances the move by the gap over the fastest
     /// end's travel, so no point of the segment gets nearer than `radius` (metres, ≥ 0) before
-    /// `fraction`. A segment already nearer than `radius` at the start keeps half its starting
-    /// distance; one crossing the mesh at the start is not stopped. At most `maxQueries`
+    /// `fraction`. A segment already nearer than `radius` at the start (or within 4 % beyond it,
+    /// where an earlier sweep stopped it) keeps half its starting distance, so it can move off or
+    /// along; one crossing the mesh at the start is not stopped. At most `maxQueries`
     /// queries (≥ 1): a move still not cleared then stops where it got (`bounded`), so the
     /// cost of a call is bounded and what it returns is always safe.
     struct SegmentSweep
