@@ -4,8 +4,8 @@
 // has nothing pending, is unbounded again, every segment in its band and every bend within its
 // limit.
 #include "main_window.h"
-#include "test_support.h"
 #include "viewport.h"
+#include "window_test.h"
 
 #include <QApplication>
 #include <QTest>
@@ -16,44 +16,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class DragBudgetGuiTest : public ::testing::Test
+class DragBudgetGuiTest : public test::WindowTest
 {
 protected:
     void SetUp() override
     {
-        fs::remove_all(m_folder);
-        fs::create_directories(m_folder / "scenes");
-        fs::copy_file(test::samplesDir() / "test-rig.ctproj", m_folder / "test-rig.ctproj");
-        fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf",
-                      m_folder / "scenes/test-rig.gltf");
-        m_window = std::make_unique<MainWindow>(test::roots());
-        m_window->ask = [](const QString&, const QString&, QMessageBox::StandardButtons) {
-            return QMessageBox::Discard;
-        };
-        m_window->showError = [this](const QString& title, const QString& text) {
-            m_errors << title + ": " + text;
-        };
-        m_window->resize(1280, 800);
-        m_window->show();
-        ASSERT_TRUE(QTest::qWaitForWindowExposed(m_window.get()));
-        m_window->activateWindow();
-        QApplication::setActiveWindow(m_window.get());
-        QApplication::processEvents();
-        ASSERT_TRUE(
-            m_window->openFile(QString::fromStdString((m_folder / "test-rig.ctproj").string())))
+        ASSERT_TRUE(openInWindow(test::copyOfTestRig("drag-budget-gui")))
             << m_errors.join('\n').toStdString();
-        settle();
     }
-    void settle()
-    {
-        QApplication::processEvents();
-        m_window->viewport().repaint();
-        QApplication::processEvents();
-    }
-
-    fs::path m_folder = test::outputDir() / "drag-budget-gui";
-    std::unique_ptr<MainWindow> m_window;
-    QStringList m_errors;
 };
 
 TEST_F(DragBudgetGuiTest, AHosePointDraggedInLongMovesIsBoundedLiveAndFullyConvergedOnRelease)

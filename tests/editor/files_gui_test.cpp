@@ -9,8 +9,8 @@
 #include "chaintube/test_support/hose_checks.h"
 #include "main_window.h"
 #include "problems_panel.h"
-#include "test_support.h"
 #include "viewport.h"
+#include "window_test.h"
 
 #include <QAbstractButton>
 #include <QAction>
@@ -39,6 +39,7 @@ namespace chaintube::editor {
 namespace {
 
 namespace fs = std::filesystem;
+using test::DialogDriver;
 
 /// Runs the real CLI; returns its exit code, `output` gets stdout and stderr.
 int runCli(const std::string& arguments, std::string* output)
@@ -53,20 +54,6 @@ int runCli(const std::string& arguments, std::string* output)
     const int status = pclose(pipe);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
-
-/// Calls `drive` every 30 ms while alive (modal dialogs run their own event loops).
-class DialogDriver
-{
-public:
-    explicit DialogDriver(std::function<void()> drive)
-    {
-        QObject::connect(&m_timer, &QTimer::timeout, std::move(drive));
-        m_timer.start(30);
-    }
-
-private:
-    QTimer m_timer;
-};
 
 /// Answers the next Qt file dialog named `name`: records the folder it starts in, types
 /// `answer` into its file name field and presses Return (or Escape when `answer` is empty).
@@ -139,62 +126,22 @@ struct FileDialogAnswer
     }
 };
 
-class FilesTest : public ::testing::Test
+class FilesTest : public test::WindowTest
 {
 protected:
     void SetUp() override { m_window = makeWindow(); }
-    std::unique_ptr<MainWindow> makeWindow()
-    {
-        auto window = std::make_unique<MainWindow>(test::roots());
-        window->ask = [](const QString&, const QString&, QMessageBox::StandardButtons) {
-            return QMessageBox::Discard;
-        };
-        window->showError = [this](const QString& title, const QString& text) {
-            m_errors << title + ": " + text;
-        };
-        window->resize(1280, 800);
-        window->show();
-        EXPECT_TRUE(QTest::qWaitForWindowExposed(window.get()));
-        takeKeys(window.get());
-        return window;
-    }
-    static void takeKeys(QWidget* window)
-    {
-        window->activateWindow();
-        QApplication::setActiveWindow(window);
-        QApplication::processEvents();
-    }
-    /// A copy of the test rig in a fresh folder of the test output.
-    static fs::path copyOfTestRig(const std::string& folderName)
-    {
-        const fs::path folder = test::outputDir() / folderName;
-        fs::remove_all(folder);
-        fs::create_directories(folder / "scenes");
-        fs::copy_file(test::samplesDir() / "test-rig.ctproj", folder / "test-rig.ctproj");
-        fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf", folder / "scenes/test-rig.gltf");
-        return folder / "test-rig.ctproj";
-    }
     /// Presses Ctrl+Shift+S in the viewport and answers the Save As dialog with `file`.
     /// Returns the folder the dialog started in.
     QString saveAsWithKeys(const fs::path& file)
     {
         FileDialogAnswer save{"saveAsDialog", QString::fromStdString(file.string())};
         save.arm();
-        takeKeys(m_window.get());
+        activate(m_window.get());
         QTest::keyClick(&m_window->viewport(), Qt::Key_S, Qt::ControlModifier | Qt::ShiftModifier);
         EXPECT_EQ(save.shown, 1) << "Ctrl+Shift+S opens the Save As dialog";
         EXPECT_TRUE(save.questions.isEmpty() || fs::exists(file))
             << "asked " << save.questions.join('\n').toStdString();
         return save.startFolder;
-    }
-    /// The document's hoses: every axis point (world metres).
-    static std::vector<std::vector<Vec3>> shapes(const Document& document)
-    {
-        std::vector<std::vector<Vec3>> points;
-        for (const auto& hose : document.project().hoses)
-            points.push_back(document.hose(hose.id) ? document.hose(hose.id)->points()
-                                                    : std::vector<Vec3>{});
-        return points;
     }
     /// Opens `file` in a fresh window: the scene is found, the hoses are built as in `expected`
     /// (within 1e-9 m); and the CLI checks it with its scene.
@@ -205,7 +152,7 @@ protected:
             << m_errors.join('\n').toStdString();
         EXPECT_TRUE(fresh->document().missingScenes().empty()) << file;
         EXPECT_TRUE(fresh->document().scene("rig")) << file;
-        const auto got = shapes(fresh->document());
+        const auto got = test::allPoints(fresh->document());
         ASSERT_EQ(got.size(), expected.size());
         for (size_t h = 0; h < got.size(); ++h) {
             ASSERT_EQ(got[h].size(), expected[h].size()) << file << " hose " << h;
@@ -219,17 +166,14 @@ protected:
         output.clear();
         EXPECT_EQ(runCli("validate \"" + file.string() + "\"", &output), 0) << output;
     }
-
-    std::unique_ptr<MainWindow> m_window;
-    QStringList m_errors;
 };
 
 TEST_F(FilesTest, SaveAsWithCtrlShiftSIntoAnotherFolderAnotherRootAndBackReopensEverywhere)
 {
-    const fs::path original = copyOfTestRig("save-as-original");
+    const fs::path original = test::copyOfTestRig("save-as-original");
     ASSERT_TRUE(m_window->openFile(QString::fromStdString(original.string())))
         << m_errors.join('\n').toStdString();
-    const auto expected = shapes(m_window->document());
+    const auto expected = test::allPoints(m_window->document());
     const std::string originalText = test_support::readText(original);
 
     // The menu shows the key.
@@ -276,11 +220,11 @@ TEST_F(FilesTest, SaveAsWithCtrlShiftSIntoAnotherFolderAnotherRootAndBackReopens
 
 TEST_F(FilesTest, TheOpenDialogStartsInTheProjectsFolder)
 {
-    const fs::path project = copyOfTestRig("open-dialog-folder");
+    const fs::path project = test::copyOfTestRig("open-dialog-folder");
     ASSERT_TRUE(m_window->openFile(QString::fromStdString(project.string())));
     FileDialogAnswer open{"openDialog", QString()};
     open.arm();
-    takeKeys(m_window.get());
+    activate(m_window.get());
     QTest::keyClick(&m_window->viewport(), Qt::Key_O, Qt::ControlModifier);
     ASSERT_EQ(open.shown, 1) << "Ctrl+O opens the Open dialog";
     EXPECT_EQ(fs::weakly_canonical(open.startFolder.toStdString()),
@@ -290,7 +234,7 @@ TEST_F(FilesTest, TheOpenDialogStartsInTheProjectsFolder)
 TEST_F(FilesTest, AMissingSceneOpensMarkedMissingAndLocateRelinksItUndoably)
 {
     // The project without its scenes folder: the scene moved to "found/" beside it.
-    const fs::path project = copyOfTestRig("missing-scene");
+    const fs::path project = test::copyOfTestRig("missing-scene");
     const fs::path folder = project.parent_path();
     fs::create_directories(folder / "found");
     fs::rename(folder / "scenes/test-rig.gltf", folder / "found/rig-moved.gltf");
@@ -344,7 +288,7 @@ TEST_F(FilesTest, AMissingSceneOpensMarkedMissingAndLocateRelinksItUndoably)
     EXPECT_EQ(document.undoStack()->undoText().toStdString(), "Locate scene rig");
 
     // Ctrl+Z: missing again; Ctrl+Y: located again.
-    takeKeys(m_window.get());
+    activate(m_window.get());
     QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
     EXPECT_EQ(document.missingScenes().count("rig"), 1u);
     EXPECT_FALSE(document.scene("rig"));

@@ -14,8 +14,8 @@
 #include "main_window.h"
 #include "problems_panel.h"
 #include "properties_panel.h"
-#include "test_support.h"
 #include "viewport.h"
+#include "window_test.h"
 
 #include <QApplication>
 #include <QMouseEvent>
@@ -34,69 +34,16 @@ namespace {
 namespace fs = std::filesystem;
 using test_support::worstBandExcess;
 
-class GesturesTest : public ::testing::Test
+class GesturesTest : public test::WindowTest
 {
 protected:
     void SetUp() override
     {
-        m_window = std::make_unique<MainWindow>(test::roots());
-        m_window->ask = [](const QString&, const QString&, QMessageBox::StandardButtons) {
-            return QMessageBox::Discard;
-        };
-        m_window->showError = [this](const QString& title, const QString& text) {
-            m_errors << title + ": " + text;
-        };
-        m_window->resize(1280, 800);
-        m_window->show();
-        ASSERT_TRUE(QTest::qWaitForWindowExposed(m_window.get()));
-        takeKeys();
-        const fs::path folder =
-            test::outputDir() /
-            ("gestures-" +
-             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(folder);
-        fs::create_directories(folder / "scenes");
-        fs::copy_file(test::samplesDir() / "test-rig.ctproj", folder / "test-rig.ctproj");
-        fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf", folder / "scenes/test-rig.gltf");
-        ASSERT_TRUE(
-            m_window->openFile(QString::fromStdString((folder / "test-rig.ctproj").string())))
+        const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+        ASSERT_TRUE(openInWindow(test::copyOfTestRig("gestures-" + name)))
             << m_errors.join('\n').toStdString();
-        settle();
     }
-    void takeKeys()
-    {
-        m_window->activateWindow();
-        QApplication::setActiveWindow(m_window.get());
-        QApplication::processEvents();
-    }
-    void settle()
-    {
-        QApplication::processEvents();
-        m_window->viewport().repaint();
-        QApplication::processEvents();
-    }
-    Document& document() { return m_window->document(); }
-    Viewport& viewport() { return m_window->viewport(); }
     int node(const std::string& path) { return document().scene("rig")->findNode(path); }
-    void clickTreeItem(const QString& text)
-    {
-        QTreeWidget& tree = m_window->sceneTree();
-        const auto items = tree.findItems(text, Qt::MatchExactly | Qt::MatchRecursive);
-        ASSERT_FALSE(items.isEmpty()) << text.toStdString();
-        tree.scrollToItem(items.first());
-        QTest::mouseClick(tree.viewport(), Qt::LeftButton, {},
-                          tree.visualItemRect(items.first()).center());
-        settle();
-    }
-    void screenshot(const char* name)
-    {
-        m_window->problems().refreshNow();
-        settle();
-        const QImage image = m_window->grab().toImage();
-        EXPECT_TRUE(image.save(QString::fromStdString((test::outputDir() / name).string())));
-        if (std::getenv("CHAINTUBE_UPDATE_SCREENSHOTS"))
-            image.save(QString(CHAINTUBE_SCREENSHOT_DIR) + "/" + name);
-    }
     /// Mean colour (0–255) of the viewport's pixels where a pick hits node `node` of the rig
     /// (8 px grid); `count` receives how many there were.
     QColor meanColourOf(int node, int* count)
@@ -147,9 +94,6 @@ protected:
         QTest::mouseRelease(&viewport(), Qt::LeftButton, modifiers, at);
         settle();
     }
-
-    std::unique_ptr<MainWindow> m_window;
-    QStringList m_errors;
 };
 
 TEST_F(GesturesTest, TheValveIsDrawnDistinctFromTheFloorAndPlainlySelected)
@@ -320,7 +264,7 @@ TEST_F(GesturesTest, AResolutionTypedWithEnterCarriesTheFixedPointsOverAndCtrlZR
     auto* segments = m_window->findChild<QSpinBox*>("segments");
     ASSERT_TRUE(segments);
     const auto type = [&](const char* text) {
-        takeKeys();
+        activate(m_window.get());
         QTest::mouseClick(segments, Qt::LeftButton, {}, QPoint(10, segments->height() / 2));
         segments->selectAll();
         QTest::keyClicks(segments, text);
@@ -365,7 +309,7 @@ TEST_F(GesturesTest, AResolutionTypedWithEnterCarriesTheFixedPointsOverAndCtrlZR
     EXPECT_TRUE(m_window->properties().lastRefusal().contains("too few"));
 
     // Ctrl+Z twice: the hose as it was.
-    takeKeys();
+    activate(m_window.get());
     QTest::keyClick(&viewport(), Qt::Key_Z, Qt::ControlModifier);
     QTest::keyClick(&viewport(), Qt::Key_Z, Qt::ControlModifier);
     settle();

@@ -12,8 +12,8 @@
 #include "motion_plot.h"
 #include "motions_panel.h"
 #include "problems_panel.h"
-#include "test_support.h"
 #include "viewport.h"
+#include "window_test.h"
 
 #include <QApplication>
 #include <QDoubleSpinBox>
@@ -36,35 +36,14 @@ namespace fs = std::filesystem;
 
 constexpr double kPi = 3.14159265358979323846;
 
-class MotionsTest : public ::testing::Test
+class MotionsTest : public test::WindowTest
 {
 protected:
     void SetUp() override
     {
-        m_window = std::make_unique<MainWindow>(test::roots());
-        m_window->ask = [](const QString&, const QString&, QMessageBox::StandardButtons) {
-            return QMessageBox::Discard;
-        };
-        m_window->showError = [this](const QString& title, const QString& text) {
-            m_errors << title + ": " + text;
-        };
-        m_window->resize(1280, 800);
-        m_window->show();
-        ASSERT_TRUE(QTest::qWaitForWindowExposed(m_window.get()));
-        m_window->activateWindow();
-        QApplication::setActiveWindow(m_window.get());
-        const QString project =
-            QString::fromStdString((test::samplesDir() / "motion-rig.ctproj").string());
-        ASSERT_TRUE(m_window->openFile(project)) << m_errors.join('\n').toStdString();
-        settle();
+        ASSERT_TRUE(openInWindow(test::samplesDir() / "motion-rig.ctproj"))
+            << m_errors.join('\n').toStdString();
     }
-    void settle()
-    {
-        QApplication::processEvents();
-        m_window->viewport().repaint();
-        QApplication::processEvents();
-    }
-    Document& document() { return m_window->document(); }
     const formats::PartMotion& motion(int i) { return document().project().motions.at(size_t(i)); }
     /// The centre of a slider's handle, in the slider's coordinates.
     static QPoint handleCentre(QSlider* slider)
@@ -91,16 +70,6 @@ protected:
             EXPECT_GE(length, hose.minLength(s) * (1.0 - 1e-9)) << "segment " << s;
         }
     }
-    void screenshot(const char* name)
-    {
-        m_window->problems().refreshNow();
-        settle();
-        const QImage image = m_window->grab().toImage();
-        EXPECT_TRUE(image.save(QString::fromStdString((test::outputDir() / name).string())));
-        if (std::getenv("CHAINTUBE_UPDATE_SCREENSHOTS"))
-            image.save(QString(CHAINTUBE_SCREENSHOT_DIR) + "/" + name);
-    }
-
     /// Waits for sweeps to finish until `done` holds (a sweep runs on a worker thread).
     void waitForSweep(const std::function<bool()>& done)
     {
@@ -127,9 +96,6 @@ protected:
                           list.visualItemRect(list.item(row)).center());
         settle();
     }
-
-    std::unique_ptr<MainWindow> m_window;
-    QStringList m_errors;
 };
 
 TEST_F(MotionsTest, ScrubbingTheLeverWithKeysMovesItsHoseEndWithItAndChangesNoProjectState)

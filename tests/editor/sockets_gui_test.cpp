@@ -5,8 +5,8 @@
 // the steps, Ctrl+S saves and a fresh window opens the socket as it was. No edit moves a hose.
 #include "main_window.h"
 #include "properties_panel.h"
-#include "test_support.h"
 #include "viewport.h"
+#include "window_test.h"
 
 #include <QAction>
 #include <QApplication>
@@ -24,46 +24,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SocketsGuiTest : public ::testing::Test
+class SocketsGuiTest : public test::WindowTest
 {
 protected:
     void SetUp() override
     {
-        fs::remove_all(m_folder);
-        fs::create_directories(m_folder / "scenes");
-        fs::copy_file(test::samplesDir() / "test-rig.ctproj", m_folder / "test-rig.ctproj");
-        fs::copy_file(test::samplesDir() / "scenes/test-rig.gltf",
-                      m_folder / "scenes/test-rig.gltf");
-        m_window = openWindow();
-        ASSERT_TRUE(m_window);
+        ASSERT_TRUE(openInWindow(m_project)) << m_errors.join('\n').toStdString();
     }
-    std::unique_ptr<MainWindow> openWindow()
-    {
-        auto window = std::make_unique<MainWindow>(test::roots());
-        window->ask = [](const QString&, const QString&, QMessageBox::StandardButtons) {
-            return QMessageBox::Discard;
-        };
-        window->showError = [this](const QString& title, const QString& text) {
-            m_errors << title + ": " + text;
-        };
-        window->resize(1280, 800);
-        window->show();
-        if (!QTest::qWaitForWindowExposed(window.get())) return nullptr;
-        window->activateWindow();
-        QApplication::setActiveWindow(window.get());
-        QApplication::processEvents();
-        if (!window->openFile(QString::fromStdString((m_folder / "test-rig.ctproj").string())))
-            return nullptr;
-        settle(*window);
-        return window;
-    }
-    static void settle(MainWindow& window)
-    {
-        QApplication::processEvents();
-        window.viewport().repaint();
-        QApplication::processEvents();
-    }
-    Document& document() { return m_window->document(); }
     /// Every hose's axis, to check that no socket edit moves a hose.
     std::vector<Vec3> allAxes()
     {
@@ -103,12 +70,10 @@ protected:
         field->selectAll();
         QTest::keyClicks(field, text);
         QTest::keyClick(field, Qt::Key_Return);
-        settle(*m_window);
+        settle();
     }
 
-    fs::path m_folder = test::outputDir() / "sockets-gui";
-    std::unique_ptr<MainWindow> m_window;
-    QStringList m_errors;
+    const fs::path m_project = test::copyOfTestRig("sockets-gui");
 };
 
 TEST_F(SocketsGuiTest, PlaceTagUndoRedoSaveAndReopen)
@@ -125,12 +90,12 @@ TEST_F(SocketsGuiTest, PlaceTagUndoRedoSaveAndReopen)
     QWidget* button = toolbar->widgetForAction(addSocket);
     ASSERT_TRUE(button);
     QTest::mouseClick(button, Qt::LeftButton);
-    settle(*m_window);
+    settle();
     EXPECT_EQ(m_window->viewport().mode(), Viewport::Mode::PlaceSocket);
     const QPoint onValve = pointOnValve();
     ASSERT_GE(onValve.x(), 0) << "the valve is in view";
     QTest::mouseClick(&m_window->viewport(), Qt::LeftButton, {}, onValve);
-    settle(*m_window);
+    settle();
     EXPECT_EQ(m_window->viewport().mode(), Viewport::Mode::Select);
     ASSERT_EQ(document().project().sockets.size(), before + 1);
     const formats::Socket placed = document().project().sockets.back();
@@ -175,19 +140,19 @@ TEST_F(SocketsGuiTest, PlaceTagUndoRedoSaveAndReopen)
 
     // Ctrl+Z three times: radius, tag, the socket itself; Ctrl+Y three times brings them back.
     QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
-    settle(*m_window);
+    settle();
     EXPECT_EQ(document().project().findSocket("socket-1")->captureRadius, placed.captureRadius);
     QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
-    settle(*m_window);
+    settle();
     EXPECT_EQ(document().project().findSocket("socket-1")->tag, "plug");
     QTest::keyClick(&m_window->viewport(), Qt::Key_Z, Qt::ControlModifier);
-    settle(*m_window);
+    settle();
     EXPECT_EQ(document().project().findSocket("socket-1"), nullptr);
     EXPECT_EQ(document().project().sockets.size(), before);
     EXPECT_EQ(allAxes(), axes);
     for (int i = 0; i < 3; ++i) {
         QTest::keyClick(&m_window->viewport(), Qt::Key_Y, Qt::ControlModifier);
-        settle(*m_window);
+        settle();
     }
     ASSERT_NE(document().project().findSocket("socket-1"), nullptr);
     formats::Socket expected = placed;
@@ -198,15 +163,14 @@ TEST_F(SocketsGuiTest, PlaceTagUndoRedoSaveAndReopen)
 
     // Ctrl+S, then a fresh window opens it as it was.
     QTest::keyClick(&m_window->viewport(), Qt::Key_S, Qt::ControlModifier);
-    settle(*m_window);
+    settle();
     EXPECT_FALSE(document().isModified());
     m_window.reset();
-    std::unique_ptr<MainWindow> reopened = openWindow();
-    ASSERT_TRUE(reopened) << m_errors.join('\n').toStdString();
-    const formats::Socket* loaded = reopened->document().project().findSocket("socket-1");
+    ASSERT_TRUE(openInWindow(m_project)) << m_errors.join('\n').toStdString();
+    const formats::Socket* loaded = document().project().findSocket("socket-1");
     ASSERT_NE(loaded, nullptr);
     EXPECT_EQ(*loaded, expected);
-    EXPECT_EQ(reopened->document().project().sockets.size(), before + 1);
+    EXPECT_EQ(document().project().sockets.size(), before + 1);
 }
 
 TEST_F(SocketsGuiTest, AClickOnASocketInTheViewportSelectsIt)
@@ -225,7 +189,7 @@ TEST_F(SocketsGuiTest, AClickOnASocketInTheViewportSelectsIt)
     const QPoint drawn = viewport.toWidget(centre);
     ASSERT_TRUE(viewport.rect().contains(drawn)) << "the socket is in view";
     QTest::mouseClick(&viewport, Qt::LeftButton, {}, drawn + QPoint(3, -2));
-    settle(*m_window);
+    settle();
     EXPECT_EQ(document().selection().socketId, "valve-outlet");
     EXPECT_TRUE(m_window->statusBar()->currentMessage().contains("valve-outlet"))
         << m_window->statusBar()->currentMessage().toStdString();
@@ -245,7 +209,7 @@ TEST_F(SocketsGuiTest, AClickOnASocketInTheViewportSelectsIt)
         }
     ASSERT_GE(away.x(), 0) << "the valve is in view beside its socket";
     QTest::mouseClick(&viewport, Qt::LeftButton, {}, away);
-    settle(*m_window);
+    settle();
     EXPECT_TRUE(document().selection().socketId.empty())
         << m_window->statusBar()->currentMessage().toStdString();
     EXPECT_EQ(document().selection().node, valve);
