@@ -21,8 +21,18 @@ namespace {
 /// of the violation.
 constexpr int kContactProjectionSteps = 8;
 constexpr double kContactProjectionClose = 1e-5;
+/// Hose::applyCollisions: Newton steps restoring the lengths and bends of the contact rounds'
+/// shape without the contacts, when a moved collider leaves no other shape to keep.
+constexpr int kRepairProjectionSteps = 32;
 /// A clearance bound not yet known (applyCollisions' per-point bounds).
 constexpr double kUnknownClearance = -std::numeric_limits<double>::infinity();
+/// Segments are swept (MeshCollider::sweepSegment) keeping their axis this fraction of the
+/// outer radius from the colliders: the pushing out then sees on which side the segment is
+/// and moves it out there (an axis touching a thin plate or an edge would have no side).
+constexpr double kSegmentGuard = 0.5;
+/// Passes over the hose of the segments' sweep from the previous shape (each segment stopped
+/// moves its ends, so its neighbours are swept again on the next pass).
+constexpr int kSegmentPasses = 3;
 
 } // namespace
 
@@ -113,6 +123,31 @@ public:
         }
         return best;
     }
+    struct SegmentHit
+    {
+        MeshCollider::SegmentSweep sweep;
+        Vec3 startA = Vec3::Zero(), startB = Vec3::Zero(); ///< as for Hit::start
+    };
+    /// First contact of the segment whose ends move from a0, b0 to a1, b1, its axis kept
+    /// `guard` from every collider; with relativeStart, a0 and b0 are of the previous update.
+    SegmentHit sweepSegment(const Vec3& a0, const Vec3& b0, const Vec3& a1, const Vec3& b1,
+                            double guard, bool relativeStart) const
+    {
+        SegmentHit best;
+        for (const Entry& e : m_near) {
+            const bool relative = relativeStart && e.moved;
+            const Vec3 startA = relative ? e.relative.apply(a0) : a0;
+            const Vec3 startB = relative ? e.relative.apply(b0) : b0;
+            const MeshCollider::SegmentSweep s =
+                e.collider->sweepSegment(startA, startB, a1, b1, guard);
+            if (s.hit && (!best.sweep.hit || s.fraction < best.sweep.fraction)) {
+                best.sweep = s;
+                best.startA = startA;
+                best.startB = startB;
+            }
+        }
+        return best;
+    }
     MeshCollider::Closest closestToPoint(const Vec3& p, double maxDistance) const
     {
         MeshCollider::Closest best;
@@ -166,6 +201,13 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         collidersMoved = !sameFrame(m_colliderFrames[c], m_colliders[c]->frame());
     if (collidersMoved)
         m_collisionFree.assign(n, kUnknownClearance); // unknown: query before trusting
+    // A collider's frame changed since the last update: its relative motion is what the
+    // segments are kept from (every later point move sweeps its two segments; the contacts'
+    // projection holds edges between points; the previous shape is kept only if clear).
+    bool frameMoved = false;
+    for (std::size_t c = 0; !frameMoved && c < m_colliders.size() && c < m_colliderFrames.size();
+         ++c)
+        frameMoved = !sameFrame(m_colliderFrames[c], m_colliders[c]->frame());
     auto finish = [&]() {
         m_collisionStart = m_local;
         m_colliderFrames.clear();
@@ -196,6 +238,25 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     std::vector<double>& freeBound = m_collisionFree;
     std::vector<unsigned char> pinned(m_fixed.begin(), m_fixed.end());
     if (grabbed >= 0) pinned[static_cast<std::size_t>(grabbed)] = 1;
+    const double guard = kSegmentGuard * radius;
+
+    // Point i moving from `from` to `to` (local) with its neighbours where they are: the
+    // segments on either side sweep triangles, and stop the move where one would come within
+    // `guard` of a collider (a thin plate or an edge between two axis points). Returns where the
+    // point may go. Skipped where the neighbour's clearance bound excludes any contact.
+    auto keepSegments = [&](std::size_t i, const Vec3& from, Vec3 to) {
+        if (!frameMoved) return to;
+        for (const std::size_t j : {i - 1, i + 1}) {
+            if (j >= n) continue; // i − 1 of point 0 wraps round
+            const Vec3& other = m_local[j];
+            const double span = std::max((from - other).norm(), (to - other).norm());
+            if (freeBound[j] + radius - span > guard) continue;
+            const ContactSet::SegmentHit h = contacts.sweepSegment(
+                other + m_origin, from + m_origin, other + m_origin, to + m_origin, guard, false);
+            if (h.sweep.hit) to = from + h.sweep.fraction * (to - from);
+        }
+        return to;
+    };
 
     // Moves point i from `from` to `to` (local), stopping at first contact and sliding along
     // it (at most three contacts per move). Keeps freeBound[i] a lower bound.
@@ -203,7 +264,7 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         const double length = (to - from).norm();
         if (freeBound[i] > length) {
             freeBound[i] -= length;
-            return to;
+            return relativeStart ? to : keepSegments(i, from, to);
         }
         Vec3 position = from + m_origin;
         const Vec3 goal = to + m_origin;
@@ -236,7 +297,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             break;
         }
         freeBound[i] = touched ? 0.0 : freeBound[i] - length;
-        return Vec3(position - m_origin);
+        const Vec3 reached = position - m_origin;
+        return relativeStart ? reached : keepSegments(i, from, reached);
     };
 
     std::vector<Vec3> solved = m_local; // where the collision-free solver put the points
@@ -276,6 +338,38 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         }
         m_local[i] = moveSwept(i, m_local[i], solved[i], true);
         changed |= (m_local[i] - solved[i]).squaredNorm() > 1e-24;
+    }
+
+    // Segments, not only points: each segment moves from where the previous shape had it
+    // (relative to each moved collider) to where its points went, and stops short of the first
+    // contact (kSegmentGuard): a thin plate or a knife edge passing between two axis points
+    // pushes the segment along instead of crossing it. Its free ends go back along their own
+    // moves; a stopped segment's neighbours are swept again on the next pass.
+    for (int pass = 0; pass < kSegmentPasses; ++pass) {
+        bool stopped = false;
+        for (std::size_t s = 0; s + 1 < n; ++s) {
+            if (m_fixed[s] && m_fixed[s + 1]) continue;
+            const Vec3 &a0 = m_collisionStart[s], &b0 = m_collisionStart[s + 1];
+            const Vec3 &a1 = m_local[s], &b1 = m_local[s + 1];
+            // Without a moved collider the bound at a1 excludes a swept quad within its reach.
+            const double span = std::max({(a0 - a1).norm(), (b0 - a1).norm(), (b1 - a1).norm()});
+            if (!collidersMoved && freeBound[s] + radius - span > guard) continue;
+            const ContactSet::SegmentHit h = contacts.sweepSegment(
+                a0 + m_origin, b0 + m_origin, a1 + m_origin, b1 + m_origin, guard, true);
+            if (!h.sweep.hit) continue;
+            const double t = h.sweep.fraction;
+            const Vec3 startOf[2] = {h.startA, h.startB};
+            for (std::size_t k = 0; k < 2; ++k) {
+                const std::size_t i = s + k;
+                if (m_fixed[i]) continue;
+                const Vec3 end = m_local[i] + m_origin;
+                m_local[i] = startOf[k] + t * (end - startOf[k]) - m_origin;
+                freeBound[i] = kUnknownClearance;
+            }
+            stopped = true;
+            changed = true;
+        }
+        if (!stopped) break;
     }
 
     // Exact clearance where the bound does not exclude contact.
@@ -392,13 +486,28 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         projection.setRange(0, static_cast<int>(n) - 1);
         projection.useMassesFromRestLengths(grabbed);
         const double reach = radius + tolerance + maxRest;
+        std::vector<double> contactDistance(n, std::numeric_limits<double>::infinity());
         for (std::size_t i = 0; i < n; ++i) {
             if (pinned[i]) continue;
             const MeshCollider::Closest c = contacts.closestToPoint(m_local[i] + m_origin, reach);
-            if (c.found)
-                static_cast<void>(projection.setContact(static_cast<int>(i), c, m_origin,
-                                                        m_collisionStart[i],
-                                                        radius + 0.1 * tolerance, 1e-12));
+            if (c.found &&
+                projection.setContact(static_cast<int>(i), c, m_origin, m_collisionStart[i],
+                                      radius + 0.1 * tolerance, 1e-12))
+                contactDistance[i] = c.distance;
+        }
+        // An edge between two points (the segment nearer to it than either point is to
+        // anything): both points keep above the plane through the edge's closest point normal
+        // to the way the segment lies from it, so the whole segment does.
+        for (std::size_t s = 0; frameMoved && s + 1 < n; ++s) {
+            const MeshCollider::Closest c = contacts.closestToSegment(
+                m_local[s] + m_origin, m_local[s + 1] + m_origin, radius + tolerance);
+            if (!c.found || !(c.distance > 0.0) || !c.normal.allFinite()) continue;
+            for (const std::size_t i : {s, s + 1})
+                if (!pinned[i] && c.distance < contactDistance[i]) {
+                    projection.setContact(static_cast<int>(i), c.normal, c.onMesh - m_origin,
+                                          radius + 0.1 * tolerance);
+                    contactDistance[i] = c.distance;
+                }
         }
         const detail::ProjectionOutcome out =
             projection.run(kContactProjectionSteps, kContactProjectionClose);
@@ -417,7 +526,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             projectionFailed = true;
         }
     }
-    const bool runRounds = !projectionFailed || fixedMoved;
+    // A moved collider has the rounds too: the previous shape it would fall back to may now be
+    // across the collider.
+    const bool runRounds = !projectionFailed || fixedMoved || frameMoved;
     for (int round = 0; changed && runRounds && round < m_collisionOptions.maxRounds; ++round) {
         if (violation.lengthViolation <= ctol && violation.angleViolation <= ctol &&
             penetration <= tolerance)
@@ -432,13 +543,42 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     // Lengths are never given up to contacts: when the rounds leave a segment outside its band,
     // or the projection found no shape, and no fixed point moved (a grab, a gravity step), the
     // hose stays at its last collision-resolved shape (if that one keeps its lengths) and the
-    // update is reported blocked. (Fixed points stay where their frames put them.)
-    bool refused = false;
+    // update is reported blocked. (Fixed points stay where their frames put them.) After a
+    // collider moved, that shape may be one the collider moved into or across (its move
+    // relative to the shape brings a segment's axis within the guard): then the rounds' shape
+    // with its lengths and bends restored without the contacts (the chain projection, closed by
+    // the span solver) is kept instead where it holds its lengths, being the nearer to outside.
+    bool refused = false, repaired = false;
     if (changed && !fixedMoved && (violation.lengthViolation > ctol || !runRounds)) {
         const std::vector<Vec3> rounds = m_local;
         m_local = m_collisionStart;
         const UpdateResult kept = measureViolation();
-        if (kept.lengthViolation <= ctol) {
+        bool keptClear = true;
+        for (std::size_t s = 0; frameMoved && keptClear && s + 1 < n; ++s) {
+            const Vec3 a = m_local[s] + m_origin, b = m_local[s + 1] + m_origin;
+            keptClear = !contacts.sweepSegment(a, b, a, b, guard, true).sweep.hit;
+        }
+        if (!keptClear) {
+            m_local = rounds;
+            detail::ChainProjection projection(*this);
+            projection.setRange(0, static_cast<int>(n) - 1);
+            projection.useMassesFromRestLengths(grabbed);
+            const detail::ProjectionOutcome out =
+                projection.run(kRepairProjectionSteps, kContactProjectionClose);
+            result.iterations += out.iterations;
+            if (out.converged && (measureViolation().status == Status::Ok ||
+                                  closeSpans(grabbed, rounds, result.iterations))) {
+                const UpdateResult held = measureViolation();
+                if (held.lengthViolation <= ctol) {
+                    repaired = true;
+                    violation = held;
+                    freeBound.assign(n, kUnknownClearance);
+                    penetration = pushOut(false);
+                }
+            }
+            if (!repaired) m_local = m_collisionStart;
+        }
+        if (!repaired && kept.lengthViolation <= ctol) {
             refused = true;
             violation = kept;
             penetration = 0.0;
@@ -449,16 +589,24 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
                 freeBound[i] = c.found ? c.distance - radius : queryReach - radius;
             }
             if (m_gravityPrevious.size() == n) m_gravityPrevious = m_local;
-        } else {
+        } else if (!repaired) {
             m_local = rounds;
         }
     }
 
-    // Report.
-    int touching = 0;
+    // Report: points touching, and both ends of a segment touching (an edge between them).
+    std::vector<unsigned char> touchingPoint(n, 0);
     for (std::size_t i = 0; i < n; ++i)
-        if (pointClearance(i, nullptr) < 2.0 * tolerance) ++touching;
-    result.contacts = touching;
+        touchingPoint[i] = pointClearance(i, nullptr) < 2.0 * tolerance;
+    for (std::size_t s = 0; s + 1 < n; ++s) {
+        if (touchingPoint[s] && touchingPoint[s + 1]) continue; // counted already
+        const double length = (m_local[s + 1] - m_local[s]).norm();
+        if (std::min(freeBound[s], freeBound[s + 1]) >= 0.5 * length + 2.0 * tolerance) continue;
+        const MeshCollider::Closest c = contacts.closestToSegment(
+            m_local[s] + m_origin, m_local[s + 1] + m_origin, radius + 2.0 * tolerance);
+        if (c.found) touchingPoint[s] = touchingPoint[s + 1] = 1;
+    }
+    result.contacts = static_cast<int>(std::count(touchingPoint.begin(), touchingPoint.end(), 1));
     result.penetration = penetration > tolerance ? penetration : 0.0;
     bool blocked = result.penetration > 0.0 || refused;
     if (grabbed >= 0) {
@@ -470,9 +618,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         result.grabError = (m_local[k] - localTarget).norm();
     }
     result.blocked = blocked;
-    // Refused and still inside a collider (one moved or flagged onto the hose): the contact is
-    // not met, which the caller must not read as Ok.
-    if (refused && result.penetration > 0.0 && result.status == Status::Ok)
+    // Refused, or repaired without the contacts, and still inside a collider (one moved or
+    // flagged onto the hose): the contact is not met, which the caller must not read as Ok.
+    if ((refused || repaired) && result.penetration > 0.0 && result.status == Status::Ok)
         result.status = Status::Infeasible;
     if (changed) {
         result.lengthViolation = violation.lengthViolation;

@@ -20,6 +20,9 @@ namespace {
 
 constexpr int kLeafSize = 4;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// sweepSegment(): a segment within this fraction of the guard distance beyond it is in contact
+/// (conservative advancement converges on a contact only geometrically).
+constexpr double kSegmentContactSlack = 0.02;
 
 double boxDistance2(const Aabb& box, const Vec3& p)
 {
@@ -644,6 +647,51 @@ MeshCollider::Sweep MeshCollider::sweepSphere(const Vec3& from, const Vec3& to, 
         if (n.dot(visitor.v) > 0.0) n = -n;
     }
     if (n.norm() > 0.0) result.normal = m_frame.rotation * n.normalized();
+    return result;
+}
+
+MeshCollider::SegmentSweep MeshCollider::sweepSegment(const Vec3& a0, const Vec3& b0,
+                                                      const Vec3& a1, const Vec3& b1, double radius,
+                                                      int maxQueries) const
+{
+    SegmentSweep result;
+    if (!a0.allFinite() || !b0.allFinite() || !a1.allFinite() || !b1.allFinite() ||
+        !(radius >= 0.0) || m_nodes.empty())
+        return result;
+    // Every point of the segment moves at most as far as its farther-moving end (the points
+    // are affine combinations of the ends with the same weights throughout the move).
+    const double travel = std::max((a1 - a0).norm(), (b1 - b0).norm());
+    double guard = radius;
+    double t = 0.0;
+    for (int query = 0; query < std::max(1, maxQueries); ++query) {
+        const Vec3 a = a0 + t * (a1 - a0), b = b0 + t * (b1 - b0);
+        const Closest c = closestToSegment(a, b, guard + travel * (1.0 - t));
+        ++result.queries;
+        if (!c.found) return result; // nothing within reach of the rest of the move
+        // At the start within the guard, or within the slack beyond it (a segment an earlier
+        // sweep stopped there): keep half the starting distance, so it can move off or along.
+        if (query == 0 && c.distance < guard * (1.0 + 2.0 * kSegmentContactSlack)) {
+            if (!(c.distance > 0.0)) return result; // crossing already: nothing left to keep
+            guard = 0.5 * c.distance;
+        }
+        const double gap = c.distance - guard;
+        if (!(travel > 0.0)) return result; // not moving: cannot get nearer
+        if (gap <= kSegmentContactSlack * guard) {
+            result.hit = true;
+            result.fraction = t;
+            result.normal = c.normal;
+            return result;
+        }
+        result.normal = c.normal;
+        t += gap / travel;
+        if (t >= 1.0) {
+            result.normal = Vec3::UnitY();
+            return result;
+        }
+    }
+    result.hit = true;
+    result.bounded = true;
+    result.fraction = t;
     return result;
 }
 

@@ -201,6 +201,62 @@ TEST(MeshCollider, SphereCannotPassAGapNarrowerThanItsDiameter)
     }
 }
 
+TEST(MeshCollider, SegmentSweepStopsAKnifeEdgeBetweenTheEndsWithinItsQueryBound)
+{
+    // A wall of no thickness in the plane x = 0 whose edge runs along z at y = 0.03; a segment
+    // across it (x from −0.05 to 0.05) moves 0.1 m along +y: its ends pass the wall 5 cm away,
+    // its middle hits the edge.
+    Mesh mesh;
+    mesh.wallX(0.0, 0.03, 1.0, -1, 1);
+    auto wall = mesh.collider();
+    const Vec3 a0(-0.05, 0, 0), b0(0.05, 0, 0), move(0, 0.1, 0);
+    EXPECT_FALSE(wall->sweepSphere(a0, a0 + move, 0.01).hit) << "the ends alone miss it";
+    const MeshCollider::SegmentSweep s = wall->sweepSegment(a0, b0, a0 + move, b0 + move, 0.005);
+    ASSERT_TRUE(s.hit);
+    EXPECT_FALSE(s.bounded);
+    EXPECT_LE(s.queries, MeshCollider::kSegmentSweepQueries);
+    EXPECT_NEAR(s.fraction, 0.25, 0.02 * 0.005 / 0.1 + 1e-12) << "(0.03 − 0.005) / 0.1";
+    const double at =
+        wall->closestToSegment(a0 + s.fraction * move, b0 + s.fraction * move).distance;
+    EXPECT_GE(at, 0.005 * (1 - 1e-12));
+    EXPECT_NEAR(s.normal.y(), -1.0, 1e-9) << "from the edge back towards the segment";
+    // Moving away, or along the wall beside it, nothing is hit; nor when nothing moves.
+    EXPECT_FALSE(wall->sweepSegment(a0, b0, a0 - move, b0 - move, 0.005).hit);
+    EXPECT_FALSE(wall->sweepSegment(a0, b0, a0, b0, 0.005).hit);
+    // One query only: the move stops where that query proved safe, reported as bounded.
+    const MeshCollider::SegmentSweep one =
+        wall->sweepSegment(a0, b0, a0 + move, b0 + move, 0.005, 1);
+    EXPECT_TRUE(one.hit);
+    EXPECT_EQ(one.queries, 1);
+    EXPECT_LE(one.fraction, s.fraction + 1e-12);
+    // Starting 2 mm from the edge (inside the 5 mm guard), it keeps half of that.
+    const Vec3 near(0, 0.028, 0);
+    const MeshCollider::SegmentSweep close =
+        wall->sweepSegment(a0 + near, b0 + near, a0 + near + move, b0 + near + move, 0.005);
+    ASSERT_TRUE(close.hit);
+    EXPECT_NEAR(0.002 - close.fraction * 0.1, 0.001, 0.02 * 0.001 + 1e-12);
+    // Random segments and moves: every sampled point of the move up to the stop keeps the guard.
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int q = 0; q < 200; ++q) {
+        const Vec3 p0(0.05 * u(rng), 0.1 * u(rng) - 0.05, 0.05 * u(rng));
+        const Vec3 p1(0.05 * u(rng), 0.1 * u(rng) - 0.05, 0.05 * u(rng));
+        const Vec3 d(0.02 * u(rng), 0.1 * u(rng) + 0.05, 0.02 * u(rng));
+        const double start = wall->closestToSegment(p0, p1).distance;
+        const MeshCollider::SegmentSweep r = wall->sweepSegment(p0, p1, p0 + d, p1 + d, 0.004);
+        const double guard = std::min(0.004, 0.5 * start);
+        // Every sampled point of the move up to the stop keeps the guard.
+        for (int k = 0; k <= 20; ++k) {
+            const double t = r.fraction * k / 20.0;
+            EXPECT_GE(wall->closestToSegment(p0 + t * d, p1 + t * d).distance, guard * (1 - 1e-9))
+                << q;
+        }
+        if (!r.hit) {
+            EXPECT_EQ(r.fraction, 1.0);
+        }
+    }
+}
+
 TEST(MeshCollider, RaycastFindsTheNearestTriangleFromEitherSide)
 {
     Mesh mesh;

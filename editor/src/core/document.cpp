@@ -305,6 +305,17 @@ Frame Document::nodeWorldFrame(const std::string& sceneId, int node) const
     return rigidPart(nodeWorldTransform(sceneId, node));
 }
 
+Frame Document::filePoseWorldFrame(const std::string& sceneId, int node) const
+{
+    const formats::ImportedScene* imported = scene(sceneId);
+    if (!imported || node < 0 || node >= static_cast<int>(imported->nodes.size()))
+        return Frame::identity();
+    formats::Mat4 world = formats::Mat4::Identity();
+    for (int n = node; n >= 0; n = imported->nodes[static_cast<size_t>(n)].parent)
+        world = imported->nodes[static_cast<size_t>(n)].localTransform * world;
+    return rigidPart(world);
+}
+
 Vec3 Document::partCentre(const std::string& sceneId, int node) const
 {
     const formats::ImportedScene* imported = scene(sceneId);
@@ -838,6 +849,7 @@ void Document::poseChanged(const NodeKey& node, bool following)
         if (c.sceneId == node.first && carried(c.node) &&
             c.collider->setFrame(nodeWorldFrame(c.sceneId, c.node)))
             movedColliders.push_back(c.collider.get());
+    std::vector<std::string> rebuilt; // from their routes at the poses, colliders taken on
     for (const formats::HoseDefinition& definition : m_project.hoses) {
         const bool attachedHere =
             std::any_of(definition.attachments.begin(), definition.attachments.end(),
@@ -863,6 +875,7 @@ void Document::poseChanged(const NodeKey& node, bool following)
         if (!definition.gravity.enabled || !following || !hoseAffectedByPose(definition)) {
             rebuildHose(definition.id);
             settleHoseNow(definition.id);
+            rebuilt.push_back(definition.id);
             m_gravityFollowed.erase(
                 std::remove(m_gravityFollowed.begin(), m_gravityFollowed.end(), definition.id),
                 m_gravityFollowed.end());
@@ -881,7 +894,12 @@ void Document::poseChanged(const NodeKey& node, bool following)
         }
         emitChanged(ChangeEvent::Kind::HoseShapeChanged, definition.id);
     }
-    // A moved collider pushes the hoses it now overlaps out (as the runtime does).
+    // A moved collider pushes the hoses it now overlaps out. A hose is built again (as one
+    // fixed to the part is, rebuildHose: from its route, pushed by each posed collider's move
+    // from the file pose), so its shape depends on where the parts are, not on the way they
+    // took; one with gravity following a drag is pushed from its current sag instead (as the
+    // runtime does).
+    std::vector<std::string> pushed;
     for (auto& [hoseId, live] : m_live) {
         if (!live.hose || movedColliders.empty()) continue;
         const bool near = std::any_of(
@@ -889,13 +907,23 @@ void Document::poseChanged(const NodeKey& node, bool following)
                 return std::find(movedColliders.begin(), movedColliders.end(), used.get()) !=
                        movedColliders.end();
             });
-        if (!near) continue;
+        if (!near || std::find(rebuilt.begin(), rebuilt.end(), hoseId) != rebuilt.end()) continue;
+        const formats::HoseDefinition* definition = hoseDefinition(hoseId);
+        if (definition && (!definition->gravity.enabled || !following)) {
+            pushed.push_back(hoseId);
+            continue;
+        }
         const std::uint64_t revision = live.hose->revision();
         live.lastUpdate = live.hose->resolveCollisions();
         if (live.hose->revision() != revision) {
             wakeGravity(hoseId);
             emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
         }
+    }
+    for (const std::string& hoseId : pushed) {
+        rebuildHose(hoseId, true);
+        settleHoseNow(hoseId);
+        emitChanged(ChangeEvent::Kind::HoseShapeChanged, hoseId);
     }
     ChangeEvent event;
     event.kind = ChangeEvent::Kind::PoseChanged;
@@ -993,7 +1021,7 @@ void Document::projectSettingsChanged()
     emitChanged(ChangeEvent::Kind::ProjectSettingsChanged);
 }
 
-void Document::rebuildHose(const std::string& hoseId)
+void Document::rebuildHose(const std::string& hoseId, bool collidersFromFilePose)
 {
     const formats::HoseDefinition* definition = hoseDefinition(hoseId);
     if (!definition) {
@@ -1022,7 +1050,25 @@ void Document::rebuildHose(const std::string& hoseId)
         // the attachments to the posed frames, exactly as the export and the CLI do.
         live.hose = formats::buildHose(m_project, *definition, m_scenes, &live.lastUpdate);
         live.error.clear();
+        // collidersFromFilePose (a hose a moved collider reaches, not fixed to the moved part):
+        // the hose takes its colliders on as they are at the file pose (each at its frame
+        // there) and the pushing out below sweeps each posed collider's move from there to its
+        // frame now, relative to the hose, in one step: a collider posed across the hose pushes
+        // it from the side the file pose has it on, and the shape depends on the poses only,
+        // not on the way a part took to them.
+        std::vector<std::pair<MeshCollider*, Frame>> posed;
+        for (const LiveCollider& c : m_colliders) {
+            if (!collidersFromFilePose) break;
+            const Frame now = c.collider->frame();
+            const Frame atFilePose = filePoseWorldFrame(c.sceneId, c.node);
+            if ((atFilePose.translation != now.translation ||
+                 atFilePose.rotation.coeffs() != now.rotation.coeffs()) &&
+                c.collider->setFrame(atFilePose))
+                posed.push_back({c.collider.get(), now});
+        }
         applyColliders(hoseId);
+        for (const auto& [collider, now] : posed) // back where the poses put them
+            static_cast<void>(collider->setFrame(now));
         // Built where its route and the parts put it, then out of the colliders it overlaps
         // there (a flagged part it was laid through, a collider moved onto it). Where its
         // length cannot go round them (Infeasible), it keeps the built shape, every length in

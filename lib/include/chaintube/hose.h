@@ -84,7 +84,8 @@ struct [[nodiscard]] UpdateResult
     /// triangles, so at most outerRadius(). Collision works on surfaces: an axis point deep
     /// inside a closed object shows only where the hose crosses the object's surface.
     double penetration = 0.0;
-    /// Collision: axis points touching a collider after the update.
+    /// Collision: axis points touching a collider after the update (with both ends of a segment
+    /// that touches one: an edge between two axis points).
     int contacts = 0;
     /// Work done: Newton steps of the span solver and the chain projection (each O(points of
     /// the span or range it solves)); 0 for the paper's propagation alone. Bounded per update
@@ -439,9 +440,10 @@ public:
     /// frame moves it for all). Every grab, attachment move and gravity step then ends with a
     /// continuous check of each moved point from its previous position (a sphere of
     /// outerRadius() sweeps from the last collision-free shape; it stops at contact and slides,
-    /// so the hose never tunnels through thin walls or gaps narrower than its diameter) and
-    /// bounded contact rounds that re-impose the length band and bend limits with every move
-    /// again swept (CollisionOptions). Segments are kept out too (sharp edges). Residual
+    /// so the hose never tunnels through thin walls or gaps narrower than its diameter) and of
+    /// each segment (MeshCollider::sweepSegment: a plate or a knife edge between two axis points
+    /// stops it too), then bounded contact rounds that re-impose the length band and bend limits
+    /// with every move again swept (CollisionOptions). Residual
     /// constraint violations are reported in the UpdateResult; status becomes Infeasible only
     /// when they exceed options.constraintTolerance. An empty list turns collision off. The
     /// current shape is taken as the starting state: call resolveCollisions() if it may

@@ -350,7 +350,10 @@ public:
     /// settled at once (settleHoseNow) — except while `following` a drag (the first application
     /// of a part-move command, not an undo or a redo): then it is moved from its current sag to
     /// the posed frames (moveAttachmentsFully), live gravity goes on, and closeMerge() builds
-    /// and settles it for the pose the drag ended at. Emits PoseChanged and HoseShapeChanged.
+    /// and settles it for the pose the drag ended at. A hose near a collider the part carries
+    /// is built again too (rebuildHose: pushed by the collider's move from the file pose); one
+    /// with gravity following a drag is pushed from its current sag (resolveCollisions). Emits
+    /// PoseChanged and HoseShapeChanged.
     void poseChanged(const NodeKey& node, bool following = false);
     /// formats::moveAttachmentsFully: a part move as the editor makes it (not bound to a frame).
     static UpdateResult moveAttachmentsFully(Hose& hose, const std::vector<int>& ids,
@@ -421,7 +424,14 @@ private:
     /// Marks a live hose with gravity on as settling (after a build, a drag, a part move);
     /// emits gravityStateChanged().
     void wakeGravity(const std::string& hoseId);
-    void rebuildHose(const std::string& hoseId);
+    /// Builds the hose from its definition at the poses (formats::buildHose), gives it its
+    /// colliders and pushes it out of them. With collidersFromFilePose (a hose a moved collider
+    /// reaches, fixed to no moved part) it takes the colliders on as they are at the file pose,
+    /// so that the pushing out sweeps each posed collider's move from there relative to it.
+    void rebuildHose(const std::string& hoseId, bool collidersFromFilePose = false);
+    /// The rigid part of a node's world transform at the file pose (no pose override, no
+    /// motion preview).
+    Frame filePoseWorldFrame(const std::string& sceneId, int node) const;
     /// Steps a live hose with gravity on until it settles or its step budget runs out, as
     /// stepGravity() would over the next frames (the same steps, so the same shape).
     void settleHoseNow(const std::string& hoseId);
