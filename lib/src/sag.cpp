@@ -52,6 +52,9 @@ constexpr double kSettledMotion = 1e-6;
 constexpr double kStill = 1e-12; ///< of the mean rest length: a held point that has not moved
 constexpr double kStallSeconds = 120.0 * Gravity::kFrameSeconds; ///< without coming lower: at rest
 constexpr double kHover = 0.01; ///< of the mean rest length, in mean height
+/// Under a budget: gravity steps in a row cut short by it that found nothing valid, after which
+/// the hose rests where it is as it does without a budget (no longer pending).
+constexpr int kStalledFalls = 3;
 } // namespace
 
 /// One implicit step: the predicted positions (inertia, damping, gravity) projected onto the
@@ -254,6 +257,7 @@ void Hose::markSettled()
     m_gravityInputRevision = 0;
     m_gravityLowestEnergy = 0.0;
     m_gravityStallSeconds = 0.0;
+    m_gravityStalls = 0;
     m_gravityStepSeconds = Gravity::kFrameSeconds;
     m_gravityRetryFall = 1.0;
     m_gravityFullFailed = false;
@@ -391,14 +395,17 @@ UpdateResult Hose::stepGravity(double seconds)
                 m_gravityLast = start;
                 UpdateResult stayed = before;
                 stayed.iterations = result.iterations;
-                if (scope.cut()) { // (the update's budget ran out: the next step goes on)
+                // (The update's budget ran out: the next step goes on, kStalledFalls times.)
+                if (scope.cut() && ++m_gravityStalls < kStalledFalls) {
                     m_pendingFall = stayed.pending = true;
                     return stayed;
                 }
+                m_gravityStalls = 0;
                 m_settledRevision = m_revision;
                 return stayed;
             }
             ++m_revision;
+            m_gravityStalls = 0;
             m_dirtyViolation = after.status != Status::Ok;
             m_gravityPrevious = m_local;
             m_gravityLast = m_local;
@@ -428,6 +435,13 @@ UpdateResult Hose::stepGravity(double seconds)
     // bends sit on their limits next to its pins may take no more than that in its first step
     // (otherwise sag() would end there, at round 0, the hose not lowered).
     if (factors[2] > kLeastFall) factors[3] = kLeastFall;
+    // Under a budget, after a step cut short that found nothing valid (kStalledFalls): the least
+    // fall alone, with all of the budget.
+    const bool leastOnly = m_gravityStalls > 0 && m_budgetLeft >= 0;
+    if (leastOnly) {
+        factors[0] = kLeastFall;
+        factors[1] = factors[2] = factors[3] = 0.0;
+    }
     // While a point is held (a grab each frame), a full prediction that failed fails again on
     // most of the next steps: the hose is held taut between pinned points (attachments, the
     // held point) and cannot take the whole fall next to them, and the projection does not
@@ -443,7 +457,7 @@ UpdateResult Hose::stepGravity(double seconds)
     const bool onlyTails = m_colliders.empty() && engine.onlyTailsFall();
     size_t firstAttempt = 0;
     const bool skipFull = m_held >= 0 && m_gravitySkippedFull < kSkipFullSteps;
-    if (m_gravityFullFailed && (onlyTails || skipFull)) {
+    if (m_gravityFullFailed && (onlyTails || skipFull) && !leastOnly) {
         firstAttempt = 1;
         ++m_gravitySkippedFull;
     }
@@ -467,13 +481,14 @@ UpdateResult Hose::stepGravity(double seconds)
             BudgetShare share(*this, BudgetShare::half(*this, lastAttempt));
             valid = engine.project(predicted, start, result.iterations);
         }
-        if (attempt == 0) {
+        if (attempt == 0 && !leastOnly) {
             m_gravityFullFailed = !valid;
             m_gravitySkippedFull = 0;
         }
         if (valid) {
-            m_gravityRetryFall =
-                attempt == 0 ? std::min(1.0, kFallGrowth * m_gravityRetryFall) : factors[attempt];
+            m_gravityRetryFall = attempt == 0 && !leastOnly
+                                     ? std::min(1.0, kFallGrowth * m_gravityRetryFall)
+                                     : factors[attempt];
             break;
         }
     }
@@ -512,10 +527,13 @@ UpdateResult Hose::stepGravity(double seconds)
         const int iterations = result.iterations;
         result = measureViolation();
         result.iterations = iterations;
-        if (scope.cut()) { // the update's budget ran out: not at rest, the next step goes on
+        // The update's budget ran out: not at rest, the next step goes on, unless this is the
+        // kStalledFalls-th such step in a row (it rests, as without a budget).
+        if (scope.cut() && ++m_gravityStalls < kStalledFalls) {
             m_pendingFall = result.pending = true;
             return result;
         }
+        m_gravityStalls = 0;
         m_settledRevision = m_revision;
         return result;
     }
@@ -541,6 +559,7 @@ UpdateResult Hose::stepGravity(double seconds)
         }
     }
     m_dirtyViolation = false;
+    m_gravityStalls = 0;
     ++m_revision;
     const int iterations = result.iterations;
     result = engine.measuredValid && !tails ? engine.measured : measureViolation();
@@ -573,14 +592,14 @@ UpdateResult Hose::stepGravity(double seconds)
     } else {
         m_gravityStallSeconds += seconds;
     }
-    // A step cut short by the budget decides nothing about rest.
-    m_pendingFall = result.pending = scope.cut();
-    if (scope.cut()) {
-        // (no rest decision)
-    } else if (std::sqrt(stepMotion) <=
-                   kSettledMotion * engine.meanRest * (seconds / Gravity::kFrameSeconds) ||
-               (m_gravityStallSeconds >= kStallSeconds * (1.0 - 1e-9) &&
-                energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass)) {
+    // A step cut short by the budget is not taken for rest by its small motion (the budget may
+    // have made it small), only by not coming lower for kStallSeconds.
+    const bool stalled = m_gravityStallSeconds >= kStallSeconds * (1.0 - 1e-9) &&
+                         energy <= m_gravityLowestEnergy + kHover * engine.meanRest * totalMass;
+    m_pendingFall = result.pending = scope.cut() && !stalled;
+    if (stalled ||
+        (!scope.cut() && std::sqrt(stepMotion) <= kSettledMotion * engine.meanRest *
+                                                      (seconds / Gravity::kFrameSeconds))) {
         m_settledRevision = m_revision;
         m_gravityPrevious = m_local; // at rest: no velocity left
     }

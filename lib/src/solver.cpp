@@ -60,6 +60,13 @@ constexpr double kFractions[] = {1.0, 0.5};
 // Under a budget: the least fraction tried, and the least steps left for another try.
 constexpr double kLeastMoveFraction = 1.0 / 64.0;
 constexpr int kLeastMoveSteps = 2;
+/// Under a budget: attachment-move updates in a row towards the same frames in which only tries of
+/// the least fraction advanced and brought the moved attachments less than kStalledMoveGain of
+/// their gap nearer their frames, or none did, after which the tries let the bends give way (the
+/// lengths alone hold), and updates in a row in which no such try advanced, after which the move
+/// rests where it is (no longer pending) or, where the tries before crept, goes back to them.
+constexpr int kStalledMoves = 3;
+constexpr double kStalledMoveGain = 0.01;
 /// The rotation an attachment's points have in `points` (hose-local positions): its frame's
 /// rotation turned by the least rotation that takes the direction from its first to its last
 /// point where the frame puts it to where it is, then about that direction so that the point
@@ -512,12 +519,17 @@ public:
     /// The bends give way to the lengths (pinned points stay): soft bend rows, then the
     /// lengths alone to their tolerance. For ends whose positions and tangents leave no shape
     /// within the bend limits.
-    bool bendsGiveWay(int& iterations)
+    /// `split`: under a budget the soft bend rows take half of what is left, the lengths the rest.
+    bool bendsGiveWay(int& iterations, bool split = false)
     {
         projection.useMassesFromRestLengths(held);
         projection.setBendCompliance(kSoftBendCompliance);
         projection.setBends(true);
-        detail::ProjectionOutcome out = projection.run(kProjectionSteps / 2, kConverged);
+        detail::ProjectionOutcome out;
+        {
+            BudgetShare soft(h, split ? BudgetShare::half(h, false) : h.m_budgetLeft);
+            out = projection.run(kProjectionSteps / 2, kConverged);
+        }
         iterations += out.iterations;
         projection.setBendCompliance(0.0);
         if (out.converged) return true;
@@ -770,6 +782,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
     const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
                                    [](const Attachment& a) { return a.isClip(); });
     // How far each moved clip's centre moves along its axis (clip id, metres).
+    bool framesChanged = false;
     std::vector<std::pair<int, double>> axialShifts;
     for (size_t i = 0; i < targets.size(); ++i) {
         const Attachment& a = *targets[i];
@@ -777,14 +790,25 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
             axialShifts.emplace_back(a.id,
                                      (frames[i].apply(a.clipCentre) - a.frame.apply(a.clipCentre))
                                          .dot((a.frame.rotation * a.clipAxis).normalized()));
+        framesChanged = framesChanged || targets[i]->frame.translation != frames[i].translation ||
+                        targets[i]->frame.rotation.coeffs() != frames[i].rotation.coeffs();
         targets[i]->frame = frames[i];
     }
+    // Towards other frames, a stall (kStalledMoves) counts anew.
+    if (framesChanged) m_moveStall = MoveStall{};
+    // How far the moved attachments are from their frames before the update (kStalledMoves).
+    double gapBefore = 0.0;
+    for (const Attachment* a : targets)
+        gapBefore = std::max(gapBefore, attachmentGap(a->id));
     const std::vector<Attachment> attachmentsBefore =
         clips ? m_attachments : std::vector<Attachment>();
     const std::vector<unsigned char> fixedBefore = clips ? m_fixed : std::vector<unsigned char>();
     const std::vector<Attachment*> moved = targets;
-    bool partialMove = false; // under a budget: the attachments moved part of the way
-    bool beyondReach = false; // some frame is beyond the hose's reach
+    bool partialMove = false;      // under a budget: the attachments moved part of the way
+    bool beyondReach = false;      // some frame is beyond the hose's reach
+    bool budgetedProgress = false; // under a budget: a try advanced
+    bool budgetedLong = false;     // under a budget: a try longer than the least advanced
+    bool leastFailed = false;      // under a budget: a try of the least fraction found nothing
     const auto restoreClips = [&] {
         for (size_t i = 0; i < m_attachments.size(); ++i)
             if (m_attachments[i].isClip()) m_attachments[i] = attachmentsBefore[i];
@@ -881,6 +905,28 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         const std::pair<int, int> pinned = pinnedRange(m_attachments, -1);
         const int lo = pinned.first, hi = pinned.second;
         PinnedSpans spans(*this, lo, hi, -1);
+        // Every segment between the pinned points in its band, and every joint no farther beyond
+        // its limit than `allowed` (radians; kNoBendLimit: any turn).
+        constexpr double kNoBendLimit = std::numeric_limits<double>::infinity();
+        const auto spansHold = [&](double allowed) {
+            for (int seg = lo; seg < hi; ++seg) {
+                const size_t k = static_cast<size_t>(seg);
+                const double l = (m_local[k + 1] - m_local[k]).norm();
+                if (!(std::max(l - m_maxLength[k], m_minLength[k] - l) <= 1e-9 * m_restLength[k]))
+                    return false;
+            }
+            if (allowed < kNoBendLimit)
+                for (int j = lo + 1; j < hi; ++j)
+                    if (turnExcess(static_cast<size_t>(j), m_local) > allowed) return false;
+            return true;
+        };
+        // The largest turn beyond its limit of the joints between the pinned points.
+        const auto bendExcess = [&](const std::vector<Vec3>& points) {
+            double worst = 0.0;
+            for (int j = lo + 1; j < hi; ++j)
+                worst = std::max(worst, turnExcess(static_cast<size_t>(j), points));
+            return worst;
+        };
         // One try: the attachments placed at `fraction` of the way, the spans solved within
         // `share` Newton steps of the budget (any without one). A try cut short by the budget is
         // kept only when valid.
@@ -900,25 +946,28 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                     !(std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k]);
             }
             // Under a budget only a valid shape is progress (the bends never give way): every
-            // segment and joint between the pinned points (the tails follow after the tries).
-            const auto spansHold = [&] {
-                for (int seg = lo; seg < hi; ++seg) {
-                    const size_t k = static_cast<size_t>(seg);
-                    const double l = (m_local[k + 1] - m_local[k]).norm();
-                    if (std::max(l - m_maxLength[k], m_minLength[k] - l) > 1e-9 * m_restLength[k])
-                        return false;
-                }
-                for (int j = lo + 1; j < hi; ++j)
-                    if (turnExcess(static_cast<size_t>(j), m_local) > 1e-9) return false;
-                return true;
-            };
+            // segment between the pinned points in its band, every joint within its limit or
+            // (a start whose bends gave way) no farther beyond it than in the shape the try
+            // started from (the tails follow after the tries).
             const bool holds =
-                found &&
-                (m_budgetLeft >= 0 ? spansHold() : measureViolation().status == Status::Ok);
+                found && (m_budgetLeft >= 0 ? spansHold(std::max(1e-9, bendExcess(base)))
+                                            : measureViolation().status == Status::Ok);
             if (m_budgetLeft >= 0 && !holds) found = false;
             if (holds) spans.relaxCompressedBends(result.iterations);
             m_budgetCut = cutBefore || m_budgetCut;
             return found;
+        };
+        // Under a budget, once kStalledMoves updates in a row advanced nothing: a try whose bends
+        // give way (the chain projection, soft bends, then the lengths alone, within `share`
+        // steps), kept when every length between the pinned points is in its band.
+        const auto tryGivingWay = [&](double fraction, int share) {
+            place(fraction);
+            const bool cutBefore = m_budgetCut;
+            m_budgetCut = false;
+            BudgetShare budgetShare(*this, share);
+            static_cast<void>(spans.bendsGiveWay(result.iterations, true));
+            m_budgetCut = cutBefore || m_budgetCut;
+            return spansHold(kNoBendLimit);
         };
         bool solved = false;
         if (m_budgetLeft < 0) {
@@ -933,13 +982,17 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
             // left; the least fraction with all of them), and after one that does, from the
             // shape it reached, twice the fraction of what is left of the way, while steps are
             // left. The rest of the way follows in the next updates.
+            // Giving way (kStalledMoves): the same tries, each letting the bends give way.
             double fraction = m_moveFraction;
             bool progressed = false;
             while (true) {
                 const bool least = fraction <= kLeastMoveFraction;
-                const bool tried = tryPlacing(fraction, BudgetShare::half(*this, least));
+                const int share = BudgetShare::half(*this, least);
+                const bool tried = m_moveStall.givingWay ? tryGivingWay(fraction, share)
+                                                         : tryPlacing(fraction, share);
                 if (tried) {
                     progressed = true;
+                    budgetedLong = budgetedLong || !least;
                     m_moveFraction = std::min(1.0, 2.0 * fraction);
                     if (fraction >= 1.0) {
                         partialMove = false;
@@ -952,6 +1005,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                     m_local = base;
                     if (least) {
                         if (!progressed) m_moveFraction = kLeastMoveFraction;
+                        leastFailed = true;
                         break;
                     }
                     fraction = std::max(kLeastMoveFraction, 0.5 * fraction);
@@ -960,6 +1014,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
                 if (m_budgetLeft < kLeastMoveSteps) break;
             }
             solved = progressed;
+            budgetedProgress = budgetedProgress || progressed;
         }
         beyondReach = broughtIntoReach;
         if (!solved) {
@@ -973,6 +1028,7 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         Solver tails(*this);
         tails.sweepTails(tailsFrom, tailsTo, m_scratch, wasInvalid);
         violation = measureViolation();
+        if (solved && m_moveStall.givingWay && m_budgetLeft >= 0) break; // (the bends gave way)
         if (violation.status == Status::Ok) {
             if (solved || !clipMoved || attempt >= margins) break;
             attempt = margins - 1; // not solved from the slide as it was: from the moved one
@@ -985,9 +1041,36 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
         gap = std::max(gap, attachmentGap(a->id));
     result.status =
         (violation.status != Status::Ok || gap > 1e-9) ? Status::Infeasible : Status::Ok;
-    // Under a budget: short of frames within reach only for want of steps, pending (Ok while
-    // the hose is valid); step() goes on with it.
-    if (m_budgetLeft >= 0 && gap > 1e-9 && (m_budgetCut || partialMove)) {
+    // Under a budget: kStalledMoves updates in a row that advanced by the least fraction alone
+    // and gained less than kStalledMoveGain, or not at all, let the bends give way in the next
+    // ones, and as many more giving way end the move where it is (it rests) unless the ones
+    // before crept (back to them).
+    const bool bounded = m_budgetLeft >= 0;
+    const bool advanced = budgetedProgress && (m_moveStall.givingWay || budgetedLong ||
+                                               gap < (1.0 - kStalledMoveGain) * gapBefore);
+    // (Nothing found before the least fraction was tried is no stall: the next update goes on
+    // from a shorter fraction.)
+    const bool stalled = !advanced && (budgetedProgress || leastFailed);
+    if (gap <= 1e-9) {
+        m_moveStall = MoveStall{};
+    } else if (bounded && advanced) {
+        m_moveStall.count = 0;
+        if (!m_moveStall.givingWay) m_moveStall.crept = false;
+    } else if (bounded && stalled && !m_moveStall.givingWay) {
+        m_moveStall.crept = m_moveStall.crept || budgetedProgress;
+        if (++m_moveStall.count >= kStalledMoves) {
+            m_moveStall.givingWay = true;
+            m_moveStall.count = 0;
+            m_moveFraction = 1.0; // giving way, the whole way first
+        }
+    } else if (bounded && stalled && ++m_moveStall.count >= kStalledMoves && m_moveStall.crept) {
+        // Giving way advanced nothing where the tries that keep the bends crept: back to those.
+        m_moveStall = MoveStall{};
+    }
+    const bool resting = m_moveStall.givingWay && m_moveStall.count >= kStalledMoves;
+    // Under a budget: short of frames within reach for want of steps, or until a stall gives
+    // way or rests, pending (Ok while the hose is valid); step() goes on with it.
+    if (bounded && gap > 1e-9 && !resting && (m_budgetCut || partialMove || !budgetedProgress)) {
         result.pending = true;
         result.remaining = gap;
         if (violation.status == Status::Ok && !beyondReach) result.status = Status::Ok;

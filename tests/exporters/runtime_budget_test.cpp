@@ -3,7 +3,10 @@
 // valid and pending, and update() goes on with it frame by frame until the attachment is met.
 #include "export_test_support.h"
 
+#include <algorithm>
 #include <chaintube/export/runtime.h>
+#include <cstdio>
+#include <numbers>
 
 namespace chaintube::exporting::testing {
 namespace {
@@ -89,6 +92,130 @@ TEST(HoseRuntimeBudget, ANodeJumpBeyondTheBudgetIsMetOverTheNextUpdatesEveryFram
          runtime.setNodeTransform(valve, unbounded.node(valve).local)) {
         EXPECT_FALSE(update.result.pending);
         EXPECT_FALSE(runtime.pending(update.hose));
+    }
+}
+
+/// The work (Newton steps) of the update() calls of one hose, frame by frame.
+struct FrameWork
+{
+    std::vector<int> steps;
+    int worst() const { return steps.empty() ? 0 : *std::max_element(steps.begin(), steps.end()); }
+    int median() const
+    {
+        if (steps.empty()) return 0;
+        std::vector<int> sorted = steps;
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        return sorted[sorted.size() / 2];
+    }
+};
+
+/// update() until `hose` is no longer pending (at most `limit` frames), each frame's work
+/// recorded, each frame's segments in their bands. Returns the frames it took (limit + 1: still
+/// pending).
+int updateUntilNotPending(rig::HoseRuntime& runtime, int hose, int limit, FrameWork& work)
+{
+    for (int frame = 1; frame <= limit; ++frame) {
+        runtime.update();
+        work.steps.push_back(runtime.frameResult(hose).iterations);
+        EXPECT_LE(runtime.frameResult(hose).lengthViolation, 1e-9) << "frame " << frame;
+        EXPECT_LE(runtime.hose(hose).measureViolation().lengthViolation, 1e-9) << "frame " << frame;
+        if (!runtime.pending(hose)) return frame;
+    }
+    return limit + 1;
+}
+
+TEST(HoseRuntimeBudget, StalledMovesAndGravityNeverTakeMoreThanTheBudgetInAFrame)
+{
+    // What no budgeted try advances gives way or rests in the library: no update() finishes
+    // it without the budget, so every frame's work (Newton steps, counted) stays within it.
+    const int budget = UpdateBudget::kRealtimeNewtonSteps;
+    TemporaryFolder folder;
+    {
+        // The valve turned by 2.5 rad about its vertical axis and lifted: right-return's end
+        // attachment goes where its bends must give way (or beyond reach).
+        const fs::path output = folder / "rig.glb";
+        exportProjectFile(samplesDir() / "test-rig.ctproj", output, roots());
+        rig::HoseRuntime runtime = rig::HoseRuntime::load(output);
+        rig::HoseRuntime unbounded = rig::HoseRuntime::load(output);
+        unbounded.setBudget(UpdateBudget{});
+        const int valve = runtime.findNode("valve");
+        ASSERT_GE(valve, 0);
+        const rig::NodeTransform home = runtime.node(valve).local;
+        const int bracket = runtime.findNode("bracket_right");
+        ASSERT_GE(bracket, 0);
+        // Towards bracket_right, where right-return's other end is (world = local here: the
+        // nodes hang from the scene's root).
+        const Vec3 toBracket = runtime.node(bracket).local.translation - home.translation;
+        for (const double turn : {1.5, 2.5, 3.1}) {
+            rig::NodeTransform moved = home;
+            moved.rotation =
+                (Quat(Eigen::AngleAxisd(turn, Vec3::UnitY())) * moved.rotation).normalized();
+            moved.translation += 0.6 * toBracket;
+            std::vector<int> moves(static_cast<size_t>(runtime.hoseCount()), 0);
+            for (const rig::HoseUpdate& update : runtime.setNodeTransform(valve, moved)) {
+                EXPECT_LE(update.result.iterations, budget) << "hose " << update.hose;
+                moves[static_cast<size_t>(update.hose)] = update.result.iterations;
+            }
+            int unboundedMost = 0;
+            for (const rig::HoseUpdate& update : unbounded.setNodeTransform(valve, moved))
+                unboundedMost = std::max(unboundedMost, update.result.iterations);
+            for (int h = 0; h < runtime.hoseCount(); ++h) {
+                FrameWork work;
+                const int frames = updateUntilNotPending(runtime, h, 300, work);
+                EXPECT_LE(frames, 300) << "hose " << h << ", turn " << turn;
+                EXPECT_LE(work.worst(), budget) << "hose " << h << ", turn " << turn;
+                std::printf("[ figures ] valve turned %.1f rad, hose %d: the move %d steps "
+                            "(unbounded %d), then %d frames pending, work a frame worst %d "
+                            "median %d, %s, angle %.3g rad, gap %.3g m\n",
+                            turn, h, moves[static_cast<size_t>(h)], unboundedMost, frames,
+                            work.worst(), work.median(), toString(runtime.frameResult(h).status),
+                            runtime.hose(h).measureViolation().angleViolation,
+                            largestGap(runtime.hose(h)));
+            }
+        }
+    }
+    {
+        // rig-options' bracket-loop with gravity on, bracket_right carried round a loop in a
+        // second and held: every frame's gravity step and pending work within the budget, and
+        // the loop stops being pending once the bracket is held still.
+        std::ifstream in(testDataDir() / "rig-options.ctproj");
+        nlohmann::json project = nlohmann::json::parse(in);
+        for (nlohmann::json& hose : project.at("hoses"))
+            if (hose.at("id") == "bracket-loop")
+                hose["gravity"] = {{"enabled", true}, {"direction", {0.0, -1.0, 0.0}}};
+        const fs::path file = folder / "loop.ctproj";
+        std::ofstream(file) << project.dump(2);
+        const fs::path glb = folder / "loop.glb";
+        exportProjectFile(file, glb, roots());
+        rig::HoseRuntime runtime = rig::HoseRuntime::load(glb);
+        const int loop = runtime.findHose("bracket-loop");
+        const int bracket = runtime.findNode("bracket_right");
+        ASSERT_GE(loop, 0);
+        ASSERT_GE(bracket, 0);
+        const rig::NodeTransform home = runtime.node(bracket).local;
+        FrameWork walk;
+        for (int k = 1; k <= 90; ++k) {
+            const double phase = 2.0 * std::numbers::pi * k / 90.0;
+            rig::NodeTransform moved = home;
+            moved.translation += Vec3(-0.04 * std::sin(phase), 0.03 * (1.0 - std::cos(phase)),
+                                      0.03 * std::sin(phase) * std::cos(phase));
+            int move = 0;
+            for (const rig::HoseUpdate& update : runtime.setNodeTransform(bracket, moved))
+                if (update.hose == loop) move = update.result.iterations;
+            EXPECT_LE(move, budget) << "frame " << k;
+            runtime.update();
+            walk.steps.push_back(runtime.frameResult(loop).iterations - move);
+            EXPECT_LE(runtime.hose(loop).measureViolation().lengthViolation, 1e-9) << k;
+        }
+        EXPECT_LE(walk.worst(), budget);
+        FrameWork held;
+        const int frames = updateUntilNotPending(runtime, loop, 600, held);
+        EXPECT_LE(frames, 600) << "bracket-loop still pending";
+        EXPECT_LE(held.worst(), budget);
+        std::printf("[ figures ] bracket-loop with gravity: update() work a frame on the walk "
+                    "worst %d median %d; held, %d frames to no longer pending (worst %d, "
+                    "median %d)\n",
+                    walk.worst(), walk.median(), frames, held.worst(), held.median());
     }
 }
 

@@ -238,9 +238,10 @@ int run(const Options& options)
             }
         }
         if (step % 20 == 19) { // a frame: surfaces and joint poses, and pending work goes on
-            // A move the budget left pending goes on in update(): Hose::step() and, once it
-            // stalls, Hose::finishPending(). What that did is in the frame's result, the worst of
-            // the frame's calls: for a hose that was pending, it is the hose's status now.
+            // A move the budget left pending goes on in update() (Hose::step(), within the
+            // budget; once it stalls its bends give way or it rests). What that did is in the
+            // frame's result, the worst of the frame's calls: for a hose that was pending, it is
+            // the hose's status now.
             std::vector<int> wasPending;
             for (int h = 0; h < runtime.hoseCount(); ++h)
                 if (runtime.pending(h)) wasPending.push_back(h);

@@ -496,8 +496,9 @@ CHAINTUBE_API chaintube_status chaintube_rig_axis_points(const chaintube_rig* ri
 
 /* The work of a frame (since ABI 1.3). Every later node move, grab and update does at most
  * newton_steps Newton steps a hose (each O(points of the span it solves)) and leaves the hose
- * valid; what it cannot finish goes on in the next chaintube_rig_update calls until met (the
- * hose is pending meanwhile). A rig loads with the real-time budget, 16 steps; 0 lifts the
+ * valid; what it cannot finish goes on in the next chaintube_rig_update calls, each within the
+ * bound too, until met or, where no budgeted try advances it, its bends give way or it rests
+ * (the hose is pending meanwhile). A rig loads with the real-time budget, 16 steps; 0 lifts the
  * bound (each update converges as far as its own limits take it). newton_steps < 0:
  * CHAINTUBE_ERROR_INVALID_ARGUMENT, nothing changes. */
 CHAINTUBE_API chaintube_status chaintube_rig_set_budget(chaintube_rig* rig, int32_t newton_steps);

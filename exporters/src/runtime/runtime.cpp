@@ -976,26 +976,11 @@ int HoseRuntime::update(double seconds)
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
         easeIntoSockets(h);
-        // Gravity, and work a budget left pending (Hose::step() goes on with it).
+        // Gravity, and work a budget left pending (Hose::step() goes on with it within the
+        // budget; what no budgeted try advances gives way or rests in the library, so no frame
+        // costs more than the budget).
         if (m_descriptor.hoses[h].gravity.enabled || running.hose.pending())
             combine(running.pendingResult, running.hose.step(seconds));
-        // A pending grab or attachment move that gets no nearer for kStalledFrames updates (its
-        // budgeted tries keep failing where a bend must give way to meet the target) is finished
-        // without the budget in this update, as an unbounded move would have done it: met, or
-        // Infeasible with the bends given way. The one frame that does costs what the move
-        // needs.
-        const double remaining = running.hose.pending() ? running.hose.remaining() : 0.0;
-        if (remaining > 0.0 && remaining >= running.stalledRemaining * (1.0 - 1e-3)) {
-            if (++running.stalledFrames >= kStalledFrames) {
-                combine(running.pendingResult, running.hose.finishPending());
-                running.stalledFrames = 0;
-                running.stalledRemaining = std::numeric_limits<double>::infinity();
-            }
-        } else {
-            running.stalledFrames = 0;
-            running.stalledRemaining =
-                remaining > 0.0 ? remaining : std::numeric_limits<double>::infinity();
-        }
         running.frameResult = running.pendingResult;
         // Under a budget: what the frame left pending (the hose's, whichever call left it).
         running.frameResult.pending = running.hose.pending();

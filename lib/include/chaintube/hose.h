@@ -94,9 +94,14 @@ struct [[nodiscard]] UpdateResult
     /// Under a budget (Hose::setBudget): the budget ran out before the update met its target
     /// (the grab target, the attachments' frames) or finished its gravity step. The hose is
     /// valid as the last whole step left it and goes on towards the same target in the next
-    /// updates (Hose::step()). Always false without a budget. A grab that stalls (3 grabs in a
-    /// row towards the same target gained less than 1 % of the error) is not pending: it rests,
-    /// Clamped (lib/README.md, "A hard budget a frame").
+    /// updates (Hose::step()). Always false without a budget. What no budgeted try advances is
+    /// not pending for ever (lib/README.md, "A hard budget a frame"): a grab that stalls (3
+    /// grabs in a row towards the same target gained less than 1 % of the error) rests, Clamped;
+    /// an attachment move that advanced nothing, or crept, in 3 updates in a row towards the same
+    /// frames lets the bends give way (Infeasible, angleViolation) and, when that advances
+    /// nothing in 3 more, goes back to the tries that keep the bends if those crept, else rests
+    /// short of its frames (Infeasible, attachmentGap()); a gravity step
+    /// that found nothing valid in 3 steps in a row rests where it is.
     bool pending = false;
     /// With `pending`: how far the hose still is from the target (metres): the grabbed point's
     /// distance to where the grab goes (its target, or the nearest point within reach), the
@@ -405,8 +410,9 @@ public:
     /// (every length and bend within 1e-9, no new penetration) and reports `pending`; each step()
     /// after it then goes on towards the same target (the grab target, the attachments' frames)
     /// within the budget, unless a grab or attachment move came in since the last step(), until
-    /// the target is met or the update ends as it would without a budget. Throws InvalidArgument
-    /// for newtonSteps < 0.
+    /// the target is met, the update ends as it would without a budget, or it stalls and rests
+    /// (UpdateResult::pending): every update's work stays within the budget. Throws
+    /// InvalidArgument for newtonSteps < 0.
     void setBudget(const UpdateBudget& budget);
     const UpdateBudget& budget() const { return m_budget; }
     /// An update ran out of its budget and step() will go on with it (UpdateResult::pending).
@@ -609,7 +615,19 @@ private:
     bool m_pendingMove = false;              ///< an attachment move ran out of budget
     /// Under a budget: the fraction of the way an attachment move tries first (solver.cpp)
     double m_moveFraction = 1.0;
-    bool m_pendingFall = false;      ///< the last gravity step ran out of budget
+    /// Under a budget: attachment-move updates in a row in which no try advanced (or one crept),
+    /// whether the tries let the bends give way, and whether the updates before that crept
+    /// (solver.cpp, kStalledMoves).
+    struct MoveStall
+    {
+        int count = 0;
+        bool givingWay = false;
+        bool crept = false;
+    };
+    MoveStall m_moveStall;
+    bool m_pendingFall = false; ///< the last gravity step ran out of budget
+    /// Under a budget: gravity steps in a row cut short that found nothing valid (sag.cpp)
+    int m_gravityStalls = 0;
     bool m_updatedSinceStep = false; ///< a grab or attachment move since the last step()
 
     /// Collision hook at the end of every update entry point (hose_contact.cpp); no-op without

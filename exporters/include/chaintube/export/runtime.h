@@ -341,9 +341,6 @@ public:
 
     /// Update() calls a plugged end takes to ease into its socket.
     static constexpr int kSnapFrames = 5;
-    /// Update() calls a pending grab or attachment move may get no nearer its target (by 0.1 %
-    /// of what remains) before update() finishes it without the budget (Hose::finishPending).
-    static constexpr int kStalledFrames = 3;
 
     /// Plugs end `end` of a hose (0: points 0 and 1; 1: the last two) into socket `socket`: the
     /// end is fixed where it is to the socket's node, then eases onto the socket over the next
@@ -402,10 +399,12 @@ public:
     // --- the work of a frame ------------------------------------------------------------
     /// Bounds the work of every later update of each hose (Hose::setBudget): a
     /// setNodeTransform, grab or update() does at most budget.newtonSteps Newton steps a hose
-    /// and leaves it valid; what it cannot finish (pending) goes on in the next update() calls
-    /// until the target is met. UpdateBudget::realtime() from load; UpdateBudget{} lifts the
-    /// bound (every update converges as far as its own limits take it). Throws InvalidArgument
-    /// for newtonSteps < 0 (nothing changes).
+    /// and leaves it valid; what it cannot finish (pending) goes on in the next update() calls,
+    /// each within the budget too, until the target is met or, where no budgeted try advances,
+    /// the library lets the bends give way or the work rests (UpdateResult::pending; no update()
+    /// finishes anything without the budget). UpdateBudget::realtime() from load; UpdateBudget{}
+    /// lifts the bound (every update converges as far as its own limits take it). Throws
+    /// InvalidArgument for newtonSteps < 0 (nothing changes).
     void setBudget(const UpdateBudget& budget);
     const UpdateBudget& budget() const { return m_budget; }
     /// The hose's last update ran out of the budget and update() goes on with it
@@ -448,10 +447,6 @@ private:
         std::vector<double> jointArc;
         std::vector<char> jointBeyond;
         ReelOutlet reelOutlet;
-        /// update(): the pending work's remaining() after the last update and for how many
-        /// updates it got no nearer (kStalledFrames).
-        double stalledRemaining = std::numeric_limits<double>::infinity();
-        int stalledFrames = 0;
     };
     HoseRuntime() = default;
     static void combine(UpdateResult& frame, const UpdateResult& result);
