@@ -49,6 +49,21 @@ inline formats::Project loadWithRoots(const fs::path& projectFile)
     load.roots = roots();
     return formats::loadProject(projectFile, load);
 }
+
+/// The rig-options sample with gravity on for bracket-loop, exported to `folder`/loop.glb.
+inline fs::path exportLoopWithGravity(const TemporaryFolder& folder)
+{
+    std::ifstream in(testDataDir() / "rig-options.ctproj");
+    nlohmann::json project = nlohmann::json::parse(in);
+    for (nlohmann::json& hose : project.at("hoses"))
+        if (hose.at("id") == "bracket-loop")
+            hose["gravity"] = {{"enabled", true}, {"direction", {0.0, -1.0, 0.0}}};
+    const fs::path file = folder / "loop.ctproj";
+    std::ofstream(file) << project.dump(2);
+    const fs::path glb = folder / "loop.glb";
+    exportProjectFile(file, glb, roots());
+    return glb;
+}
 /// A sample's project file: samples/<name>.ctproj, or data/<name>.ctproj for the test projects.
 inline fs::path projectFileOf(const std::string& name)
 {

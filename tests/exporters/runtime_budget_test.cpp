@@ -178,15 +178,7 @@ TEST(HoseRuntimeBudget, StalledMovesAndGravityNeverTakeMoreThanTheBudgetInAFrame
         // rig-options' bracket-loop with gravity on, bracket_right carried round a loop in a
         // second and held: every frame's gravity step and pending work within the budget, and
         // the loop stops being pending once the bracket is held still.
-        std::ifstream in(testDataDir() / "rig-options.ctproj");
-        nlohmann::json project = nlohmann::json::parse(in);
-        for (nlohmann::json& hose : project.at("hoses"))
-            if (hose.at("id") == "bracket-loop")
-                hose["gravity"] = {{"enabled", true}, {"direction", {0.0, -1.0, 0.0}}};
-        const fs::path file = folder / "loop.ctproj";
-        std::ofstream(file) << project.dump(2);
-        const fs::path glb = folder / "loop.glb";
-        exportProjectFile(file, glb, roots());
+        const fs::path glb = exportLoopWithGravity(folder);
         rig::HoseRuntime runtime = rig::HoseRuntime::load(glb);
         const int loop = runtime.findHose("bracket-loop");
         const int bracket = runtime.findNode("bracket_right");

@@ -31,21 +31,6 @@ Vec3 bracketPath(double t)
                 0.03 * std::sin(phase) * std::cos(phase));
 }
 
-/// The rig-options sample with gravity on for bracket-loop, exported to `folder`/loop.glb.
-fs::path exportLoopWithGravity(const TemporaryFolder& folder)
-{
-    std::ifstream in(testDataDir() / "rig-options.ctproj");
-    nlohmann::json project = nlohmann::json::parse(in);
-    for (nlohmann::json& hose : project.at("hoses"))
-        if (hose.at("id") == "bracket-loop")
-            hose["gravity"] = {{"enabled", true}, {"direction", {0.0, -1.0, 0.0}}};
-    const fs::path file = folder / "loop.ctproj";
-    std::ofstream(file) << project.dump(2);
-    const fs::path glb = folder / "loop.glb";
-    exportProjectFile(file, glb, roots());
-    return glb;
-}
-
 struct LoopRun
 {
     std::vector<Vec3> shape;  // bracket-loop's axis after kRunSeconds

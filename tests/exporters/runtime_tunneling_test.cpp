@@ -5,6 +5,7 @@
 
 #include <chaintube/export/runtime.h>
 #include <chaintube/test_support/crossing.h>
+#include <chaintube/test_support/sanitizer.h>
 #include <cstdio>
 #include <random>
 
@@ -12,17 +13,7 @@ namespace chaintube::exporting::testing {
 namespace {
 
 /// Passes through the runtime (each loads the rig afresh); under the sanitizers a quarter.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr int kPasses = 250;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr int kPasses = 250;
-#else
-constexpr int kPasses = 1000;
-#endif
-#else
-constexpr int kPasses = 1000;
-#endif
+constexpr int kPasses = test_support::kUnderAddressSanitizer ? 250 : 1000;
 
 /// The motion rig with only the hose from the pillar to the lever (fixed at both ends) and its
 /// base plate, scaled to a plate of 64 × 2 × 40 mm, as the collider: project and scene written

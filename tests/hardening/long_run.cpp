@@ -28,6 +28,7 @@
 #include <chaintube/export/runtime.h>
 #include <chaintube/formats/project.h>
 #include <chaintube/metrics.h>
+#include <chaintube/test_support/sanitizer.h>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,17 +50,7 @@ constexpr double kConstraintBound = 1e-9;
 constexpr double kRssGrowthLimitMiB = 4.0;
 // Under AddressSanitizer freed memory sits in a quarantine of up to 256 MiB, so RSS grows by
 // design: there the samples are printed but not judged.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kJudgeRss = false;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kJudgeRss = false;
-#else
-constexpr bool kJudgeRss = true;
-#endif
-#else
-constexpr bool kJudgeRss = true;
-#endif
+constexpr bool kJudgeRss = !chaintube::test_support::kUnderAddressSanitizer;
 
 double residentMiB()
 {

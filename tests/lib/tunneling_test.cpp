@@ -7,6 +7,7 @@
 
 #include <chaintube/collision.h>
 #include <chaintube/test_support/crossing.h>
+#include <chaintube/test_support/sanitizer.h>
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
@@ -17,17 +18,7 @@ namespace {
 
 /// Passes per collider kind: 10^4 in the default build; under the sanitizers (where the same
 /// paths run about 10× slower and are there for memory and UB errors) a tenth.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr int kPasses = 1000;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr int kPasses = 1000;
-#else
-constexpr int kPasses = 10000;
-#endif
-#else
-constexpr int kPasses = 10000;
-#endif
+constexpr int kPasses = test_support::kUnderAddressSanitizer ? 1000 : 10000;
 
 /// Grab passes per collider kind, in every build: their bound is a measured rate of crossings
 /// (below), which a tenth of the passes cannot show (the first 100 passes hold 1 to 3 crossings).
@@ -78,6 +69,29 @@ struct Tally
     double worstLength = 0.0, worstAngle = 0.0;
     std::uint64_t firstCrossingSeed = 0;
 };
+
+/// Counts one frame's checks: the hose's constraints, and a contact the update left unreported
+/// (the hose within `tolerance` of the collider and no contact in `r`).
+void tallyFrame(const Hose& hose, const MeshCollider& collider, const UpdateResult& r,
+                double tolerance, Tally& tally)
+{
+    const Violation v = violation(hose);
+    tally.worstLength = std::max(tally.worstLength, v.length);
+    tally.worstAngle = std::max(tally.worstAngle, v.angle);
+    if (v.length > 1e-9 || v.angle > 1e-9) ++tally.constraintFailures;
+    if (clearance(hose, collider).distance < tolerance && r.contacts == 0)
+        ++tally.unreportedContacts;
+}
+
+/// Counts a finished pass: whether the hose touched the collider and whether it crossed it.
+void tallyPass(bool touched, bool crossed, std::uint64_t seed, Tally& tally)
+{
+    tally.touchedPasses += touched;
+    if (crossed) {
+        if (tally.crossings == 0) tally.firstCrossingSeed = seed;
+        ++tally.crossings;
+    }
+}
 
 /// One pass: a collider of `kind` moves in a straight line at a random speed up to 2 m/s (one
 /// setFrame and resolveCollisions a frame at 90 Hz) from clear of the hose to where a random
@@ -141,21 +155,12 @@ void runPass(Kind kind, std::uint64_t seed, Tally& tally)
                         r.contacts, r.lengthViolation, r.angleViolation,
                         static_cast<int>(before != after), clearance(hose, *collider).distance);
         crossed |= crossedNow;
-        const Violation v = violation(hose);
-        tally.worstLength = std::max(tally.worstLength, v.length);
-        tally.worstAngle = std::max(tally.worstAngle, v.angle);
-        if (v.length > 1e-9 || v.angle > 1e-9) ++tally.constraintFailures;
         // The hose moved only because the collider pushed it; where it ends touching the
         // collider (surface within the tolerance), the update says so.
         touched |= before != after;
-        if (clearance(hose, *collider).distance < tolerance && r.contacts == 0)
-            ++tally.unreportedContacts;
+        tallyFrame(hose, *collider, r, tolerance, tally);
     }
-    tally.touchedPasses += touched;
-    if (crossed) {
-        if (tally.crossings == 0) tally.firstCrossingSeed = seed;
-        ++tally.crossings;
-    }
+    tallyPass(touched, crossed, seed, tally);
 }
 
 /// One pass of a grabbed point: the collider stands still near a random point of the hose's
@@ -195,20 +200,11 @@ void runGrabPass(Kind kind, std::uint64_t seed, Tally& tally)
         ++tally.frames;
         tally.blockedFrames += r.blocked;
         crossed |= axisCrossed(shape, before, frame, hose.points(), frame, tolerance);
-        const Violation v = violation(hose);
-        tally.worstLength = std::max(tally.worstLength, v.length);
-        tally.worstAngle = std::max(tally.worstAngle, v.angle);
-        if (v.length > 1e-9 || v.angle > 1e-9) ++tally.constraintFailures;
         // Where the hose ends touching the collider, the update says so.
         touched |= r.blocked;
-        if (clearance(hose, *collider).distance < tolerance && r.contacts == 0)
-            ++tally.unreportedContacts;
+        tallyFrame(hose, *collider, r, tolerance, tally);
     }
-    tally.touchedPasses += touched;
-    if (crossed) {
-        if (tally.crossings == 0) tally.firstCrossingSeed = seed;
-        ++tally.crossings;
-    }
+    tallyPass(touched, crossed, seed, tally);
 }
 
 /// Seed of the passes: 52, or CHAINTUBE_TUNNELING_SEED; pass p uses seed · 1000003 + p.
