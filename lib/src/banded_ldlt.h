@@ -1,7 +1,8 @@
 // The banded symmetric solve of the chain projection (projection.cpp: gravity steps, contacts,
-// bends giving way; solved from both ends at once), of the span solver's small dense normal
-// equations (span_solver.cpp: a band as wide as the matrix) and of its steps towards a held
-// target (a block-tridiagonal band factored once and solved for several right-hand sides).
+// bends giving way; solved from both ends at once, and again from the rows a change of its
+// working set reaches), of the span solver's small dense normal equations (span_solver.cpp: a
+// band as wide as the matrix) and of its steps towards a held target (a block-tridiagonal band
+// factored once and solved for several right-hand sides).
 // Internal to lib/.
 #pragma once
 
@@ -243,6 +244,157 @@ inline std::size_t solveBandedLdltTwisted(double* band, double* rhs, std::size_t
         return solveBandedLdltTwistedIn(band, rhs, m, 7);
     default:
         return solveBandedLdltTwistedIn(band, rhs, m, width);
+    }
+}
+
+/// eliminateRowDown<true> of a row whose elimination is already in `band` (its factor: the
+/// inverse pivot and its couplings), for rows below it that are being factored again: the
+/// updates it makes to the rows from `from` on, and to every row's right-hand side, in the
+/// same arithmetic. Returns whether the row was dropped.
+[[gnu::always_inline]] inline bool replayRowDown(double* band, double* rhs, std::size_t i,
+                                                 std::size_t from, std::size_t limit,
+                                                 std::size_t width)
+{
+    const double inverse = band[i * width];
+    if (inverse == 0.0) { // dropped: its couplings are 0
+        rhs[i] = 0.0;
+        return true;
+    }
+    for (std::size_t d = 1; d < width && i + d < limit; ++d) {
+        const double factor = band[i * width + d] * inverse;
+        if (factor == 0.0) continue;
+        if (i + d >= from)
+            for (std::size_t e = d; e < width && i + e < limit; ++e)
+                band[(i + d) * width + (e - d)] -= factor * band[i * width + e];
+        rhs[i + d] -= factor * rhs[i];
+    }
+    return false;
+}
+
+/// eliminateRowUp's mirror of replayRowDown: the updates of an eliminated row i to the entries
+/// A(k′, k) with k ≤ `to` (being factored again) and to every right-hand side above it.
+[[gnu::always_inline]] inline bool replayRowUp(double* band, double* rhs, std::size_t i,
+                                               std::size_t to, std::size_t width)
+{
+    const double inverse = band[i * width];
+    if (inverse == 0.0) {
+        rhs[i] = 0.0;
+        return true;
+    }
+    for (std::size_t d1 = 1; d1 < width; ++d1) {
+        const double factor = band[(i - d1) * width + d1] * inverse;
+        if (factor == 0.0) continue;
+        if (i - d1 <= to)
+            for (std::size_t d2 = d1; d2 < width; ++d2)
+                band[(i - d2) * width + (d2 - d1)] -= factor * band[(i - d2) * width + d2];
+        rhs[i - d1] -= factor * rhs[i];
+    }
+    return false;
+}
+
+/// solveBandedLdltTwistedIn again after rows and columns changedFirst … changedLast of the
+/// matrix changed. The matrix is `system` (as solveBandedLdlt takes it) with the rows and columns
+/// i where keep[i] is 0 decoupled (a unit diagonal, no coupling, b_i = 0: x_i = 0), b is
+/// `systemRhs`; `band` holds the factor of the matrix before the change, as the last solve left
+/// it. Only the rows whose elimination the change reaches are factored again (in the top half
+/// from changedFirst − (width − 1) on, in the bottom half up to changedLast + width − 1, and the
+/// separator); the others' updates to those rows are replayed from their factors. The same
+/// arithmetic in the same order as solveBandedLdltTwisted of the new matrix: the same x and
+/// factor, bit for bit. Returns the number of rows dropped.
+[[gnu::always_inline]] inline std::size_t
+resolveBandedLdltTwistedIn(double* band, double* rhs, std::size_t m, std::size_t width,
+                           std::size_t changedFirst, std::size_t changedLast, const double* system,
+                           const double* systemRhs, const unsigned char* keep)
+{
+    const std::size_t q = width - 1;
+    const std::size_t downFrom = changedFirst > q ? changedFirst - q : 0;
+    for (std::size_t i = 0; i < m; ++i)
+        rhs[i] = keep[i] ? systemRhs[i] : 0.0;
+    const bool twisted = width >= 2 && m >= 4 * width;
+    const std::size_t top = twisted ? (m - q) / 2 : m, bottom = twisted ? top + q : m;
+    // Factored again: the whole rows fullFrom … top − 1, and from the separator on the entries
+    // of the columns up to upTo (the separator's own always).
+    const std::size_t fullFrom = std::min(downFrom, top);
+    const std::size_t upTo =
+        twisted ? std::max(std::min(m - 1, changedLast + q), bottom - 1) : top - 1;
+    auto restored = [&](std::size_t i, std::size_t d) __attribute__((always_inline))
+    {
+        return i < top ? i >= fullFrom : i + d <= upTo;
+    };
+    if (fullFrom < top)
+        std::copy(system + fullFrom * width, system + top * width, band + fullFrom * width);
+    for (std::size_t i = top; i <= upTo && i < m; ++i)
+        std::copy(system + i * width, system + i * width + std::min(width, upTo + 1 - i),
+                  band + i * width);
+    for (std::size_t r = fullFrom; r <= upTo && r < m; ++r) {
+        if (keep[r]) continue;
+        for (std::size_t d = 0; d < width && restored(r, d); ++d)
+            band[r * width + d] = d == 0 ? 1.0 : 0.0;
+        for (std::size_t d = 1; d < width && d <= r; ++d)
+            if (restored(r - d, d)) band[(r - d) * width + d] = 0.0;
+    }
+    std::size_t dropped = 0;
+    auto down = [&](std::size_t t) __attribute__((always_inline))
+    {
+        return t < fullFrom ? replayRowDown(band, rhs, t, fullFrom, m, width)
+                            : eliminateRowDown<true>(band, rhs, t, m, width);
+    };
+    if (!twisted) {
+        for (std::size_t i = 0; i < m; ++i)
+            dropped += down(i);
+        backSubstituteBandedLdlt(band, rhs, m, width);
+        return dropped;
+    }
+    auto up = [&](std::size_t t) __attribute__((always_inline))
+    {
+        const std::size_t i = m - 1 - t;
+        return i > upTo ? replayRowUp(band, rhs, i, upTo, width)
+                        : eliminateRowUp(band, rhs, i, width);
+    };
+    const std::size_t topRows = top, bottomRows = m - bottom;
+    const std::size_t both = std::min(topRows, bottomRows);
+    for (std::size_t t = 0; t < both; ++t) {
+        dropped += down(t);
+        dropped += up(t);
+    }
+    for (std::size_t t = both; t < topRows; ++t)
+        dropped += down(t);
+    for (std::size_t t = both; t < bottomRows; ++t)
+        dropped += up(t);
+    for (std::size_t i = top; i < bottom; ++i)
+        dropped += eliminateRowDown<true>(band, rhs, i, bottom, width);
+    for (std::size_t i = bottom; i-- > top;)
+        backSubstituteRowDown(band, rhs, i, bottom, width);
+    for (std::size_t t = 0; t < both; ++t) {
+        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
+        backSubstituteRowUp(band, rhs, bottom + t, width);
+    }
+    for (std::size_t t = both; t < topRows; ++t)
+        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
+    for (std::size_t t = both; t < bottomRows; ++t)
+        backSubstituteRowUp(band, rhs, bottom + t, width);
+    return dropped;
+}
+
+/// resolveBandedLdltTwistedIn with the usual widths constant (as solveBandedLdltTwisted).
+inline std::size_t resolveBandedLdltTwisted(double* band, double* rhs, std::size_t m,
+                                            std::size_t width, std::size_t changedFirst,
+                                            std::size_t changedLast, const double* system,
+                                            const double* systemRhs, const unsigned char* keep)
+{
+    switch (width) {
+    case 2:
+        return resolveBandedLdltTwistedIn(band, rhs, m, 2, changedFirst, changedLast, system,
+                                          systemRhs, keep);
+    case 5:
+        return resolveBandedLdltTwistedIn(band, rhs, m, 5, changedFirst, changedLast, system,
+                                          systemRhs, keep);
+    case 7:
+        return resolveBandedLdltTwistedIn(band, rhs, m, 7, changedFirst, changedLast, system,
+                                          systemRhs, keep);
+    default:
+        return resolveBandedLdltTwistedIn(band, rhs, m, width, changedFirst, changedLast, system,
+                                          systemRhs, keep);
     }
 }
 

@@ -226,6 +226,7 @@ void ChainProjection::buildSystem()
         m_width = std::max(m_width, s - r + 1);
     }
     const size_t width = m_width;
+    m_factored = false;
     m_system.resize(m * width); // every entry the solve reads is written below
     m_systemRhs.resize(m);
     for (size_t r = 0; r < m; ++r) {
@@ -256,22 +257,39 @@ bool ChainProjection::solveWorking()
 {
     const size_t m = m_rows.size(), width = m_width;
     m_step.assign(static_cast<size_t>(m_last - m_first + 1), Vec3::Zero());
-    if (std::none_of(m_rows.begin(), m_rows.end(), [](const Row& row) { return row.working; }))
+    if (std::none_of(m_rows.begin(), m_rows.end(), [](const Row& row) { return row.working; })) {
+        m_factored = false; // nothing solved: the next solve factors the whole band
         return true;
+    }
     // The system of every candidate row, those outside the working set decoupled (a unit
     // diagonal, no coupling, right-hand side 0: multiplier 0). The solve skips zero couplings,
     // so the working rows' multipliers come out as from the system of those rows alone.
-    m_band = m_system;
-    m_lambda = m_systemRhs;
-    for (size_t r = 0; r < m; ++r) {
-        if (m_rows[r].working) continue;
-        std::fill_n(m_band.begin() + static_cast<std::ptrdiff_t>(r * width), width, 0.0);
-        m_band[r * width] = 1.0;
-        for (size_t d = 1; d < width && d <= r; ++d)
-            m_band[(r - d) * width + d] = 0.0;
-        m_lambda[r] = 0.0;
+    // After a change of the working set, a band of contacts (width 7 and more) is factored
+    // again only from the changed rows (the same result): replaying a row's elimination costs
+    // O(width), eliminating it O(width²). On narrower bands the restore and the replays cost
+    // as much as they save (tests/bench/PERFORMANCE-NOTES.md).
+    if (m_factored && width >= 7) {
+        m_working.resize(m);
+        for (size_t r = 0; r < m; ++r)
+            m_working[r] = m_rows[r].working;
+        m_lambda.resize(m);
+        resolveBandedLdltTwisted(m_band.data(), m_lambda.data(), m, width, m_changedFirst,
+                                 m_changedLast, m_system.data(), m_systemRhs.data(),
+                                 m_working.data());
+    } else {
+        m_band = m_system;
+        m_lambda = m_systemRhs;
+        for (size_t r = 0; r < m; ++r) {
+            if (m_rows[r].working) continue;
+            std::fill_n(m_band.begin() + static_cast<std::ptrdiff_t>(r * width), width, 0.0);
+            m_band[r * width] = 1.0;
+            for (size_t d = 1; d < width && d <= r; ++d)
+                m_band[(r - d) * width + d] = 0.0;
+            m_lambda[r] = 0.0;
+        }
+        solveBandedLdltTwisted(m_band.data(), m_lambda.data(), m, width);
+        m_factored = true;
     }
-    solveBandedLdltTwisted(m_band.data(), m_lambda.data(), m, width);
     for (size_t r = 0; r < m; ++r) {
         const Row& a = m_rows[r];
         if (!a.working) continue;
@@ -287,16 +305,24 @@ bool ChainProjection::adjustWorkingSet()
 {
     const std::vector<double>& w = m_inverseMass;
     bool changed = false;
+    m_changedFirst = m_rows.size();
+    m_changedLast = 0;
+    auto change = [&](size_t r) {
+        changed = true;
+        m_changedFirst = std::min(m_changedFirst, r);
+        m_changedLast = std::max(m_changedLast, r);
+    };
     // Working inequality rows whose multiplier pulls (the step needs no push from them) leave.
     for (size_t r = 0; r < m_rows.size(); ++r) {
         Row& row = m_rows[r];
         if (row.working && row.inequality && m_lambda[r] > 0.0) {
             row.working = false;
-            changed = true;
+            change(r);
         }
     }
     // Rows outside the working set that the step would violate join.
-    for (Row& row : m_rows) {
+    for (size_t r = 0; r < m_rows.size(); ++r) {
+        Row& row = m_rows[r];
         if (row.working) continue;
         double linear = row.value;
         for (int q = 0; q < row.count; ++q) {
@@ -306,7 +332,7 @@ bool ChainProjection::adjustWorkingSet()
         const double scale = row.count == 2 ? h.m_restLength[static_cast<size_t>(row.first)] : 1.0;
         if (linear > m_joinMargin * scale) {
             row.working = true;
-            changed = true;
+            change(r);
         }
     }
     return changed;

@@ -62,6 +62,7 @@ struct ProjectionBuffers
     std::vector<ProjectionRow> m_rows;
     std::vector<double> m_system, m_systemRhs; ///< buildSystem(): band (m_width a row), rhs
     std::vector<double> m_band, m_lambda;      ///< solveWorking(): factor, multipliers (per row)
+    std::vector<unsigned char> m_working;      ///< solveWorking(): per row, in the working set
     std::vector<Vec3> m_step, m_saved;
     std::vector<Vec3> m_unit; ///< gatherLengths(): per segment of the range, its unit direction
     void clear();
@@ -72,8 +73,8 @@ private:
     auto vectors()
     {
         return std::tie(m_inverseMass, m_hasContact, m_contactNormal, m_contactPoint,
-                        m_contactDistance, m_rows, m_system, m_systemRhs, m_band, m_lambda, m_step,
-                        m_saved, m_unit);
+                        m_contactDistance, m_rows, m_system, m_systemRhs, m_band, m_lambda,
+                        m_working, m_step, m_saved, m_unit);
     }
 };
 
@@ -141,7 +142,9 @@ private:
     /// The linearised system of every gathered row at the current positions (built once a
     /// Newton step; the working-set passes reuse it).
     void buildSystem();
-    /// Solves for the working rows' multipliers and the step; false if not finite.
+    /// Solves for the working rows' multipliers and the step; false if not finite. After a
+    /// change of the working set (adjustWorkingSet()), a band of width 7 or more (contacts) is
+    /// factored again only where the change reaches (resolveBandedLdltTwisted: the same result).
     bool solveWorking();
     /// One primal-dual update of the working set after solveWorking(): rows whose multiplier
     /// pulls leave, rows the step would violate join. Returns whether it changed.
@@ -157,6 +160,9 @@ private:
     double m_merit = 0.0;       ///< gather(): sum of the squared violations
     double m_damping = 0.0;     ///< Levenberg–Marquardt damping, relative to the diagonal
     double m_joinMargin = 1e-9; ///< run(): adjustWorkingSet()'s margin for rows that join
+    bool m_factored = false;    ///< m_band holds the factor of this linearisation's last solve
+    size_t m_changedFirst = 0;  ///< adjustWorkingSet(): first and last row it changed
+    size_t m_changedLast = 0;
 };
 
 } // namespace chaintube::detail
