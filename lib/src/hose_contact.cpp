@@ -1,6 +1,8 @@
 // A hose staying outside its colliders: Hose::setColliders, resolveCollisions and
-// applyCollisions, the contact step every grab, attachment move and gravity step ends with.
-// The colliders' geometry and queries are in mesh_collider.cpp.
+// applyCollisions, the contact step every grab, attachment move and gravity step ends with
+// (update.cpp, sag.cpp). It calls into the solver (solver.cpp: grabs made again without
+// colliders, closeSpans), never back into an update. The colliders' geometry and queries are
+// in mesh_collider.cpp.
 #include "budget.h"
 #include "chaintube/collision.h"
 #include "chaintube/hose.h"
@@ -319,9 +321,9 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         grabReach = reach;
         if ((reach - solved[k]).squaredNorm() > 1e-24) {
             std::vector<std::shared_ptr<const MeshCollider>> colliders;
-            colliders.swap(m_colliders); // the redo itself must not recurse into collision
+            colliders.swap(m_colliders); // the redo is a grab without colliders
             m_local = m_collisionStart;
-            const UpdateResult redo = grab(grabbed, reach + m_origin);
+            const UpdateResult redo = grabWithoutContacts(grabbed, reach + m_origin);
             m_colliders.swap(colliders);
             result.status = redo.status;
             result.lengthViolation = redo.lengthViolation;
@@ -650,10 +652,10 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
             } else {
                 const double fraction = std::ldexp(1.0, -attempt);
                 std::vector<std::shared_ptr<const MeshCollider>> colliders;
-                colliders.swap(m_colliders); // the solve itself must not recurse into collision
+                colliders.swap(m_colliders); // the solve is a grab without colliders
                 m_local = m_collisionStart;
                 const UpdateResult redo =
-                    grab(grabbed, from + fraction * (grabReach - from) + m_origin);
+                    grabWithoutContacts(grabbed, from + fraction * (grabReach - from) + m_origin);
                 m_colliders.swap(colliders);
                 result.iterations += redo.iterations;
             }
