@@ -1,6 +1,8 @@
 // A hose staying outside its colliders: Hose::setColliders, resolveCollisions and
-// applyCollisions, the contact step every grab, attachment move and gravity step ends with.
-// The colliders' geometry and queries are in mesh_collider.cpp.
+// applyCollisions, the contact step every grab, attachment move and gravity step ends with
+// (update.cpp, sag.cpp). It calls into the solver (solver.cpp: grabs made again without
+// colliders, closeSpans), never back into an update. The colliders' geometry and queries are
+// in mesh_collider.cpp.
 #include "budget.h"
 #include "chaintube/collision.h"
 #include "chaintube/hose.h"
@@ -33,6 +35,10 @@ constexpr double kSegmentGuard = 0.5;
 /// Passes over the hose of the segments' sweep from the previous shape (each segment stopped
 /// moves its ends, so its neighbours are swept again on the next pass).
 constexpr int kSegmentPasses = 3;
+/// Hose::applyCollisions: a grab whose move would bring a segment's axis within the guard of a
+/// collider, or leave a constraint off, is made again towards 1/2, 1/4, … of the way to where its
+/// point may go, at most this many times, before the previous shape is kept.
+constexpr int kGrabFallbacks = 3;
 
 } // namespace
 
@@ -303,6 +309,8 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
 
     std::vector<Vec3> solved = m_local; // where the collision-free solver put the points
     bool changed = false;
+    // Where the grabbed point may go: the solver's place for it, stopped at first contact.
+    Vec3 grabReach = grabbed >= 0 ? solved[static_cast<std::size_t>(grabbed)] : Vec3::Zero();
 
     // A grabbed point stopped by a collider: redo the grab from the previous shape towards
     // where the point can go, so the rest of the hose follows it with the exact ChainTube
@@ -310,11 +318,12 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     if (grabbed >= 0 && startIsPrevious) {
         const std::size_t k = static_cast<std::size_t>(grabbed);
         const Vec3 reach = moveSwept(k, m_collisionStart[k], solved[k], true);
+        grabReach = reach;
         if ((reach - solved[k]).squaredNorm() > 1e-24) {
             std::vector<std::shared_ptr<const MeshCollider>> colliders;
-            colliders.swap(m_colliders); // the redo itself must not recurse into collision
+            colliders.swap(m_colliders); // the redo is a grab without colliders
             m_local = m_collisionStart;
-            const UpdateResult redo = grab(grabbed, reach + m_origin);
+            const UpdateResult redo = grabWithoutContacts(grabbed, reach + m_origin);
             m_colliders.swap(colliders);
             result.status = redo.status;
             result.lengthViolation = redo.lengthViolation;
@@ -594,6 +603,76 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
         }
     }
 
+    // A grab with no collider moved: the hose's whole move from the previous shape (every
+    // segment's ends in straight lines) must keep every axis `guard` from the colliders, and
+    // every length and bend must hold (1e-9). Otherwise the grab is made again, without contacts,
+    // from the previous shape towards nearer points of the grabbed point's swept path
+    // (kGrabFallbacks), the first whose move is clear and which penetrates nothing is kept, and
+    // when none is, the previous shape stays. Either way the update is blocked.
+    const bool checkGrab = grabbed >= 0 && startIsPrevious && !frameMoved;
+    UpdateResult startViolation; // the previous shape's: a grab need not repair it
+    if (checkGrab) {
+        const std::vector<Vec3> reached = m_local;
+        m_local = m_collisionStart;
+        startViolation = measureViolation();
+        m_local = reached;
+    }
+    auto grabMoveHolds = [&]() {
+        const UpdateResult v = measureViolation();
+        if (v.lengthViolation > std::max(1e-9, startViolation.lengthViolation) ||
+            v.angleViolation > std::max(1e-9, startViolation.angleViolation))
+            return false;
+        for (std::size_t s = 0; s + 1 < n; ++s) {
+            if (m_fixed[s] && m_fixed[s + 1]) continue;
+            const Vec3 &a0 = m_collisionStart[s], &b0 = m_collisionStart[s + 1];
+            const Vec3 &a1 = m_local[s], &b1 = m_local[s + 1];
+            if (a0 == a1 && b0 == b1) continue;
+            const double span = std::max({(a0 - a1).norm(), (b0 - a1).norm(), (b1 - a1).norm()});
+            if (freeBound[s] + radius - span > guard) continue;
+            if (contacts
+                    .sweepSegment(a0 + m_origin, b0 + m_origin, a1 + m_origin, b1 + m_origin, guard,
+                                  false)
+                    .sweep.hit)
+                return false;
+        }
+        return true;
+    };
+    bool grabHeldBack = false;
+    if (checkGrab && !grabMoveHolds()) {
+        const std::size_t k = static_cast<std::size_t>(grabbed);
+        const Vec3 from = m_collisionStart[k];
+        // A grab made again may slide clips (Hose::grab): with clips only the solver's shape
+        // and the previous one are tried.
+        const bool clips = std::any_of(m_attachments.begin(), m_attachments.end(),
+                                       [](const Attachment& a) { return a.isClip(); });
+        bool found = false;
+        for (int attempt = 0; attempt <= (clips ? 0 : kGrabFallbacks) && !found; ++attempt) {
+            if (attempt == 0) {
+                m_local = solved; // the collision-free solver's shape towards grabReach
+            } else {
+                const double fraction = std::ldexp(1.0, -attempt);
+                std::vector<std::shared_ptr<const MeshCollider>> colliders;
+                colliders.swap(m_colliders); // the solve is a grab without colliders
+                m_local = m_collisionStart;
+                const UpdateResult redo =
+                    grabWithoutContacts(grabbed, from + fraction * (grabReach - from) + m_origin);
+                m_colliders.swap(colliders);
+                result.iterations += redo.iterations;
+            }
+            freeBound.assign(n, kUnknownClearance);
+            found = grabMoveHolds() && pushOut(false) <= tolerance;
+        }
+        if (!found) m_local = m_collisionStart;
+        freeBound.assign(n, kUnknownClearance);
+        penetration = pushOut(false);
+        violation = measureViolation();
+        refused = false;
+        repaired = false;
+        changed = true;
+        grabHeldBack = true;
+        if (result.status != Status::InvalidInput) result.status = Status::Clamped;
+    }
+
     // Report: points touching, and both ends of a segment touching (an edge between them).
     std::vector<unsigned char> touchingPoint(n, 0);
     for (std::size_t i = 0; i < n; ++i)
@@ -608,7 +687,7 @@ void Hose::applyCollisions(UpdateResult& result, int grabbed, const Vec3& localT
     }
     result.contacts = static_cast<int>(std::count(touchingPoint.begin(), touchingPoint.end(), 1));
     result.penetration = penetration > tolerance ? penetration : 0.0;
-    bool blocked = result.penetration > 0.0 || refused;
+    bool blocked = result.penetration > 0.0 || refused || grabHeldBack;
     if (grabbed >= 0) {
         const std::size_t k = static_cast<std::size_t>(grabbed);
         if ((m_local[k] - localTarget).norm() > result.grabError + tolerance) {

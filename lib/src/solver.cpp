@@ -1,7 +1,8 @@
-// The axis solver: grabs and attachment moves. The pinned range (attachments, the held point)
-// is solved span by span (PinnedSpans: the span solver, span_solver.h, with the chain
-// projection, projection.h, where bends must give way), the free tails beyond it by the
-// paper's outward propagation (propagation.h).
+// The axis solver: grabs and attachment moves without colliders (update.cpp adds the contact
+// step, hose_contact.cpp, which calls back only into this solver). The pinned range
+// (attachments, the held point) is solved span by span (PinnedSpans: the span solver,
+// span_solver.h, with the chain projection, projection.h, where bends must give way), the free
+// tails beyond it by the paper's outward propagation (propagation.h).
 #include "budget.h"
 #include "chaintube/hose.h"
 #include "projection.h"
@@ -581,19 +582,20 @@ int nearestFixed(const Hose& hose, int index, int side)
 
 } // namespace
 
-UpdateResult Hose::grab(int index, const Vec3& target)
+bool Hose::grabAccepts(int index, const Vec3& target) const
 {
-    UpdateResult result;
-    if (index < 0 || index >= pointCount() || !target.allFinite() ||
-        m_fixed[static_cast<size_t>(index)]) {
-        result.status = Status::InvalidInput;
-        return result;
-    }
-    BudgetScope scope(*this);
+    return index >= 0 && index < pointCount() && target.allFinite() &&
+           !m_fixed[static_cast<size_t>(index)];
+}
+
+Hose::GrabSolve Hose::solveGrab(int index, const Vec3& target)
+{
+    GrabSolve solve;
+    UpdateResult& result = solve.result;
     m_updatedSinceStep = true;
     const Vec3 localTarget = target - m_origin;
     const size_t k = static_cast<size_t>(index);
-    const std::uint64_t revisionBefore = m_revision;
+    solve.revisionBefore = m_revision;
     // The same target again, nothing changed since a grab of this point moved nothing (its point
     // was on that target, or got no nearer to it) and did not run out of budget, still held, no
     // colliders (they move without the hose knowing): no work.
@@ -603,7 +605,8 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         result = m_edgeResult;
         result.movedPoints = 0;
         result.iterations = 0;
-        return result;
+        solve.answered = true;
+        return solve;
     }
     const bool wasInvalid = m_dirtyViolation;
     const UpdateResult before = wasInvalid ? measureViolation() : UpdateResult{};
@@ -731,7 +734,19 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     result.movedPoints = moved;
     m_held = index;
     if (moved > 0 || m_attachments.empty()) ++m_revision;
-    if (!m_colliders.empty()) applyCollisions(result, index, localTarget); // hose_contact.cpp
+    solve.goal = goal;
+    solve.moved = moved;
+    solve.slidesMissed = slidesMissed;
+    return solve;
+}
+
+UpdateResult Hose::finishGrab(int index, const Vec3& target, const GrabSolve& solve, bool budgetCut)
+{
+    UpdateResult result = solve.result;
+    const Vec3 localTarget = target - m_origin;
+    const size_t k = static_cast<size_t>(index);
+    const Vec3& goal = solve.goal;
+    const std::uint64_t revisionBefore = solve.revisionBefore;
     // Cut short by the budget: step() goes on towards the same target, unless kStalledGrabs
     // grabs in a row towards it gained little (kStalledGain).
     const double remaining = (m_local[k] - goal).norm();
@@ -741,7 +756,7 @@ UpdateResult Hose::grab(int index, const Vec3& target)
         sameGrab && !(result.grabError < m_grabStall.error * (1.0 - kStalledGain));
     const int stalled = gainedLittle ? m_grabStall.count + 1 : 0;
     m_grabStall = {index, m_revision, localTarget, result.grabError, stalled};
-    result.pending = scope.cut() && remaining > 0.0 && stalled < kStalledGrabs;
+    result.pending = budgetCut && remaining > 0.0 && stalled < kStalledGrabs;
     result.remaining = result.pending ? remaining : 0.0;
     m_pendingGrab = result.pending;
     m_pendingGrabRemaining = result.remaining;
@@ -749,15 +764,27 @@ UpdateResult Hose::grab(int index, const Vec3& target)
     // Remember a grab that moved nothing (on its target, or at the edge of its reach and no
     // nearer): the same target again, from the same shape, is answered at once, unless it ran
     // out of budget (then the same target again goes on, without the slides that missed).
-    m_edgePoint = moved == 0 ? index : -1;
+    m_edgePoint = solve.moved == 0 ? index : -1;
     m_edgeRevision = m_revision;
     m_edgeTarget = localTarget;
     m_edgeResult = result;
-    m_edgeSlidesMissed = slidesMissed;
+    m_edgeSlidesMissed = solve.slidesMissed;
     return result;
 }
 
-UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
+UpdateResult Hose::grabWithoutContacts(int index, const Vec3& target)
+{
+    if (!grabAccepts(index, target)) {
+        UpdateResult result;
+        result.status = Status::InvalidInput;
+        return result;
+    }
+    BudgetScope scope(*this);
+    const GrabSolve solve = solveGrab(index, target);
+    return solve.answered ? solve.result : finishGrab(index, target, solve, scope.cut());
+}
+
+UpdateResult Hose::solveAttachmentMove(const std::vector<int>& ids,
                                        const std::vector<Frame>& frames)
 {
     UpdateResult result;
@@ -1079,7 +1106,6 @@ UpdateResult Hose::moveAttachmentsOnce(const std::vector<int>& ids,
     for (size_t i = 0; i < m_local.size(); ++i)
         result.movedPoints += m_local[i] != m_scratch[i];
     ++m_revision;
-    if (!m_colliders.empty()) applyCollisions(result, -1, Vec3::Zero()); // hose_contact.cpp
     return result;
 }
 

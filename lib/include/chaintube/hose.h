@@ -482,6 +482,27 @@ private:
     bool blendSide(int from, int side, const Vec3& displacement);
     /// moveAttachments: one update, and the halvings of a long move that found no shape.
     UpdateResult moveAttachmentsOnce(const std::vector<int>& ids, const std::vector<Frame>& frames);
+    /// moveAttachmentsOnce() without the contact step (solver.cpp).
+    UpdateResult solveAttachmentMove(const std::vector<int>& ids, const std::vector<Frame>& frames);
+    /// grab() in parts (solver.cpp): whether it accepts the index and target; the solve without
+    /// colliders (within the update's BudgetScope; `answered`: the same target again, answered
+    /// at once, nothing else to do); and its bookkeeping after the contact step (pending, the
+    /// stalls, the target remembered). The update is grab() (update.cpp): solve, contact step,
+    /// finish; grabWithoutContacts() is the same without the contact step (hose_contact.cpp's
+    /// grabs made again).
+    struct GrabSolve
+    {
+        UpdateResult result;
+        Vec3 goal = Vec3::Zero();         ///< where the point goes (local): target or in reach
+        std::uint64_t revisionBefore = 0; ///< revision() before the update
+        int moved = 0;                    ///< points the solve moved
+        bool slidesMissed = false;        ///< clip slides were tried and came to nothing
+        bool answered = false;
+    };
+    bool grabAccepts(int index, const Vec3& target) const;
+    GrabSolve solveGrab(int index, const Vec3& target);
+    UpdateResult finishGrab(int index, const Vec3& target, const GrabSolve& solve, bool budgetCut);
+    UpdateResult grabWithoutContacts(int index, const Vec3& target);
     UpdateResult moveAttachmentsInSteps(const std::vector<int>& ids,
                                         const std::vector<Frame>& frames, int halvings);
     bool blendTowardsPins(int index, const Vec3& displacement);
@@ -630,8 +651,9 @@ private:
     int m_gravityStalls = 0;
     bool m_updatedSinceStep = false; ///< a grab or attachment move since the last step()
 
-    /// Collision hook at the end of every update entry point (hose_contact.cpp); no-op without
-    /// colliders. `grabbed` is the grabbed point (−1 if none) and its requested local target.
+    /// Collision hook at the end of every update entry point (hose_contact.cpp, called from
+    /// update.cpp and sag.cpp); no-op without colliders. `grabbed` is the grabbed point (−1 if
+    /// none) and its requested local target.
     void applyCollisions(UpdateResult& result, int grabbed, const Vec3& localTarget);
     std::vector<std::shared_ptr<const MeshCollider>> m_colliders;
     CollisionOptions m_collisionOptions;
