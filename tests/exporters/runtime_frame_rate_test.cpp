@@ -4,10 +4,9 @@
 // without the real-time budget; valve-tail, a free tail, follows the valve within its measured
 // whip; a part teleported 1 m leaves valid hoses that frame; a reel paid out at a speed (speed ×
 // the frame's time) pays at the same pace and ends in the same shape at every rate; update(1/90)
-// is update(); bad frame times are refused. (How near the bracket-loop runs end to each other is
-// printed, not asserted: this loop's bends bind along it, where a gravity step creeps and comes
-// to rest where it stops coming lower, lib/README.md, "Gravity at any frame rate"; the 1 mm
-// agreement is asserted on a hose that settles, tests/lib/frame_rate_test.cpp.)
+// is update(); bad frame times are refused. Unbounded, the bracket-loop runs come to rest within
+// 1 mm of each other; under the real-time budget how near they end is printed, not asserted
+// (lib/README.md, "Gravity at any frame rate").
 #include "export_test_support.h"
 
 #include <chaintube/export/runtime.h>
@@ -115,6 +114,11 @@ TEST(HoseRuntimeFrameRate, TheSameBracketPathAt45To120HzNeverWhipsAndKeepsEveryL
                 run.worstLength, run.lastMove);
             EXPECT_LE(run.worstWhip, 1.0) << rate << " Hz";
             EXPECT_LE(run.worstLength, 1e-9) << rate << " Hz";
+            // Unbounded, every run comes to rest (measured: by 2.5 s) in the same shape.
+            if (!budget.bounded()) {
+                EXPECT_LE(difference, 1e-3) << rate << " Hz";
+                EXPECT_LT(run.lastMove, kRunSeconds - 1.0) << rate << " Hz";
+            }
         }
     }
 }

@@ -899,8 +899,16 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
         rejected.result.status = Status::InvalidInput;
         return {rejected};
     }
-    m_nodes[static_cast<size_t>(node)].local = local;
-    m_nodes[static_cast<size_t>(node)].local.rotation.normalize();
+    NodeTransform normalized = local;
+    normalized.rotation.normalize();
+    const NodeTransform& current = m_nodes[static_cast<size_t>(node)].local;
+    // The transform the node has (a still part sent every frame): nothing moves, so nothing is
+    // solved again and a gravity hose's rest rule keeps counting.
+    if (normalized.translation == current.translation &&
+        normalized.rotation.coeffs() == current.rotation.coeffs() &&
+        normalized.scale == current.scale)
+        return {};
+    m_nodes[static_cast<size_t>(node)].local = normalized;
     recomputeWorld();
     m_nodesMoved = true;
     const auto isUnder = [&](int candidate) {

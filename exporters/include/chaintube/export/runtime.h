@@ -222,7 +222,9 @@ public:
     /// a hose with a moved collider and no moved attachment gets Hose::resolveCollisions().
     /// Returns the affected hoses' results (look at status). A node index out of range or a
     /// non-finite transform returns one entry with hose −1 and Status::InvalidInput, and
-    /// changes nothing.
+    /// changes nothing. The transform the node has (the same numbers, its rotation normalised)
+    /// changes nothing and returns no entry: a platform may send a still part every frame, and
+    /// a gravity hose comes to rest.
     [[nodiscard]] std::vector<HoseUpdate> setNodeTransform(int node, const NodeTransform& local);
 
     /// Moves free axis point `point` of hose `hose` to `target` (world metres); the hose
