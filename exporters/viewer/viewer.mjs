@@ -559,12 +559,12 @@ function unplugSelectedEnd() {
 }
 
 // --- reel in, pay out: ] pays the selected hose out, [ reels it in, while held ----------------
-const kReelSpeed = 0.5; // metres a second
-const kReelStep = kReelSpeed / 90; // metres a frame: the speed at 90 frames a second
+const kReelSpeed = 0.5; // metres a second: a frame's reel is kReelSpeed × its time
+const kScriptedReelSeconds = 1 / 90; // a frame of reel queued by the automation hook
 const kReelReach = 0.3; // metres: how far beyond or short of its exported length a hose goes
 let selectedHose = -1; // the hose last pressed on, or clicked in the panel
 let reelKey = 0; // +1 while ] is held, -1 while [ is held
-let reelScheduled = []; // frames of reel queued by the automation hook: +1 or -1 each
+let reelScheduled = []; // frames of reel queued by the automation hook: +1 or -1 each, 1/90 s
 
 /** The end whose attachment is a hose's reel outlet: its first end fixed to a part, else its
  * last; -1 when no end is fixed. */
@@ -595,16 +595,16 @@ function showHoseSelection(reel = null) {
       (reel?.clamped ? ` (${reel.message})` : ''));
 }
 
-/** One frame of reel on the selected hose: `direction` × kReelStep within kReelReach of its
- * exported length (never below half of it). */
-function reelFrame(view, direction) {
+/** `seconds` of reel on the selected hose: `direction` × kReelSpeed × seconds, within
+ * kReelReach of its exported length (never below half of it). The same speed at any frame rate. */
+function reelFrame(view, direction, seconds) {
   if (selectedHose < 0) return;
   const hose = view.hoses[selectedHose];
   if (hose.info.isStatic) return; // a static hose is on no reel
   const end = hose.reelEnd ??= reelEnd(selectedHose);
   if (end < 0) return;
   const exported = hose.info.restLength;
-  const reel = view.rig.reel(selectedHose, end, direction * kReelStep,
+  const reel = view.rig.reel(selectedHose, end, direction * kReelSpeed * seconds,
     Math.max(0.5 * exported, exported - kReelReach), exported + kReelReach);
   hose.grabbable = new Set(view.rig.grabbablePoints(selectedHose)); // renumbered at the reel
   showHoseSelection(reel);
@@ -733,8 +733,10 @@ function step(view, seconds) {
     }
     rig.grab(drag.hose, drag.point, drag.target); // its outcome is in the frame's result
   }
-  const reelDirection = reelScheduled.length > 0 ? reelScheduled.shift() : reelKey;
-  if (reelDirection !== 0) reelFrame(view, reelDirection);
+  // A key held reels by the frame's time; a queued frame (the automation hook) by 1/90 s.
+  const scripted = reelScheduled.length > 0;
+  const reelDirection = scripted ? reelScheduled.shift() : reelKey;
+  if (reelDirection !== 0) reelFrame(view, reelDirection, scripted ? kScriptedReelSeconds : seconds);
   rig.update(seconds);
   for (const hose of view.hoses) {
     if (hose.info.jointCount > 0) {
@@ -863,8 +865,9 @@ window.chaintubeViewer = {
   get selectedHose() { return selectedHose >= 0 ? current.hoses[selectedHose].info.id : null; },
   /** Selects hose `id` for the reel keys, as a click on its row does. */
   selectHose(id) { selectHose(current.rig.findHose(id)); },
-  /** Queues `frames` frames of reel on the selected hose, each as a frame with ] (+1) or [ (-1)
-   * held does; resolves when they ran. */
+  /** Queues `frames` frames of reel on the selected hose, each as a frame of 1/90 s with ] (+1)
+   * or [ (-1) held does (kReelSpeed / 90 m a frame, whatever the display's rate); resolves when
+   * they ran. */
   reelFrames(frames, direction) {
     reelScheduled.push(...Array(frames).fill(Math.sign(direction)));
     return new Promise((resolve) => {

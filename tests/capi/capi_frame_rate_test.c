@@ -8,8 +8,7 @@
  *    72 and 120 Hz: valve-tail's joints end within 2 mm of the 90 Hz run after 15 s, every
  *    segment in its band (|l / l0 - 1| <= e + 1e-9) after every update. The tail comes to rest
  *    where it stops coming lower (lib/README.md, "Gravity at any frame rate"), which depends on
- *    rounding: 0.09 mm at most in the default build, 1.45 mm at 120 Hz in the AddressSanitizer
- *    build.
+ *    rounding: 0.18 mm at most in the default build.
  *
  *   capi_frame_rate_test <rig-options.glb>
  *

@@ -48,6 +48,8 @@ using namespace chaintube;
 /// The axial stiffness the pulls' forces are written for (newtons per unit strain; the C and C#
 /// replays pass the same).
 constexpr double kPullStiffness = 1e4;
+/// Updates of 1/90 s a plugged end takes to ease in (HoseRuntime::kSnapSeconds).
+constexpr int kEasingUpdates = 5;
 
 int statusCode(Status status)
 {
@@ -216,13 +218,13 @@ void socketFrames(std::FILE* out, rig::HoseRuntime& runtime)
     const rig::PlugResult snapped = runtime.release(hose);
     std::fprintf(out, "release-snap %d %d\n", hose, snapped.socket);
     if (snapped.socket != first) throw Error("the released end did not snap into its socket");
-    for (int frame = 0; frame <= rig::HoseRuntime::kSnapFrames; ++frame)
+    for (int frame = 0; frame <= kEasingUpdates; ++frame)
         update(out, runtime);
     unplug(1);
     const rig::PlugResult plugged = runtime.plug(hose, 1, second);
     if (!plugged) throw Error("the runtime refused the plug");
     std::fprintf(out, "plug %d %d %d %d\n", hose, 1, second, plugged.attachment);
-    for (int frame = 0; frame <= rig::HoseRuntime::kSnapFrames; ++frame)
+    for (int frame = 0; frame <= kEasingUpdates; ++frame)
         update(out, runtime);
 }
 

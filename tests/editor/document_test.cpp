@@ -10,8 +10,10 @@
 #include <functional>
 #include <gtest/gtest.h>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
+#include <random>
 #include <sstream>
 
 namespace chaintube::editor {
@@ -704,6 +706,57 @@ TEST(DocumentGravity, ABendLimitedHoseBetweenTwoClampsSagsAndSettles)
     EXPECT_EQ(document->hose(id)->measureViolation().status, Status::Ok);
     EXPECT_EQ(document->stepGravity(), 0) << "settled: no jitter";
     EXPECT_EQ(document->hose(id)->points(), settled);
+}
+
+// Live gravity by the clock (the main window's timer, Document::advanceGravity): ticks of 1/45,
+// 1/72, 1/90 or 1/120 s, or of random length, make one step of 1/90 s for every 1/90 s of time,
+// so the hose falls at the same pace and by the same steps at any tick rate: after the same time
+// the same shape as that many stepGravity() calls, bit for bit, and at rest the settled shape.
+TEST(DocumentGravity, LiveGravityByTheClockFallsAtTheSamePaceAtAnyTickRate)
+{
+    const std::string id = "left-feed";
+    const auto gravityDocument = [&] {
+        auto document = openTestRig();
+        document->undoStack()->push(gravityOn(*document, id));
+        return document;
+    };
+    auto settled = gravityDocument();
+    stepUntilSettled(*settled);
+    ASSERT_EQ(settled->gravityState(id), Document::GravityState::Settled);
+    const int settleSteps = settled->gravitySteps(id);
+    ASSERT_GT(settleSteps, 10);
+
+    std::mt19937 random(52);
+    std::uniform_real_distribution<double> jitter(0.002, 0.05);
+    for (double rate : {45.0, 72.0, 90.0, 120.0, 0.0}) { // 0: random ticks of 2 to 50 ms
+        auto ticked = gravityDocument();
+        auto stepped = gravityDocument();
+        const double seconds = 0.5 * settleSteps * Gravity::kFrameSeconds; // half the settling
+        double now = 0.0;
+        int calls = 0;
+        while (now < seconds) {
+            const double tick = rate > 0.0 ? 1.0 / rate : jitter(random);
+            now += tick;
+            calls += ticked->advanceGravity(tick);
+        }
+        EXPECT_NEAR(calls, now / Gravity::kFrameSeconds, 1.0) << rate << " Hz";
+        for (int k = 0; k < calls; ++k)
+            stepped->stepGravity();
+        EXPECT_EQ(ticked->hose(id)->points(), stepped->hose(id)->points()) << rate << " Hz";
+        // On to rest: the settled shape, and nothing more owed or stepped.
+        for (int k = 0; k < 100000 && ticked->gravityActive(); ++k)
+            ticked->advanceGravity(rate > 0.0 ? 1.0 / rate : jitter(random));
+        EXPECT_EQ(ticked->gravityState(id), Document::GravityState::Settled) << rate << " Hz";
+        EXPECT_EQ(ticked->hose(id)->points(), settled->hose(id)->points()) << rate << " Hz";
+        EXPECT_EQ(ticked->advanceGravity(0.1), 0) << rate << " Hz";
+    }
+    // A long pause adds at most 0.1 s (nine steps); a bad time adds nothing.
+    auto paused = gravityDocument();
+    EXPECT_EQ(paused->advanceGravity(5.0), 9);
+    EXPECT_EQ(paused->advanceGravity(std::numeric_limits<double>::quiet_NaN()), 0);
+    EXPECT_EQ(paused->advanceGravity(-1.0), 0);
+    EXPECT_EQ(paused->advanceGravity(0.5 * Gravity::kFrameSeconds), 0);
+    EXPECT_EQ(paused->advanceGravity(0.5 * Gravity::kFrameSeconds), 1);
 }
 
 TEST(DocumentGravity, SettlingAnOpenedProjectDoesNotMarkItModified)

@@ -10,6 +10,9 @@
 namespace chaintube::exporting::testing {
 namespace {
 
+// Updates of 1/90 s (update()) that a plugged end takes to ease in: kSnapSeconds.
+constexpr int kEasingUpdates = 5;
+
 /// The test rig (no gravity; left-feed from bracket_left to the valve's inlet, its last end
 /// tagged camlock-19; sockets valve-outlet and plate-port, both camlock-19), exported to
 /// `folder`/rig.glb and loaded. With `plugRightReturn`, right-return's ends are tagged
@@ -102,7 +105,7 @@ TEST(HoseRuntimeSockets, AnEndReleasedInASocketsCaptureEasesInOverValidFramesAnd
     EXPECT_EQ(snapped.socket, plate);
     EXPECT_EQ(snapped.end, 1);
     EXPECT_EQ(snapped.attachment, 2);
-    EXPECT_EQ(snapped.easingFrames, rig::HoseRuntime::kSnapFrames);
+    EXPECT_EQ(snapped.easingSeconds, rig::HoseRuntime::kSnapSeconds);
     const rig::SocketOccupant occupant = runtime.socketOccupant(plate);
     EXPECT_EQ(occupant.hose, feed);
     EXPECT_EQ(occupant.end, 1);
@@ -114,7 +117,7 @@ TEST(HoseRuntimeSockets, AnEndReleasedInASocketsCaptureEasesInOverValidFramesAnd
     // It has not moved yet: it eases in, each frame in the band.
     EXPECT_LT((runtime.hose(feed).point(n - 1) - atRelease.tip).norm(), 1e-9);
     double largestStep = 0.0;
-    for (int frame = 0; frame < rig::HoseRuntime::kSnapFrames; ++frame) {
+    for (int frame = 0; frame < kEasingUpdates; ++frame) {
         const Vec3 was = runtime.hose(feed).point(n - 1);
         runtime.update();
         const UpdateResult& result = runtime.frameResult(feed);
@@ -125,12 +128,12 @@ TEST(HoseRuntimeSockets, AnEndReleasedInASocketsCaptureEasesInOverValidFramesAnd
         EXPECT_GT(step, 0.0) << "easing, frame " << frame;
         largestStep = std::max(largestStep, step);
     }
-    EXPECT_EQ(runtime.attachment(feed, 2).easingFrames, 0);
+    EXPECT_EQ(runtime.attachment(feed, 2).easingSeconds, 0.0);
     const EndNow seated = lastEnd(runtime, feed);
     EXPECT_LT((seated.tip - port.position).norm(), 1e-9);
     EXPECT_GT(seated.outward.dot(-port.axis), 1.0 - 1e-9);
     // No easing frame moves the end more than an even share of the way, with a margin.
-    EXPECT_LE(largestStep, 1.5 * distance / rig::HoseRuntime::kSnapFrames + 1e-9);
+    EXPECT_LE(largestStep, 1.5 * distance / kEasingUpdates + 1e-9);
 
     // Held by the socket: the plate moves and the end goes with it.
     const int plateNode = port.description->node;
@@ -143,8 +146,8 @@ TEST(HoseRuntimeSockets, AnEndReleasedInASocketsCaptureEasesInOverValidFramesAnd
         EXPECT_TRUE(inBand(runtime.hose(feed))) << "plate moved, frame " << frame;
     }
     std::cout << "[ socket ] left-feed released " << distance << " m and " << angle
-              << " rad from plate-port: seated in " << rig::HoseRuntime::kSnapFrames
-              << " frames, largest step " << largestStep << " m\n";
+              << " rad from plate-port: seated in " << kEasingUpdates << " frames, largest step "
+              << largestStep << " m\n";
 
     // Unplugged: the socket is free again and the end is grabbable.
     const rig::PlugResult out = runtime.unplug(feed, 1);
@@ -153,6 +156,56 @@ TEST(HoseRuntimeSockets, AnEndReleasedInASocketsCaptureEasesInOverValidFramesAnd
     EXPECT_EQ(out.attachment, 2);
     EXPECT_EQ(runtime.socketOccupant(plate).hose, -1);
     EXPECT_EQ(runtime.grabbablePoints(feed).back(), n - 1);
+}
+
+TEST(HoseRuntimeSockets, APlugEasesInAtTheSamePaceAt45To120Hz)
+{
+    // The end released in plate-port's capture as above, then updates of 1/rate s: after t
+    // seconds the end is t / kSnapSeconds of the way (in a straight line: the socket does not
+    // move), seated once kSnapSeconds have passed, whatever the rate.
+    const double snap = rig::HoseRuntime::kSnapSeconds;
+    for (double rate : {45.0, 72.0, 90.0, 120.0}) {
+        TemporaryFolder folder;
+        rig::HoseRuntime runtime = loadSocketRig(folder);
+        const int feed = runtime.findHose("left-feed");
+        const int plate = runtime.findSocket("plate-port");
+        ASSERT_GE(feed, 0);
+        ASSERT_GE(plate, 0);
+        const int n = runtime.hose(feed).pointCount();
+        ASSERT_EQ(runtime.unplug(feed, 1).status, Status::Ok);
+        runtime.update();
+        const rig::HoseRuntime::SocketPose port = runtime.socket(plate);
+        Vec3 beyond = port.position - runtime.hose(feed).point(0);
+        beyond.y() = 0.0;
+        beyond.normalize();
+        carry(runtime, feed, n - 1, port.position + 0.2 * port.axis + 0.06 * beyond, 20);
+        carry(runtime, feed, n - 1, port.position + 0.01 * port.axis + Vec3(0.005, 0.0, 0.0), 10);
+        const Vec3 start = lastEnd(runtime, feed).tip;
+        const rig::PlugResult snapped = runtime.release(feed);
+        ASSERT_EQ(snapped.socket, plate) << rate << " Hz";
+        EXPECT_EQ(snapped.easingSeconds, snap);
+        const double frame = 1.0 / rate;
+        double now = 0.0;
+        int updates = 0;
+        while (runtime.attachment(feed, snapped.attachment).easingSeconds > 0.0 && updates < 20) {
+            runtime.update(frame);
+            now += frame;
+            ++updates;
+            const double share = std::min(1.0, now / snap);
+            const Vec3 expected = start + share * (port.position - start);
+            EXPECT_LT((lastEnd(runtime, feed).tip - expected).norm(), 1e-6)
+                << rate << " Hz, update " << updates;
+            EXPECT_EQ(runtime.frameResult(feed).status, Status::Ok)
+                << rate << " Hz, update " << updates;
+            EXPECT_TRUE(inBand(runtime.hose(feed))) << rate << " Hz, update " << updates;
+        }
+        EXPECT_EQ(updates, static_cast<int>(std::ceil(snap * rate - 1e-9))) << rate << " Hz";
+        const EndNow seated = lastEnd(runtime, feed);
+        EXPECT_LT((seated.tip - port.position).norm(), 1e-9) << rate << " Hz";
+        EXPECT_GT(seated.outward.dot(-port.axis), 1.0 - 1e-9) << rate << " Hz";
+        std::cout << "[ socket ] at " << rate << " Hz left-feed seated in " << updates
+                  << " updates\n";
+    }
 }
 
 TEST(HoseRuntimeSockets, AnEndReleasedOutsideTheCaptureRadiusOrAngleStaysFree)
@@ -210,7 +263,7 @@ TEST(HoseRuntimeSockets, BadPlugsAndUnplugsAreRefusedNamingWhyAndChangeNothing)
     ASSERT_EQ(runtime.unplug(feed, 1).status, Status::Ok);
     const rig::PlugResult plugged = runtime.plug(feed, 1, plate);
     ASSERT_EQ(plugged.status, Status::Ok);
-    for (int frame = 0; frame < rig::HoseRuntime::kSnapFrames; ++frame)
+    for (int frame = 0; frame < kEasingUpdates; ++frame)
         runtime.update();
     ASSERT_EQ(runtime.unplug(ret, 1).status, Status::Ok);
     runtime.update();
@@ -266,7 +319,7 @@ TEST(HoseRuntimeSockets, BadPlugsAndUnplugsAreRefusedNamingWhyAndChangeNothing)
     // Plugged from afar into a socket beyond the hose's reach (its other end 0.47 m away, the
     // hose 0.43 m long): every easing frame keeps every segment in its band (bends give way
     // first, as for a moved attachment), and the end stays short of the socket, Infeasible.
-    for (int frame = 0; frame < rig::HoseRuntime::kSnapFrames; ++frame) {
+    for (int frame = 0; frame < kEasingUpdates; ++frame) {
         runtime.update();
         EXPECT_LE(runtime.frameResult(ret).lengthViolation, 1e-9) << "easing, frame " << frame;
         EXPECT_TRUE(inBand(runtime.hose(ret))) << "easing, frame " << frame;
@@ -304,7 +357,7 @@ TEST(HoseRuntimeSockets, AHoseCutWhilePluggedLeavesItsEndInTheSocketOnTheNewPiec
     const int plate = runtime.findSocket("plate-port");
     ASSERT_EQ(runtime.unplug(feed, 1).status, Status::Ok);
     ASSERT_EQ(runtime.plug(feed, 1, plate).status, Status::Ok);
-    for (int frame = 0; frame < rig::HoseRuntime::kSnapFrames; ++frame)
+    for (int frame = 0; frame < kEasingUpdates; ++frame)
         runtime.update();
     const int middle = runtime.hose(feed).pointCount() / 2;
     const rig::CutResult cut = runtime.cut(feed, middle);

@@ -592,6 +592,25 @@ int Document::stepGravity()
     return static_cast<int>(moved.size());
 }
 
+int Document::advanceGravity(double seconds)
+{
+    if (!gravityActive()) {
+        m_gravityOwed = 0.0;
+        return 0;
+    }
+    if (std::isfinite(seconds) && seconds > 0.0)
+        m_gravityOwed += std::min(seconds, Gravity::kMaxFrameSeconds);
+    int calls = 0;
+    // The tolerance takes a timer's 1/90 s, read back with rounding, for a whole step.
+    while (m_gravityOwed >= Gravity::kFrameSeconds * (1.0 - 1e-6) && gravityActive()) {
+        stepGravity();
+        m_gravityOwed = std::max(0.0, m_gravityOwed - Gravity::kFrameSeconds);
+        ++calls;
+    }
+    if (!gravityActive()) m_gravityOwed = 0.0;
+    return calls;
+}
+
 bool Document::gravityActive() const
 {
     for (const auto& [id, live] : m_live)

@@ -113,7 +113,8 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
     // Live gravity: runs only while a hose with gravity on is settling.
     m_gravityTimer.setInterval(kGravityIntervalMs);
     connect(&m_gravityTimer, &QTimer::timeout, this, [this] {
-        m_document->stepGravity();
+        m_document->advanceGravity(1e-9 * static_cast<double>(m_gravityClock.nsecsElapsed()));
+        m_gravityClock.restart();
         if (!m_document->gravityActive()) {
             m_gravityTimer.stop();
             const auto unsettled = m_document->gravityUnsettledHoses();
@@ -126,7 +127,10 @@ MainWindow::MainWindow(formats::NamedRoots roots, QWidget* parent)
         }
     });
     connect(m_document.get(), &Document::gravityStateChanged, this, [this] {
-        if (m_document->gravityActive() && !m_gravityTimer.isActive()) m_gravityTimer.start();
+        if (m_document->gravityActive() && !m_gravityTimer.isActive()) {
+            m_gravityTimer.start();
+            m_gravityClock.start();
+        }
     });
 
     QSettings settings;

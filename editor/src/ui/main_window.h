@@ -5,6 +5,7 @@
 
 #include "chaintube/editor/document.h"
 
+#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QMessageBox>
 #include <QTimer>
@@ -78,7 +79,8 @@ public:
     /// Where the autosave of the current document goes.
     QString autosavePath() const;
     QAction* action(const QString& objectName) const;
-    /// Period of the live gravity steps (Document::stepGravity), milliseconds.
+    /// Period of the live gravity timer, milliseconds; each tick advances gravity by the time
+    /// since the last (Document::advanceGravity), so the hoses fall at the speed of time.
     static constexpr int kGravityIntervalMs = 16;
     bool gravityTimerActive() const { return m_gravityTimer.isActive(); }
     /// At start-up without a project: offers the untitled autosave if one exists.
@@ -130,9 +132,10 @@ private:
     ExportDialog* m_exportDialog = nullptr;
     QMenu* m_recentMenu = nullptr;
     QTimer m_autosaveTimer;
-    /// Steps hoses with gravity on (Document::stepGravity) while any is settling; stopped
+    /// Advances hoses with gravity on (Document::advanceGravity) while any is settling; stopped
     /// when all are settled, so an idle editor does no work.
     QTimer m_gravityTimer;
+    QElapsedTimer m_gravityClock; ///< time since the gravity timer's last tick or start
     bool m_syncingTree = false;
 };
 

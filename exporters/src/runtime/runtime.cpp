@@ -553,12 +553,12 @@ PlugResult HoseRuntime::plug(int hose, int end, int socket, std::string* why)
         return out;
     LiveAttachment& live = running.live[static_cast<size_t>(attachment)];
     live.socket = socket;
-    live.easingFrames = kSnapFrames;
+    live.easingSeconds = kSnapSeconds;
     out.status = Status::Ok;
     out.socket = socket;
     out.end = end;
     out.attachment = attachment;
-    out.easingFrames = kSnapFrames;
+    out.easingSeconds = kSnapSeconds;
     return out;
 }
 
@@ -581,7 +581,7 @@ PlugResult HoseRuntime::unplug(int hose, int end, std::string* why)
                       " is not plugged: no attachment fixes it");
     if (detachEnd(hose, attachment, why).status == Status::InvalidInput) return out;
     LiveAttachment& live = running.live[static_cast<size_t>(attachment)];
-    live.easingFrames = 0;
+    live.easingSeconds = 0.0;
     out.status = Status::Ok;
     out.socket = live.socket;
     out.end = end;
@@ -624,21 +624,24 @@ PlugResult HoseRuntime::release(int hose)
     return plugged ? plugged : out;
 }
 
-void HoseRuntime::easeIntoSockets(size_t hose)
+void HoseRuntime::easeIntoSockets(size_t hose, double seconds)
 {
     RunningHose& running = m_hoses[hose];
     for (LiveAttachment& a : running.live) {
-        if (!a.attached || a.socket < 0 || a.easingFrames <= 0) continue;
+        if (!a.attached || a.socket < 0 || a.easingSeconds <= 0.0) continue;
         const RigSocket& s = m_descriptor.sockets[static_cast<size_t>(a.socket)];
         // The end segment turned the shortest way onto −axis (its turn about the axis kept),
-        // the end point onto the socket: an equal share of what is left in each frame.
+        // the end point onto the socket: of what is left, the share this frame's time is of the
+        // easing time left, so the end goes at the same pace whatever the frame rate. Within a
+        // rounding of the time left, this frame seats it (five frames of 1/90 s are kSnapSeconds).
         const Quat into =
             (Quat::FromTwoVectors(a.offset.rotation * Vec3::UnitZ(), -s.axis) * a.offset.rotation)
                 .normalized();
-        const double share = 1.0 / a.easingFrames;
+        const bool last = a.easingSeconds <= seconds * (1.0 + 1e-9);
+        const double share = last ? 1.0 : seconds / a.easingSeconds;
         a.offset.translation += share * (s.position - a.offset.translation);
         a.offset.rotation = a.offset.rotation.slerp(share, into).normalized();
-        --a.easingFrames;
+        a.easingSeconds = last ? 0.0 : a.easingSeconds - seconds;
         const Frame target = (a.node >= 0 ? nodeWorldFrame(a.node) : Frame()) * a.offset;
         combine(running.pendingResult, running.hose.moveAttachment(a.id, target));
     }
@@ -896,8 +899,16 @@ std::vector<HoseUpdate> HoseRuntime::setNodeTransform(int node, const NodeTransf
         rejected.result.status = Status::InvalidInput;
         return {rejected};
     }
-    m_nodes[static_cast<size_t>(node)].local = local;
-    m_nodes[static_cast<size_t>(node)].local.rotation.normalize();
+    NodeTransform normalized = local;
+    normalized.rotation.normalize();
+    const NodeTransform& current = m_nodes[static_cast<size_t>(node)].local;
+    // The transform the node has (a still part sent every frame): nothing moves, so nothing is
+    // solved again and a gravity hose's rest rule keeps counting.
+    if (normalized.translation == current.translation &&
+        normalized.rotation.coeffs() == current.rotation.coeffs() &&
+        normalized.scale == current.scale)
+        return {};
+    m_nodes[static_cast<size_t>(node)].local = normalized;
     recomputeWorld();
     m_nodesMoved = true;
     const auto isUnder = [&](int candidate) {
@@ -975,7 +986,7 @@ int HoseRuntime::update(double seconds)
     }
     for (size_t h = 0; h < m_hoses.size(); ++h) {
         RunningHose& running = m_hoses[h];
-        easeIntoSockets(h);
+        easeIntoSockets(h, seconds);
         // Gravity, and work a budget left pending (Hose::step() goes on with it within the
         // budget; what no budgeted try advances gives way or rests in the library, so no frame
         // costs more than the budget).

@@ -302,6 +302,14 @@ public:
     /// Emits HoseShapeChanged for each hose that moved (after stepping all of them); returns
     /// how many moved. A hose counts as settled when its step moved nothing.
     int stepGravity();
+    /// Live gravity by the clock: `seconds` of wall time (clamped to Gravity::kMaxFrameSeconds,
+    /// a long pause adds no more than 0.1 s) are added to what is owed and every whole
+    /// Gravity::kFrameSeconds owed is one stepGravity(); the rest is kept for the next call. So
+    /// the hoses fall at the speed of time whatever the timer's rate or jitter, and by the same
+    /// steps as settleGravity() and the export (the same shapes, bit for bit). Nothing is owed
+    /// while no hose settles. A non-finite or negative time adds nothing. Returns the
+    /// stepGravity() calls made.
+    int advanceGravity(double seconds);
     /// True while some hose with gravity on is not settled and has step budget left.
     bool gravityActive() const;
     /// Steps until every gravity hose is settled or out of budget (what the timer would do,
@@ -470,6 +478,8 @@ private:
     std::uint64_t m_mergeGeneration = 1;
     /// Hoses with gravity that followed a drag step by step since the last closeMerge().
     std::vector<std::string> m_gravityFollowed;
+    /// advanceGravity(): wall time owed to live gravity, less than one step (seconds).
+    double m_gravityOwed = 0.0;
     Selection m_selection;
     QUndoStack m_undoStack;
     bool m_forcedModified = false;

@@ -63,7 +63,8 @@ struct LiveAttachment
     int id = -1;          ///< its Hose attachment id while attached
     int socket = -1;      ///< the socket it plugs the end into (plug(), a snap-in); −1: none;
                           ///< kept once detached (socketOccupant() counts only attached ones)
-    int easingFrames = 0; ///< update() calls left until a plugged end sits in its socket
+    /// Seconds of update() time left until a plugged end sits in its socket (0: seated).
+    double easingSeconds = 0.0;
 };
 
 /// What HoseRuntime::plug(), unplug() and release() did with a hose end and the sockets.
@@ -72,10 +73,10 @@ struct PlugResult
     /// Ok: done (for release(): let go, and plugged when socket ≥ 0); InvalidInput: refused,
     /// nothing changed.
     Status status = Status::InvalidInput;
-    int socket = -1;      ///< the socket plugged into or unplugged from; −1: none
-    int end = -1;         ///< the hose end: 0 (points 0 and 1) or 1 (the last two); −1: none
-    int attachment = -1;  ///< the hose's attachment (attachment()) that holds or held the end
-    int easingFrames = 0; ///< update() calls until a plugged end sits in its socket
+    int socket = -1;     ///< the socket plugged into or unplugged from; −1: none
+    int end = -1;        ///< the hose end: 0 (points 0 and 1) or 1 (the last two); −1: none
+    int attachment = -1; ///< the hose's attachment (attachment()) that holds or held the end
+    double easingSeconds = 0.0; ///< update() time until a plugged end sits in its socket (s)
     explicit operator bool() const { return status != Status::InvalidInput; }
 };
 
@@ -221,7 +222,9 @@ public:
     /// a hose with a moved collider and no moved attachment gets Hose::resolveCollisions().
     /// Returns the affected hoses' results (look at status). A node index out of range or a
     /// non-finite transform returns one entry with hose −1 and Status::InvalidInput, and
-    /// changes nothing.
+    /// changes nothing. The transform the node has (the same numbers, its rotation normalised)
+    /// changes nothing and returns no entry: a platform may send a still part every frame, and
+    /// a gravity hose comes to rest.
     [[nodiscard]] std::vector<HoseUpdate> setNodeTransform(int node, const NodeTransform& local);
 
     /// Moves free axis point `point` of hose `hose` to `target` (world metres); the hose
@@ -263,7 +266,7 @@ public:
     /// update() for a frame of `seconds` (the time since the last update, in (0,
     /// Gravity::kMaxFrameSeconds] = (0, 0.1]): gravity advances by that time
     /// (Hose::step(seconds)), so the same timed moves give the same hoses at any frame rate.
-    /// Plugs easing into sockets and reels count frames, whatever their length. Throws
+    /// A plug easing into its socket goes by the same time (kSnapSeconds). Throws
     /// InvalidArgument, nothing changed, for a non-finite time, ≤ 0 or above 0.1 s (a platform
     /// clamps a long hitch to 0.1 s).
     int update(double seconds);
@@ -339,12 +342,14 @@ public:
     // Sockets: a hose end plugged into a socket is an attachment (attachment()) on the socket's
     // node whose `socket` names it; a socket holds one end at a time.
 
-    /// Update() calls a plugged end takes to ease into its socket.
-    static constexpr int kSnapFrames = 5;
+    /// The update() time a plugged end takes to ease into its socket: five frames at 90 Hz.
+    static constexpr double kSnapSeconds = 5.0 / 90.0;
 
     /// Plugs end `end` of a hose (0: points 0 and 1; 1: the last two) into socket `socket`: the
     /// end is fixed where it is to the socket's node, then eases onto the socket over the next
-    /// kSnapFrames update() calls (the end point onto the socket's position, the end segment
+    /// kSnapSeconds of update() time, each update a share of the way left in proportion to its
+    /// time (seated in five updates at 90 Hz, three at 45 Hz; the end point onto the socket's
+    /// position, the end segment
     /// along −axis, into the part; its turn about the axis kept), each a moved attachment
     /// (Hose::moveAttachment: bends give way first, every segment stays in its band; a socket
     /// out of reach leaves the end short, Status::Infeasible in frameResult, met once the part
@@ -463,8 +468,8 @@ private:
     static Frame endFrame(const RunningHose& running, int end);
     /// The live attachment that fixes end `end` of a hose now, or −1.
     static int attachmentAtEnd(const RunningHose& running, int end);
-    /// Moves every easing plugged end one frame towards its socket (update()).
-    void easeIntoSockets(size_t hose);
+    /// Moves every easing plugged end `seconds` of its easing towards its socket (update()).
+    void easeIntoSockets(size_t hose, double seconds);
     ReelResult reelAt(int hose, ReelOutlet outlet, double length, double minLength,
                       double maxLength);
     /// The reel's outlet point and the side (+1: higher indices) its free hose is on; point
