@@ -367,7 +367,7 @@ try {
       await page.screenshot({ path: join(options.out, shot.replace('.png', '-guided.png')) });
       const opsBefore = (await viewer(() => window.chaintubeViewer.snapshot())).inputs.length;
       await page.mouse.up();
-      await settle(60); // it eases in (over kSnapFrames updates, then what the budget left pending)
+      await settle(60); // it eases in (over kSnapSeconds, 5 updates at 90 Hz, then what the budget left pending)
       await page.screenshot({ path: join(options.out, shot) });
       const drawn = await viewer(() => window.chaintubeViewer.sockets());
       const socket = drawn.find((s) => s.id === socketId);
