@@ -185,6 +185,32 @@ inline std::size_t solveDenseLdlt(double* band, double* rhs, std::size_t m)
     rhs[i] = inverse != 0.0 ? x * inverse : 0.0;
 }
 
+/// The end of a twisted solve, once both halves are eliminated: the separator [top, bottom)
+/// eliminated (its rows' couplings with each other only; those with the halves are the halves'
+/// factors) and substituted back, then the two halves substituted back outwards, a row of each
+/// in turn. Returns the number of separator rows dropped.
+[[gnu::always_inline]] inline std::size_t
+solveTwistedSeparatorAndBack(double* band, double* rhs, std::size_t m, std::size_t width,
+                             std::size_t top, std::size_t bottom)
+{
+    std::size_t dropped = 0;
+    for (std::size_t i = top; i < bottom; ++i)
+        dropped += eliminateRowDown<true>(band, rhs, i, bottom, width);
+    for (std::size_t i = bottom; i-- > top;)
+        backSubstituteRowDown(band, rhs, i, bottom, width);
+    const std::size_t topRows = top, bottomRows = m - bottom;
+    const std::size_t both = std::min(topRows, bottomRows);
+    for (std::size_t t = 0; t < both; ++t) {
+        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
+        backSubstituteRowUp(band, rhs, bottom + t, width);
+    }
+    for (std::size_t t = both; t < topRows; ++t)
+        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
+    for (std::size_t t = both; t < bottomRows; ++t)
+        backSubstituteRowUp(band, rhs, bottom + t, width);
+    return dropped;
+}
+
 /// solveBandedLdlt from both ends at once (a twisted factorization): the first half of the rows
 /// eliminated downwards and the second half upwards, a row of each in turn, so that the two
 /// chains of pivots — each row's pivot waits for the row before it — overlap in the CPU; they
@@ -212,21 +238,7 @@ inline std::size_t solveDenseLdlt(double* band, double* rhs, std::size_t m)
         dropped += eliminateRowDown<true>(band, rhs, t, m, width);
     for (std::size_t t = both; t < bottomRows; ++t)
         dropped += eliminateRowUp(band, rhs, m - 1 - t, width);
-    // The separator: its rows' couplings with each other only (those with the halves are the
-    // halves' factors).
-    for (std::size_t i = top; i < bottom; ++i)
-        dropped += eliminateRowDown<true>(band, rhs, i, bottom, width);
-    for (std::size_t i = bottom; i-- > top;)
-        backSubstituteRowDown(band, rhs, i, bottom, width);
-    for (std::size_t t = 0; t < both; ++t) {
-        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
-        backSubstituteRowUp(band, rhs, bottom + t, width);
-    }
-    for (std::size_t t = both; t < topRows; ++t)
-        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
-    for (std::size_t t = both; t < bottomRows; ++t)
-        backSubstituteRowUp(band, rhs, bottom + t, width);
-    return dropped;
+    return dropped + solveTwistedSeparatorAndBack(band, rhs, m, width, top, bottom);
 }
 
 /// solveBandedLdltTwistedIn with the band's width a constant for the chain projection's usual
@@ -361,19 +373,7 @@ resolveBandedLdltTwistedIn(double* band, double* rhs, std::size_t m, std::size_t
         dropped += down(t);
     for (std::size_t t = both; t < bottomRows; ++t)
         dropped += up(t);
-    for (std::size_t i = top; i < bottom; ++i)
-        dropped += eliminateRowDown<true>(band, rhs, i, bottom, width);
-    for (std::size_t i = bottom; i-- > top;)
-        backSubstituteRowDown(band, rhs, i, bottom, width);
-    for (std::size_t t = 0; t < both; ++t) {
-        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
-        backSubstituteRowUp(band, rhs, bottom + t, width);
-    }
-    for (std::size_t t = both; t < topRows; ++t)
-        backSubstituteRowDown(band, rhs, top - 1 - t, m, width);
-    for (std::size_t t = both; t < bottomRows; ++t)
-        backSubstituteRowUp(band, rhs, bottom + t, width);
-    return dropped;
+    return dropped + solveTwistedSeparatorAndBack(band, rhs, m, width, top, bottom);
 }
 
 /// resolveBandedLdltTwistedIn with the usual widths constant (as solveBandedLdltTwisted).
