@@ -42,15 +42,21 @@ fs::path exportPlateRig(const fs::path& folder)
     return output;
 }
 
-TEST(HoseRuntimeTunneling, AThinPlateColliderMovedAt2MetresASecondThroughAHoseNeverCrossesIt)
+// The plate in its collider's frame (the node's scale baked into the vertices).
+test_support::Shape plateInItsNodeFrame()
 {
-    TemporaryFolder folder;
-    const fs::path rigFile = exportPlateRig(folder.path());
-    // The plate in its collider's frame (the node's scale baked into the vertices).
     test_support::Shape plate =
         test_support::makeShape(test_support::Kind::BoxPlate, 0.032, 0.02, 0.002);
     for (auto& [normal, offset] : plate.planes) // the thin axis is the node's y
         normal = Vec3(normal.x(), normal.z(), normal.y());
+    return plate;
+}
+
+TEST(HoseRuntimeTunneling, AThinPlateColliderMovedAt2MetresASecondThroughAHoseNeverCrossesIt)
+{
+    TemporaryFolder folder;
+    const fs::path rigFile = exportPlateRig(folder.path());
+    const test_support::Shape plate = plateInItsNodeFrame();
     const std::uint64_t seed = 52;
     std::printf("[ seed     ] runtime plate passes: %llu\n", static_cast<unsigned long long>(seed));
     std::mt19937_64 rng(seed);
@@ -139,10 +145,7 @@ TEST(HoseRuntimeTunneling,
 {
     TemporaryFolder folder;
     const fs::path rigFile = exportPlateRig(folder.path());
-    test_support::Shape plate =
-        test_support::makeShape(test_support::Kind::BoxPlate, 0.032, 0.02, 0.002);
-    for (auto& [normal, offset] : plate.planes) // the thin axis is the node's y
-        normal = Vec3(normal.x(), normal.z(), normal.y());
+    const test_support::Shape plate = plateInItsNodeFrame();
     const std::uint64_t seed = 52;
     std::printf("[ seed     ] runtime grab passes: %llu\n", static_cast<unsigned long long>(seed));
     std::mt19937_64 rng(seed);
