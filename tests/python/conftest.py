@@ -34,7 +34,7 @@ def motion_project(tmp_path):
     return copy_samples(tmp_path / "projects", "motion-rig")[0]
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def cli():
     """The `chaintube` executable of the same build as the module."""
     path = Path(os.environ.get("CHAINTUBE_CLI", SOURCE / "build/exporters/chaintube"))
